@@ -1,0 +1,64 @@
+#pragma once
+// The biophysical parameters of the two-layer skin model (DJ06 section 3, Table 1) and the
+// fixed choices of the paper as named, documented defaults.
+#include <iosfwd>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "skin/physics/layer.hpp"
+
+namespace skin {
+
+struct SkinParameters {
+  // The paper's four parameters (Table 1).
+  double melanin = 0.005;        // C_m: melanin volume fraction of the epidermis [0, 1]
+  double melanin_blend = 0.7;    // beta_m: eumelanin share of the melanin [0, 1]
+  double hemoglobin = 0.005;     // C_h: blood volume fraction of the dermis [0, 1]
+  double oiliness = 0.3;         // rho_s: scale of the specular lobe [0, 1]
+
+  // The paper's fixed choices, as parameters.
+  double oxygenation = 0.75;            // gamma: oxy share of the hemoglobin [0, 1] (sec 3.4)
+  double epidermis_thickness = 0.25;    // [mm] (sec 3.5)
+  double dermis_scattering_scale = 0.5; // dermis sigma_s' = this x epidermis sigma_s' (sec 3.5)
+  double eta = 1.4;                     // refractive index of both layers (sec 3.5)
+  double roughness = 0.35;              // Beckmann RMS slope sigma of the surface (sec 3.1)
+  double g = 0.9;                       // HG anisotropy, used only by transport solvers
+                                        // (the paper gives reduced scattering only)
+
+  // Extended model (the paper's future work), all off by default.
+  double epidermal_hemoglobin = 0.0;  // blood volume fraction of the epidermis [0, 1]
+  double beta_carotene = 0.0;         // beta-carotene in the epidermis [umol/L], [0, 1000]
+  double bilirubin = 0.0;             // bilirubin in the dermis [umol/L], [0, 1000]
+  double scattering_scale = 1.0;      // multiplies sigma_s' of both layers, (0, 10]
+
+  // Throws InputError naming the parameter (with its CLI spelling), value and range.
+  void validate() const;
+  bool operator==(const SkinParameters&) const = default;
+};
+
+std::ostream& operator<<(std::ostream& os, const SkinParameters& p);
+
+// Absorption and reduced scattering of the two layers at one wavelength [1/mm] (eqs 3-8).
+struct LayerCoefficients {
+  double sigma_a;
+  double sigma_s_prime;
+};
+LayerCoefficients epidermis_coefficients(const SkinParameters& p, double lambda);
+LayerCoefficients dermis_coefficients(const SkinParameters& p, double lambda);
+
+// Epidermis (finite) over semi-infinite dermis, air above, at one wavelength.
+LayerStack skin_layer_stack(const SkinParameters& p, double lambda);
+
+// Named parameter sets of the paper (Fig. 8 and Fig. 10).
+struct Preset {
+  std::string name;
+  std::string description;
+  SkinParameters parameters;
+};
+const std::vector<Preset>& presets();
+// Throws InputError listing the known names when `name` is unknown. Accepts aliases
+// ("several-lights" for "ear").
+const Preset& find_preset(std::string_view name);
+
+}  // namespace skin

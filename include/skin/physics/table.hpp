@@ -1,0 +1,34 @@
+#pragma once
+// Numeric CSV tables: the project's data files and users' measured spectra.
+// Lines starting with '#' are comments; the first other line holds the column names; every
+// following non-empty line holds numbers (an empty field reads as NaN).
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace skin {
+
+struct Table {
+  std::string source;                     // file name, for messages
+  std::vector<std::string> columns;       // header names
+  std::vector<std::vector<double>> data;  // data[column][row]
+
+  std::size_t rows() const { return data.empty() ? 0 : data.front().size(); }
+  // Index of a column by name; throws InputError naming the source if absent.
+  std::size_t column(std::string_view name) const;
+};
+
+// Parses CSV text. Throws InputError("<source>:<line>: ...") on a malformed line (wrong number of
+// fields, a field that is not a number) or when there is no header or no data row.
+Table parse_csv(std::string_view text, const std::string& source);
+// Reads and parses a file; throws InputError naming the file when it cannot be read.
+Table read_csv_file(const std::string& path);
+
+namespace data {
+// Text of a data file compiled into the library (data/*.csv), by file name; throws if unknown.
+std::string_view embedded(std::string_view name);
+// The embedded file parsed as a Table.
+const Table& embedded_table(std::string_view name);
+}  // namespace data
+
+}  // namespace skin

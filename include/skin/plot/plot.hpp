@@ -1,0 +1,37 @@
+#pragma once
+// Simple line plots written as PNG or SVG (Cairo): spectra with a colour swatch, radial
+// profiles on log axes, validation plots.
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace skin::plot {
+
+struct Series {
+  std::string label;
+  std::vector<double> x, y;
+  std::array<double, 3> rgb{0.1, 0.1, 0.1};  // line colour, sRGB-encoded 0-1
+  bool dashed = false;
+  bool markers = false;  // draw points instead of a line
+};
+
+struct Swatch {
+  std::array<double, 3> rgb;  // sRGB-encoded 0-1
+  std::string label;          // e.g. "#d8a890"
+};
+
+struct Figure {
+  std::string title, x_label, y_label;
+  bool log_x = false, log_y = false;
+  std::optional<double> y_min, y_max;  // axis limits (default: from the data)
+  std::vector<Series> series;
+  std::vector<Swatch> swatches;  // drawn in a column at the right
+  int width = 900, height = 560;
+};
+
+// Writes the figure to `path`, PNG or SVG chosen by the extension, atomically. Throws InputError
+// for another extension or a write failure.
+void save(const Figure& fig, const std::string& path);
+
+}  // namespace skin::plot

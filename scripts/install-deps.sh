@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs the Debian packages Spectral Skin builds with. Idempotent; safe to re-run.
+set -euo pipefail
+PKGS=(
+  build-essential cmake ninja-build pkg-config
+  libgtest-dev libgmock-dev libbenchmark-dev       # tests, benchmarks
+  libeigen3-dev libboost-dev                       # linear algebra, Boost.Math (quadrature, Bessel)
+  libcli11-dev nlohmann-json3-dev                  # command line, JSON
+  libtbb-dev libembree-dev                         # threads, ray intersection (renderer, Monte Carlo)
+  libtinyobjloader-dev libtinygltf-dev libstb-dev  # meshes and texture decoding
+  libopenexr-dev libpng-dev                        # image output
+  libcairo2-dev                                    # plots (PNG and SVG)
+)
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

@@ -1,0 +1,201 @@
+#include "skin/color/color.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <ostream>
+
+#include "skin/physics/error.hpp"
+#include "skin/physics/table.hpp"
+
+namespace skin::color {
+
+std::ostream& operator<<(std::ostream& os, const Xyz& c) {
+  return os << "XYZ(" << c.X << ", " << c.Y << ", " << c.Z << ')';
+}
+std::ostream& operator<<(std::ostream& os, const Rgb& c) {
+  return os << "RGB(" << c.r << ", " << c.g << ", " << c.b << ')';
+}
+std::ostream& operator<<(std::ostream& os, const Lab& c) {
+  return os << "Lab(" << c.L << ", " << c.a << ", " << c.b << ')';
+}
+
+namespace {
+const TabulatedFunction& cmf(int c) {
+  static const std::array<TabulatedFunction, 3> f = [] {
+    const Table& t = data::embedded_table("cie1931_2deg_xyz.csv");
+    const char* names[3] = {"xbar", "ybar", "zbar"};
+    std::array<TabulatedFunction, 3> out;
+    for (int i = 0; i < 3; ++i)
+      out[static_cast<std::size_t>(i)] =
+          TabulatedFunction(t.data[0], t.data[t.column(names[i])], "data/cie1931_2deg_xyz.csv",
+                            TabulatedFunction::Outside::zero);
+    return out;
+  }();
+  return f[static_cast<std::size_t>(c)];
+}
+const TabulatedFunction& d65() {
+  static const TabulatedFunction f = [] {
+    const Table& t = data::embedded_table("d65.csv");
+    return TabulatedFunction(t.data[0], t.data[1], "data/d65.csv", TabulatedFunction::Outside::zero);
+  }();
+  return f;
+}
+}  // namespace
+
+Rgb xyz_to_srgb_linear(const Xyz& c) {
+  return {3.2404542 * c.X - 1.5371385 * c.Y - 0.4985314 * c.Z,
+          -0.9692660 * c.X + 1.8760108 * c.Y + 0.0415560 * c.Z,
+          0.0556434 * c.X - 0.2040259 * c.Y + 1.0572252 * c.Z};
+}
+Xyz srgb_linear_to_xyz(const Rgb& c) {
+  return {0.4124564 * c.r + 0.3575761 * c.g + 0.1804375 * c.b,
+          0.2126729 * c.r + 0.7151522 * c.g + 0.0721750 * c.b,
+          0.0193339 * c.r + 0.1191920 * c.g + 0.9503041 * c.b};
+}
+
+Colorimetry::Colorimetry(const WavelengthGrid& grid) : grid_(grid) {
+  const std::size_t n = grid.size();
+  xyz_weights_.resize(n);
+  double norm = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double S = d65()(grid[i]);
+    for (int c = 0; c < 3; ++c) xyz_weights_[i][static_cast<std::size_t>(c)] = S * cmf(c)(grid[i]);
+    norm += xyz_weights_[i][1];
+  }
+  if (!(norm > 0))
+    throw InputError("wavelength grid " + std::to_string(grid.lambda_min()) + "-" +
+                     std::to_string(grid.lambda_max()) +
+                     " nm is out of range: it must overlap the visible range 360-830 nm");
+  for (auto& w : xyz_weights_)
+    for (auto& v : w) v /= norm;
+  Spectrum one(grid, 1.0);
+  white_ = xyz(one);
+  white_rgb_ = xyz_to_srgb_linear(white_);
+  weights_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Rgb w = xyz_to_srgb_linear({xyz_weights_[i][0], xyz_weights_[i][1], xyz_weights_[i][2]});
+    weights_[i] = {w.r / white_rgb_.r, w.g / white_rgb_.g, w.b / white_rgb_.b};
+  }
+}
+
+Xyz Colorimetry::xyz(const Spectrum& R) const {
+  if (!(R.grid == grid_))
+    throw InputError("spectrum grid does not match the colorimetry grid");
+  Xyz c;
+  for (std::size_t i = 0; i < R.size(); ++i) {
+    c.X += xyz_weights_[i][0] * R[i];
+    c.Y += xyz_weights_[i][1] * R[i];
+    c.Z += xyz_weights_[i][2] * R[i];
+  }
+  return c;
+}
+
+Rgb Colorimetry::srgb_linear(const Spectrum& R) const {
+  if (!(R.grid == grid_))
+    throw InputError("spectrum grid does not match the colorimetry grid");
+  Rgb c;
+  for (std::size_t i = 0; i < R.size(); ++i) {
+    c.r += weights_[i][0] * R[i];
+    c.g += weights_[i][1] * R[i];
+    c.b += weights_[i][2] * R[i];
+  }
+  return c;
+}
+
+double srgb_encode(double x) {
+  x = std::clamp(x, 0.0, 1.0);
+  return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+}
+double srgb_decode(double v) {
+  return v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4);
+}
+
+std::array<int, 3> srgb8(const Rgb& c) {
+  std::array<int, 3> out{};
+  for (int i = 0; i < 3; ++i)
+    out[static_cast<std::size_t>(i)] = static_cast<int>(std::lround(255.0 * srgb_encode(c[i])));
+  return out;
+}
+
+std::string hex(const std::array<int, 3>& v) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%02x%02x%02x", v[0], v[1], v[2]);
+  return buf;
+}
+
+Lab xyz_to_lab(const Xyz& c, const Xyz& w) {
+  auto f = [](double t) {
+    constexpr double e = 216.0 / 24389.0, k = 24389.0 / 27.0;
+    return t > e ? std::cbrt(t) : (k * t + 16.0) / 116.0;
+  };
+  const double fx = f(c.X / w.X), fy = f(c.Y / w.Y), fz = f(c.Z / w.Z);
+  return {116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)};
+}
+
+double delta_e_2000(const Lab& p, const Lab& q) {
+  using std::atan2, std::cos, std::sin, std::sqrt, std::pow, std::exp, std::abs;
+  constexpr double pi = std::numbers::pi;
+  auto deg = [](double r) { return r * 180.0 / pi; };
+  auto rad = [](double d) { return d * pi / 180.0; };
+  const double C1 = sqrt(p.a * p.a + p.b * p.b), C2 = sqrt(q.a * q.a + q.b * q.b);
+  const double Cbar = 0.5 * (C1 + C2);
+  const double G = 0.5 * (1.0 - sqrt(pow(Cbar, 7) / (pow(Cbar, 7) + pow(25.0, 7))));
+  const double a1 = (1.0 + G) * p.a, a2 = (1.0 + G) * q.a;
+  const double C1p = sqrt(a1 * a1 + p.b * p.b), C2p = sqrt(a2 * a2 + q.b * q.b);
+  auto hue = [&](double b, double a) {
+    if (a == 0 && b == 0) return 0.0;
+    double h = deg(atan2(b, a));
+    return h < 0 ? h + 360.0 : h;
+  };
+  const double h1 = hue(p.b, a1), h2 = hue(q.b, a2);
+  const double dL = q.L - p.L, dC = C2p - C1p;
+  double dh = 0.0;
+  if (C1p * C2p != 0) {
+    dh = h2 - h1;
+    if (dh > 180) dh -= 360;
+    else if (dh < -180) dh += 360;
+  }
+  const double dH = 2.0 * sqrt(C1p * C2p) * sin(rad(dh) / 2.0);
+  const double Lbar = 0.5 * (p.L + q.L), Cbarp = 0.5 * (C1p + C2p);
+  double hbar = h1 + h2;
+  if (C1p * C2p != 0) {
+    if (abs(h1 - h2) <= 180) hbar = 0.5 * (h1 + h2);
+    else hbar = (h1 + h2 < 360) ? 0.5 * (h1 + h2 + 360) : 0.5 * (h1 + h2 - 360);
+  }
+  const double T = 1 - 0.17 * cos(rad(hbar - 30)) + 0.24 * cos(rad(2 * hbar)) +
+                   0.32 * cos(rad(3 * hbar + 6)) - 0.20 * cos(rad(4 * hbar - 63));
+  const double dtheta = 30.0 * exp(-pow((hbar - 275.0) / 25.0, 2));
+  const double RC = 2.0 * sqrt(pow(Cbarp, 7) / (pow(Cbarp, 7) + pow(25.0, 7)));
+  const double SL = 1 + 0.015 * pow(Lbar - 50, 2) / sqrt(20 + pow(Lbar - 50, 2));
+  const double SC = 1 + 0.045 * Cbarp, SH = 1 + 0.015 * Cbarp * T;
+  const double RT = -sin(rad(2 * dtheta)) * RC;
+  return sqrt(pow(dL / SL, 2) + pow(dC / SC, 2) + pow(dH / SH, 2) + RT * (dC / SC) * (dH / SH));
+}
+
+ColorSummary summarize_rgb(const Colorimetry& cm, const Rgb& rgb) {
+  ColorSummary s;
+  s.srgb_linear = rgb;
+  // XYZ consistent with the white-balanced RGB: the grid's white maps to (1, 1, 1).
+  const Rgb w = xyz_to_srgb_linear(cm.white());
+  s.XYZ = srgb_linear_to_xyz({rgb.r * w.r, rgb.g * w.g, rgb.b * w.b});
+  s.srgb8 = srgb8(rgb);
+  s.hex = hex(s.srgb8);
+  s.lab = xyz_to_lab(s.XYZ, cm.white());
+  return s;
+}
+
+ColorSummary summarize(const Colorimetry& cm, const Spectrum& R) {
+  ColorSummary s = summarize_rgb(cm, cm.srgb_linear(R));
+  s.XYZ = cm.xyz(R);
+  s.lab = xyz_to_lab(s.XYZ, cm.white());
+  return s;
+}
+
+std::ostream& operator<<(std::ostream& os, const ColorSummary& c) {
+  return os << "Color{" << c.XYZ << ", srgb_linear=" << c.srgb_linear << ", " << c.hex << ", "
+            << c.lab << '}';
+}
+
+}  // namespace skin::color

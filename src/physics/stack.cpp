@@ -1,0 +1,56 @@
+#include "skin/physics/stack.hpp"
+
+#include <ostream>
+
+namespace skin {
+
+std::ostream& operator<<(std::ostream& os, const Transfer& t) {
+  return os << "Transfer{R_down=" << t.R_down << ", T_down=" << t.T_down << ", R_up=" << t.R_up
+            << ", T_up=" << t.T_up << '}';
+}
+
+Transfer add_layers(const Transfer& a, const Transfer& b) {
+  // Light bouncing between a (seen from below) and b (seen from above): geometric series.
+  const double denom = 1.0 - a.R_up * b.R_down;
+  Transfer t;
+  t.R_down = a.R_down + a.T_down * b.R_down * a.T_up / denom;
+  t.T_down = a.T_down * b.T_down / denom;
+  t.R_up = b.R_up + b.T_up * a.R_up * b.T_down / denom;
+  t.T_up = b.T_up * a.T_up / denom;
+  return t;
+}
+
+DiffusionStack::DiffusionStack(const LayerStack& stack) {
+  stack.validate();
+  const auto& ls = stack.layers;
+  const std::size_t n = ls.size();
+  down_.reserve(n);
+  up_.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double n_above = i == 0 ? stack.eta_above : ls[i - 1].eta;
+    const double n_below = i + 1 == n ? stack.eta_below : ls[i + 1].eta;
+    const double A_top = A_boundary(ls[i].eta / n_above);
+    const double A_bottom = A_boundary(ls[i].eta / n_below);
+    down_.push_back(DiffusionSlab::make(ls[i].sigma_a, ls[i].sigma_s_prime, ls[i].thickness,
+                                        A_top, A_bottom));
+    up_.push_back(down_.back().flipped());
+  }
+}
+
+Transfer DiffusionStack::at(double k) const {
+  auto layer = [k](const DiffusionSlab& down, const DiffusionSlab& up) {
+    Transfer t;
+    t.R_down = down.R_k(k);
+    t.T_down = down.T_k(k);
+    if (!down.semi_infinite()) {
+      t.R_up = up.R_k(k);
+      t.T_up = up.T_k(k);
+    }
+    return t;
+  };
+  Transfer acc = layer(down_[0], up_[0]);
+  for (std::size_t i = 1; i < down_.size(); ++i) acc = add_layers(acc, layer(down_[i], up_[i]));
+  return acc;
+}
+
+}  // namespace skin
