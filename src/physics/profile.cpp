@@ -120,10 +120,10 @@ const ProfileSolver::Quadrature& ProfileSolver::quadrature_for(double k_max) {
   return *quad_;
 }
 
-double ProfileSolver::k_max_for(const std::vector<const DiffusionStack*>& stacks) {
+double ProfileSolver::k_max_for(const std::vector<const RadialResponse*>& stacks) {
   double k_max = 8.0;
-  for (const DiffusionStack* s : stacks) {
-    const double scale = std::max(std::abs(s->R_d()), 1e-300);
+  for (const RadialResponse* s : stacks) {
+    const double scale = std::max(std::abs(s->total()), 1e-300);
     // |G(k)| k max(k, 1): a bound on the integrand's tail for the decay rates that occur (the
     // residual falls at least like exp(-2 d k) for a top layer of thickness d).
     auto small = [&](double k) {
@@ -134,55 +134,65 @@ double ProfileSolver::k_max_for(const std::vector<const DiffusionStack*>& stacks
   return k_max;
 }
 
-std::vector<double> ProfileSolver::profile(const DiffusionStack& stack) {
+std::vector<double> ProfileSolver::profile(const RadialResponse& stack) {
   const auto& q = quadrature_for(k_max_for({&stack}));
   Eigen::VectorXd G(static_cast<Eigen::Index>(q.k.size()));
   for (std::size_t n = 0; n < q.k.size(); ++n) G(static_cast<Eigen::Index>(n)) = stack.residual_k(q.k[n]);
   Eigen::VectorXd out = q.M * G;
   std::vector<double> R(radii_.size());
-  for (std::size_t j = 0; j < R.size(); ++j) R[j] = stack.dipole(radii_.r[j]) + out(static_cast<Eigen::Index>(j));
+  for (std::size_t j = 0; j < R.size(); ++j) R[j] = stack.singular(radii_.r[j]) + out(static_cast<Eigen::Index>(j));
   return R;
 }
 
 namespace {
-std::vector<const DiffusionStack*> pointers(const std::vector<DiffusionStack>& stacks) {
-  std::vector<const DiffusionStack*> p;
+std::vector<const RadialResponse*> pointers(const std::vector<DiffusionStack>& stacks) {
+  std::vector<const RadialResponse*> p;
   p.reserve(stacks.size());
   for (const auto& s : stacks) p.push_back(&s);
   return p;
 }
 // Residuals of all stacks at all nodes: one row per stack.
-Eigen::MatrixXd residuals(const std::vector<DiffusionStack>& stacks, const std::vector<double>& k) {
+Eigen::MatrixXd residuals(const std::vector<const RadialResponse*>& stacks, const std::vector<double>& k) {
   Eigen::MatrixXd G(static_cast<Eigen::Index>(stacks.size()), static_cast<Eigen::Index>(k.size()));
   for (std::size_t i = 0; i < stacks.size(); ++i)
     for (std::size_t n = 0; n < k.size(); ++n)
-      G(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(n)) = stacks[i].residual_k(k[n]);
+      G(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(n)) = stacks[i]->residual_k(k[n]);
   return G;
 }
 }  // namespace
 
 SpectralProfile ProfileSolver::spectral(const std::vector<DiffusionStack>& stacks,
                                         const WavelengthGrid& grid) {
+  return spectral(pointers(stacks), grid);
+}
+
+RgbProfile ProfileSolver::rgb(const std::vector<DiffusionStack>& stacks,
+                              const ChannelWeights& weights) {
+  return rgb(pointers(stacks), weights);
+}
+
+SpectralProfile ProfileSolver::spectral(const std::vector<const RadialResponse*>& stacks,
+                                        const WavelengthGrid& grid) {
   SKIN_ASSERT(stacks.size() == grid.size(), "one stack per wavelength");
-  const auto& q = quadrature_for(k_max_for(pointers(stacks)));
+  const auto& q = quadrature_for(k_max_for(stacks));
   const Eigen::MatrixXd G = residuals(stacks, q.k);
   // (lambda x nodes) (nodes x radii): row-major result matches SpectralProfile::R's layout.
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> out = G * q.M.transpose();
   SpectralProfile p{grid, radii_, {}, Spectrum(grid)};
   p.R.resize(stacks.size() * radii_.size());
   for (std::size_t i = 0; i < stacks.size(); ++i) {
-    p.R_d[i] = stacks[i].R_d();
+    p.R_d[i] = stacks[i]->total();
     for (std::size_t j = 0; j < radii_.size(); ++j)
-      p.R[i * radii_.size() + j] = stacks[i].dipole(radii_.r[j]) +
+      p.R[i * radii_.size() + j] = stacks[i]->singular(radii_.r[j]) +
                                    out(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j));
   }
   return p;
 }
 
-RgbProfile ProfileSolver::rgb(const std::vector<DiffusionStack>& stacks,
+RgbProfile ProfileSolver::rgb(const std::vector<const RadialResponse*>& stacks,
                               const ChannelWeights& weights) {
   SKIN_ASSERT(stacks.size() == weights.size(), "one weight triple per stack");
-  const auto& q = quadrature_for(k_max_for(pointers(stacks)));
+  const auto& q = quadrature_for(k_max_for(stacks));
   const auto nl = static_cast<Eigen::Index>(stacks.size());
   Eigen::MatrixXd W(3, nl);
   for (Eigen::Index i = 0; i < nl; ++i)
@@ -197,9 +207,9 @@ RgbProfile ProfileSolver::rgb(const std::vector<DiffusionStack>& stacks,
       p.R[static_cast<std::size_t>(c)][j] = out(c, static_cast<Eigen::Index>(j));
   }
   for (std::size_t i = 0; i < stacks.size(); ++i) {
-    const double Rd = stacks[i].R_d();
+    const double Rd = stacks[i]->total();
     for (std::size_t j = 0; j < radii_.size(); ++j) {
-      const double dip = stacks[i].dipole(radii_.r[j]);
+      const double dip = stacks[i]->singular(radii_.r[j]);
       for (std::size_t c = 0; c < 3; ++c) p.R[c][j] += weights[i][c] * dip;
     }
     for (std::size_t c = 0; c < 3; ++c) p.R_d[c] += weights[i][c] * Rd;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "skin/physics/layer.hpp"
+#include "skin/physics/profile_fwd.hpp"
 #include "skin/physics/spectrum.hpp"
 #include "skin/physics/stack.hpp"
 
@@ -65,16 +66,20 @@ class ProfileSolver {
   const RadialGrid& radii() const { return radii_; }
 
   // R(r) of one stack at the solver's radii.
-  std::vector<double> profile(const DiffusionStack& stack);
-  // One stack per wavelength of `grid` (stacks.size() == grid.size()).
-  SpectralProfile spectral(const std::vector<DiffusionStack>& stacks, const WavelengthGrid& grid);
+  std::vector<double> profile(const RadialResponse& stack);
+  // One response per wavelength of `grid` (size == grid.size()).
+  SpectralProfile spectral(const std::vector<const RadialResponse*>& stacks,
+                           const WavelengthGrid& grid);
   // Three channels; the weighting is linear, so it is applied in the frequency domain before the
   // inverse transform (three transforms instead of one per wavelength).
+  RgbProfile rgb(const std::vector<const RadialResponse*>& stacks, const ChannelWeights& weights);
+  // Conveniences for the multipole model.
+  SpectralProfile spectral(const std::vector<DiffusionStack>& stacks, const WavelengthGrid& grid);
   RgbProfile rgb(const std::vector<DiffusionStack>& stacks, const ChannelWeights& weights);
 
   // Upper frequency of the numerical transform for these stacks [rad/mm] (where |G| has fallen
   // below 1e-10 of the total), and the number of quadrature nodes used by the last call.
-  static double k_max_for(const std::vector<const DiffusionStack*>& stacks);
+  static double k_max_for(const std::vector<const RadialResponse*>& stacks);
   std::size_t nodes_used() const;
 
  private:

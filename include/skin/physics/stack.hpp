@@ -9,6 +9,7 @@
 
 #include "skin/physics/diffusion.hpp"
 #include "skin/physics/layer.hpp"
+#include "skin/physics/profile_fwd.hpp"
 
 namespace skin {
 
@@ -23,7 +24,7 @@ std::ostream& operator<<(std::ostream& os, const Transfer& t);
 Transfer add_layers(const Transfer& above, const Transfer& below);
 
 // The multipole model of a whole LayerStack.
-class DiffusionStack {
+class DiffusionStack final : public RadialResponse {
  public:
   // Validates the stack (InputError) and builds each layer with the boundary conditions of its
   // neighbours: at an interface between indices n_inside and n_outside, A = A_boundary(n_inside /
@@ -39,7 +40,9 @@ class DiffusionStack {
   // r -> 0 and is inverted analytically; R_k - dipole_k is smooth and decays fast in k.
   double dipole_k(double k) const { return down_.front().R_dipole_k(k); }
   double dipole(double r) const { return down_.front().R_dipole(r); }
-  double residual_k(double k) const { return R_k(k) - dipole_k(k); }
+  double residual_k(double k) const override { return R_k(k) - dipole_k(k); }
+  double singular(double r) const override { return dipole(r); }
+  double total() const override { return R_d(); }
 
   const std::vector<DiffusionSlab>& slabs() const { return down_; }
   bool semi_infinite() const { return down_.back().semi_infinite(); }
