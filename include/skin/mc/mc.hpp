@@ -1,0 +1,49 @@
+#pragma once
+// Monte Carlo photon transport in a plane-parallel stack of layers: the reference against which
+// the diffusion models are validated. The method is MCML's (Wang, Jacques & Zheng 1995, "MCML:
+// Monte Carlo modeling of light transport in multi-layered tissues", Comput. Methods Programs
+// Biomed. 47:131-146): a pencil beam at normal incidence, photon packets with weight, exponential
+// steps in optical depth carried across interfaces, absorption by weight (w *= albedo at each
+// interaction), Henyey-Greenstein scattering, exact unpolarised Fresnel reflection / refraction at
+// every interface (reflect or transmit the whole packet with probability R), and Russian roulette
+// below a weight threshold. Units: mm, 1/mm.
+//
+// Reproducibility: photons are simulated in fixed batches, batch b drawing from its own generator
+// stream (seed, b); batch tallies are summed in batch order. The same seed gives bit-identical
+// results whatever the number of threads.
+#include <cstdint>
+#include <iosfwd>
+#include <vector>
+
+#include "skin/physics/layer.hpp"
+
+namespace skin::mc {
+
+struct Options {
+  std::uint64_t photons = 100000;  // photon packets entering the medium, >= 1
+  std::uint64_t seed = 1;
+  int threads = 0;       // 0 = all cores
+  double r_max = 10.0;   // outer radius of the radial profile [mm], > 0
+  std::size_t bins = 200;  // annular bins of width r_max / bins, >= 1
+  bool progress = false;   // progress bar on stderr
+};
+std::ostream& operator<<(std::ostream& os, const Options& o);
+
+struct Result {
+  double R_specular = 0;  // Fresnel reflectance of the top surface at normal incidence
+  // Diffuse reflectance and transmittance per power that entered (divide by 1 - R_specular to
+  // get these from per-incident values), with their standard errors (one sigma).
+  double R_d = 0, R_d_se = 0, T_d = 0, T_d_se = 0;
+  double R_d_incident = 0, T_d_incident = 0;  // the same per incident power
+  std::uint64_t photons = 0;
+  double seconds = 0;  // wall time
+  // R(r) per power that entered [1/mm^2] averaged over annuli [r_i, r_i + dr] (bin-centred
+  // r_mm), and its standard error. Light escaping beyond r_max counts in R_d only.
+  std::vector<double> r_mm, R, R_se;
+};
+std::ostream& operator<<(std::ostream& os, const Result& r);
+
+// Validates the stack and the options (InputError naming the parameter), then runs.
+Result simulate(const LayerStack& stack, const Options& options);
+
+}  // namespace skin::mc

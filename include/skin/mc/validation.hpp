@@ -1,0 +1,77 @@
+#pragma once
+// Diffusion (and any other solver) against the Monte Carlo reference, over the paper's skin
+// presets and generic layer stacks; writes a markdown report with radial-profile plots.
+//
+// Solvers are columns: each is a name and two callables (LayerStack -> R_d, and
+// LayerStack, radii -> R(r)), so another model (for example a more accurate transport solver)
+// is compared by appending a SolverColumn; the table, the plots and the error summary grow a
+// column, a curve and a line for it.
+#include <functional>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "skin/mc/mc.hpp"
+#include "skin/physics/layer.hpp"
+
+namespace skin::mc {
+
+struct SolverColumn {
+  std::string name;  // column header, e.g. "multipole"
+  // Total diffuse reflectance per power that entered.
+  std::function<double(const LayerStack&)> R_d;
+  // R(r) per power that entered [1/mm^2] at the radii given [mm]; empty function = no profile.
+  std::function<std::vector<double>(const LayerStack&, const std::vector<double>& r_mm)> profile;
+};
+// The multipole model (skin::DiffusionStack + skin::ProfileSolver).
+SolverColumn multipole_solver();
+
+struct ValidationCase {
+  std::string id;     // file-name safe: "pale-650nm", "slab-2mfp"
+  std::string group;  // section of the report: "Skin presets", "Semi-infinite", ...
+  std::string title;  // one line for humans
+  LayerStack stack;
+  // Thick, high-albedo (alpha' >= 0.95, several transport mean free paths): where diffusion is
+  // known to be accurate and the report expects agreement within a few per cent.
+  bool diffusion_regime = false;
+  double r_max = 10.0;  // outer radius of the profile [mm]
+};
+std::ostream& operator<<(std::ostream& os, const ValidationCase& c);
+
+// The paper's presets (caucasian, asian, african, pale, tanned, ear) at each wavelength [nm].
+std::vector<ValidationCase> preset_cases(const std::vector<double>& wavelengths);
+// Generic stacks: semi-infinite (matched and mismatched, several albedos), slabs of 0.5-20
+// transport mean free paths, bright-over-dark and dark-over-bright pairs, mismatched indices.
+std::vector<ValidationCase> generic_cases();
+
+struct CaseResult {
+  ValidationCase c;
+  Result mc;
+  std::vector<double> R_d;             // per solver
+  std::vector<std::vector<double>> R;  // per solver, at mc.r_mm (empty: solver has no profile)
+  // (R_d[solver] - mc.R_d) / mc.R_d
+  double relative_error(std::size_t solver) const;
+  // Largest |R[solver] / mc.R - 1| over the bins where the Monte Carlo relative standard error
+  // is below 5 %, and the radius of that bin [mm] (0, 0 when no profile).
+  std::pair<double, double> max_profile_error(std::size_t solver) const;
+};
+
+struct ValidationRun {
+  std::vector<std::string> solver_names;
+  std::vector<CaseResult> cases;
+  Options mc;  // photons, seed of every case (r_max per case)
+  double seconds = 0;
+};
+
+// Runs every case through the Monte Carlo solver (options.photons per case, options.seed) and
+// every solver. `log` (may be empty) receives one line per finished case.
+ValidationRun run_validation(const std::vector<ValidationCase>& cases,
+                             const std::vector<SolverColumn>& solvers, const Options& options,
+                             const std::function<void(const std::string&)>& log = {});
+
+// Writes the markdown report to `md` and one PNG per case (plus an overview of R_d errors) into
+// `plot_dir` (must exist; "" = no plots); images are linked as `link_prefix + file name`.
+void write_validation_report(std::ostream& md, const ValidationRun& run,
+                             const std::string& plot_dir, const std::string& link_prefix = "");
+
+}  // namespace skin::mc

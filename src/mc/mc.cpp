@@ -1,0 +1,315 @@
+// Monte Carlo photon transport in layered media (MCML's method; see mc.hpp for the references).
+#include "skin/mc/mc.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <ostream>
+
+#include "skin/mc/sampling.hpp"
+#include "skin/physics/error.hpp"
+
+namespace skin::mc {
+
+namespace {
+
+// Russian roulette (MCML's choice): below this weight a packet survives with probability
+// kSurvival and has its weight divided by it, which keeps the estimate unbiased.
+constexpr double kWeightThreshold = 1e-4;
+constexpr double kSurvival = 0.1;
+// Photons per batch: each batch has its own generator stream and tally, so the batch size (not
+// the thread count) fixes the result. Small enough for good load balance on short runs.
+constexpr std::uint64_t kBatchPhotons = 1000;
+
+// One layer, prepared for the inner loop.
+struct Slab {
+  double z_top = 0, z_bottom = 0;  // [mm]; z grows downwards, z_bottom = inf if semi-infinite
+  double sigma_t = 1;              // sigma_a + sigma_s [1/mm]
+  double inv_sigma_t = 1;
+  double albedo = 1;               // sigma_s / sigma_t
+  double g = 0;
+  double eta = 1;
+  double eta_up = 1, eta_down = 1;  // index across the top and the bottom boundary
+};
+
+// Tallies of one batch. A packet leaves the medium at most once (whole-packet Fresnel decisions),
+// so per-photon sums of weight and weight^2 give exact sample variances.
+struct Tally {
+  std::vector<double> S1, S2;  // reflected weight per annulus, and its square
+  double R1 = 0, R2 = 0, T1 = 0, T2 = 0;
+  explicit Tally(std::size_t bins = 0) : S1(bins, 0.0), S2(bins, 0.0) {}
+  void clear() {
+    std::fill(S1.begin(), S1.end(), 0.0);
+    std::fill(S2.begin(), S2.end(), 0.0);
+    R1 = R2 = T1 = T2 = 0;
+  }
+  void add(const Tally& o) {
+    for (std::size_t i = 0; i < S1.size(); ++i) {
+      S1[i] += o.S1[i];
+      S2[i] += o.S2[i];
+    }
+    R1 += o.R1;
+    R2 += o.R2;
+    T1 += o.T1;
+    T2 += o.T2;
+  }
+};
+
+std::vector<Slab> prepare(const LayerStack& stack) {
+  std::vector<Slab> slabs(stack.layers.size());
+  double z = 0;
+  for (std::size_t i = 0; i < slabs.size(); ++i) {
+    const Layer& l = stack.layers[i];
+    Slab& s = slabs[i];
+    const double sigma_s = l.sigma_s();  // sigma_s' / (1 - g)
+    s.z_top = z;
+    s.z_bottom = l.semi_infinite() ? std::numeric_limits<double>::infinity() : z + l.thickness;
+    z = s.z_bottom;
+    s.sigma_t = l.sigma_a + sigma_s;
+    s.inv_sigma_t = 1.0 / s.sigma_t;
+    s.albedo = sigma_s / s.sigma_t;
+    s.g = l.g;
+    s.eta = l.eta;
+    s.eta_up = i == 0 ? stack.eta_above : stack.layers[i - 1].eta;
+    s.eta_down = i + 1 == slabs.size() ? stack.eta_below : stack.layers[i + 1].eta;
+  }
+  return slabs;
+}
+
+// Traces `count` packets, drawing from `rng`, into `tally`.
+void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double inv_dr,
+           Tally& tally) {
+  const std::size_t n_layers = slabs.size();
+  const std::size_t bins = tally.S1.size();
+  for (std::uint64_t p = 0; p < count; ++p) {
+    double x = 0, y = 0, z = 0;
+    double ux = 0, uy = 0, uz = 1;  // pencil beam at normal incidence (refraction-free)
+    double w = 1;                   // per power that entered
+    std::size_t li = 0;
+    double tau_left = 0;  // unused optical depth carried across an interface
+    for (;;) {
+      const Slab& s = slabs[li];
+      const double tau = tau_left > 0 ? tau_left : sample_optical_depth(rng.uniform_open0());
+      const double step = tau * s.inv_sigma_t;
+      const double to_boundary = uz > 0   ? (s.z_bottom - z) / uz
+                                 : uz < 0 ? (s.z_top - z) / uz
+                                          : std::numeric_limits<double>::infinity();
+      if (step >= to_boundary) {
+        // Hit the boundary: move onto it and keep the optical depth not yet used (MCML sec 3.4).
+        x += ux * to_boundary;
+        y += uy * to_boundary;
+        const bool down = uz > 0;
+        z = down ? s.z_bottom : s.z_top;
+        tau_left = std::max(0.0, tau - to_boundary * s.sigma_t);
+        const double n2 = down ? s.eta_down : s.eta_up;
+        if (n2 != s.eta) {
+          const FresnelResult f = fresnel(std::abs(uz), s.eta, n2);
+          if (f.R >= 1.0 || rng.uniform() < f.R) {  // internal reflection of the whole packet
+            uz = -uz;
+            continue;
+          }
+          const double k = s.eta / n2;  // Snell: the tangential component scales by n1/n2
+          ux *= k;
+          uy *= k;
+          uz = down ? f.cos_t : -f.cos_t;
+        }
+        if (down) {
+          if (li + 1 == n_layers) {  // transmitted out of the bottom
+            tally.T1 += w;
+            tally.T2 += w * w;
+            break;
+          }
+          ++li;
+        } else {
+          if (li == 0) {  // reflected out of the top
+            const double r = std::sqrt(x * x + y * y);
+            const double b = r * inv_dr;
+            if (b < static_cast<double>(bins)) {
+              const auto i = static_cast<std::size_t>(b);
+              tally.S1[i] += w;
+              tally.S2[i] += w * w;
+            }
+            tally.R1 += w;
+            tally.R2 += w * w;
+            break;
+          }
+          --li;
+        }
+        continue;
+      }
+      // Interaction inside the layer: absorb the fraction 1 - albedo, then scatter.
+      x += ux * step;
+      y += uy * step;
+      z += uz * step;
+      tau_left = 0;
+      w *= s.albedo;
+      const double cos_t = hg_sample_cos(s.g, rng.uniform());
+      const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+      // Uniform azimuth without trigonometry: a uniform point (a, b) of the unit disc gives
+      // cos(phi) = (a^2 - b^2) / r^2, sin(phi) = 2ab / r^2 with phi = 2 atan2(b, a) uniform.
+      double a, b, r2;
+      do {
+        a = 2.0 * rng.uniform() - 1.0;
+        b = 2.0 * rng.uniform() - 1.0;
+        r2 = a * a + b * b;
+      } while (r2 > 1.0 || r2 == 0.0);
+      const double cos_p = (a * a - b * b) / r2;
+      const double sin_p = 2.0 * a * b / r2;
+      if (std::abs(uz) > 0.99999) {
+        ux = sin_t * cos_p;
+        uy = sin_t * sin_p;
+        uz = uz > 0 ? cos_t : -cos_t;
+      } else {
+        // Rotation of the direction by (theta, phi) about the current one (MCML eq. 3.25).
+        const double t = std::sqrt(1.0 - uz * uz);
+        const double nux = sin_t * (ux * uz * cos_p - uy * sin_p) / t + ux * cos_t;
+        const double nuy = sin_t * (uy * uz * cos_p + ux * sin_p) / t + uy * cos_t;
+        uz = -sin_t * cos_p * t + uz * cos_t;
+        ux = nux;
+        uy = nuy;
+      }
+      if (w < kWeightThreshold) {
+        if (rng.uniform() < kSurvival) {
+          w /= kSurvival;
+        } else {
+          break;
+        }
+      }
+    }
+  }
+}
+
+void validate(const Options& o) {
+  if (o.photons < 1) throw InputError("photons = 0 is out of range: must be >= 1");
+  if (o.threads < 0)
+    throw InputError("threads = " + std::to_string(o.threads) +
+                     " is out of range: must be >= 0 (0 = all cores)");
+  require_positive("radius-max", o.r_max, "mm");
+  if (o.bins < 1 || o.bins > 1000000)
+    throw InputError("bins = " + std::to_string(o.bins) + " is out of range: must be in [1, 1e6]");
+}
+
+void draw_progress(std::uint64_t done, std::uint64_t total, double seconds) {
+  const int width = 40;
+  const double f = total ? static_cast<double>(done) / static_cast<double>(total) : 1.0;
+  const int fill = static_cast<int>(f * width);
+  std::fprintf(stderr, "\r[%-*s] %3d%%  %llu/%llu photons  %.1f s", width,
+               std::string(static_cast<std::size_t>(fill), '#').c_str(), static_cast<int>(f * 100),
+               static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
+               seconds);
+  std::fflush(stderr);
+}
+
+}  // namespace
+
+std::ostream& operator<<(std::ostream& os, const Options& o) {
+  return os << "mc::Options{photons=" << o.photons << ", seed=" << o.seed
+            << ", threads=" << o.threads << ", r_max=" << o.r_max << "mm, bins=" << o.bins
+            << ", progress=" << o.progress << '}';
+}
+
+std::ostream& operator<<(std::ostream& os, const Result& r) {
+  os << "mc::Result{R_specular=" << r.R_specular << ", R_d=" << r.R_d << " +- " << r.R_d_se
+     << ", T_d=" << r.T_d << " +- " << r.T_d_se << ", R_d_incident=" << r.R_d_incident
+     << ", T_d_incident=" << r.T_d_incident << ", photons=" << r.photons
+     << ", seconds=" << r.seconds << ", bins=" << r.R.size();
+  if (!r.R.empty())
+    os << ", R(r=" << r.r_mm.front() << "mm)=" << r.R.front() << " +- " << r.R_se.front();
+  return os << '}';
+}
+
+Result simulate(const LayerStack& stack, const Options& options) {
+  stack.validate();
+  validate(options);
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::vector<Slab> slabs = prepare(stack);
+  const std::size_t bins = options.bins;
+  const double dr = options.r_max / static_cast<double>(bins);
+  const double inv_dr = 1.0 / dr;
+
+  const std::uint64_t N = options.photons;
+  const std::uint64_t n_batches = (N + kBatchPhotons - 1) / kBatchPhotons;
+  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  tbb::task_arena arena(threads);
+  // Batches run in rounds; within a round each batch fills its own tally, and the tallies are
+  // then added in batch order, so the floating-point sums do not depend on the schedule.
+  const std::uint64_t round = std::max<std::uint64_t>(64, 16 * static_cast<std::uint64_t>(threads));
+  std::vector<Tally> slots(static_cast<std::size_t>(std::min(round, n_batches)), Tally(bins));
+  Tally total(bins);
+  for (std::uint64_t first = 0; first < n_batches; first += round) {
+    const std::uint64_t count = std::min(round, n_batches - first);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, count, 1),
+                        [&](const tbb::blocked_range<std::uint64_t>& range) {
+                          for (std::uint64_t k = range.begin(); k != range.end(); ++k) {
+                            const std::uint64_t b = first + k;
+                            const std::uint64_t photons =
+                                std::min(kBatchPhotons, N - b * kBatchPhotons);
+                            Tally& t = slots[static_cast<std::size_t>(k)];
+                            t.clear();
+                            Rng rng(options.seed, b);
+                            trace(slabs, photons, rng, inv_dr, t);
+                          }
+                        });
+    });
+    for (std::uint64_t k = 0; k < count; ++k) total.add(slots[static_cast<std::size_t>(k)]);
+    if (options.progress) {
+      const std::uint64_t done = std::min(N, (first + count) * kBatchPhotons);
+      draw_progress(done, N,
+                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+  }
+  if (options.progress) std::fprintf(stderr, "\n");
+
+  Result r;
+  const double eta0 = stack.layers.front().eta;
+  const double q = (stack.eta_above - eta0) / (stack.eta_above + eta0);
+  r.R_specular = q * q;  // Fresnel at normal incidence
+  const double n = static_cast<double>(N);
+  // Standard error of a mean of N per-photon contributions X: sqrt((E[X^2] - E[X]^2) / (N - 1)).
+  auto se = [n](double s1, double s2) {
+    if (n < 2) return 0.0;
+    const double m = s1 / n;
+    return std::sqrt(std::max(0.0, s2 / n - m * m) / (n - 1.0));
+  };
+  r.R_d = total.R1 / n;
+  r.R_d_se = se(total.R1, total.R2);
+  r.T_d = total.T1 / n;
+  r.T_d_se = se(total.T1, total.T2);
+  r.R_d_incident = r.R_d * (1.0 - r.R_specular);
+  r.T_d_incident = r.T_d * (1.0 - r.R_specular);
+  r.photons = N;
+  r.r_mm.resize(bins);
+  r.R.resize(bins);
+  r.R_se.resize(bins);
+  for (std::size_t i = 0; i < bins; ++i) {
+    const double ri = static_cast<double>(i);
+    r.r_mm[i] = (ri + 0.5) * dr;
+    const double area = std::numbers::pi * dr * dr * (2.0 * ri + 1.0);  // pi (r_o^2 - r_i^2)
+    r.R[i] = total.S1[i] / n / area;
+    r.R_se[i] = se(total.S1[i], total.S2[i]) / area;
+  }
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+double hg_pdf_cos(double g, double mu) {
+  const double d = 1.0 + g * g - 2.0 * g * mu;
+  return 0.5 * (1.0 - g * g) / (d * std::sqrt(d));
+}
+
+double hg_invert_cos(double g, double mu) {
+  if (std::abs(g) < 1e-6) return 0.5 * (mu + 1.0);
+  // CDF of hg_pdf_cos: (1 - g^2) / (2g) (1 / sqrt(1 + g^2 - 2 g mu) - 1 / (1 + g)).
+  return (1.0 - g * g) / (2.0 * g) * (1.0 / std::sqrt(1.0 + g * g - 2.0 * g * mu) - 1.0 / (1.0 + g));
+}
+
+}  // namespace skin::mc

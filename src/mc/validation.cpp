@@ -1,0 +1,386 @@
+// Diffusion vs Monte Carlo: cases, runs and the markdown report (see validation.hpp).
+#include "skin/mc/validation.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ostream>
+#include <sstream>
+
+#include "skin/physics/error.hpp"
+#include "skin/physics/profile.hpp"
+#include "skin/physics/skin_parameters.hpp"
+#include "skin/physics/stack.hpp"
+#include "skin/plot/plot.hpp"
+
+namespace skin::mc {
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+std::string percent(double v) { return std::isfinite(v) ? fmt("%+.2f %%", 100.0 * v) : "n/a"; }
+
+// Transport mean free path of a layer [mm].
+double mfp(const Layer& l) { return 1.0 / (l.sigma_a + l.sigma_s_prime); }
+
+std::string stack_summary(const LayerStack& s) {
+  std::ostringstream os;
+  os << "n_above " << s.eta_above;
+  for (const auto& l : s.layers) {
+    os << " | sigma_a " << fmt("%.4g", l.sigma_a) << ", sigma_s' " << fmt("%.4g", l.sigma_s_prime)
+       << ", d " << (l.semi_infinite() ? std::string("inf") : fmt("%.4g", l.thickness))
+       << ", n " << l.eta << ", g " << l.g;
+  }
+  if (!s.semi_infinite()) os << " | n_below " << s.eta_below;
+  return os.str();
+}
+
+const std::array<double, 3> kColours[] = {
+    {0.80, 0.15, 0.10}, {0.10, 0.35, 0.80}, {0.10, 0.60, 0.25}, {0.60, 0.20, 0.70}};
+
+}  // namespace
+
+std::ostream& operator<<(std::ostream& os, const ValidationCase& c) {
+  return os << "ValidationCase{" << c.id << ", " << c.group << ", " << c.stack
+            << ", diffusion_regime=" << c.diffusion_regime << ", r_max=" << c.r_max << "mm}";
+}
+
+SolverColumn multipole_solver() {
+  SolverColumn s;
+  s.name = "multipole";
+  s.R_d = [](const LayerStack& stack) { return DiffusionStack(stack).R_d(); };
+  s.profile = [](const LayerStack& stack, const std::vector<double>& r) {
+    ProfileSolver solver(RadialGrid::from(r));
+    return solver.profile(DiffusionStack(stack));
+  };
+  return s;
+}
+
+std::vector<ValidationCase> preset_cases(const std::vector<double>& wavelengths) {
+  std::vector<ValidationCase> cases;
+  for (const char* name : {"caucasian", "asian", "african", "pale", "tanned", "ear"}) {
+    const Preset& p = find_preset(name);
+    for (double lambda : wavelengths) {
+      ValidationCase c;
+      c.id = std::string(name) + "-" + fmt("%.0f", lambda) + "nm";
+      c.group = "Skin presets (DJ06 two-layer model)";
+      c.title = std::string(name) + " at " + fmt("%.0f", lambda) + " nm";
+      c.stack = skin_layer_stack(p.parameters, lambda);
+      // Profiles are short in the blue (strong absorption) and long in the red.
+      c.r_max = lambda < 500 ? 4.0 : (lambda < 600 ? 6.0 : 10.0);
+      cases.push_back(c);
+    }
+  }
+  return cases;
+}
+
+std::vector<ValidationCase> generic_cases() {
+  std::vector<ValidationCase> cases;
+  auto add = [&](std::string id, std::string group, std::string title, LayerStack s, bool regime,
+                 double r_max) {
+    cases.push_back({std::move(id), std::move(group), std::move(title), std::move(s), regime, r_max});
+  };
+  const double g = 0.9;
+  // Semi-infinite, sigma_t' = 1/mm (transport mean free path 1 mm).
+  {
+    LayerStack s;
+    s.layers = {{0.01, 0.99, kInfinity, 1.0, g}};
+    add("semi-matched-a0.99", "Semi-infinite", "alpha' = 0.99, matched boundary (n = 1)", s, true, 20);
+    s.layers = {{0.01, 0.99, kInfinity, 1.4, g}};
+    add("semi-n1.4-a0.99", "Semi-infinite", "alpha' = 0.99, n = 1.4 under air", s, true, 20);
+    s.layers = {{0.05, 0.95, kInfinity, 1.4, g}};
+    add("semi-n1.4-a0.95", "Semi-infinite", "alpha' = 0.95, n = 1.4 under air", s, true, 10);
+    s.layers = {{0.2, 0.8, kInfinity, 1.4, g}};
+    add("semi-n1.4-a0.8", "Semi-infinite", "alpha' = 0.8, n = 1.4 under air", s, false, 6);
+    s.layers = {{0.5, 0.5, kInfinity, 1.4, g}};
+    add("semi-n1.4-a0.5", "Semi-infinite", "alpha' = 0.5, n = 1.4 under air (sigma_a = sigma_s')", s,
+        false, 4);
+  }
+  // Slabs in air, alpha' = 0.99, thickness in transport mean free paths (1 mm).
+  for (double d : {0.5, 2.0, 5.0, 20.0}) {
+    LayerStack s;
+    s.layers = {{0.01, 0.99, d, 1.4, g}};
+    add("slab-" + fmt("%g", d) + "mfp", "Slabs in air",
+        "alpha' = 0.99, n = 1.4, thickness " + fmt("%g", d) + " transport mfp", s, d >= 20.0, 20);
+  }
+  // Two layers.
+  {
+    LayerStack s;
+    s.layers = {{0.01, 2.0, 1.0, 1.4, g}, {0.3, 1.0, kInfinity, 1.4, g}};
+    add("bright-over-dark", "Two layers",
+        "bright top (alpha' 0.995, 2 mfp thick) over dark semi-infinite (alpha' 0.77)", s, false, 10);
+    s.layers = {{0.3, 2.0, 0.2, 1.4, g}, {0.01, 1.0, kInfinity, 1.4, g}};
+    add("dark-over-bright", "Two layers",
+        "dark top (alpha' 0.87, 0.46 mfp thick) over bright semi-infinite (alpha' 0.99)", s, false, 20);
+    s.layers = {{0.02, 1.5, 0.5, 1.33, g}, {0.02, 1.0, kInfinity, 1.55, g}};
+    add("mismatched-1.33-1.55", "Two layers",
+        "n = 1.33 top (0.76 mfp) over n = 1.55 semi-infinite, both alpha' ~0.98", s, false, 15);
+  }
+  // Mismatched below: a slab on glass.
+  {
+    LayerStack s;
+    s.layers = {{0.02, 1.0, 2.0, 1.4, g}};
+    s.eta_below = 1.5;
+    add("slab-on-glass", "Slabs in air", "alpha' = 0.98, n = 1.4, 2 mfp thick, n = 1.5 below", s,
+        false, 15);
+  }
+  return cases;
+}
+
+double CaseResult::relative_error(std::size_t solver) const {
+  return (R_d.at(solver) - mc.R_d) / mc.R_d;
+}
+
+std::pair<double, double> CaseResult::max_profile_error(std::size_t solver) const {
+  const auto& P = R.at(solver);
+  double worst = 0, at = 0;
+  for (std::size_t i = 0; i < P.size() && i < mc.R.size(); ++i) {
+    if (!(mc.R[i] > 0) || mc.R_se[i] > 0.05 * mc.R[i]) continue;
+    const double e = std::abs(P[i] / mc.R[i] - 1.0);
+    if (e > worst) {
+      worst = e;
+      at = mc.r_mm[i];
+    }
+  }
+  return {worst, at};
+}
+
+ValidationRun run_validation(const std::vector<ValidationCase>& cases,
+                             const std::vector<SolverColumn>& solvers, const Options& options,
+                             const std::function<void(const std::string&)>& log) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ValidationRun run;
+  run.mc = options;
+  for (const auto& s : solvers) {
+    if (!s.R_d) throw InputError("solver '" + s.name + "' has no R_d function");
+    run.solver_names.push_back(s.name);
+  }
+  for (const auto& c : cases) {
+    CaseResult cr;
+    cr.c = c;
+    Options o = options;
+    o.r_max = c.r_max;
+    cr.mc = simulate(c.stack, o);
+    for (const auto& s : solvers) {
+      cr.R_d.push_back(s.R_d(c.stack));
+      cr.R.push_back(s.profile ? s.profile(c.stack, cr.mc.r_mm) : std::vector<double>{});
+    }
+    if (log) {
+      std::string line = c.id + ": MC R_d " + fmt("%.5f", cr.mc.R_d) + " +- " +
+                         fmt("%.5f", cr.mc.R_d_se);
+      for (std::size_t k = 0; k < solvers.size(); ++k)
+        line += ", " + solvers[k].name + " " + fmt("%.5f", cr.R_d[k]) + " (" +
+                percent(cr.relative_error(k)) + ")";
+      log(line + ", " + fmt("%.1f s", cr.mc.seconds));
+    }
+    run.cases.push_back(std::move(cr));
+  }
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return run;
+}
+
+namespace {
+
+void plot_case(const CaseResult& cr, const std::vector<std::string>& names,
+               const std::string& path) {
+  plot::Figure fig;
+  fig.title = cr.c.title;
+  fig.x_label = "r [mm]";
+  fig.y_label = "R(r) [1/mm^2]";
+  fig.log_x = fig.log_y = true;
+  plot::Series mc;
+  mc.label = "Monte Carlo (" + fmt("%.0e", static_cast<double>(cr.mc.photons)) + " photons)";
+  mc.markers = true;
+  mc.rgb = {0.1, 0.1, 0.1};
+  double y_max = 0;
+  for (std::size_t i = 0; i < cr.mc.R.size(); ++i) {
+    // Only bins with a meaningful estimate (relative standard error below 30 %).
+    if (cr.mc.R[i] > 0 && cr.mc.R_se[i] < 0.3 * cr.mc.R[i]) {
+      mc.x.push_back(cr.mc.r_mm[i]);
+      mc.y.push_back(cr.mc.R[i]);
+      y_max = std::max(y_max, cr.mc.R[i]);
+    }
+  }
+  if (mc.x.empty()) return;
+  const double y_min = *std::min_element(mc.y.begin(), mc.y.end());
+  fig.series.push_back(mc);
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    if (cr.R[k].empty()) continue;
+    plot::Series s;
+    s.label = names[k];
+    s.rgb = kColours[k % 4];
+    s.dashed = k > 0;
+    for (std::size_t i = 0; i < cr.R[k].size(); ++i) {
+      if (cr.R[k][i] > 0.1 * y_min) {  // log axis: drop values <= 0 and far below the data
+        s.x.push_back(cr.mc.r_mm[i]);
+        s.y.push_back(cr.R[k][i]);
+      }
+    }
+    fig.series.push_back(s);
+  }
+  fig.y_min = 0.5 * y_min;
+  fig.y_max = 2.0 * y_max;
+  plot::save(fig, path);
+}
+
+void plot_overview(const ValidationRun& run, const std::string& path) {
+  plot::Figure fig;
+  fig.title = "Total diffuse reflectance: relative error against Monte Carlo";
+  fig.x_label = "case number (as in the tables)";
+  fig.y_label = "(R_d - R_d MC) / R_d MC [%]";
+  plot::Series zero;
+  zero.label = "0";
+  zero.x = {0.0, static_cast<double>(run.cases.size() + 1)};
+  zero.y = {0.0, 0.0};
+  zero.rgb = {0.6, 0.6, 0.6};
+  zero.dashed = true;
+  fig.series.push_back(zero);
+  for (std::size_t k = 0; k < run.solver_names.size(); ++k) {
+    plot::Series s;
+    s.label = run.solver_names[k];
+    s.markers = true;
+    s.rgb = kColours[k % 4];
+    for (std::size_t i = 0; i < run.cases.size(); ++i) {
+      s.x.push_back(static_cast<double>(i + 1));
+      s.y.push_back(100.0 * run.cases[i].relative_error(k));
+    }
+    fig.series.push_back(s);
+  }
+  plot::save(fig, path);
+}
+
+}  // namespace
+
+void write_validation_report(std::ostream& md, const ValidationRun& run,
+                             const std::string& plot_dir, const std::string& link_prefix) {
+  const auto& names = run.solver_names;
+  const std::size_t ns = names.size();
+  md << "# Validation: diffusion against a Monte Carlo reference\n\n";
+  md << "Generated by `skin validate` (library: `skin::mc::write_validation_report`). Every case "
+        "is one Monte Carlo run of " << run.mc.photons << " photon packets (seed " << run.mc.seed
+     << ") and the same stack through each model; total time " << fmt("%.0f", run.seconds)
+     << " s.\n\n";
+  md << "The Monte Carlo solver (`skin mc`) follows MCML (Wang, Jacques & Zheng 1995): pencil "
+        "beam at normal incidence, Henyey-Greenstein scattering with the layer's g (sigma_s = "
+        "sigma_s' / (1 - g)), exact Fresnel reflection and refraction at every interface, Russian "
+        "roulette. It reproduces the published benchmark values (tests/mc). All reflectances are "
+        "per power that entered the medium (specular reflection excluded), as the diffusion "
+        "models define them. R(r) from Monte Carlo is the mean over an annulus, plotted at its "
+        "centre; +- is one standard error. Lengths in mm, coefficients in 1/mm.\n\n";
+
+  // Summary by regime.
+  md << "## Summary\n\n";
+  for (std::size_t k = 0; k < ns; ++k) {
+    double worst_in = 0, worst_out = 0;
+    std::string case_in, case_out;
+    int n_in = 0;
+    for (const auto& c : run.cases) {
+      const double e = std::abs(c.relative_error(k));
+      if (c.c.diffusion_regime) {
+        ++n_in;
+        if (e >= worst_in) { worst_in = e; case_in = c.c.id; }
+      } else if (e >= worst_out) {
+        worst_out = e;
+        case_out = c.c.id;
+      }
+    }
+    md << "- **" << names[k] << "**: ";
+    if (n_in > 0)
+      md << "in the diffusion regime (thick, alpha' >= 0.95; " << n_in << " cases) the largest "
+         << "|R_d error| is " << fmt("%.2f %%", 100 * worst_in) << " (" << case_in << "); ";
+    md << "elsewhere it reaches " << fmt("%.2f %%", 100 * worst_out) << " (" << case_out
+       << ").\n";
+  }
+  md << "\n";
+
+  // Largest errors.
+  md << "## Where the errors are largest\n\n";
+  for (std::size_t k = 0; k < ns; ++k) {
+    std::vector<const CaseResult*> sorted;
+    for (const auto& c : run.cases) sorted.push_back(&c);
+    std::sort(sorted.begin(), sorted.end(), [k](const CaseResult* a, const CaseResult* b) {
+      return std::abs(a->relative_error(k)) > std::abs(b->relative_error(k));
+    });
+    md << "**" << names[k] << "**, cases by |R_d error| (largest first):\n\n";
+    md << "| case | R_d error | max R(r) error (at r) | top layer alpha' | top layer thickness / mfp |\n";
+    md << "|---|---|---|---|---|\n";
+    for (std::size_t i = 0; i < std::min<std::size_t>(8, sorted.size()); ++i) {
+      const CaseResult& c = *sorted[i];
+      const Layer& top = c.c.stack.layers.front();
+      const auto pe = c.R[k].empty() ? std::pair<double, double>{0, 0} : c.max_profile_error(k);
+      md << "| " << c.c.id << " | " << percent(c.relative_error(k)) << " | "
+         << (c.R[k].empty() ? std::string("-")
+                            : fmt("%.1f %%", 100 * pe.first) + " (" + fmt("%.3g mm", pe.second) + ")")
+         << " | " << fmt("%.3f", top.sigma_s_prime / (top.sigma_a + top.sigma_s_prime)) << " | "
+         << (top.semi_infinite() ? std::string("inf") : fmt("%.2f", top.thickness / mfp(top)))
+         << " |\n";
+    }
+    md << "\n";
+  }
+  md << "Profile errors are over the annuli where the Monte Carlo estimate has a relative "
+        "standard error below 5 %. Diffusion is least accurate within about one transport mean "
+        "free path of the entry point (single and low-order scattering, not modelled by a "
+        "point source at depth z_r), in thin or strongly absorbing top layers (dark skin, blue "
+        "light: sigma_a comparable to sigma_s'), and at interfaces with mismatched indices.\n\n";
+
+  if (!plot_dir.empty()) {
+    plot_overview(run, plot_dir + "/rd_relative_error.png");
+    md << "![R_d errors](" << link_prefix << "rd_relative_error.png)\n\n";
+  }
+
+  // Tables by group, in order of first appearance.
+  std::vector<std::string> groups;
+  for (const auto& c : run.cases)
+    if (std::find(groups.begin(), groups.end(), c.c.group) == groups.end())
+      groups.push_back(c.c.group);
+  md << "## Total diffuse reflectance\n\n";
+  for (const auto& g : groups) {
+    md << "### " << g << "\n\n| # | case | Monte Carlo R_d | T_d (MC) |";
+    for (const auto& n : names) md << " " << n << " R_d | error |";
+    md << " diffusion regime |\n|---|---|---|---|";
+    for (std::size_t k = 0; k < ns; ++k) md << "---|---|";
+    md << "---|\n";
+    for (std::size_t i = 0; i < run.cases.size(); ++i) {
+      const CaseResult& c = run.cases[i];
+      if (c.c.group != g) continue;
+      md << "| " << i + 1 << " | " << c.c.id << " | " << fmt("%.5f", c.mc.R_d) << " +- "
+         << fmt("%.5f", c.mc.R_d_se) << " | "
+         << (c.c.stack.semi_infinite() ? std::string("-") : fmt("%.5f", c.mc.T_d)) << " |";
+      for (std::size_t k = 0; k < ns; ++k)
+        md << " " << fmt("%.5f", c.R_d[k]) << " | " << percent(c.relative_error(k)) << " |";
+      md << " " << (c.c.diffusion_regime ? "yes" : "") << " |\n";
+    }
+    md << "\n";
+  }
+  md << "Monte Carlo T_d includes the unscattered (ballistic) transmission.\n\n";
+
+  md << "## Radial profiles\n\n";
+  for (const auto& g : groups) {
+    md << "### " << g << "\n\n";
+    for (const auto& c : run.cases) {
+      if (c.c.group != g) continue;
+      md << "**" << c.c.id << "**: " << c.c.title << "  \n`" << stack_summary(c.c.stack) << "`";
+      for (std::size_t k = 0; k < ns; ++k) {
+        if (c.R[k].empty()) continue;
+        const auto pe = c.max_profile_error(k);
+        md << "  \n" << names[k] << ": max |R(r) error| " << fmt("%.1f %%", 100 * pe.first)
+           << " at r = " << fmt("%.3g mm", pe.second);
+      }
+      md << "\n\n";
+      if (!plot_dir.empty()) {
+        const std::string file = "profile_" + c.c.id + ".png";
+        plot_case(c, names, plot_dir + "/" + file);
+        md << "![" << c.c.id << "](" << link_prefix << file << ")\n\n";
+      }
+    }
+  }
+}
+
+}  // namespace skin::mc

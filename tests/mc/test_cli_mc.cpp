@@ -1,0 +1,98 @@
+// End-to-end tests of `skin mc` and `skin validate` through the binary: JSON keys and units,
+// reproducibility across thread counts, user errors exit 2 and leave no output file.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace {
+
+struct CliRun {
+  int status;
+  std::string out;
+};
+CliRun run_skin(const std::string& args) {
+  const std::string cmd = std::string(SKIN_BINARY) + " " + args + " 2>/dev/null";
+  FILE* p = ::popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf{};
+  std::size_t n;
+  while ((n = std::fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  const int st = ::pclose(p);
+  return {WEXITSTATUS(st), out};
+}
+
+TEST(CliMc, JsonHasTheDocumentedKeysAndIsReproducibleAcrossThreads) {
+  const std::string args =
+      "mc --layer sigma_a=0.1,sigma_s_prime=1,thickness=2,eta=1.4 --layer sigma_a=0.3,sigma_s_prime=1.5 "
+      "--photons 5000 --seed 3 --bins 20 --radius-max 4 --format json";
+  const CliRun a = run_skin(args + " --threads 1");
+  const CliRun b = run_skin(args + " --threads 2");
+  ASSERT_EQ(a.status, 0);
+  ASSERT_EQ(b.status, 0);
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  for (const char* k : {"R_specular", "R_d", "R_d_se", "T_d", "T_d_se", "photons", "seconds"})
+    EXPECT_TRUE(ja.contains(k)) << k;
+  EXPECT_EQ(ja["photons"].get<int>(), 5000);
+  EXPECT_NEAR(ja["R_specular"].get<double>(), std::pow(0.4 / 2.4, 2), 1e-15);
+  EXPECT_EQ(ja["profile"]["r_mm"].size(), 20u);
+  EXPECT_NEAR(ja["profile"]["r_mm"][0].get<double>(), 0.1, 1e-15);  // bin centre, dr = 0.2
+  EXPECT_EQ(ja["profile"]["R"].size(), 20u);
+  EXPECT_EQ(ja["profile"]["R_se"].size(), 20u);
+  EXPECT_EQ(ja["layers"][0]["g"].get<double>(), 0.9);  // default g
+  EXPECT_NEAR(ja["layers"][0]["sigma_s"].get<double>(), 10.0, 1e-12);
+  EXPECT_EQ(ja["R_d"], jb["R_d"]);
+  EXPECT_EQ(ja["profile"]["R"], jb["profile"]["R"]);
+}
+
+TEST(CliMc, PresetAtOneWavelength) {
+  const CliRun a = run_skin("mc --preset pale --wavelength 650 --photons 2000 --format json");
+  ASSERT_EQ(a.status, 0);
+  const auto j = nlohmann::json::parse(a.out);
+  EXPECT_EQ(j["layers"].size(), 2u);
+  EXPECT_EQ(j["wavelength"].get<double>(), 650.0);
+  EXPECT_GT(j["R_d"].get<double>(), 0.3);
+  EXPECT_NEAR(j["R_d_incident"].get<double>(),
+              j["R_d"].get<double>() * (1 - j["R_specular"].get<double>()), 1e-12);
+}
+
+TEST(CliMc, UserErrorsExitTwoAndLeaveNoFile) {
+  const auto out = std::filesystem::temp_directory_path() / "skin_mc_cli_test.json";
+  std::filesystem::remove(out);
+  EXPECT_EQ(run_skin("mc --layer sigma_a=-1,sigma_s_prime=1 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("mc --layer sigma_a=0.1,sigma_s_prime=1,g=1 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("mc --layer sigma_a=0.1,sigma_s_prime=1 --photons 0 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("mc --layer sigma_a=0.1,sigma_s_prime=1 --bins 0 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("mc --layer sigma_a=0.1,sigma_s_prime=1 --wavelength 500").status, 2);
+  EXPECT_EQ(run_skin("mc --layer sigma_a=0.1,sigma_s_prime=1 --melanin 0.1").status, 2);
+  EXPECT_EQ(run_skin("mc --preset nosuch --wavelength 500").status, 2);
+  EXPECT_EQ(run_skin("mc").status, 2);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // A file the user had is left as it was.
+  { std::ofstream(out) << "keep"; }
+  EXPECT_EQ(run_skin("mc --layer sigma_a=0.1,sigma_s_prime=0 -o " + out.string()).status, 2);
+  std::ifstream in(out);
+  std::string s;
+  in >> s;
+  EXPECT_EQ(s, "keep");
+  std::filesystem::remove(out);
+}
+
+TEST(CliValidate, RejectsBadInputBeforeWork) {
+  EXPECT_EQ(run_skin("validate").status, 2);  // --out is required
+  const auto dir = std::filesystem::temp_directory_path() / "skin_validate_cli_test";
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(run_skin("validate --out " + dir.string() + " --photons 0").status, 2);
+  EXPECT_EQ(run_skin("validate --out " + dir.string() + " --wavelength 5").status, 2);
+  EXPECT_FALSE(std::filesystem::exists(dir / "README.md"));
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace

@@ -1,0 +1,276 @@
+// The Monte Carlo solver against published benchmarks, exact answers, its own statistics, and
+// the diffusion model where diffusion is accurate. Photon counts are small (the whole binary runs
+// in seconds); tolerances are multiples of the reported standard errors.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include "skin/mc/mc.hpp"
+#include "skin/physics/error.hpp"
+#include "skin/physics/skin_parameters.hpp"
+#include "skin/physics/stack.hpp"
+
+namespace {
+
+using skin::Layer;
+using skin::LayerStack;
+using skin::kInfinity;
+namespace mc = skin::mc;
+
+LayerStack one_layer(double sigma_a, double sigma_s_prime, double d, double eta, double g,
+                     double eta_above = 1.0, double eta_below = 1.0) {
+  LayerStack s;
+  s.layers = {Layer{sigma_a, sigma_s_prime, d, eta, g}};
+  s.eta_above = eta_above;
+  s.eta_below = eta_below;
+  return s;
+}
+
+mc::Options opts(std::uint64_t photons, std::uint64_t seed = 1, int threads = 0) {
+  mc::Options o;
+  o.photons = photons;
+  o.seed = seed;
+  o.threads = threads;
+  return o;
+}
+
+// Gauss-Legendre nodes and weights on [0, 1] (Newton on the Legendre recurrence).
+void gauss_legendre_01(int n, std::vector<double>& x, std::vector<double>& w) {
+  x.assign(n, 0);
+  w.assign(n, 0);
+  for (int i = 0; i < n; ++i) {
+    double z = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 0;
+    for (int it = 0; it < 100; ++it) {
+      double p0 = 1, p1 = z;
+      for (int k = 2; k <= n; ++k) {
+        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
+        p0 = p1;
+        p1 = p2;
+      }
+      dp = n * (z * p1 - p0) / (z * z - 1);
+      const double dz = p1 / dp;
+      z -= dz;
+      if (std::abs(dz) < 1e-15) break;
+    }
+    x[i] = 0.5 * (1 - z);
+    w[i] = 1.0 / ((1 - z * z) * dp * dp);  // 2 / ((1 - z^2) P'^2), halved for [0, 1]
+  }
+}
+
+// Chandrasekhar's H function for isotropic scattering with single-scattering albedo omega, from
+// 1/H(mu) = sqrt(1 - omega) + (omega/2) int_0^1 mu' H(mu') / (mu + mu') dmu'
+// (Chandrasekhar 1960, Radiative Transfer, ch. V), iterated to convergence on Gauss nodes.
+double chandrasekhar_H(double omega, double mu) {
+  std::vector<double> x, w;
+  gauss_legendre_01(96, x, w);
+  std::vector<double> H(x.size(), 1.0);
+  auto rhs = [&](double m) {
+    double s = 0;
+    for (std::size_t j = 0; j < x.size(); ++j) s += w[j] * x[j] * H[j] / (m + x[j]);
+    return 1.0 / (std::sqrt(1 - omega) + 0.5 * omega * s);
+  };
+  for (int it = 0; it < 2000; ++it) {
+    std::vector<double> Hn(x.size());
+    for (std::size_t i = 0; i < x.size(); ++i) Hn[i] = rhs(x[i]);
+    H = Hn;
+  }
+  return rhs(mu);
+}
+
+// --- Published benchmarks ----------------------------------------------------------------
+
+TEST(MonteCarloBenchmark, MatchedSlabVanDeHulst) {
+  // Wang, Jacques & Zheng 1995 (MCML paper), Table 1: slab with n = 1 (matched), mu_a = 10/cm,
+  // mu_s = 90/cm, g = 0.75, d = 0.02 cm; van de Hulst's (1980) tabulated values R_d = 0.09739
+  // and total transmittance T = 0.66096 (unscattered part included, as in our T_d).
+  // In mm: sigma_a = 1, sigma_s = 9 (sigma_s' = 2.25), d = 0.2.
+  const auto r = mc::simulate(one_layer(1.0, 9.0 * 0.25, 0.2, 1.0, 0.75), opts(400000));
+  // 4 standard errors (a correct solver fails 6e-5 of the time) plus the rounding of the table.
+  EXPECT_NEAR(r.R_d, 0.09739, 4 * r.R_d_se + 5e-6) << r;
+  EXPECT_NEAR(r.T_d, 0.66096, 4 * r.T_d_se + 5e-6) << r;
+  EXPECT_LT(r.R_d_se, 6e-4) << r;
+  EXPECT_EQ(r.R_specular, 0.0);
+}
+
+TEST(MonteCarloBenchmark, SemiInfiniteIsotropicMatchedChandrasekhar) {
+  // Semi-infinite medium, matched boundary, isotropic scattering, albedo 0.9 (mu_a = 10/cm,
+  // mu_s = 90/cm, g = 0). Exact: the plane albedo at normal incidence, 1 - H(1) sqrt(1 - omega)
+  // (Chandrasekhar 1960, Radiative Transfer, ch. V), with H computed here from its integral
+  // equation (0.41495).
+  const double exact = 1.0 - chandrasekhar_H(0.9, 1.0) * std::sqrt(0.1);
+  EXPECT_NEAR(exact, 0.41495, 1e-5);  // regression guard of the H computation itself
+  const auto r = mc::simulate(one_layer(1.0, 9.0, kInfinity, 1.0, 0.0), opts(200000));
+  EXPECT_NEAR(r.R_d, exact, 4 * r.R_d_se) << r << " exact " << exact;
+}
+
+TEST(MonteCarloBenchmark, SemiInfiniteIsotropicMismatchedGiovanelli) {
+  // The MCML paper's semi-infinite benchmark (Wang, Jacques & Zheng 1995, after Giovanelli 1955):
+  // mu_a = 10/cm, mu_s = 90/cm, g = 0, n = 1.5 under air; total reflectance (specular 0.04
+  // included, per incident power) 0.2600. Tolerance: 4 standard errors plus the table's rounding.
+  const auto r = mc::simulate(one_layer(1.0, 9.0, kInfinity, 1.5, 0.0), opts(200000));
+  EXPECT_NEAR(r.R_specular, 0.04, 1e-15);
+  const double se_incident = r.R_d_se * (1 - r.R_specular);
+  EXPECT_NEAR(r.R_specular + r.R_d_incident, 0.2600, 4 * se_incident + 5e-5) << r;
+}
+
+// --- Exact answers -------------------------------------------------------------------------
+
+TEST(MonteCarloExact, NonAbsorbingSemiInfiniteReflectsEverything) {
+  // Without absorption every packet leaves through the top eventually (a recurrent walk in depth)
+  // with its full weight: R_d = 1, matched or not.
+  for (double eta : {1.0, 1.4}) {
+    const auto r = mc::simulate(one_layer(0.0, 1.0, kInfinity, eta, 0.0), opts(2000));
+    EXPECT_NEAR(r.R_d, 1.0, 1e-12) << r;
+    EXPECT_NEAR(r.R_d_se, 0.0, 1e-9) << r;
+    EXPECT_EQ(r.T_d, 0.0);
+  }
+}
+
+TEST(MonteCarloExact, NonAbsorbingSlabConservesEnergy) {
+  for (double eta : {1.0, 1.4}) {
+    auto s = one_layer(0.0, 2.0, 1.0, eta, 0.8, 1.0, 1.33);
+    const auto r = mc::simulate(s, opts(20000));
+    EXPECT_NEAR(r.R_d + r.T_d, 1.0, 1e-12) << r;
+  }
+}
+
+TEST(MonteCarloExact, NonScatteringSlabBetweenFresnelInterfaces) {
+  // A purely absorbing slab (scattering negligible) with n = 1.5 in air: the beam bounces between
+  // the faces. With a = exp(-sigma_a d) and F = ((n - 1)/(n + 1))^2 at normal incidence, per power
+  // that entered: T = (1 - F) a / (1 - F^2 a^2), R = F (1 - F) a^2 / (1 - F^2 a^2).
+  const double sigma_a = 1.0, d = 0.5, n = 1.5;
+  const auto r = mc::simulate(one_layer(sigma_a, 1e-12, d, n, 0.0), opts(100000));
+  const double a = std::exp(-sigma_a * d), F = std::pow((n - 1) / (n + 1), 2);
+  EXPECT_NEAR(r.T_d, (1 - F) * a / (1 - F * F * a * a), 4 * r.T_d_se) << r;
+  EXPECT_NEAR(r.R_d, F * (1 - F) * a * a / (1 - F * F * a * a), 4 * r.R_d_se + 1e-9) << r;
+  EXPECT_NEAR(r.R_specular, F, 1e-15);
+  EXPECT_NEAR(r.R_d_incident, r.R_d * (1 - F), 1e-15);
+  EXPECT_NEAR(r.T_d_incident, r.T_d * (1 - F), 1e-15);
+  // All reflected light comes straight back up the beam: the first annulus holds it all.
+  EXPECT_NEAR(r.R[0] * M_PI * std::pow(r.r_mm[0] * 2, 2), r.R_d, 1e-9 + 1e-9 * r.R_d);
+}
+
+TEST(MonteCarloExact, SplittingALayerChangesNothing) {
+  // Two identical layers with matched indices are one layer: the interface consumes no random
+  // numbers and carries the optical depth over, so the same seed gives (up to the rounding of the
+  // positions) the same paths.
+  LayerStack one = one_layer(0.1, 1.0, 2.0, 1.4, 0.9);
+  LayerStack two = one;
+  two.layers = {Layer{0.1, 1.0, 0.7, 1.4, 0.9}, Layer{0.1, 1.0, 1.3, 1.4, 0.9}};
+  const auto a = mc::simulate(one, opts(20000));
+  const auto b = mc::simulate(two, opts(20000));
+  EXPECT_NEAR(a.R_d, b.R_d, 0.2 * a.R_d_se) << a << '\n' << b;
+  EXPECT_NEAR(a.T_d, b.T_d, 0.2 * a.T_d_se) << a << '\n' << b;
+}
+
+TEST(MonteCarloProfile, IntegratesToTheTotal) {
+  // 2 pi int R(r) r dr over the annuli = the reflectance that left within r_max.
+  auto o = opts(20000);
+  o.r_max = 30;  // ~30 transport mean free paths: nearly everything
+  o.bins = 300;
+  const auto r = mc::simulate(one_layer(0.1, 1.0, kInfinity, 1.4, 0.9), o);
+  double total = 0;
+  const double dr = o.r_max / static_cast<double>(o.bins);
+  for (std::size_t i = 0; i < r.R.size(); ++i) total += r.R[i] * M_PI * dr * dr * (2.0 * static_cast<double>(i) + 1);
+  EXPECT_LE(total, r.R_d * (1 + 1e-12));
+  EXPECT_NEAR(total, r.R_d, 1e-3 * r.R_d) << r;
+  EXPECT_NEAR(r.r_mm[0], dr / 2, 1e-15);
+  EXPECT_NEAR(r.r_mm.back(), o.r_max - dr / 2, 1e-12);
+  // R(r) decreases away from the entry point (checked where the estimate is precise).
+  EXPECT_GT(r.R[0], r.R[20]);
+  EXPECT_GT(r.R[20], r.R[100]);
+}
+
+// --- Statistics and determinism -------------------------------------------------------------
+
+TEST(MonteCarloStatistics, DifferentSeedsAgreeWithinTheirStandardErrors) {
+  // Ten independent runs: chi-square of their deviations from the weighted mean, 9 degrees of
+  // freedom; 27.88 is the upper 0.1 % point. Also for one profile bin and for T_d.
+  const auto stack = one_layer(0.05, 1.0, 3.0, 1.4, 0.9);
+  auto o = opts(10000);
+  o.r_max = 5;
+  o.bins = 10;
+  std::vector<mc::Result> runs;
+  for (std::uint64_t seed = 11; seed <= 20; ++seed) {
+    o.seed = seed;
+    runs.push_back(mc::simulate(stack, o));
+  }
+  auto chi2 = [&](auto value, auto se) {
+    double sw = 0, swx = 0;
+    for (const auto& r : runs) {
+      const double wi = 1 / (se(r) * se(r));
+      sw += wi;
+      swx += wi * value(r);
+    }
+    const double mean = swx / sw;
+    double c = 0;
+    for (const auto& r : runs) c += std::pow((value(r) - mean) / se(r), 2);
+    return c;
+  };
+  const double c_R = chi2([](const mc::Result& r) { return r.R_d; }, [](const mc::Result& r) { return r.R_d_se; });
+  const double c_T = chi2([](const mc::Result& r) { return r.T_d; }, [](const mc::Result& r) { return r.T_d_se; });
+  const double c_bin = chi2([](const mc::Result& r) { return r.R[3]; }, [](const mc::Result& r) { return r.R_se[3]; });
+  EXPECT_LT(c_R, 27.88);
+  EXPECT_LT(c_T, 27.88);
+  EXPECT_LT(c_bin, 27.88);
+  // And the errors are not grossly overstated: chi-square above the lower 0.1 % point (1.15).
+  EXPECT_GT(c_R, 1.15);
+  EXPECT_GT(c_bin, 1.15);
+}
+
+TEST(MonteCarloStatistics, SameSeedSameResultWhateverTheThreadCount) {
+  const auto stack = skin::skin_layer_stack(skin::find_preset("caucasian").parameters, 550);
+  const auto a = mc::simulate(stack, opts(12345, 7, 1));
+  const auto b = mc::simulate(stack, opts(12345, 7, 2));
+  const auto c = mc::simulate(stack, opts(12345, 7, 3));
+  EXPECT_EQ(a.R_d, b.R_d);
+  EXPECT_EQ(a.R_d_se, b.R_d_se);
+  EXPECT_EQ(a.T_d, b.T_d);
+  EXPECT_EQ(a.R, b.R);
+  EXPECT_EQ(a.R_se, b.R_se);
+  EXPECT_EQ(a.R, c.R);
+  const auto d = mc::simulate(stack, opts(12345, 8, 2));
+  EXPECT_NE(a.R_d, d.R_d);  // and the seed matters
+}
+
+// --- Against diffusion where diffusion is accurate -------------------------------------------
+
+TEST(MonteCarloVsDiffusion, ThickHighAlbedoAgreesWithinAFewPercent) {
+  // Semi-infinite, alpha' = 0.99 and a slab of 20 transport mean free paths: the regime where
+  // the dipole / multipole is known to be accurate. Diffusion's own error there is ~1-3 %
+  // (boundary treatment: polynomial F_dr, extrapolated boundary), so 4 % plus 4 sigma.
+  for (const auto& s : {one_layer(0.01, 0.99, kInfinity, 1.0, 0.9),
+                        one_layer(0.01, 0.99, kInfinity, 1.4, 0.9),
+                        one_layer(0.01, 0.99, 20.0, 1.4, 0.9)}) {
+    const auto r = mc::simulate(s, opts(20000));
+    const double R_diff = skin::DiffusionStack(s).R_d();
+    EXPECT_NEAR(R_diff, r.R_d, 0.04 * r.R_d + 4 * r.R_d_se) << s << '\n' << r;
+  }
+}
+
+// --- Input checking ------------------------------------------------------------------------
+
+TEST(MonteCarloInput, RejectsBadOptionsAndStacks) {
+  const auto s = one_layer(0.1, 1.0, kInfinity, 1.4, 0.9);
+  auto o = opts(100);
+  o.photons = 0;
+  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  o = opts(100);
+  o.bins = 0;
+  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  o = opts(100);
+  o.r_max = -1;
+  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  o = opts(100);
+  o.r_max = std::nan("");
+  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  o = opts(100, 1, -2);
+  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  EXPECT_THROW(mc::simulate(LayerStack{}, opts(100)), skin::InputError);
+  EXPECT_THROW(mc::simulate(one_layer(-1, 1, 1, 1.4, 0.9), opts(100)), skin::InputError);
+  EXPECT_THROW(mc::simulate(one_layer(0.1, 1, 1, 1.4, 1.0), opts(100)), skin::InputError);
+}
+
+}  // namespace
