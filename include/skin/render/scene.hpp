@@ -1,0 +1,82 @@
+#pragma once
+// Scenes and the Monte Carlo renderer of skin (DJ06 section 5: a path tracer that samples the
+// spectral diffusion profiles converted to RGB). The scene format is documented in
+// docs/scene-format.md, the integrator in docs/renderer.md. No Embree or TBB type appears here.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "skin/physics/skin_parameters.hpp"
+#include "skin/render/image.hpp"
+
+namespace skin::render {
+
+struct RenderSettings {
+  int spp = 0;                // samples per pixel; 0 = the scene's
+  std::uint64_t seed = 1;     // same seed -> same image, whatever the thread count
+  int threads = 0;            // 0 = all hardware threads
+  int max_depth = -1;         // path vertices after the camera; -1 = the scene's
+  double time_budget = 0;     // seconds; > 0 stops after the last whole sample pass in budget
+  int width = 0, height = 0;  // override of the camera resolution (0 = the scene's)
+};
+
+struct RenderStats {
+  double seconds = 0;
+  int spp_done = 0;                  // samples per pixel actually taken
+  std::uint64_t camera_samples = 0;  // pixels x spp_done
+  std::uint64_t invalid_samples = 0; // non-finite path contributions dropped (should be 0)
+  double samples_per_second() const { return seconds > 0 ? static_cast<double>(camera_samples) / seconds : 0; }
+};
+
+class Scene {
+ public:
+  // Reads a JSON scene; relative paths in it are relative to the file. Throws InputError naming
+  // the file and the problem (missing mesh or texture, malformed JSON, unknown key or material).
+  static Scene load(const std::string& path);
+  // Parses JSON text; `base_dir` resolves relative paths, `name` appears in messages.
+  static Scene parse(const std::string& json_text, const std::string& base_dir, const std::string& name);
+  // The built-in scene: the three Fig. 8 skin types on rounded shapes and a thin ear-like fin,
+  // key light in front, back light behind the fin. Needs no file.
+  static Scene default_scene();
+  // The paper's parameter sweeps (Figs 3-8, model-notes section 7) as a grid of patches,
+  // optionally on a mesh instead of spheres. Throws InputError for an unknown figure number.
+  static Scene figure(int number, const std::string& mesh_path = "");
+
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+  ~Scene();
+
+  // Replaces the parameters of every `skin` material (the CLI's --preset).
+  void set_skin_parameters(const SkinParameters& p);
+  // Turns every translucent material into a `diffuse` one of the same R_d (for benchmarks).
+  void make_translucent_diffuse();
+  int width() const;
+  int height() const;
+  double exposure() const;  // stops, for PNG output
+  std::string summary() const;  // one line: source, triangles, materials, lights
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+  explicit Scene(std::unique_ptr<Impl> impl);
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Progress in [0, 1]; may be called from any render thread (calls are serialised).
+using Progress = std::function<void(double fraction)>;
+
+Image render(const Scene& scene, const RenderSettings& settings, RenderStats* stats = nullptr,
+             const Progress& progress = {});
+
+// Layout of `Scene::figure(number)`: grid size, the label of each patch (row-major), title.
+struct FigureLayout {
+  int columns = 1, rows = 1;
+  std::vector<std::string> labels;
+  std::string title;
+};
+FigureLayout figure_layout(int number);
+
+}  // namespace skin::render

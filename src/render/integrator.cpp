@@ -1,0 +1,499 @@
+// The path tracer (docs/renderer.md). Per camera sample: trace a path; at a diffuse surface, a
+// Lambertian vertex; at a translucent one (skin, layered) two terms of DJ06 eq 1:
+//   surface:    the Torrance-Sparrow lobe f_s scaled by rho_s (direct light with MIS, and a
+//               sampled continuation);
+//   subsurface: S(x_i, w_i; x_o, w_o) = (1/pi) F_t(w_o) R(|x_o - x_i|) F_t(w_i), with
+//               F_t(w) = 1 - rho_dr(theta) (eq 2 scaled by rho_s): light not reflected by the
+//               surface term enters, and light leaving is reduced by what the surface term
+//               would have reflected back in. The factor is applied twice: once at the camera-
+//               side point x_o (for w_o) and once inside the BRDF of the entry point x_i (for
+//               w_i), so that a uniformly lit flat slab has radiance
+//               rho_dr(theta_o) + (1 - rho_dr(theta_o)) R_d (1 - rho_dr_mean).
+// The entry point x_i is importance-sampled by radius from the tabulated profiles with probe
+// rays along the normal and the two tangents, combined with MIS over axes and channels.
+#include <tbb/blocked_range2d.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+#include "scene_impl.hpp"
+#include "skin/physics/error.hpp"
+
+namespace skin::render {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Surface {
+  Vec3 p, ng, ns;
+  Vec2 uv;
+  bool has_uv = false;
+  const Material* mat = nullptr;
+  std::size_t mesh = 0;
+};
+
+struct LightSample {
+  Rgb3 L;           // incident radiance (or irradiance / intensity term for delta lights)
+  Vec3 wi;          // unit, toward the light
+  double dist = kInf;
+  double pdf = 0;   // solid angle (including the light selection probability); delta: selection
+  bool delta = false;
+};
+
+class Integrator {
+ public:
+  Integrator(const SceneData& s, const Accel& a, int max_depth)
+      : s_(s), a_(a), max_depth_(max_depth), eps_(1e-5 * a.extent()) {
+    n_lights_ = s.lights.size() + (s.environment.black() ? 0 : 1);
+  }
+
+  Rgb3 Li(Vec3 o, Vec3 d, Rng& rng) const;
+
+ private:
+  // face_ray: turn the normals toward -d (two-sided shading of what a ray sees); otherwise keep
+  // the mesh's own orientation (its normals, else its winding), outward for closed meshes.
+  Surface surface(const RayHit& h, const Vec3& d, bool face_ray = true) const;
+  bool sample_light(const Vec3& p, const Vec3& n, Rng& rng, LightSample* ls) const;
+  // Area light hit along a ray before t_max: radiance and solid-angle pdf for MIS.
+  bool hit_area_light(const Vec3& o, const Vec3& d, double t_max, Rgb3* Le, double* pdf, double* t) const;
+  double light_pdf(const Light& l, const Vec3& o, const Vec3& d, double t) const;
+  bool visible(const Vec3& p, const Vec3& n, const Vec3& wi, double dist) const;
+  Vec3 offset(const Vec3& p, const Vec3& n, const Vec3& w) const { return p + n * (dot(w, n) > 0 ? eps_ : -eps_); }
+  bool sample_entry(const Surface& xo, Rng& rng, Surface* xi, Rgb3* weight) const;
+  double rho_dr(const Material& m, double cos_theta) const {
+    return m.rho_s > 0 ? m.rho_s * m.specular_albedo->rho_dr(cos_theta) : 0.0;
+  }
+
+  const SceneData& s_;
+  const Accel& a_;
+  int max_depth_;
+  double eps_;
+  std::size_t n_lights_ = 0;
+};
+
+Surface Integrator::surface(const RayHit& h, const Vec3& d, bool face_ray) const {
+  const Mesh& m = s_.meshes[h.mesh];
+  const auto& tri = m.triangles[h.prim];
+  const double b0 = 1 - h.b1 - h.b2;
+  const Vec3 &p0 = m.position[tri[0]], &p1 = m.position[tri[1]], &p2 = m.position[tri[2]];
+  Surface x;
+  x.p = p0 * b0 + p1 * h.b1 + p2 * h.b2;
+  x.ng = normalize(cross(p1 - p0, p2 - p0));
+  if (!m.normal.empty()) {
+    x.ns = normalize(m.normal[tri[0]] * b0 + m.normal[tri[1]] * h.b1 + m.normal[tri[2]] * h.b2);
+    if (dot(x.ng, x.ns) < 0) x.ng = -x.ng;  // winding may disagree with the normals
+  } else {
+    x.ns = x.ng;
+  }
+  // Two-sided: face the incoming ray (single-sided quads, meshes seen from inside).
+  if (face_ray && dot(x.ng, d) > 0) {
+    x.ng = -x.ng;
+    x.ns = -x.ns;
+  }
+  if (!m.uv.empty()) {
+    x.has_uv = true;
+    x.uv = {m.uv[tri[0]].x * b0 + m.uv[tri[1]].x * h.b1 + m.uv[tri[2]].x * h.b2,
+            m.uv[tri[0]].y * b0 + m.uv[tri[1]].y * h.b1 + m.uv[tri[2]].y * h.b2};
+  }
+  x.mat = &s_.materials[m.material];
+  x.mesh = h.mesh;
+  return x;
+}
+
+bool Integrator::visible(const Vec3& p, const Vec3& n, const Vec3& wi, double dist) const {
+  const Vec3 o = offset(p, n, wi);
+  const double t_max = std::isinf(dist) ? kInf : dist * (1 - 1e-4) - eps_;
+  return t_max > eps_ && !a_.occluded(o, wi, 0.0, t_max);
+}
+
+double Integrator::light_pdf(const Light& l, const Vec3& o, const Vec3& d, double t) const {
+  if (l.kind == LightKind::sphere) {
+    const double dc2 = dot(l.position - o, l.position - o);
+    if (dc2 <= l.radius * l.radius) return 0.0;
+    const double cos_max = std::sqrt(std::max(0.0, 1 - l.radius * l.radius / dc2));
+    return pdf_uniform_cone(cos_max);
+  }
+  if (l.kind == LightKind::quad) {
+    const Vec3 n = normalize(cross(l.edge_u, l.edge_v));
+    const double c = -dot(n, d);
+    return c > 0 ? t * t / (c * l.area()) : 0.0;
+  }
+  return 0.0;
+}
+
+bool Integrator::hit_area_light(const Vec3& o, const Vec3& d, double t_max, Rgb3* Le, double* pdf, double* t_out) const {
+  bool any = false;
+  double best = t_max;
+  for (const Light& l : s_.lights) {
+    double t = kInf;
+    if (l.kind == LightKind::sphere) {
+      const Vec3 oc = o - l.position;
+      const double b = dot(oc, d), c = dot(oc, oc) - l.radius * l.radius;
+      const double disc = b * b - c;
+      if (disc < 0 || c < 0) continue;  // missed, or inside the light
+      t = -b - std::sqrt(disc);
+    } else if (l.kind == LightKind::quad) {
+      const Vec3 n = cross(l.edge_u, l.edge_v);
+      const double dn = dot(d, n);
+      if (dn >= 0) continue;  // one-sided: emits toward +n
+      t = dot(l.corner - o, n) / dn;
+      const Vec3 q = o + d * t - l.corner;
+      const double uu = dot(q, l.edge_u) / dot(l.edge_u, l.edge_u), vv = dot(q, l.edge_v) / dot(l.edge_v, l.edge_v);
+      if (uu < 0 || uu > 1 || vv < 0 || vv > 1) continue;
+    } else {
+      continue;
+    }
+    if (t > 0 && t < best) {
+      best = t;
+      *Le = l.intensity;
+      *pdf = light_pdf(l, o, d, t) / static_cast<double>(n_lights_);
+      any = true;
+    }
+  }
+  *t_out = best;
+  return any;
+}
+
+bool Integrator::sample_light(const Vec3& p, const Vec3& n, Rng& rng, LightSample* ls) const {
+  if (n_lights_ == 0) return false;
+  const double sel = 1.0 / static_cast<double>(n_lights_);
+  const auto k = std::min(static_cast<std::size_t>(rng.uniform() * static_cast<double>(n_lights_)), n_lights_ - 1);
+  const Vec2 u{rng.uniform(), rng.uniform()};
+  if (k == s_.lights.size()) {  // the environment
+    double pdf = 0;
+    ls->L = s_.environment.sample(u, n, &ls->wi, &pdf);
+    ls->pdf = pdf * sel;
+    ls->dist = kInf;
+    ls->delta = false;
+    return pdf > 0;
+  }
+  const Light& l = s_.lights[k];
+  switch (l.kind) {
+    case LightKind::point: {
+      const Vec3 v = l.position - p;
+      const double d2 = dot(v, v);
+      ls->dist = std::sqrt(d2);
+      ls->wi = v / ls->dist;
+      ls->L = l.intensity / d2;
+      ls->pdf = sel;
+      ls->delta = true;
+      return true;
+    }
+    case LightKind::directional:
+      ls->wi = -l.direction;
+      ls->dist = kInf;
+      ls->L = l.intensity;
+      ls->pdf = sel;
+      ls->delta = true;
+      return true;
+    case LightKind::sphere: {
+      const Vec3 v = l.position - p;
+      const double dc2 = dot(v, v);
+      if (dc2 <= l.radius * l.radius) return false;
+      const double dc = std::sqrt(dc2);
+      const double cos_max = std::sqrt(std::max(0.0, 1 - l.radius * l.radius / dc2));
+      const Frame f = Frame::from_normal(v / dc);
+      ls->wi = f.to_world(sample_uniform_cone(u, cos_max));
+      // Distance to the near side of the sphere along wi.
+      const double b = dot(-v, ls->wi), c = dc2 - l.radius * l.radius;
+      ls->dist = -b - std::sqrt(std::max(0.0, b * b - c));
+      ls->L = l.intensity;
+      ls->pdf = pdf_uniform_cone(cos_max) * sel;
+      ls->delta = false;
+      return true;
+    }
+    case LightKind::quad: {
+      const Vec3 q = l.corner + l.edge_u * u.x + l.edge_v * u.y;
+      const Vec3 v = q - p;
+      const double d2 = dot(v, v);
+      ls->dist = std::sqrt(d2);
+      ls->wi = v / ls->dist;
+      const double c = -dot(normalize(cross(l.edge_u, l.edge_v)), ls->wi);
+      if (c <= 0) return false;
+      ls->L = l.intensity;
+      ls->pdf = d2 / (c * l.area()) * sel;
+      ls->delta = false;
+      return true;
+    }
+  }
+  return false;
+}
+
+// Probe axis probabilities. King et al. 2013 and pbrt-v3 use 1/2 for the normal; on smooth skin
+// the tangent probes rarely find a surface (they only matter at creases, edges and thin parts),
+// so more of the budget goes to the normal: 3/4, and 1/8 for each tangent. MIS keeps any
+// choice unbiased; this one halves the share of wasted probes on flat regions.
+constexpr double kProbeNormal = 0.75, kProbeTangent = 0.125;
+
+// Samples the point x_i where light enters for light leaving at x_o (King et al. 2013: probe
+// rays along the normal and the two tangents with the probabilities above, radius from the
+// profile of a channel chosen uniformly). The weight per channel is R_c(r) / pdf(x_i), with the
+// pdf the MIS combination over the three axes and three channels (one-sample balance heuristic),
+// times the number of candidate surface points found along the probe (one is picked uniformly).
+bool Integrator::sample_entry(const Surface& xo, Rng& rng, Surface* xi, Rgb3* weight) const {
+  const Material& m = *xo.mat;
+  const double mm = s_.mm_per_unit;
+  const Frame f = Frame::from_normal(xo.ns);
+  const double ua = rng.uniform();
+  Vec3 axis, ta, tb;
+  if (ua < kProbeNormal) { axis = f.n; ta = f.s; tb = f.t; }
+  else if (ua < kProbeNormal + kProbeTangent) { axis = f.s; ta = f.t; tb = f.n; }
+  else { axis = f.t; ta = f.n; tb = f.s; }
+  const auto c = std::min(static_cast<std::size_t>(rng.uniform() * 3.0), std::size_t{2});
+  const TabulatedProfile& prof = m.profile[c];
+  if (prof.empty()) return false;
+  const double r_max_mm = prof.r_max();
+  const double r_mm = prof.sample_radius(rng.uniform());
+  if (!(r_mm < r_max_mm)) return false;
+  const double phi = 2 * kPi * rng.uniform();
+  const double r = r_mm / mm, r_max = r_max_mm / mm;
+  const double half = std::sqrt(r_max * r_max - r * r);
+  const Vec3 base = xo.p + (ta * std::cos(phi) + tb * std::sin(phi)) * r;
+  const Vec3 start = base + axis * half;
+  // All surface points of the same material on the probe segment (at most kMaxHits).
+  constexpr int kMaxHits = 8;
+  RayHit hits[kMaxHits];
+  int count = 0;
+  double t = 0;
+  const double len = 2 * half;
+  while (count < kMaxHits) {
+    RayHit h;
+    if (!a_.intersect(start, -axis, t, len, &h)) break;
+    if (s_.meshes[h.mesh].material == s_.meshes[xo.mesh].material) hits[count++] = h;
+    t = h.t + std::max(eps_, 1e-7 * len);
+    if (t >= len) break;
+  }
+  if (count == 0) return false;
+  const auto pick = std::min(static_cast<int>(rng.uniform() * count), count - 1);
+  *xi = surface(hits[pick], -axis, false);
+  const Vec3 dv = xi->p - xo.p;
+  const Vec3 dl = f.to_local(dv);
+  const Vec3 nl = f.to_local(xi->ng);
+  const double r_proj[3] = {std::sqrt(dl.y * dl.y + dl.z * dl.z), std::sqrt(dl.x * dl.x + dl.z * dl.z),
+                            std::sqrt(dl.x * dl.x + dl.y * dl.y)};  // about s, t, n axes
+  const double axis_prob[3] = {kProbeTangent, kProbeTangent, kProbeNormal};
+  const double n_abs[3] = {std::abs(nl.x), std::abs(nl.y), std::abs(nl.z)};
+  double pdf = 0;  // per unit area [1/unit^2]
+  for (int ax = 0; ax < 3; ++ax)
+    for (std::size_t ch = 0; ch < 3; ++ch)
+      pdf += axis_prob[ax] * n_abs[ax] * (1.0 / 3.0) * m.profile[ch].pdf_area(r_proj[ax] * mm) * mm * mm;
+  if (!(pdf > 0)) return false;
+  const double dist_mm = length(dv) * mm;
+  for (int ch = 0; ch < 3; ++ch)
+    (*weight)[ch] = m.profile[static_cast<std::size_t>(ch)].eval(dist_mm) * mm * mm * count / pdf;
+  return true;
+}
+
+Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
+  Rgb3 L, beta{1, 1, 1};
+  double prev_pdf = 0;     // solid-angle pdf of the direction that produced this ray
+  bool prev_delta = true;  // camera ray: no MIS against lights
+  Vec3 prev_n;             // shading normal at the vertex the ray left (environment pdf)
+  for (int depth = 0;; ++depth) {
+    RayHit h;
+    const bool hit = a_.intersect(o, d, eps_, kInf, &h);
+    const double t_hit = hit ? h.t : kInf;
+    {
+      Rgb3 Le;
+      double lpdf = 0, t_light = 0;
+      if (hit_area_light(o, d, t_hit, &Le, &lpdf, &t_light)) {
+        const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
+        L += beta * Le * w;
+        break;
+      }
+    }
+    if (!hit) {
+      if (!s_.environment.black()) {
+        const double lpdf = s_.environment.pdf(d, prev_n) / static_cast<double>(n_lights_);
+        const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
+        L += beta * s_.environment.radiance(d) * w;
+      }
+      break;
+    }
+    if (depth >= max_depth_) break;
+    const Surface x = surface(h, d);
+    const Material& m = *x.mat;
+    const Vec3 wo = -d;
+    if (!m.translucent()) {
+      Rgb3 albedo = m.albedo;
+      if (m.albedo_map && x.has_uv) albedo = m.albedo_map->lookup(x.uv.x, x.uv.y);
+      LightSample ls;
+      if (sample_light(x.p, x.ns, rng, &ls)) {
+        const double cos_i = dot(ls.wi, x.ns);
+        if (cos_i > 0 && dot(ls.wi, x.ng) > 0 && !ls.L.is_black() && visible(x.p, x.ng, ls.wi, ls.dist)) {
+          const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, cos_i / kPi);
+          L += beta * albedo * ls.L * (cos_i / kPi * w / ls.pdf);
+        }
+      }
+      const Frame f = Frame::from_normal(x.ns);
+      const Vec3 wi = f.to_world(sample_cosine_hemisphere({rng.uniform(), rng.uniform()}));
+      if (dot(wi, x.ng) <= 0) break;
+      beta *= albedo;
+      prev_pdf = dot(wi, x.ns) / kPi;
+      prev_delta = false;
+      prev_n = x.ns;
+      o = offset(x.p, x.ng, wi);
+      d = wi;
+    } else {
+      const Frame f = Frame::from_normal(x.ns);
+      const Vec3 wo_l = f.to_local(wo);
+      const double cos_o = std::max(wo_l.z, 1e-4);
+      const TorranceSparrow lobe(m.rho_s, m.roughness, m.eta);
+      // Surface term: direct light with MIS.
+      if (m.rho_s > 0) {
+        LightSample ls;
+        if (sample_light(x.p, x.ns, rng, &ls)) {
+          const Vec3 wi_l = f.to_local(ls.wi);
+          const double fs = lobe.f({wo_l.x, wo_l.y, cos_o}, wi_l);
+          if (fs > 0 && dot(ls.wi, x.ng) > 0 && !ls.L.is_black() && visible(x.p, x.ng, ls.wi, ls.dist)) {
+            const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, lobe.pdf({wo_l.x, wo_l.y, cos_o}, wi_l));
+            L += beta * ls.L * (fs * wi_l.z * w / ls.pdf);
+          }
+        }
+      }
+      // Subsurface term: entry point x_i, then direct light there with MIS.
+      const double Ft_o = 1 - rho_dr(m, cos_o);
+      Surface xi;
+      Rgb3 wss;
+      const bool entered = sample_entry(x, rng, &xi, &wss);
+      Rgb3 beta_ss;
+      if (entered) {
+        Rgb3 tex{1, 1, 1};
+        if (m.albedo_map && x.has_uv) tex = m.albedo_map->lookup(x.uv.x, x.uv.y) * m.texture_normalisation;
+        beta_ss = beta * wss * tex * Ft_o;
+        LightSample ls;
+        if (sample_light(xi.p, xi.ns, rng, &ls)) {
+          const double cos_i = dot(ls.wi, xi.ns);
+          if (cos_i > 0 && dot(ls.wi, xi.ng) > 0 && !ls.L.is_black() && visible(xi.p, xi.ng, ls.wi, ls.dist)) {
+            const double fi = (1 - rho_dr(m, cos_i)) / kPi;
+            const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, cos_i / kPi);
+            L += beta_ss * ls.L * (fi * cos_i * w / ls.pdf);
+          }
+        }
+      }
+      // Continue with one of the two terms, chosen by their albedo at w_o.
+      const double a_spec = rho_dr(m, cos_o);
+      const double a_ss = entered ? (1 - a_spec) * std::max(1e-3, m.R_d.average()) : 0.0;
+      const double p_spec = a_spec + a_ss > 0 ? a_spec / (a_spec + a_ss) : 0.0;
+      if (rng.uniform() < p_spec) {
+        Vec3 wi_l;
+        double pdf = 0;
+        if (!lobe.sample({wo_l.x, wo_l.y, cos_o}, {rng.uniform(), rng.uniform()}, &wi_l, &pdf) || pdf <= 0) break;
+        const Vec3 wi = f.to_world(wi_l);
+        if (dot(wi, x.ng) <= 0) break;
+        beta *= lobe.f({wo_l.x, wo_l.y, cos_o}, wi_l) * wi_l.z / (pdf * p_spec);
+        prev_pdf = pdf;
+        prev_delta = false;
+        prev_n = x.ns;
+        o = offset(x.p, x.ng, wi);
+        d = wi;
+      } else {
+        if (!entered || p_spec >= 1) break;
+        const Frame fi = Frame::from_normal(xi.ns);
+        const Vec3 wi_l = sample_cosine_hemisphere({rng.uniform(), rng.uniform()});
+        const Vec3 wi = fi.to_world(wi_l);
+        if (dot(wi, xi.ng) <= 0) break;
+        // f cos / pdf = (1 - rho_dr(theta_i)) / pi x cos / (cos / pi).
+        beta = beta_ss * ((1 - rho_dr(m, wi_l.z)) / (1 - p_spec));
+        prev_pdf = wi_l.z / kPi;
+        prev_delta = false;
+        prev_n = xi.ns;
+        o = offset(xi.p, xi.ng, wi);
+        d = wi;
+      }
+    }
+    // Russian roulette after three bounces (unbiased: survivors are reweighted).
+    if (depth >= 3) {
+      const double q = std::min(0.95, beta.max());
+      if (!(q > 0) || rng.uniform() >= q) break;
+      beta *= 1.0 / q;
+    }
+  }
+  return L;
+}
+
+}  // namespace
+
+Image render(const Scene& scene, const RenderSettings& settings, RenderStats* stats, const Progress& progress) {
+  const SceneData& s = scene.impl().data;
+  const Accel& accel = *scene.impl().accel;
+  const int W = settings.width > 0 ? settings.width : s.camera.width;
+  const int H = settings.height > 0 ? settings.height : s.camera.height;
+  const int spp = settings.spp > 0 ? settings.spp : s.spp;
+  const int max_depth = settings.max_depth >= 0 ? settings.max_depth : s.max_depth;
+  if (W <= 0 || H <= 0 || W > 16384 || H > 16384)
+    throw InputError("resolution = " + std::to_string(W) + "x" + std::to_string(H) + " is out of range: each side must be in [1, 16384]");
+  if (spp <= 0 || spp > 1000000) throw InputError("spp = " + std::to_string(spp) + " is out of range: [1, 1000000]");
+  if (settings.threads < 0) throw InputError("threads = " + std::to_string(settings.threads) + " is out of range: must be >= 0 (0 = all)");
+  require_non_negative("time-budget", settings.time_budget, "s");
+  const Integrator integ(s, accel, max_depth);
+
+  // Pinhole camera: vertical field of view, looking from eye to target.
+  const Camera& cam = s.camera;
+  const Vec3 fwd = normalize(cam.target - cam.eye);
+  const Vec3 right = normalize(cross(fwd, cam.up));
+  const Vec3 up = cross(right, fwd);
+  const double tan_half = std::tan(cam.fov_deg * kPi / 360.0);
+  const double aspect = static_cast<double>(W) / H;
+
+  std::vector<Rgb3> sum(static_cast<std::size_t>(W) * H);
+  std::atomic<std::uint64_t> invalid{0};
+  const auto t0 = std::chrono::steady_clock::now();
+  const int pass_size = settings.time_budget > 0 ? 1 : spp;
+  int done = 0;
+  constexpr int kTile = 16;
+  const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile;
+  const std::uint64_t total_work = static_cast<std::uint64_t>(tiles_x) * tiles_y * static_cast<std::uint64_t>((spp + pass_size - 1) / pass_size);
+  std::atomic<std::uint64_t> work_done{0};
+  std::mutex progress_mutex;
+  tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+  while (done < spp) {
+    const int s0 = done, s1 = std::min(spp, done + pass_size);
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
+        for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
+          for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
+            for (int y = ty * kTile; y < std::min(H, (ty + 1) * kTile); ++y)
+              for (int x = tx * kTile; x < std::min(W, (tx + 1) * kTile); ++x) {
+                const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(W) + static_cast<std::uint64_t>(x);
+                Rgb3 acc = sum[pixel];
+                for (int si = s0; si < s1; ++si) {
+                  Rng rng = Rng::for_sample(settings.seed, pixel, static_cast<std::uint64_t>(si));
+                  const double px = (x + rng.uniform()) / W, py = (y + rng.uniform()) / H;
+                  const Vec3 dir = normalize(fwd + right * ((2 * px - 1) * tan_half * aspect) + up * ((1 - 2 * py) * tan_half));
+                  const Rgb3 c = integ.Li(cam.eye, dir, rng);
+                  if (std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) acc += c;
+                  else invalid.fetch_add(1, std::memory_order_relaxed);
+                }
+                sum[pixel] = acc;
+              }
+            const std::uint64_t w = work_done.fetch_add(1, std::memory_order_relaxed) + 1;
+            if (progress) {
+              const std::lock_guard lock(progress_mutex);
+              progress(static_cast<double>(w) / static_cast<double>(total_work));
+            }
+          }
+      });
+    });
+    done = s1;
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (settings.time_budget > 0 && elapsed >= settings.time_budget) break;
+  }
+  Image img(W, H);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) img.set(x, y, sum[static_cast<std::size_t>(y) * W + x] / done);
+  if (stats) {
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats->spp_done = done;
+    stats->camera_samples = static_cast<std::uint64_t>(W) * H * static_cast<std::uint64_t>(done);
+    stats->invalid_samples = invalid.load();
+  }
+  return img;
+}
+
+}  // namespace skin::render

@@ -1,0 +1,428 @@
+// Scene files (docs/scene-format.md), the built-in default scene, and the Scene handle.
+#include "skin/render/scene.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "scene_impl.hpp"
+#include "skin/physics/error.hpp"
+
+namespace skin::render {
+
+using json = nlohmann::json;
+
+namespace {
+
+// Reads one JSON object strictly: every key must be known, every value of the right type; the
+// messages name the scene file and the key path.
+class Reader {
+ public:
+  Reader(const json& j, std::string file, std::string where) : j_(j), file_(std::move(file)), where_(std::move(where)) {
+    if (!j_.is_object()) fail("must be a JSON object");
+  }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw InputError("scene = '" + file_ + "': " + (where_.empty() ? "" : where_ + ": ") + what);
+  }
+  void allow(std::initializer_list<const char*> keys) const {
+    const std::set<std::string> ok(keys.begin(), keys.end());
+    for (const auto& [k, v] : j_.items())
+      if (!ok.count(k)) {
+        std::string list;
+        for (const auto& o : ok) list += (list.empty() ? "" : ", ") + o;
+        fail("unknown key '" + k + "' (known: " + list + ")");
+      }
+  }
+  bool has(const char* k) const { return j_.contains(k); }
+  const json& raw(const char* k) const {
+    if (!has(k)) fail("missing key '" + std::string(k) + "'");
+    return j_.at(k);
+  }
+  std::string path(const char* k) const { return where_.empty() ? k : where_ + "." + k; }
+  double number(const char* k, double def) const {
+    if (!has(k)) return def;
+    return number(k);
+  }
+  double number(const char* k) const {
+    const json& v = raw(k);
+    if (!v.is_number()) fail("'" + std::string(k) + "' must be a number");
+    const double x = v.get<double>();
+    if (!std::isfinite(x)) fail("'" + std::string(k) + "' must be finite");
+    return x;
+  }
+  int integer(const char* k, int def) const {
+    if (!has(k)) return def;
+    const json& v = raw(k);
+    if (!v.is_number_integer()) fail("'" + std::string(k) + "' must be an integer");
+    return v.get<int>();
+  }
+  bool boolean(const char* k, bool def) const {
+    if (!has(k)) return def;
+    const json& v = raw(k);
+    if (!v.is_boolean()) fail("'" + std::string(k) + "' must be true or false");
+    return v.get<bool>();
+  }
+  std::string string(const char* k) const {
+    const json& v = raw(k);
+    if (!v.is_string()) fail("'" + std::string(k) + "' must be a string");
+    return v.get<std::string>();
+  }
+  Vec3 vec3(const char* k) const {
+    const json& v = raw(k);
+    if (!v.is_array() || v.size() != 3) fail("'" + std::string(k) + "' must be an array of 3 numbers");
+    Vec3 r;
+    for (int i = 0; i < 3; ++i) {
+      if (!v[static_cast<std::size_t>(i)].is_number()) fail("'" + std::string(k) + "' must be an array of 3 numbers");
+      (i == 0 ? r.x : i == 1 ? r.y : r.z) = v[static_cast<std::size_t>(i)].get<double>();
+    }
+    return r;
+  }
+  Vec3 vec3(const char* k, Vec3 def) const { return has(k) ? vec3(k) : def; }
+  // A colour: one number (grey) or [r, g, b], each >= 0.
+  Rgb3 rgb(const char* k, Rgb3 def) const {
+    if (!has(k)) return def;
+    const json& v = raw(k);
+    Rgb3 c;
+    if (v.is_number()) c = Rgb3{1, 1, 1} * v.get<double>();
+    else if (v.is_array() && v.size() == 3 && v[0].is_number() && v[1].is_number() && v[2].is_number())
+      c = {v[0].get<double>(), v[1].get<double>(), v[2].get<double>()};
+    else fail("'" + std::string(k) + "' must be a number or an array [r, g, b]");
+    for (int i = 0; i < 3; ++i)
+      if (!(c[i] >= 0) || !std::isfinite(c[i])) fail("'" + std::string(k) + "' must be finite and >= 0");
+    return c;
+  }
+  const json& j() const { return j_; }
+  const std::string& file() const { return file_; }
+
+ private:
+  const json& j_;
+  std::string file_, where_;
+};
+
+std::string resolve(const std::string& base_dir, const std::string& p) {
+  const std::filesystem::path q(p);
+  return (q.is_absolute() || base_dir.empty()) ? p : (std::filesystem::path(base_dir) / q).lexically_normal().string();
+}
+
+// Rethrows an InputError from a loader with the scene file in front.
+template <class F>
+auto with_context(const std::string& file, const std::string& where, F&& f) {
+  try {
+    return f();
+  } catch (const InputError& e) {
+    throw InputError("scene = '" + file + "': " + where + ": " + e.what());
+  }
+}
+
+Material parse_material(const Reader& r, const std::string& name, const std::string& base) {
+  Material m;
+  m.name = name;
+  const std::string type = r.string("type");
+  if (type == "diffuse") {
+    r.allow({"type", "albedo", "albedo_texture"});
+    m.kind = MaterialKind::diffuse;
+    m.albedo = r.rgb("albedo", {0.5, 0.5, 0.5});
+    if (r.has("albedo_texture"))
+      m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
+  } else if (type == "skin") {
+    r.allow({"type", "preset", "C_m", "beta_m", "C_h", "rho_s", "gamma", "epidermis_thickness",
+             "dermis_scattering_scale", "eta", "roughness", "albedo_texture"});
+    SkinParameters p = r.has("preset") ? with_context(r.file(), r.path("preset"), [&] { return find_preset(r.string("preset")).parameters; })
+                                       : SkinParameters{};
+    p.melanin = r.number("C_m", p.melanin);
+    p.melanin_blend = r.number("beta_m", p.melanin_blend);
+    p.hemoglobin = r.number("C_h", p.hemoglobin);
+    p.oiliness = r.number("rho_s", p.oiliness);
+    p.oxygenation = r.number("gamma", p.oxygenation);
+    p.epidermis_thickness = r.number("epidermis_thickness", p.epidermis_thickness);
+    p.dermis_scattering_scale = r.number("dermis_scattering_scale", p.dermis_scattering_scale);
+    p.eta = r.number("eta", p.eta);
+    p.roughness = r.number("roughness", p.roughness);
+    with_context(r.file(), "materials." + name, [&] { prepare_skin_material(m, p); return 0; });
+    if (r.has("albedo_texture"))
+      m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
+  } else if (type == "layered") {
+    r.allow({"type", "layers", "eta_above", "eta_below", "rho_s", "roughness", "eta", "albedo_texture"});
+    m.rho_s = r.number("rho_s", 0.0);
+    m.roughness = r.number("roughness", 0.35);
+    m.eta = r.number("eta", 1.4);
+    if (m.rho_s < 0 || m.rho_s > 1) r.fail("'rho_s' = " + format_number(m.rho_s) + " is out of range: [0, 1]");
+    if (!(m.roughness > 0)) r.fail("'roughness' must be > 0");
+    const json& layers = r.raw("layers");
+    if (!layers.is_array() || layers.empty()) r.fail("'layers' must be a non-empty array");
+    std::array<LayerStack, 3> stacks;
+    for (auto& s : stacks) {
+      s.eta_above = r.number("eta_above", 1.0);
+      s.eta_below = r.number("eta_below", 1.0);
+    }
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      const Reader lr(layers[i], r.file(), r.path("layers") + "[" + std::to_string(i) + "]");
+      lr.allow({"sigma_a", "sigma_s_prime", "thickness", "eta", "g"});
+      const Rgb3 sa = lr.rgb("sigma_a", {}), ss = lr.rgb("sigma_s_prime", {1, 1, 1});
+      double thickness = kInfinity;
+      if (lr.has("thickness") && !lr.raw("thickness").is_null()) thickness = lr.number("thickness");
+      for (int c = 0; c < 3; ++c) {
+        Layer l;
+        l.sigma_a = sa[c];
+        l.sigma_s_prime = ss[c];
+        l.thickness = thickness;
+        l.eta = lr.number("eta", 1.4);
+        l.g = lr.number("g", 0.9);
+        stacks[static_cast<std::size_t>(c)].layers.push_back(l);
+      }
+    }
+    with_context(r.file(), "materials." + name, [&] { prepare_layered_material(m, stacks); return 0; });
+    if (r.has("albedo_texture"))
+      m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
+  } else {
+    r.fail("unknown material type '" + type + "' (known: diffuse, skin, layered)");
+  }
+  return m;
+}
+
+void apply_transform(const Reader& r, std::vector<Mesh>& meshes) {
+  if (!r.has("transform")) return;
+  const Reader t(r.raw("transform"), r.file(), r.path("transform"));
+  t.allow({"scale", "rotate_y", "translate"});
+  const double s = t.number("scale", 1.0);
+  if (!(s > 0)) t.fail("'scale' must be > 0");
+  const double a = t.number("rotate_y", 0.0) * kPi / 180;
+  const Vec3 tr = t.vec3("translate", {});
+  const double c = std::cos(a), sn = std::sin(a);
+  for (auto& m : meshes) {
+    for (auto& p : m.position) p = Vec3{c * p.x + sn * p.z, p.y, -sn * p.x + c * p.z} * s + tr;
+    for (auto& n : m.normal) n = Vec3{c * n.x + sn * n.z, n.y, -sn * n.x + c * n.z};
+  }
+}
+
+SceneData parse_scene(const json& root, const std::string& file, const std::string& base) {
+  const Reader r(root, file, "");
+  r.allow({"unit_mm", "camera", "render", "materials", "objects", "lights", "environment", "description"});
+  SceneData s;
+  s.source = file;
+  s.mm_per_unit = r.number("unit_mm", 1.0);
+  if (!(s.mm_per_unit > 0)) r.fail("'unit_mm' must be > 0");
+  {
+    const Reader c(r.raw("camera"), file, "camera");
+    c.allow({"eye", "look_at", "up", "fov", "resolution"});
+    s.camera.eye = c.vec3("eye");
+    s.camera.target = c.vec3("look_at");
+    s.camera.up = c.vec3("up", {0, 1, 0});
+    s.camera.fov_deg = c.number("fov", 40);
+    if (!(s.camera.fov_deg > 0 && s.camera.fov_deg < 180)) c.fail("'fov' = " + format_number(s.camera.fov_deg) + " is out of range: (0, 180) degrees");
+    if (length(cross(s.camera.target - s.camera.eye, s.camera.up)) == 0) c.fail("'up' is parallel to the view direction (or eye == look_at)");
+    if (c.has("resolution")) {
+      const json& res = c.raw("resolution");
+      if (!res.is_array() || res.size() != 2 || !res[0].is_number_integer() || !res[1].is_number_integer())
+        c.fail("'resolution' must be [width, height]");
+      s.camera.width = res[0].get<int>();
+      s.camera.height = res[1].get<int>();
+      if (s.camera.width < 1 || s.camera.height < 1 || s.camera.width > 16384 || s.camera.height > 16384)
+        c.fail("'resolution' out of range: each side in [1, 16384]");
+    }
+  }
+  if (r.has("render")) {
+    const Reader q(r.raw("render"), file, "render");
+    q.allow({"spp", "max_depth", "exposure"});
+    s.spp = q.integer("spp", s.spp);
+    s.max_depth = q.integer("max_depth", s.max_depth);
+    s.exposure = q.number("exposure", 0.0);
+    if (s.spp < 1) q.fail("'spp' must be >= 1");
+    if (s.max_depth < 0 || s.max_depth > 1000) q.fail("'max_depth' must be in [0, 1000]");
+  }
+  std::map<std::string, std::size_t> mat_index;
+  {
+    const json& mats = r.raw("materials");
+    if (!mats.is_object() || mats.empty()) r.fail("'materials' must be a non-empty object of named materials");
+    for (const auto& [name, mj] : mats.items()) {
+      const Reader mr(mj, file, "materials." + name);
+      mat_index[name] = s.materials.size();
+      s.materials.push_back(parse_material(mr, name, base));
+    }
+  }
+  const json& objs = r.raw("objects");
+  if (!objs.is_array() || objs.empty()) r.fail("'objects' must be a non-empty array");
+  for (std::size_t i = 0; i < objs.size(); ++i) {
+    const Reader o(objs[i], file, "objects[" + std::to_string(i) + "]");
+    o.allow({"mesh", "sphere", "quad", "material", "transform", "flip_v"});
+    const std::string mname = o.string("material");
+    const auto it = mat_index.find(mname);
+    if (it == mat_index.end()) o.fail("unknown material '" + mname + "'");
+    std::vector<Mesh> meshes;
+    const int shapes = int(o.has("mesh")) + int(o.has("sphere")) + int(o.has("quad"));
+    if (shapes != 1) o.fail("needs exactly one of 'mesh', 'sphere', 'quad'");
+    if (o.has("mesh")) {
+      const std::string p = resolve(base, o.string("mesh"));
+      meshes = with_context(file, o.path("mesh"), [&] { return load_mesh_file(p, it->second); });
+      if (o.boolean("flip_v", false))
+        for (auto& m : meshes)
+          for (auto& uv : m.uv) uv.y = 1 - uv.y;
+    } else if (o.has("sphere")) {
+      const Reader sp(o.raw("sphere"), file, o.path("sphere"));
+      sp.allow({"center", "radius"});
+      const double rad = sp.number("radius");
+      if (!(rad > 0)) sp.fail("'radius' must be > 0");
+      meshes.push_back(make_sphere(sp.vec3("center"), rad, 64, 128, it->second));
+    } else {
+      const Reader q(o.raw("quad"), file, o.path("quad"));
+      q.allow({"corner", "edge_u", "edge_v"});
+      meshes.push_back(make_quad(q.vec3("corner"), q.vec3("edge_u"), q.vec3("edge_v"), it->second));
+    }
+    apply_transform(o, meshes);
+    for (auto& m : meshes) s.meshes.push_back(std::move(m));
+  }
+  if (r.has("lights")) {
+    const json& ls = r.raw("lights");
+    if (!ls.is_array()) r.fail("'lights' must be an array");
+    for (std::size_t i = 0; i < ls.size(); ++i) {
+      const Reader l(ls[i], file, "lights[" + std::to_string(i) + "]");
+      const std::string type = l.string("type");
+      Light L;
+      if (type == "point") {
+        l.allow({"type", "position", "intensity"});
+        L.kind = LightKind::point;
+        L.position = l.vec3("position");
+        L.intensity = l.rgb("intensity", {1, 1, 1});
+      } else if (type == "directional") {
+        l.allow({"type", "direction", "irradiance"});
+        L.kind = LightKind::directional;
+        L.direction = normalize(l.vec3("direction"));
+        L.intensity = l.rgb("irradiance", {1, 1, 1});
+      } else if (type == "sphere") {
+        l.allow({"type", "center", "radius", "radiance"});
+        L.kind = LightKind::sphere;
+        L.position = l.vec3("center");
+        L.radius = l.number("radius");
+        if (!(L.radius > 0)) l.fail("'radius' must be > 0");
+        L.intensity = l.rgb("radiance", {1, 1, 1});
+      } else if (type == "quad") {
+        l.allow({"type", "corner", "edge_u", "edge_v", "radiance"});
+        L.kind = LightKind::quad;
+        L.corner = l.vec3("corner");
+        L.edge_u = l.vec3("edge_u");
+        L.edge_v = l.vec3("edge_v");
+        if (!(L.area() > 0)) l.fail("'edge_u' and 'edge_v' must span a non-zero area");
+        L.intensity = l.rgb("radiance", {1, 1, 1});
+      } else {
+        l.fail("unknown light type '" + type + "' (known: point, directional, sphere, quad)");
+      }
+      s.lights.push_back(L);
+    }
+  }
+  if (r.has("environment")) {
+    const Reader e(r.raw("environment"), file, "environment");
+    e.allow({"radiance", "map", "scale", "rotation"});
+    s.environment.constant = e.rgb("radiance", {});
+    s.environment.scale = e.number("scale", 1.0);
+    s.environment.rotation_deg = e.number("rotation", 0.0);
+    if (e.has("map")) {
+      s.environment.map = with_context(file, e.path("map"), [&] { return load_texture(resolve(base, e.string("map")), true); });
+      s.environment.build_distribution();
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
+Scene make_scene(SceneData data) { return Scene(std::make_unique<Scene::Impl>(std::move(data))); }
+
+Scene::Scene(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+Scene::~Scene() = default;
+
+Scene Scene::parse(const std::string& text, const std::string& base_dir, const std::string& name) {
+  json root;
+  try {
+    root = json::parse(text);
+  } catch (const json::parse_error& e) {
+    throw InputError("scene = '" + name + "': malformed JSON: " + e.what());
+  }
+  return make_scene(parse_scene(root, name, base_dir));
+}
+
+Scene Scene::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("scene = '" + path + "': file not found or unreadable");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse(ss.str(), std::filesystem::path(path).parent_path().string(), path);
+}
+
+Scene Scene::default_scene() {
+  // Scene units are mm. Three Fig. 8 skin types on spheres of radius 28 mm and a thin ear-like
+  // fin (6 mm thick) of the Fig. 10 "ear" preset, on a grey floor; a large key light in front,
+  // a small back light behind the fin that shows light bleeding through it.
+  SceneData s;
+  s.source = "built-in default scene";
+  s.mm_per_unit = 1.0;
+  s.camera = {{0, 70, 330}, {0, 24, 0}, {0, 1, 0}, 30.0, 384, 256};
+  s.spp = 32;
+  s.max_depth = 4;
+  const char* names[] = {"caucasian", "asian", "african", "ear"};
+  for (const char* n : names) {
+    Material m;
+    m.name = n;
+    prepare_skin_material(m, find_preset(n).parameters);
+    s.materials.push_back(std::move(m));
+  }
+  Material floor;
+  floor.name = "floor";
+  floor.albedo = {0.35, 0.35, 0.35};
+  s.materials.push_back(floor);
+  s.meshes.push_back(make_sphere({-96, 28, 0}, 28, 64, 128, 0));
+  s.meshes.push_back(make_sphere({-32, 28, 0}, 28, 64, 128, 1));
+  s.meshes.push_back(make_sphere({32, 28, 0}, 28, 64, 128, 2));
+  s.meshes.push_back(make_ellipsoid({94, 30, 0}, {20, 30, 3}, 64, 128, 3));
+  s.meshes.push_back(make_quad({-400, 0, 300}, {800, 0, 0}, {0, 0, -700}, 4));
+  Light key;
+  key.kind = LightKind::sphere;
+  key.position = {-160, 260, 260};
+  key.radius = 30;
+  key.intensity = {40, 40, 40};
+  s.lights.push_back(key);
+  Light back;
+  back.kind = LightKind::sphere;
+  back.position = {100, 36, -45};
+  back.radius = 8;
+  back.intensity = {300, 300, 300};
+  s.lights.push_back(back);
+  s.environment.constant = {0.04, 0.045, 0.05};
+  return make_scene(std::move(s));
+}
+
+void Scene::set_skin_parameters(const SkinParameters& p) {
+  for (auto& m : impl_->data.materials)
+    if (m.kind == MaterialKind::skin) {
+      auto tex = m.albedo_map;
+      prepare_skin_material(m, p);
+      m.albedo_map = tex;
+    }
+}
+
+void Scene::make_translucent_diffuse() {
+  for (auto& m : impl_->data.materials)
+    if (m.translucent()) {
+      m.kind = MaterialKind::diffuse;
+      m.albedo = m.R_d;
+      m.albedo_map = nullptr;
+    }
+}
+
+int Scene::width() const { return impl_->data.camera.width; }
+int Scene::height() const { return impl_->data.camera.height; }
+double Scene::exposure() const { return impl_->data.exposure; }
+
+std::string Scene::summary() const {
+  std::size_t tris = 0;
+  for (const auto& m : impl_->data.meshes) tris += m.triangles.size();
+  std::ostringstream os;
+  os << impl_->data.source << ": " << tris << " triangles, " << impl_->data.materials.size() << " materials, "
+     << impl_->data.lights.size() << " lights";
+  return os.str();
+}
+
+}  // namespace skin::render

@@ -1,0 +1,115 @@
+#pragma once
+// Internal description of a loaded scene (not installed: the public face is skin/render/scene.hpp).
+// Geometry is in scene units; `mm_per_unit` converts to the mm of the diffusion profiles.
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "skin/physics/skin_parameters.hpp"
+#include "skin/render/math.hpp"
+#include "skin/render/microfacet.hpp"
+#include "skin/render/profile_sampler.hpp"
+#include "skin/render/sampling.hpp"
+
+namespace skin::render {
+
+// An RGB image in linear values, row 0 at the top.
+struct Texture {
+  std::string path;
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // width * height * 3, linear
+  // Bilinear lookup with wrapping, (u, v) in the OpenGL/glTF-as-exported convention used by the
+  // loader: v = 0 at the bottom row, so row = (1 - v) * height (PROVENANCE.md section 4).
+  Rgb3 lookup(double u, double v) const;
+  Rgb3 texel(int x, int y) const;
+};
+
+enum class MaterialKind { diffuse, skin, layered };
+
+struct Material {
+  std::string name;
+  MaterialKind kind = MaterialKind::diffuse;
+  Rgb3 albedo{0.5, 0.5, 0.5};                // diffuse: reflectance
+  std::shared_ptr<const Texture> albedo_map; // diffuse: reflectance; skin: colour to reproduce
+  // Translucent materials (skin, layered):
+  SkinParameters parameters;                  // skin only (for reports)
+  std::array<TabulatedProfile, 3> profile;    // R(r) per linear sRGB channel [1/mm^2]
+  Rgb3 R_d;                                   // totals per channel
+  Rgb3 texture_normalisation{1, 1, 1};        // 1 / R_d colour of the assumed chromophores
+  double rho_s = 0, roughness = 0.35, eta = 1.4;
+  std::shared_ptr<const SpecularAlbedo> specular_albedo;
+  bool translucent() const { return kind != MaterialKind::diffuse; }
+};
+
+struct Mesh {
+  std::string source;  // file it came from (or "built-in ...") for messages
+  std::vector<Vec3> position, normal;  // normal empty: flat shading from the triangle
+  std::vector<Vec2> uv;                // empty: no texture coordinates
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  std::size_t material = 0;
+};
+
+enum class LightKind { point, directional, sphere, quad };
+struct Light {
+  LightKind kind = LightKind::point;
+  Rgb3 intensity;  // point [W/sr-like units], directional: irradiance, area lights: radiance
+  Vec3 position;   // point, sphere centre
+  Vec3 direction;  // directional: direction the light travels (unit)
+  double radius = 0;      // sphere
+  Vec3 corner, edge_u, edge_v;  // quad: emits on the side of cross(edge_u, edge_v)
+  double area() const;
+};
+
+struct Environment {
+  Rgb3 constant;                           // radiance of a uniform environment
+  std::shared_ptr<const Texture> map;      // lat-long map (multiplies `scale`), optional
+  double scale = 1.0;
+  double rotation_deg = 0.0;               // about +y
+  Distribution2D distribution;             // map importance (luminance x sin theta)
+  bool has_map() const { return map != nullptr; }
+  bool black() const { return !map && constant.is_black(); }
+  Rgb3 radiance(const Vec3& dir) const;
+  // Samples a direction toward the environment seen from a point with normal n; returns the
+  // radiance, sets dir and the solid-angle pdf. A constant environment is sampled cosine-weighted
+  // about n (what a diffuse receiver integrates), a map by its luminance.
+  Rgb3 sample(Vec2 u, const Vec3& n, Vec3* dir, double* pdf) const;
+  double pdf(const Vec3& dir, const Vec3& n) const;
+  void build_distribution();
+};
+
+struct Camera {
+  Vec3 eye{0, 0, 5}, target{0, 0, 0}, up{0, 1, 0};
+  double fov_deg = 40;  // vertical field of view
+  int width = 384, height = 256;
+};
+
+struct SceneData {
+  std::string source;  // scene file or "built-in default scene"
+  Camera camera;
+  double mm_per_unit = 1.0;
+  std::vector<Material> materials;
+  std::vector<Mesh> meshes;
+  std::vector<Light> lights;
+  Environment environment;
+  int spp = 16, max_depth = 5;
+  double exposure = 0.0;  // stops, applied to PNG output
+};
+
+// Builds the diffusion profiles, specular albedo and normalisation of a translucent material
+// from a LayerStack per channel (layered) or from skin parameters; `name` for messages.
+void prepare_skin_material(Material& m, const SkinParameters& p);
+void prepare_layered_material(Material& m, const std::array<LayerStack, 3>& stacks);
+
+// Procedural geometry for built-in scenes (in scene units).
+Mesh make_sphere(const Vec3& centre, double radius, int n_theta, int n_phi, std::size_t material);
+Mesh make_ellipsoid(const Vec3& centre, const Vec3& radii, int n_theta, int n_phi,
+                    std::size_t material);
+Mesh make_quad(const Vec3& corner, const Vec3& edge_u, const Vec3& edge_v, std::size_t material);
+
+// Loading (throw InputError naming the file and the problem).
+std::vector<Mesh> load_mesh_file(const std::string& path, std::size_t material);
+std::shared_ptr<Texture> load_texture(const std::string& path, bool srgb);
+
+}  // namespace skin::render
