@@ -1,0 +1,130 @@
+#pragma once
+// Inverse model from colour: the parameters (C_m, beta_m, C_h) whose R_d colour under D65 (as
+// `skin color` computes it: CIE 1931 2-degree, 400-700 nm every 2 nm, white-balanced sRGB)
+// matches a given sRGB colour, and per-pixel parameter maps from an albedo texture.
+//
+// Three colour coordinates, three unknowns, but beta_m (eumelanin share) is weakly identifiable
+// from colour: many (C_m, beta_m) pairs give nearly the same colour. It is resolved by a
+// regulariser toward a prior: the least-squares objective is
+//   |Lab(params) - Lab_target|^2 + (w (beta_m - beta_prior))^2,
+// with w small (default 0.2 Lab units per unit of beta_m), so that the colour error it can cause
+// is at most ~0.2 while flat directions are pulled to the prior. Fixing beta_m (leaving it out
+// of `free`) is the limit w -> infinity. Details: docs/fit.md.
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <iosfwd>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "skin/color/color.hpp"
+#include "skin/fit/fit.hpp"
+#include "skin/physics/spectrum.hpp"
+
+namespace skin::fit {
+
+struct ColorFitOptions {
+  // A subset of {melanin, melanin_blend, hemoglobin}; the others keep their values in `start`.
+  std::vector<Parameter> free = {Parameter::melanin, Parameter::melanin_blend,
+                                 Parameter::hemoglobin};
+  SkinParameters start;            // fixed values (and the other model parameters)
+  double melanin_blend_prior = 0.7;   // beta_prior (the paper's Caucasian and African value)
+  double melanin_blend_weight = 0.2;  // w [Lab units per unit beta_m], >= 0
+  WavelengthGrid grid;                // colour integration grid, as `skin color`
+  std::vector<std::pair<Parameter, Bounds>> bounds;  // overriding default_bounds
+  ForwardModel model;                 // empty: multipole_model()
+};
+
+struct ColorFitResult {
+  SkinParameters parameters;
+  color::Lab target, fitted;     // CIELAB relative to the grid's D65 white
+  color::Rgb fitted_srgb_linear;
+  double delta_e = 0;            // CIEDE2000 between target and fitted
+  int iterations = 0;
+};
+std::ostream& operator<<(std::ostream& os, const ColorFitResult& r);
+
+// Parses "R,G,B" (8-bit sRGB-encoded values 0-255, decimals allowed) or "RRGGBB" / "#RRGGBB";
+// returns linear sRGB. Throws InputError naming the option and value.
+color::Rgb parse_srgb8(const std::string& text);
+color::Rgb parse_hex(const std::string& text);
+
+// Fits single colours with the exact model (R_d on the whole grid per evaluation). Holds a
+// table over the parameter space (built on first use) for the starting point. Thread-safe.
+class ColorFitter {
+ public:
+  explicit ColorFitter(ColorFitOptions options = {});
+  ~ColorFitter();
+  ColorFitter(ColorFitter&&) noexcept;
+  ColorFitter& operator=(ColorFitter&&) noexcept;
+  const ColorFitOptions& options() const;
+  // Target as linear sRGB (white-balanced: a perfect reflector is 1, 1, 1).
+  ColorFitResult fit(const color::Rgb& srgb_linear) const;
+  // The model's colour for a parameter set (Lab relative to the grid's white).
+  color::Lab lab(const SkinParameters& p) const;
+  void prepare() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+  friend class TextureFitter;
+};
+
+// An image of 32-bit floats, channels interleaved (row-major, top row first).
+struct Image {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;
+  float at(int x, int y, int c) const {
+    return pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
+                   static_cast<std::size_t>(x)) * static_cast<std::size_t>(channels) +
+                  static_cast<std::size_t>(c)];
+  }
+};
+
+// Reads an 8- or 16-bit PNG (or JPEG/TGA/BMP via stb_image): returns linear sRGB in 0-1 (the
+// sRGB transfer curve decoded), 3 channels (grey is expanded, alpha dropped). Throws InputError.
+Image read_albedo(const std::string& path);
+
+// Per-pixel parameter maps. Channels, in this order: melanin, melanin_blend, hemoglobin, error
+// (CIEDE2000 between the pixel and the fitted colour). Layout: docs/parameter-maps.md.
+struct ParameterMaps {
+  int width = 0, height = 0;
+  std::vector<float> melanin, melanin_blend, hemoglobin, error;
+  // Statistics of the error channel.
+  double mean_error = 0, max_error = 0;
+  double fraction_below_1 = 0;  // share of pixels with error < 1
+};
+std::ostream& operator<<(std::ostream& os, const ParameterMaps& m);
+
+// Texture fit: a dense table of the model's Lab over (log C_m, beta_m, log C_h), the per-pixel
+// objective above on the trilinearly interpolated table, solved per distinct pixel colour (in
+// parallel, TBB). The error map is measured against the interpolated model; the table's own
+// interpolation error is small against the exact model (tests/fit, docs/fit.md).
+class TextureFitter {
+ public:
+  explicit TextureFitter(ColorFitOptions options = {});
+  ~TextureFitter();
+  TextureFitter(TextureFitter&&) noexcept;
+  TextureFitter& operator=(TextureFitter&&) noexcept;
+  void prepare() const;  // builds the table (otherwise the first fit does)
+  // progress(done, total) is called from the calling thread now and then (may be empty).
+  ParameterMaps fit(const Image& linear_srgb,
+                    const std::function<void(std::size_t, std::size_t)>& progress = {}) const;
+  // One colour through the texture path (interpolated table), for tests.
+  ColorFitResult fit_color(const color::Rgb& srgb_linear) const;
+  // The interpolated model colour for a parameter set (for tests against ColorFitter::lab).
+  color::Lab lab(const SkinParameters& p) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Writes the maps as a multi-channel 32-bit float OpenEXR (channels melanin, melanin_blend,
+// hemoglobin, error; see docs/parameter-maps.md), atomically. Throws InputError on failure.
+void write_parameter_maps(const ParameterMaps& maps, const std::string& path);
+// Reads such a file back (all four channels required). Throws InputError.
+ParameterMaps read_parameter_maps(const std::string& path);
+
+}  // namespace skin::fit

@@ -1,0 +1,508 @@
+// Colour fit (exact model) and texture fit (interpolated table), docs/fit.md.
+#include "skin/fit/color_fit.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <ostream>
+
+#include <Eigen/Dense>
+#include <tbb/parallel_for.h>
+
+#include "lm.hpp"
+#include "skin/physics/error.hpp"
+
+namespace skin::fit {
+
+std::ostream& operator<<(std::ostream& os, const ColorFitResult& r) {
+  return os << "ColorFitResult{C_m=" << r.parameters.melanin << ", beta_m=" << r.parameters.melanin_blend
+            << ", C_h=" << r.parameters.hemoglobin << ", target=" << r.target << ", fitted=" << r.fitted
+            << ", dE2000=" << r.delta_e << ", iterations=" << r.iterations << '}';
+}
+
+std::ostream& operator<<(std::ostream& os, const ParameterMaps& m) {
+  return os << "ParameterMaps{" << m.width << "x" << m.height << ", mean dE=" << m.mean_error
+            << ", max dE=" << m.max_error << ", below 1: " << m.fraction_below_1 << '}';
+}
+
+namespace {
+
+double parse_number(const std::string& what, const std::string& s) {
+  std::size_t used = 0;
+  double v = std::numeric_limits<double>::quiet_NaN();
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != s.size() || !std::isfinite(v))
+    throw InputError(what + " = '" + s + "' is not a number");
+  return v;
+}
+
+}  // namespace
+
+color::Rgb parse_srgb8(const std::string& text) {
+  std::vector<std::string> parts;
+  std::size_t pos = 0;
+  while (true) {
+    const std::size_t comma = text.find(',', pos);
+    parts.push_back(text.substr(pos, comma == std::string::npos ? std::string::npos : comma - pos));
+    if (comma == std::string::npos) break;
+    pos = comma + 1;
+  }
+  if (parts.size() != 3)
+    throw InputError("srgb = '" + text + "' must be three numbers R,G,B (8-bit sRGB, 0-255)");
+  double v[3];
+  for (int c = 0; c < 3; ++c) {
+    v[c] = parse_number("srgb", parts[static_cast<std::size_t>(c)]);
+    require_in_range("srgb", v[c], 0.0, 255.0);
+  }
+  return {color::srgb_decode(v[0] / 255.0), color::srgb_decode(v[1] / 255.0),
+          color::srgb_decode(v[2] / 255.0)};
+}
+
+color::Rgb parse_hex(const std::string& text) {
+  std::string s = text;
+  if (!s.empty() && s.front() == '#') s.erase(0, 1);
+  const bool ok = s.size() == 6 && std::all_of(s.begin(), s.end(), [](char c) {
+                    return std::isxdigit(static_cast<unsigned char>(c)) != 0;
+                  });
+  if (!ok) throw InputError("hex = '" + text + "' must be six hexadecimal digits RRGGBB");
+  double v[3];
+  for (int c = 0; c < 3; ++c) v[c] = std::stoi(s.substr(static_cast<std::size_t>(2 * c), 2), nullptr, 16);
+  return {color::srgb_decode(v[0] / 255.0), color::srgb_decode(v[1] / 255.0),
+          color::srgb_decode(v[2] / 255.0)};
+}
+
+// ---------------------------------------------------------------------------------------------
+// ColorFitter
+
+struct ColorFitter::Impl {
+  ColorFitOptions opt;
+  ForwardModel model;
+  color::Colorimetry cm;
+  std::vector<double> lambda;
+  bool fit_blend = false;
+
+  explicit Impl(ColorFitOptions o) : opt(std::move(o)), cm(opt.grid), lambda(opt.grid.values()) {}
+
+  Bounds bounds_of(Parameter p) const {
+    for (const auto& [q, b] : opt.bounds)
+      if (q == p) return b;
+    return default_bounds(p);
+  }
+
+  // Lab of linear (white-balanced) sRGB, the way `skin color` reports it.
+  color::Lab lab_of(const color::Rgb& rgb) const { return color::summarize_rgb(cm, rgb).lab; }
+
+  // Model colour as white-balanced linear sRGB (the colour weights are linear in R_d).
+  color::Rgb rgb(const SkinParameters& p) const {
+    const auto& w = cm.srgb_weights();
+    color::Rgb c;
+    for (std::size_t i = 0; i < lambda.size(); ++i) {
+      const double R = model(p, lambda[i]);
+      c.r += w[i][0] * R;
+      c.g += w[i][1] * R;
+      c.b += w[i][2] * R;
+    }
+    return c;
+  }
+  color::Lab lab(const SkinParameters& p) const { return lab_of(rgb(p)); }
+
+  // Coarse table for the starting point.
+  mutable std::once_flag once;
+  mutable std::vector<SkinParameters> table_p;
+  mutable std::vector<color::Lab> table_lab;
+  void build_table() const {
+    std::vector<std::vector<double>> axes;
+    for (Parameter p : {Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin}) {
+      std::vector<double> v;
+      const bool free = std::find(opt.free.begin(), opt.free.end(), p) != opt.free.end();
+      const Bounds b = bounds_of(p);
+      if (!free) v.push_back(get(opt.start, p));
+      else if (p == Parameter::melanin_blend) for (int i = 0; i <= 4; ++i) v.push_back(b.lo + (b.hi - b.lo) * i / 4.0);
+      else {
+        const double a = std::max(b.lo, b.hi * 2e-3);
+        if (b.lo < a) v.push_back(b.lo);
+        for (int i = 0; i < 12; ++i) v.push_back(a * std::pow(b.hi / a, i / 11.0));
+      }
+      axes.push_back(v);
+    }
+    for (double m : axes[0])
+      for (double bl : axes[1])
+        for (double h : axes[2]) {
+          SkinParameters p = opt.start;
+          p.melanin = m;
+          p.melanin_blend = bl;
+          p.hemoglobin = h;
+          table_p.push_back(p);
+        }
+    table_lab.resize(table_p.size());
+    tbb::parallel_for(std::size_t(0), table_p.size(), [&](std::size_t i) { table_lab[i] = lab(table_p[i]); });
+  }
+};
+
+ColorFitter::ColorFitter(ColorFitOptions options) {
+  options.start.validate();
+  require_non_negative("melanin-blend-weight", options.melanin_blend_weight);
+  require_in_range("melanin-blend-prior", options.melanin_blend_prior, 0.0, 1.0);
+  if (options.free.empty()) throw InputError("free parameters: the list is empty");
+  for (Parameter p : options.free)
+    if (p != Parameter::melanin && p != Parameter::melanin_blend && p != Parameter::hemoglobin)
+      throw InputError("free parameter '" + flag(p) +
+                       "' cannot be fitted from a colour: choose among melanin, melanin-blend, hemoglobin");
+  impl_ = std::make_unique<Impl>(std::move(options));
+  impl_->model = impl_->opt.model ? impl_->opt.model : multipole_model();
+  impl_->fit_blend = std::find(impl_->opt.free.begin(), impl_->opt.free.end(), Parameter::melanin_blend) !=
+                     impl_->opt.free.end();
+  for (Parameter p : impl_->opt.free) {
+    const Bounds b = impl_->bounds_of(p);
+    if (!(b.lo < b.hi)) throw InputError("bounds of " + flag(p) + " are invalid: need lo < hi");
+    set(impl_->opt.start, p, std::clamp(get(impl_->opt.start, p), b.lo, b.hi));
+  }
+}
+ColorFitter::~ColorFitter() = default;
+ColorFitter::ColorFitter(ColorFitter&&) noexcept = default;
+ColorFitter& ColorFitter::operator=(ColorFitter&&) noexcept = default;
+const ColorFitOptions& ColorFitter::options() const { return impl_->opt; }
+void ColorFitter::prepare() const { std::call_once(impl_->once, [this] { impl_->build_table(); }); }
+color::Lab ColorFitter::lab(const SkinParameters& p) const { return impl_->lab(p); }
+
+ColorFitResult ColorFitter::fit(const color::Rgb& target_rgb) const {
+  for (int c = 0; c < 3; ++c) require_in_range("srgb (linear)", target_rgb[c], 0.0, 1.0);
+  prepare();
+  const Impl& m = *impl_;
+  const color::Lab target = m.lab_of(target_rgb);
+  const double w = m.opt.melanin_blend_weight, prior = m.opt.melanin_blend_prior;
+  auto objective = [&](const color::Lab& l, double blend) {
+    const double dL = l.L - target.L, da = l.a - target.a, db = l.b - target.b;
+    const double reg = m.fit_blend ? w * (blend - prior) : 0.0;
+    return dL * dL + da * da + db * db + reg * reg;
+  };
+  std::size_t best = 0;
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < m.table_p.size(); ++i) {
+    const double c = objective(m.table_lab[i], m.table_p[i].melanin_blend);
+    if (c < best_cost) best_cost = c, best = i;
+  }
+  const std::vector<Parameter>& which = m.opt.free;
+  const auto n = static_cast<Eigen::Index>(which.size());
+  detail::LmProblem prob;
+  prob.m = m.fit_blend ? 4 : 3;
+  prob.lo.resize(n);
+  prob.hi.resize(n);
+  prob.h.resize(n);
+  Eigen::VectorXd x0(n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Bounds b = m.bounds_of(which[j]);
+    prob.lo[j] = b.lo;
+    prob.hi[j] = b.hi;
+    prob.h[j] = 1e-6 * (b.hi - b.lo);
+    x0[j] = get(m.table_p[best], which[j]);
+  }
+  SkinParameters p = m.opt.start;
+  prob.residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
+    SkinParameters q = m.opt.start;
+    for (Eigen::Index j = 0; j < n; ++j) set(q, which[j], x[j]);
+    const color::Lab l = m.lab(q);
+    r[0] = l.L - target.L;
+    r[1] = l.a - target.a;
+    r[2] = l.b - target.b;
+    if (m.fit_blend) r[3] = w * (q.melanin_blend - prior);
+  };
+  const detail::LmResult res = detail::levenberg_marquardt(prob, x0, 50, false);
+  for (Eigen::Index j = 0; j < n; ++j) set(p, which[j], res.x[j]);
+  ColorFitResult out;
+  out.parameters = p;
+  out.target = target;
+  out.fitted_srgb_linear = m.rgb(p);
+  out.fitted = m.lab_of(out.fitted_srgb_linear);
+  out.delta_e = color::delta_e_2000(target, out.fitted);
+  out.iterations = res.iterations;
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------
+// TextureFitter: dense table in transformed coordinates, trilinear interpolation.
+
+namespace {
+// Axis transforms: R_d responds to C_m and C_h roughly logarithmically, so their nodes are
+// uniform in log(C + c0) (c0 keeps 0 reachable); beta_m is linear.
+struct Axis {
+  double lo = 0, hi = 0, c0 = 0;
+  bool log = false;
+  int n = 1;
+  double t(double v) const { return log ? std::log(v + c0) : v; }
+  double inv(double t) const { return log ? std::exp(t) - c0 : t; }
+  double value(double u) const {  // u in [0, n - 1]
+    if (n == 1) return lo;
+    return inv(t(lo) + (t(hi) - t(lo)) * u / (n - 1));
+  }
+  double index(double v) const {
+    if (n == 1) return 0;
+    return (t(v) - t(lo)) / (t(hi) - t(lo)) * (n - 1);
+  }
+};
+}  // namespace
+
+struct TextureFitter::Impl {
+  ColorFitter exact;
+  Axis axis[3];  // melanin, melanin_blend, hemoglobin
+  mutable std::once_flag once;
+  mutable std::vector<Eigen::Vector3d> lab;  // [i_m][i_b][i_h], Lab
+
+  explicit Impl(ColorFitOptions o) : exact(std::move(o)) {
+    const auto& opt = exact.options();
+    const Parameter ps[3] = {Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin};
+    // 48 x 6 x 48 nodes: interpolation error well below 1 dE2000 (tests/fit).
+    const int counts[3] = {48, 6, 48};
+    const double c0[3] = {1e-3, 0, 5e-4};
+    for (int k = 0; k < 3; ++k) {
+      const bool free = std::find(opt.free.begin(), opt.free.end(), ps[k]) != opt.free.end();
+      const Bounds b = exact.impl_->bounds_of(ps[k]);
+      Axis& a = axis[k];
+      if (!free) {
+        a.lo = a.hi = get(opt.start, ps[k]);
+        a.n = 1;
+      } else {
+        a.lo = b.lo;
+        a.hi = b.hi;
+        a.n = counts[k];
+        a.c0 = c0[k];
+        a.log = k != 1;
+      }
+    }
+  }
+  std::size_t idx(int i, int j, int k) const {
+    return (static_cast<std::size_t>(i) * static_cast<std::size_t>(axis[1].n) + static_cast<std::size_t>(j)) *
+               static_cast<std::size_t>(axis[2].n) + static_cast<std::size_t>(k);
+  }
+  void build() const {
+    const std::size_t total = static_cast<std::size_t>(axis[0].n) * axis[1].n * axis[2].n;
+    lab.resize(total);
+    tbb::parallel_for(std::size_t(0), total, [&](std::size_t e) {
+      const int k = static_cast<int>(e % axis[2].n);
+      const int j = static_cast<int>((e / axis[2].n) % axis[1].n);
+      const int i = static_cast<int>(e / (static_cast<std::size_t>(axis[2].n) * axis[1].n));
+      SkinParameters p = exact.options().start;
+      p.melanin = axis[0].value(i);
+      p.melanin_blend = axis[1].value(j);
+      p.hemoglobin = axis[2].value(k);
+      const color::Lab l = exact.lab(p);
+      lab[e] = {l.L, l.a, l.b};
+    });
+  }
+  // Trilinear interpolation at index coordinates u, with the derivative per coordinate.
+  Eigen::Vector3d eval(const Eigen::Vector3d& u, Eigen::Matrix3d* J) const {
+    int i0[3];
+    double f[3];
+    for (int k = 0; k < 3; ++k) {
+      if (axis[k].n == 1) {
+        i0[k] = 0;
+        f[k] = 0;
+        continue;
+      }
+      i0[k] = std::clamp(static_cast<int>(std::floor(u[k])), 0, axis[k].n - 2);
+      f[k] = u[k] - i0[k];
+    }
+    const int s1 = axis[1].n > 1 ? 1 : 0, s0 = axis[0].n > 1 ? 1 : 0, s2 = axis[2].n > 1 ? 1 : 0;
+    Eigen::Vector3d v = Eigen::Vector3d::Zero();
+    if (J) J->setZero();
+    for (int a = 0; a <= s0; ++a)
+      for (int b = 0; b <= s1; ++b)
+        for (int c = 0; c <= s2; ++c) {
+          const double wa = s0 ? (a ? f[0] : 1 - f[0]) : 1, wb = s1 ? (b ? f[1] : 1 - f[1]) : 1,
+                       wc = s2 ? (c ? f[2] : 1 - f[2]) : 1;
+          const Eigen::Vector3d& node = lab[idx(i0[0] + a, i0[1] + b, i0[2] + c)];
+          v += wa * wb * wc * node;
+          if (J) {
+            if (s0) J->col(0) += (a ? 1.0 : -1.0) * wb * wc * node;
+            if (s1) J->col(1) += (b ? 1.0 : -1.0) * wa * wc * node;
+            if (s2) J->col(2) += (c ? 1.0 : -1.0) * wa * wb * node;
+          }
+        }
+    return v;
+  }
+  SkinParameters params(const Eigen::Vector3d& u) const {
+    SkinParameters p = exact.options().start;
+    p.melanin = axis[0].value(u[0]);
+    p.melanin_blend = axis[1].value(u[1]);
+    p.hemoglobin = axis[2].value(u[2]);
+    return p;
+  }
+
+  // The per-pixel objective on the table: a small LM with fixed-size matrices.
+  struct Solved {
+    Eigen::Vector3d u;
+    Eigen::Vector3d lab;
+    int iterations;
+  };
+  Solved solve(const Eigen::Vector3d& target) const {
+    const auto& opt = exact.options();
+    const double w = axis[1].n > 1 ? opt.melanin_blend_weight : 0.0;
+    const double prior_u = axis[1].index(opt.melanin_blend_prior);
+    const double beta_per_u = axis[1].n > 1 ? (axis[1].hi - axis[1].lo) / (axis[1].n - 1) : 0.0;
+    auto cost_of = [&](const Eigen::Vector3d& l, const Eigen::Vector3d& u) {
+      const double reg = w * beta_per_u * (u[1] - prior_u);
+      return (l - target).squaredNorm() + reg * reg;
+    };
+    // Start: the best node on a stride-2 sub-grid.
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    double best = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < axis[0].n; i += 2)
+      for (int j = 0; j < axis[1].n; ++j)
+        for (int k = 0; k < axis[2].n; k += 2) {
+          const Eigen::Vector3d uu(i, j, k);
+          const double c = cost_of(lab[idx(i, j, k)], uu);
+          if (c < best) best = c, u = uu;
+        }
+    Eigen::Vector3d hi;
+    for (int k = 0; k < 3; ++k) hi[k] = axis[k].n - 1;
+    Eigen::Matrix3d J;
+    Eigen::Vector3d l = eval(u, &J);
+    double cost = cost_of(l, u);
+    double mu = 1e-3;
+    int it = 0;
+    for (; it < 40; ++it) {
+      // Residual (l - target, reg); Jacobian (J; w beta_per_u e_1).
+      const Eigen::Vector3d r = l - target;
+      const double reg = w * beta_per_u * (u[1] - prior_u), dreg = w * beta_per_u;
+      Eigen::Matrix3d A = J.transpose() * J;
+      Eigen::Vector3d g = J.transpose() * r;
+      A(1, 1) += dreg * dreg;
+      g[1] += dreg * reg;
+      for (int k = 0; k < 3; ++k)
+        if (axis[k].n == 1) A(k, k) = 1, g[k] = 0;
+      bool accepted = false;
+      for (int tries = 0; tries < 10 && !accepted; ++tries) {
+        Eigen::Matrix3d M = A;
+        for (int k = 0; k < 3; ++k) M(k, k) += mu * std::max(A(k, k), 1e-9);
+        const Eigen::Vector3d step = M.ldlt().solve(-g);
+        const Eigen::Vector3d un = (u + step).cwiseMax(0.0).cwiseMin(hi);
+        Eigen::Matrix3d Jn;
+        const Eigen::Vector3d ln = eval(un, &Jn);
+        const double cn = cost_of(ln, un);
+        if (cn < cost) {
+          const double moved = (un - u).cwiseAbs().maxCoeff();
+          u = un, l = ln, J = Jn, cost = cn;
+          mu = std::max(mu * 0.3, 1e-9);
+          accepted = true;
+          if (moved < 1e-6) it = 1000;
+        } else {
+          mu *= 4;
+        }
+      }
+      if (!accepted) break;
+    }
+    return {u, l, std::min(it, 40)};
+  }
+};
+
+TextureFitter::TextureFitter(ColorFitOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+TextureFitter::~TextureFitter() = default;
+TextureFitter::TextureFitter(TextureFitter&&) noexcept = default;
+TextureFitter& TextureFitter::operator=(TextureFitter&&) noexcept = default;
+void TextureFitter::prepare() const { std::call_once(impl_->once, [this] { impl_->build(); }); }
+
+color::Lab TextureFitter::lab(const SkinParameters& p) const {
+  prepare();
+  const Eigen::Vector3d u(impl_->axis[0].index(p.melanin), impl_->axis[1].index(p.melanin_blend),
+                          impl_->axis[2].index(p.hemoglobin));
+  const Eigen::Vector3d l = impl_->eval(u, nullptr);
+  return {l[0], l[1], l[2]};
+}
+
+ColorFitResult TextureFitter::fit_color(const color::Rgb& rgb) const {
+  prepare();
+  const color::Lab t = impl_->exact.impl_->lab_of(rgb);
+  const auto s = impl_->solve({t.L, t.a, t.b});
+  ColorFitResult r;
+  r.parameters = impl_->params(s.u);
+  r.target = t;
+  r.fitted = {s.lab[0], s.lab[1], s.lab[2]};
+  r.delta_e = color::delta_e_2000(r.target, r.fitted);
+  r.iterations = s.iterations;
+  return r;
+}
+
+ParameterMaps TextureFitter::fit(const Image& img,
+                                 const std::function<void(std::size_t, std::size_t)>& progress) const {
+  if (img.channels < 3 || img.width <= 0 || img.height <= 0)
+    throw InputError("texture: expected an RGB image, got " + std::to_string(img.width) + "x" +
+                     std::to_string(img.height) + " with " + std::to_string(img.channels) + " channels");
+  prepare();
+  const std::size_t npix = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
+  // Distinct colours (16 bits per linear channel: distinct 8- and 16-bit sRGB inputs stay
+  // distinct), each solved once.
+  std::vector<std::uint64_t> key(npix);
+  tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
+    std::uint64_t k = 0;
+    for (int c = 0; c < 3; ++c) {
+      const double v = std::clamp(static_cast<double>(img.pixels[i * static_cast<std::size_t>(img.channels) + static_cast<std::size_t>(c)]), 0.0, 1.0);
+      k = (k << 16) | static_cast<std::uint64_t>(std::lround(v * 65535.0));
+    }
+    key[i] = k;
+  });
+  std::vector<std::uint64_t> uniq = key;
+  std::sort(uniq.begin(), uniq.end());
+  uniq.erase(std::unique(uniq.begin(), uniq.end()), uniq.end());
+  struct Out {
+    float m, b, h, e;
+  };
+  std::vector<Out> solved(uniq.size());
+  const Impl& m = *impl_;
+  std::atomic<std::size_t> done{0};
+  const std::size_t chunk = 256;
+  const std::size_t nchunks = (uniq.size() + chunk - 1) / chunk;
+  std::size_t next_chunk = 0;
+  // Chunks of colours in parallel; progress reported between batches from this thread.
+  while (next_chunk < nchunks) {
+    const std::size_t batch_end = std::min(nchunks, next_chunk + 64);
+    tbb::parallel_for(next_chunk, batch_end, [&](std::size_t ch) {
+      for (std::size_t q = ch * chunk; q < std::min(uniq.size(), (ch + 1) * chunk); ++q) {
+        const std::uint64_t k = uniq[q];
+        const auto channel = [k](int shift) { return static_cast<double>((k >> shift) & 0xffff) / 65535.0; };
+        const color::Rgb rgb{channel(32), channel(16), channel(0)};
+        const color::Lab t = m.exact.impl_->lab_of(rgb);
+        const auto s = m.solve({t.L, t.a, t.b});
+        const SkinParameters p = m.params(s.u);
+        const double e = color::delta_e_2000(t, {s.lab[0], s.lab[1], s.lab[2]});
+        solved[q] = {static_cast<float>(p.melanin), static_cast<float>(p.melanin_blend),
+                     static_cast<float>(p.hemoglobin), static_cast<float>(e)};
+      }
+      done += chunk;
+    });
+    next_chunk = batch_end;
+    if (progress) progress(std::min(done.load(), uniq.size()), uniq.size());
+  }
+  ParameterMaps maps;
+  maps.width = img.width;
+  maps.height = img.height;
+  maps.melanin.resize(npix);
+  maps.melanin_blend.resize(npix);
+  maps.hemoglobin.resize(npix);
+  maps.error.resize(npix);
+  tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
+    const auto q = static_cast<std::size_t>(std::lower_bound(uniq.begin(), uniq.end(), key[i]) - uniq.begin());
+    maps.melanin[i] = solved[q].m;
+    maps.melanin_blend[i] = solved[q].b;
+    maps.hemoglobin[i] = solved[q].h;
+    maps.error[i] = solved[q].e;
+  });
+  double sum = 0, mx = 0;
+  std::size_t below = 0;
+  for (float e : maps.error) {
+    sum += e;
+    mx = std::max(mx, static_cast<double>(e));
+    below += e < 1.0f;
+  }
+  maps.mean_error = sum / static_cast<double>(npix);
+  maps.max_error = mx;
+  maps.fraction_below_1 = static_cast<double>(below) / static_cast<double>(npix);
+  return maps;
+}
+
+}  // namespace skin::fit

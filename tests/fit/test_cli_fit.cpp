@@ -1,0 +1,99 @@
+// `skin fit` end to end: JSON keys of the issue, exit code 2 and no output on bad input.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <sys/wait.h>
+
+#include "skin/fit/fit.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+struct CliRun {
+  int code;
+  std::string out;
+};
+CliRun run(const std::string& args) {
+  const std::string cmd = std::string(SKIN_BINARY) + " fit " + args + " 2>/dev/null";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  char buf[4096];
+  while (std::size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+std::string temp(const std::string& name) { return (fs::temp_directory_path() / ("skin_fit_cli_" + name)).string(); }
+std::string write_spectrum(const std::string& name, const skin::SkinParameters& p) {
+  const std::string path = temp(name);
+  std::ofstream f(path);
+  f << "# synthetic\nlambda_nm,R\n";
+  std::vector<double> l;
+  for (double x = 400; x <= 700; x += 5) l.push_back(x);
+  const auto R = skin::fit::model_reflectance(p, l, {});
+  for (std::size_t i = 0; i < l.size(); ++i) f << l[i] << "," << R[i] << "\n";
+  return path;
+}
+}  // namespace
+
+TEST(CliFit, SpectrumJson) {
+  skin::SkinParameters p;
+  p.melanin = 0.04;
+  p.melanin_blend = 0.4;
+  p.hemoglobin = 0.02;
+  const std::string in = write_spectrum("ok.csv", p), png = temp("ok.png"), fitted = temp("ok_fitted.csv");
+  fs::remove(png);
+  fs::remove(fitted);
+  const CliRun r = run("--spectrum " + in + " --format json --plot " + png + " --fitted " + fitted);
+  ASSERT_EQ(r.code, 0);
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["parameters"]["melanin"].get<double>(), 0.04, 1e-3);
+  EXPECT_NEAR(j["parameters"]["melanin_blend"].get<double>(), 0.4, 0.01);
+  EXPECT_NEAR(j["parameters"]["hemoglobin"].get<double>(), 0.02, 1e-3);
+  EXPECT_TRUE(j["uncertainty"].contains("melanin"));
+  EXPECT_TRUE(j["uncertainty"].contains("melanin_blend"));
+  EXPECT_LT(j["rms"].get<double>(), 1e-4);
+  EXPECT_EQ(j["fitted"]["wavelength_nm"].size(), 61u);
+  EXPECT_EQ(j["fitted"]["R"].size(), 61u);
+  EXPECT_TRUE(fs::exists(png));
+  EXPECT_TRUE(fs::exists(fitted));
+}
+
+TEST(CliFit, BadInputExitsTwoAndWritesNothing) {
+  const std::string out = temp("never.json"), png = temp("never.png");
+  auto check = [&](const std::string& input_text, const std::string& name) {
+    const std::string in = temp(name);
+    std::ofstream(in) << input_text;
+    fs::remove(out);
+    fs::remove(png);
+    const CliRun r = run("--spectrum " + in + " -o " + out + " --plot " + png);
+    EXPECT_EQ(r.code, 2) << name;
+    EXPECT_FALSE(fs::exists(out)) << name;
+    EXPECT_FALSE(fs::exists(png)) << name;
+  };
+  check("lambda_nm,R\n400,0.1\n410,x\n", "malformed.csv");
+  check("lambda_nm,R\n400,0.1\n550,0.2\n700,0.3\n", "few.csv");
+  std::string pct = "lambda_nm,R\n", narrow = "lambda_nm,R\n";
+  for (int l = 400; l <= 700; l += 10) pct += std::to_string(l) + ",40\n";
+  for (int l = 500; l <= 700; l += 10) narrow += std::to_string(l) + ",0.4\n";
+  check(pct, "percent.csv");
+  check(narrow, "narrow.csv");
+  EXPECT_EQ(run("--spectrum /nonexistent.csv").code, 2);
+  EXPECT_EQ(run("--srgb 1,2").code, 2);
+  EXPECT_EQ(run("--hex zzzzzz").code, 2);
+  EXPECT_EQ(run("--srgb 1,2,3 --hex 010203").code, 2);  // conflicting inputs
+  EXPECT_EQ(run("--spectrum x.csv --free melanin,nonsense").code, 2);
+  EXPECT_EQ(run("--texture /nonexistent.png -o " + temp("never.exr")).code, 2);
+  EXPECT_FALSE(fs::exists(temp("never.exr")));
+}
+
+TEST(CliFit, HexJson) {
+  const CliRun r = run("--hex c8a08c --format json");
+  ASSERT_EQ(r.code, 0);
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_TRUE(j["parameters"].contains("melanin"));
+  EXPECT_TRUE(j.contains("delta_e_2000"));
+}
