@@ -75,7 +75,9 @@ double TabulatedProfile::sample_radius(double u) const {
   const double m = (u - cdf_[i]) * total_plus_;
   const double slope = (b - a) / dr;
   double t;
-  if (std::abs(slope) < 1e-12 * std::max(a, b) / dr || slope == 0) {
+  if (m <= 0) {
+    t = 0;
+  } else if (std::abs(slope) < 1e-12 * std::max(a, b) / dr || slope == 0) {
     t = a > 0 ? m / a : 0.0;
   } else {
     const double disc = std::max(0.0, a * a + 2 * slope * m);

@@ -1,1 +1,286 @@
+// Sampling routines of the renderer: each sampler against its pdf with a chi-square test (fixed
+// seeds), pdfs integrating to one, inversions round-tripping.
 #include <gtest/gtest.h>
+
+#include <boost/math/distributions/chi_squared.hpp>
+#include <cmath>
+#include <functional>
+
+#include "scene_data.hpp"
+#include "skin/model/skin_model.hpp"
+#include "skin/render/microfacet.hpp"
+#include "skin/render/profile_sampler.hpp"
+#include "skin/render/sampling.hpp"
+
+namespace skin::render {
+namespace {
+
+// Pearson's chi-square test of observed counts against expected probabilities. Bins expected to
+// hold fewer than 5 samples are pooled (the chi-square approximation needs that). Returns the
+// p-value; tests reject below 1e-3 (with fixed seeds, so never flaky).
+double chi_square_p(const std::vector<double>& observed, const std::vector<double>& probability, double n) {
+  double stat = 0, pooled_o = 0, pooled_e = 0;
+  int dof = -1;
+  for (std::size_t i = 0; i < observed.size(); ++i) {
+    const double e = probability[i] * n;
+    if (e < 5) {
+      pooled_o += observed[i];
+      pooled_e += e;
+      continue;
+    }
+    stat += (observed[i] - e) * (observed[i] - e) / e;
+    ++dof;
+  }
+  if (pooled_e >= 5) {
+    stat += (pooled_o - pooled_e) * (pooled_o - pooled_e) / pooled_e;
+    ++dof;
+  } else if (pooled_o > 10) {
+    return 0.0;  // samples where the pdf says there should be (almost) none
+  }
+  if (dof < 1) return 1.0;
+  return boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), stat));
+}
+
+// Integral of f over [a, b] by composite Simpson (n even).
+double simpson(const std::function<double(double)>& f, double a, double b, int n = 200) {
+  const double h = (b - a) / n;
+  double s = f(a) + f(b);
+  for (int i = 1; i < n; ++i) s += f(a + i * h) * (i % 2 ? 4 : 2);
+  return s * h / 3;
+}
+
+TabulatedProfile skin_channel(int c) {
+  std::vector<double> r{0.0};
+  const RadialGrid g = RadialGrid::logarithmic(1e-3, 20.0, 128);
+  r.insert(r.end(), g.r.begin(), g.r.end());
+  ProfileSolver solver(RadialGrid::from(r));
+  const RgbProfile p = skin_rgb_profile(find_preset("caucasian").parameters, WavelengthGrid(400, 700, 10), solver);
+  return TabulatedProfile(p.radii.r, p.R[static_cast<std::size_t>(c)], p.R_d[static_cast<std::size_t>(c)]);
+}
+
+TEST(ProfileSampler, EvalIntegratesToRdAndPdfToOne) {
+  // eval() is rescaled so that 2 pi int R r dr = R_d exactly; pdf_radius integrates to 1.
+  for (int c = 0; c < 3; ++c) {
+    const TabulatedProfile p = skin_channel(c);
+    SCOPED_TRACE(::testing::Message() << p);
+    const auto& r = p.radii();
+    double total = 0, prob = 0;
+    for (std::size_t i = 0; i + 1 < r.size(); ++i) {
+      total += simpson([&](double x) { return 2 * kPi * x * p.eval(x); }, r[i], r[i + 1], 20);
+      prob += simpson([&](double x) { return p.pdf_radius(x); }, r[i], r[i + 1], 20);
+    }
+    EXPECT_NEAR(total, p.R_d(), 1e-6 * p.R_d());
+    EXPECT_NEAR(prob, 1.0, 1e-9);
+    // pdf_area = pdf_radius / (2 pi r), and its limit at r = 0 is finite and continuous.
+    EXPECT_NEAR(p.pdf_area(0.5), p.pdf_radius(0.5) / (2 * kPi * 0.5), 1e-12);
+    EXPECT_NEAR(p.pdf_area(0.0), p.pdf_area(1e-4), 1e-6 * p.pdf_area(1e-4));
+  }
+}
+
+TEST(ProfileSampler, InvertRoundTrips) {
+  const TabulatedProfile p = skin_channel(0);
+  for (double u : {0.0, 0.01, 0.2, 0.5, 0.77, 0.99, 0.9999}) {
+    const double r = p.sample_radius(u);
+    EXPECT_NEAR(p.invert_radius(r), u, 1e-9) << "u=" << u << " r=" << r;
+  }
+}
+
+TEST(ProfileSampler, ChiSquareAgainstTabulatedProfile) {
+  // Bins equally spaced in log r; the expected probability of each is the integral of the
+  // tabulated profile's f(r) = 2 pi r R(r) (its positive part), by Simpson over the bin,
+  // independent of the sampler's own CDF.
+  for (int c = 0; c < 3; ++c) {
+    const TabulatedProfile p = skin_channel(c);
+    SCOPED_TRACE(::testing::Message() << "channel " << c << " " << p);
+    const auto& nodes = p.radii();
+    std::vector<double> edges{0.0};
+    for (int i = 0; i <= 60; ++i) edges.push_back(1e-3 * std::pow(p.r_max() / 1e-3, i / 60.0));
+    edges.back() = p.r_max();
+    // The density is piecewise linear between grid nodes: integrate node interval by node interval.
+    auto integral = [&](double a, double b) {
+      double s = 0;
+      for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
+        const double lo = std::max(a, nodes[i]), hi = std::min(b, nodes[i + 1]);
+        if (hi > lo) s += simpson([&](double x) { return std::max(0.0, 2 * kPi * x * p.eval(x)); }, lo, hi, 4);
+      }
+      return s;
+    };
+    std::vector<double> prob(edges.size() - 1);
+    double sum = 0;
+    for (std::size_t i = 0; i < prob.size(); ++i) sum += prob[i] = integral(edges[i], edges[i + 1]);
+    for (auto& x : prob) x /= sum;
+    std::vector<double> counts(prob.size(), 0.0);
+    Rng rng(42, static_cast<std::uint64_t>(c));
+    constexpr int kN = 200000;
+    for (int k = 0; k < kN; ++k) {
+      const double r = p.sample_radius(rng.uniform());
+      const auto it = std::upper_bound(edges.begin(), edges.end(), r);
+      const auto bin = std::clamp<std::ptrdiff_t>(it - edges.begin() - 1, 0, static_cast<std::ptrdiff_t>(prob.size()) - 1);
+      counts[static_cast<std::size_t>(bin)] += 1;
+    }
+    EXPECT_GT(chi_square_p(counts, prob, kN), 1e-3);
+  }
+}
+
+// Midpoint rule (avoids the end points, where some pdfs have integrable singularities).
+double midpoint(const std::function<double(double)>& f, double a, double b, int n) {
+  double s = 0;
+  for (int i = 0; i < n; ++i) s += f(a + (i + 0.5) * (b - a) / n);
+  return s * (b - a) / n;
+}
+
+// Chi-square of directions on the sphere: bins in (cos theta, phi), expected from the pdf
+// integrated numerically over each bin (midpoint rule in both coordinates).
+void direction_chi_square(const std::function<bool(Vec2, Vec3*)>& sample, const std::function<double(const Vec3&)>& pdf,
+                          std::uint64_t seed, double* p_value, double* pdf_integral) {
+  constexpr int kTheta = 20, kPhi = 40, kN = 200000;
+  std::vector<double> prob(kTheta * kPhi), counts(kTheta * kPhi, 0.0);
+  double total = 0;
+  for (int i = 0; i < kTheta; ++i)
+    for (int j = 0; j < kPhi; ++j) {
+      const double c0 = -1 + 2.0 * i / kTheta, c1 = -1 + 2.0 * (i + 1) / kTheta;
+      const double p0 = 2 * kPi * j / kPhi, p1 = 2 * kPi * (j + 1) / kPhi;
+      const double v = midpoint([&](double c) {
+        return midpoint([&](double ph) {
+          const double s = std::sqrt(std::max(0.0, 1 - c * c));
+          return pdf({s * std::cos(ph), s * std::sin(ph), c});
+        }, p0, p1, 8);
+      }, c0, c1, 24);
+      prob[static_cast<std::size_t>(i * kPhi + j)] = v;
+      total += v;
+    }
+  Rng rng(seed, 3);
+  for (int k = 0; k < kN; ++k) {
+    Vec3 w;
+    if (!sample({rng.uniform(), rng.uniform()}, &w)) continue;
+    const int i = std::clamp(static_cast<int>((w.z + 1) / 2 * kTheta), 0, kTheta - 1);
+    double ph = std::atan2(w.y, w.x);
+    if (ph < 0) ph += 2 * kPi;
+    const int j = std::clamp(static_cast<int>(ph / (2 * kPi) * kPhi), 0, kPhi - 1);
+    counts[static_cast<std::size_t>(i * kPhi + j)] += 1;
+  }
+  // Samples that failed (below the horizon) carry the missing probability mass.
+  double n_ok = 0;
+  for (double c : counts) n_ok += c;
+  for (auto& p : prob) p /= total;
+  *p_value = chi_square_p(counts, prob, n_ok);
+  *pdf_integral = total;
+}
+
+TEST(Beckmann, NormalisedAndSamplesItsPdf) {
+  for (double sigma : {0.35, 0.1, 0.8}) {
+    const Beckmann b{sigma};
+    SCOPED_TRACE(::testing::Message() << b);
+    double p = 0, integral = 0;
+    direction_chi_square([&](Vec2 u, Vec3* w) { *w = b.sample_h(u); return true; },
+                         [&](const Vec3& h) { return b.pdf_h(h); }, 11, &p, &integral);
+    EXPECT_GT(p, 1e-3);
+    // int D(h) cos(theta_h) dh = 2 pi int D cos sin dtheta = 1, by Simpson in theta.
+    const double norm = 2 * kPi * simpson([&](double t) {
+      return b.D({std::sin(t), 0, std::cos(t)}) * std::cos(t) * std::sin(t); }, 0, kPi / 2, 4000);
+    EXPECT_NEAR(norm, 1.0, 1e-6);
+    for (Vec2 u : {Vec2{0.1, 0.2}, Vec2{0.7, 0.9}, Vec2{0.99, 0.5}}) {
+      const Vec2 back = b.invert_h(b.sample_h(u));
+      EXPECT_NEAR(back.x, u.x, 1e-9);
+      EXPECT_NEAR(back.y, u.y, 1e-9);
+    }
+  }
+}
+
+TEST(TorranceSparrow, SampledDirectionsFollowPdf) {
+  const TorranceSparrow lobe(0.3, 0.35, 1.4);
+  for (double theta_o : {0.1, 0.8, 1.3}) {
+    SCOPED_TRACE(theta_o);
+    const Vec3 wo{std::sin(theta_o), 0, std::cos(theta_o)};
+    double p = 0, integral = 0;
+    direction_chi_square([&](Vec2 u, Vec3* w) { double pdf; return lobe.sample(wo, u, w, &pdf); },
+                         [&](const Vec3& wi) { return lobe.pdf(wo, wi); }, 12, &p, &integral);
+    EXPECT_GT(p, 1e-3);
+    EXPECT_LE(integral, 1.0 + 2e-3);  // mass below the horizon is lost, never created
+  }
+}
+
+TEST(SpecularAlbedo, MatchesBruteForceHemisphereIntegral) {
+  // rho_dr(theta) = int f_s cos dw (DJ06 eq 2) by a plain midpoint rule over (theta_i, phi_i),
+  // independent of the lobe's importance sampling used to build the table.
+  const SpecularAlbedo table(0.35, 1.4);
+  const TorranceSparrow lobe(1.0, 0.35, 1.4);
+  for (double theta_o : {0.0, 0.5, 1.0, 1.4}) {
+    const Vec3 wo{std::sin(theta_o), 0, std::cos(theta_o)};
+    double sum = 0;
+    constexpr int kT = 400, kP = 400;
+    for (int i = 0; i < kT; ++i)
+      for (int j = 0; j < kP; ++j) {
+        const double t = (i + 0.5) / kT * kPi / 2, ph = (j + 0.5) / kP * 2 * kPi;
+        const Vec3 wi{std::sin(t) * std::cos(ph), std::sin(t) * std::sin(ph), std::cos(t)};
+        sum += lobe.f(wo, wi) * wi.z * std::sin(t);
+      }
+    const double brute = sum * (kPi / 2 / kT) * (2 * kPi / kP);
+    EXPECT_NEAR(table.rho_dr(std::cos(theta_o)), brute, 3e-3 + 0.01 * brute) << "theta_o " << theta_o;
+  }
+  // At normal incidence the lobe reflects about the Fresnel reflectance ((n - 1) / (n + 1))^2 =
+  // 0.028 for n = 1.4, less what shadowing removes; the mean over a diffuse field is larger.
+  EXPECT_GT(table.rho_dr(1.0), 0.015);
+  EXPECT_LT(table.rho_dr(1.0), 0.03);
+  EXPECT_GT(table.mean(), table.rho_dr(1.0));
+  EXPECT_LT(table.mean(), 0.2);
+}
+
+TEST(Warps, ConeAndCosineHemisphereFollowTheirPdfs) {
+  double p = 0, integral = 0;
+  const double cmax = std::cos(0.4);
+  direction_chi_square([&](Vec2 u, Vec3* w) { *w = sample_uniform_cone(u, cmax); return true; },
+                       [&](const Vec3& w) { return w.z >= cmax ? pdf_uniform_cone(cmax) : 0.0; }, 13, &p, &integral);
+  EXPECT_GT(p, 1e-3);
+  direction_chi_square([&](Vec2 u, Vec3* w) { *w = sample_cosine_hemisphere(u); return true; },
+                       [&](const Vec3& w) { return pdf_cosine_hemisphere(w.z); }, 14, &p, &integral);
+  EXPECT_GT(p, 1e-3);
+  EXPECT_NEAR(integral, 1.0, 1e-3);
+}
+
+TEST(Environment, MapSamplingFollowsItsPdf) {
+  // A 16 x 8 map with one bright texel and a gradient: the sampled directions must follow
+  // pdf(dir), and pdf must integrate to one over the sphere.
+  auto tex = std::make_shared<Texture>();
+  tex->width = 16;
+  tex->height = 8;
+  tex->rgb.resize(16 * 8 * 3);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 16; ++x)
+      for (int c = 0; c < 3; ++c) tex->rgb[static_cast<std::size_t>((y * 16 + x) * 3 + c)] = static_cast<float>(0.1 + 0.05 * x + (x == 5 && y == 2 ? 20 : 0));
+  Environment env;
+  env.map = tex;
+  env.rotation_deg = 30;
+  env.build_distribution();
+  const Vec3 n{0, 0, 1};
+  double p = 0, integral = 0;
+  direction_chi_square([&](Vec2 u, Vec3* w) { double pdf; env.sample(u, n, w, &pdf); return pdf > 0; },
+                       [&](const Vec3& w) { return env.pdf(w, n); }, 15, &p, &integral);
+  EXPECT_GT(p, 1e-3);
+  EXPECT_NEAR(integral, 1.0, 0.01);  // midpoint rule over bins that cut through texel edges
+}
+
+TEST(Distribution1D, SampleInvertPdf) {
+  const Distribution1D d({1, 0, 3, 2});
+  for (double u : {0.05, 0.3, 0.6, 0.95}) {
+    double pdf = 0;
+    std::size_t bin = 0;
+    const double x = d.sample(u, &pdf, &bin);
+    EXPECT_NEAR(d.invert(x), u, 1e-12);
+    EXPECT_NEAR(d.pdf(x), pdf, 1e-12);
+    EXPECT_NE(bin, 1u);  // the empty bin is never sampled
+  }
+}
+
+TEST(Rng, ReproducibleAndUniform) {
+  Rng a = Rng::for_sample(1, 2, 3), b = Rng::for_sample(1, 2, 3), c = Rng::for_sample(1, 2, 4);
+  EXPECT_EQ(a.next_u32(), b.next_u32());
+  EXPECT_NE(b.next_u32(), c.next_u32());
+  std::vector<double> counts(32, 0.0), prob(32, 1.0 / 32);
+  Rng r(9, 1);
+  for (int i = 0; i < 64000; ++i) counts[static_cast<std::size_t>(r.uniform() * 32)] += 1;
+  EXPECT_GT(chi_square_p(counts, prob, 64000), 1e-3);
+}
+
+}  // namespace
+}  // namespace skin::render
