@@ -1,0 +1,302 @@
+// Adding-doubling against closed forms, published values and its own limits
+// (docs/accurate-solver.md). Comparisons with the Monte Carlo solver: accurate_mc_test.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <vector>
+
+#include "ad_core.hpp"
+#include "skin/accurate/accurate.hpp"
+#include "skin/physics/diffusion.hpp"
+#include "skin/physics/error.hpp"
+#include "skin/physics/profile.hpp"
+#include "skin/physics/skin_parameters.hpp"
+
+namespace {
+
+using skin::Layer;
+using skin::LayerStack;
+using skin::accurate::adding_doubling;
+using skin::accurate::Options;
+
+LayerStack slab(double sigma_a, double sigma_s, double g, double d, double n, double n_out = 1.0) {
+  LayerStack s;
+  s.layers = {Layer{sigma_a, sigma_s * (1 - g), d, n, g}};
+  s.eta_above = n_out;
+  s.eta_below = n_out;
+  return s;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Quadrature.
+
+TEST(Quadrature, GaussIsExactToDegree2nMinus1AndRadauTo2nMinus2) {
+  for (int n : {2, 3, 5, 8, 16}) {
+    const auto& gauss = skin::accurate::detail::quadrature_rule(n, false);
+    const auto& radau = skin::accurate::detail::quadrature_rule(n, true);
+    EXPECT_DOUBLE_EQ(radau.x.back(), 1.0);
+    // Fixed-node weight of Gauss-Radau: 2 / n^2 (Abramowitz & Stegun 25.4.31).
+    EXPECT_NEAR(radau.w.back(), 2.0 / (n * n), 1e-13) << n;
+    auto integrate = [](const skin::accurate::detail::Rule& r, int k) {
+      double s = 0;
+      for (std::size_t i = 0; i < r.x.size(); ++i) s += r.w[i] * std::pow(r.x[i], k);
+      return s;
+    };
+    for (int k = 0; k <= 2 * n - 1; ++k) {
+      const double exact = k % 2 == 1 ? 0.0 : 2.0 / (k + 1);
+      EXPECT_NEAR(integrate(gauss, k), exact, 1e-13) << "gauss n=" << n << " k=" << k;
+      if (k <= 2 * n - 2) {
+        EXPECT_NEAR(integrate(radau, k), exact, 1e-13) << "radau n=" << n << " k=" << k;
+      }
+    }
+    // ... and not beyond: the test can fail.
+    EXPECT_GT(std::abs(integrate(gauss, 2 * n) - 2.0 / (2 * n + 1)), 1e-12);
+  }
+}
+
+TEST(Quadrature, StreamsSplitAtCriticalAnglesAndWeightsSumToOneInEveryMedium) {
+  LayerStack s;
+  s.layers = {Layer{0.1, 1, 0.1, 1.4, 0.9}, Layer{0.1, 1, 0.2, 1.33, 0.9}};
+  s.eta_above = 1.0;
+  s.eta_below = 1.5;
+  const auto st = skin::accurate::detail::make_streams(s, 6);
+  // Edges at 1.0, 1.33 and the largest layer index 1.4 (the medium below, 1.5, is above it).
+  ASSERT_EQ(st.edges.size(), 3u);
+  EXPECT_EQ(st.N, 18);
+  EXPECT_EQ(st.s2[0], 0.0);  // the normal direction is stream 0
+  for (double n : {1.0, 1.33, 1.4}) {
+    const int m = skin::accurate::detail::propagating(st, n);
+    double sum = 0;
+    for (int i = 0; i < m; ++i) sum += st.a_ref[static_cast<std::size_t>(i)];
+    // sum of flux weights over the streams of a medium = (n / n_ref)^2 in reference units
+    EXPECT_NEAR(sum, (n / st.n_ref) * (n / st.n_ref), 1e-13) << n;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Published values.
+
+// Wang, Jacques & Zheng 1995 (MCML paper), Table 2: slab mu_a = 10/cm, mu_s = 90/cm, g = 0.75,
+// d = 0.02 cm, n = 1 (matched): R_d = 0.09739, T_t = 0.66096, from van de Hulst's 1980 tables.
+// The tables give five decimals; the quadrature and the thin-layer start add < 5e-5.
+TEST(Published, VanDeHulstMatchedSlab) {
+  const auto t = adding_doubling(slab(1.0, 9.0, 0.75, 0.2, 1.0));
+  EXPECT_NEAR(t.R_specular, 0.0, 1e-15);
+  EXPECT_NEAR(t.R_d, 0.09739, 1e-4) << t;
+  EXPECT_NEAR(t.T_d, 0.66096, 1e-4) << t;
+}
+
+// Chandrasekhar's H-function: a semi-infinite, isotropically scattering (g = 0), index-matched
+// medium lit by a normal beam reflects 1 - H(1) sqrt(1 - omega) (the plane albedo; Chandrasekhar
+// 1950, "Radiative Transfer", ch. V). H is computed here by brute force, iterating
+// 1/H(mu) = sqrt(1 - omega) + (omega / 2) int_0^1 mu' H(mu') / (mu + mu') dmu' on a fine
+// Gauss-Legendre grid (the form that converges also for omega -> 1).
+double H_at_1(double omega) {
+  const auto& rule = skin::accurate::detail::quadrature_rule(200, false);
+  std::vector<double> mu(200), w(200), H(200, 1.0);
+  for (int i = 0; i < 200; ++i) {
+    mu[i] = 0.5 * (rule.x[i] + 1);
+    w[i] = 0.5 * rule.w[i];
+  }
+  auto integral = [&](double x) {
+    double s = 0;
+    for (int j = 0; j < 200; ++j) s += w[j] * mu[j] * H[j] / (x + mu[j]);
+    return s;
+  };
+  for (int it = 0; it < 2000; ++it) {
+    std::vector<double> next(200);
+    for (int i = 0; i < 200; ++i)
+      next[i] = 1.0 / (std::sqrt(1 - omega) + 0.5 * omega * integral(mu[i]));
+    H = next;
+  }
+  return 1.0 / (std::sqrt(1 - omega) + 0.5 * omega * integral(1.0));
+}
+
+TEST(Published, ChandrasekharPlaneAlbedoOfIsotropicHalfSpace) {
+  for (double omega : {0.3, 0.8, 0.95, 0.99}) {
+    LayerStack s;
+    s.layers = {Layer{1 - omega, omega, skin::kInfinity, 1.0, 0.0}};
+    s.eta_above = 1.0;
+    const double expected = 1 - H_at_1(omega) * std::sqrt(1 - omega);
+    const auto t = adding_doubling(s);
+    // Isotropic scattering needs no delta-M; 8 Radau points leave ~1e-4 relative.
+    EXPECT_NEAR(t.R_d, expected, 5e-4 * expected) << "omega=" << omega << " " << t;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Limits and conservation.
+
+TEST(Limits, NoAbsorptionConservesEnergy) {
+  for (double n : {1.0, 1.4}) {
+    for (double d : {0.01, 0.3, 5.0}) {
+      LayerStack s = slab(0.0, 10.0, 0.9, d, n);
+      const auto t = adding_doubling(s);
+      EXPECT_NEAR(t.R_d + t.T_d, 1.0, 1e-9) << "n=" << n << " d=" << d << " " << t;
+    }
+  }
+  // Two layers of different index (an internal Fresnel interface) between glass and air.
+  LayerStack s;
+  s.layers = {Layer{0, 2, 0.2, 1.4, 0.8}, Layer{0, 3, 0.5, 1.33, 0.5}};
+  s.eta_above = 1.0;
+  s.eta_below = 1.5;
+  const auto t = adding_doubling(s);
+  EXPECT_NEAR(t.R_d + t.T_d, 1.0, 1e-9) << t;
+  // Semi-infinite without absorption returns everything.
+  LayerStack half;
+  half.layers = {Layer{0, 1, skin::kInfinity, 1.4, 0.9}};
+  EXPECT_NEAR(adding_doubling(half).R_d, 1.0, 1e-6);
+}
+
+// A (nearly) non-scattering slab between air: the beam bounces between the two Fresnel surfaces,
+// R_0 = ((n - 1) / (n + 1))^2, x = exp(-sigma_a d). Per incident power
+// T = (1 - R_0)^2 x / (1 - R_0^2 x^2), and the light coming back up through the top surface is
+// (1 - R_0)^2 R_0 x^2 / (1 - R_0^2 x^2); divide by 1 - R_0 for "per power that entered".
+// Tolerance: the diamond start attenuates the direct beam by a Pade approximant, relative error
+// ~ tau dtau^2 / 12 <= 0.6 x 0.125^2 / 12 ~ 8e-4 here.
+TEST(Limits, ClearSlabIsTheFresnelEtalon) {
+  for (double n : {1.0, 1.33, 1.5}) {
+    const double sigma_a = 2.0, d = 0.3;
+    LayerStack s = slab(sigma_a, 1e-9, 0.0, d, n);
+    const auto t = adding_doubling(s);
+    const double R0 = std::pow((n - 1) / (n + 1), 2), x = std::exp(-sigma_a * d);
+    EXPECT_NEAR(t.R_specular, R0, 1e-12);
+    const double T = (1 - R0) * x / (1 - R0 * R0 * x * x);
+    const double R = (1 - R0) * R0 * x * x / (1 - R0 * R0 * x * x);
+    EXPECT_NEAR(t.T_d, T, 1e-3 * T) << t;
+    EXPECT_NEAR(t.R_d, R, 2e-3 * R + 1e-9) << t;  // 1e-9: the residual scattering
+    EXPECT_GT(t.T_d, 0.95 * T);
+  }
+}
+
+TEST(Limits, SplittingALayerChangesNothing) {
+  LayerStack one = slab(0.5, 20.0, 0.9, 0.3, 1.4);
+  LayerStack two = one;
+  two.layers = {one.layers[0], one.layers[0]};
+  two.layers[0].thickness = 0.1;
+  two.layers[1].thickness = 0.2;
+  const auto a = adding_doubling(one), b = adding_doubling(two);
+  EXPECT_NEAR(a.R_d, b.R_d, 2e-5) << a << " vs " << b;
+  EXPECT_NEAR(a.T_d, b.T_d, 2e-5) << a << " vs " << b;
+}
+
+TEST(Limits, SemiInfiniteTableMatchesDirectDoubling) {
+  for (double albedo_prime : {0.05, 0.3, 0.7, 0.95, 0.999, 0.99999}) {
+    for (double n : {1.0, 1.4}) {
+      LayerStack s;
+      s.layers = {Layer{1 - albedo_prime, albedo_prime, skin::kInfinity, n, 0.9}};
+      const auto tab = skin::accurate::detail::solve(s, {}, true);
+      const auto direct = skin::accurate::detail::solve(s, {}, false);
+      EXPECT_NEAR(tab.R_d, direct.R_d, 1e-6 * std::max(direct.R_d, 1e-3))
+          << "alpha'=" << albedo_prime << " n=" << n;
+    }
+  }
+}
+
+TEST(Limits, ThickSlabTendsToHalfSpace) {
+  LayerStack half;
+  half.layers = {Layer{0.05, 2.0, skin::kInfinity, 1.4, 0.9}};
+  LayerStack thick = half;
+  thick.layers[0].thickness = 400.0;  // 20 diffusion lengths
+  const auto a = adding_doubling(half), b = adding_doubling(thick);
+  EXPECT_NEAR(a.R_d, b.R_d, 1e-6);
+  EXPECT_LT(b.T_d, 1e-8);
+}
+
+// Where diffusion is good (bright, semi-infinite, matched), the transport result is close to the
+// dipole's closed form; where it is poor (low albedo), they differ several times over.
+TEST(Limits, AgreesWithDiffusionOnlyWhereDiffusionHolds) {
+  auto ad = [](double albedo_prime) {
+    LayerStack s;
+    s.layers = {Layer{1 - albedo_prime, albedo_prime, skin::kInfinity, 1.0, 0.9}};
+    return adding_doubling(s).R_d;
+  };
+  EXPECT_NEAR(ad(0.999) / skin::R_d_semi_infinite(0.999, 1.0), 1.0, 0.02);
+  EXPECT_LT(ad(0.2) / skin::R_d_semi_infinite(0.2, 1.0), 0.8);
+}
+
+TEST(Convergence, EightPointsPerPanelAreWithinAFewTenthsOfAPercent) {
+  for (const char* name : {"caucasian", "african", "asian"}) {
+    for (double lambda : {450.0, 650.0}) {
+      const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
+      const double fine = adding_doubling(st, Options{24}).R_d;
+      const double def = adding_doubling(st).R_d;
+      EXPECT_NEAR(def / fine, 1.0, 3e-3) << name << " " << lambda;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Input and printing.
+
+TEST(Input, BadOptionsAndStacksThrowInputError) {
+  const LayerStack s = slab(1, 1, 0.9, 1, 1.4);
+  EXPECT_THROW(adding_doubling(s, Options{1}), skin::InputError);
+  EXPECT_THROW(adding_doubling(s, Options{65}), skin::InputError);
+  EXPECT_THROW(adding_doubling(s, Options{-3}), skin::InputError);
+  LayerStack bad = s;
+  bad.layers[0].sigma_a = std::nan("");
+  EXPECT_THROW(adding_doubling(bad), skin::InputError);
+  bad = s;
+  bad.layers.clear();
+  EXPECT_THROW(adding_doubling(bad), skin::InputError);
+  EXPECT_THROW(skin::accurate::AccurateStack{bad}, skin::InputError);
+  try {
+    adding_doubling(s, Options{1});
+  } catch (const skin::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("quadrature-points = 1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Input, TypesPrintThemselves) {
+  std::ostringstream os;
+  os << skin::accurate::Totals{0.04, 0.5, 0.1} << ' ' << Options{8};
+  EXPECT_EQ(os.str(), "Totals{R_specular=0.04, R_d=0.5, T_d=0.1} accurate::Options{quadrature_points=8}");
+}
+
+// ---------------------------------------------------------------------------------------------
+// AccurateStack: the radial response.
+
+TEST(AccurateStack, TotalIsTheAddingDoublingTotalAndTheTransformStartsThere) {
+  for (const char* name : {"caucasian", "african"}) {
+    const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, 550);
+    const skin::accurate::AccurateStack acc(st);
+    EXPECT_DOUBLE_EQ(acc.total(), adding_doubling(st).R_d);
+    // R(k = 0) = the singular part's transform at 0 + the residual at 0 = the total, so the
+    // profile integrates to the adding-doubling R_d exactly (no integration error at all).
+    const skin::DiffusionStack mp(st);
+    EXPECT_NEAR(acc.c_top() * mp.dipole_k(0) + acc.residual_k(0), acc.total(), 1e-12);
+    EXPECT_GT(acc.c_top(), 0);
+    EXPECT_GT(acc.c_deep(), 0);
+  }
+}
+
+// The numerical inverse transform of the response against the space-domain closed form: for one
+// semi-infinite layer the response is c times the dipole, known in space (Jensen et al. 2001).
+TEST(AccurateStack, ProfileOfOneLayerIsTheScaledDipoleInSpace) {
+  LayerStack s;
+  s.layers = {Layer{0.05, 1.2, skin::kInfinity, 1.4, 0.9}};
+  const skin::accurate::AccurateStack acc(s);
+  const skin::DiffusionStack mp(s);
+  skin::ProfileSolver solver(skin::RadialGrid::logarithmic(0.05, 8, 12));
+  const auto R = solver.profile(acc);
+  for (std::size_t j = 0; j < R.size(); ++j) {
+    const double r = solver.radii().r[j];
+    const double expected = acc.c_top() * mp.slabs().front().R(r);
+    EXPECT_NEAR(R[j], expected, 1e-3 * expected + 1e-9) << "r=" << r;
+  }
+}
+
+TEST(AccurateStack, OneLayerIsTheScaledMultipole) {
+  LayerStack s;
+  s.layers = {Layer{0.02, 1.5, skin::kInfinity, 1.4, 0.9}};
+  const skin::accurate::AccurateStack acc(s);
+  const skin::DiffusionStack mp(s);
+  EXPECT_DOUBLE_EQ(acc.c_top(), acc.c_deep());
+  for (double k : {0.0, 0.5, 3.0, 20.0})
+    EXPECT_NEAR(acc.residual_k(k) + acc.c_top() * mp.dipole_k(k), acc.c_top() * mp.R_k(k), 1e-12);
+}
+
+}  // namespace
