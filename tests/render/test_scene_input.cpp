@@ -1,1 +1,190 @@
+// Scene input through the command line: bad input gives one clear line naming the file and the
+// problem, exit code 2, and no output file; awkward but valid meshes render.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "scene_data.hpp"
+#include "skin/render/image.hpp"
+#include "skin/render/scene.hpp"
+
+namespace fs = std::filesystem;
+
+namespace skin::render {
+namespace {
+
+class SceneInput : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("skin_render_input_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  void write(const std::string& name, const std::string& text) { std::ofstream(dir_ / name) << text; }
+  // Runs `skin render <args>` in the test directory; returns the exit code, stderr in *err.
+  int run(const std::string& args, std::string* err) {
+    const fs::path err_path = dir_ / "stderr.txt";
+    const std::string cmd = "cd '" + dir_.string() + "' && '" SKIN_BINARY "' render " + args + " > /dev/null 2> '" + err_path.string() + "'";
+    const int status = std::system(cmd.c_str());
+    std::stringstream ss;
+    ss << std::ifstream(err_path).rdbuf();
+    *err = ss.str();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  // Expects exit 2, one line on stderr containing every `needle`, and no out.png.
+  void expect_rejected(const std::string& scene, std::initializer_list<std::string> needles) {
+    std::string err;
+    EXPECT_EQ(run(scene + " -o out.png --spp 1 --resolution 8x8", &err), 2) << err;
+    EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+    for (const auto& n : needles) EXPECT_NE(err.find(n), std::string::npos) << "missing '" << n << "' in: " << err;
+    EXPECT_FALSE(fs::exists(dir_ / "out.png"));
+  }
+  std::string scene_with(const std::string& object, const std::string& material = R"({"type":"diffuse"})") {
+    return R"({"camera": {"eye":[0,0,5], "look_at":[0,0,0]}, "materials": {"m": )" + material +
+           R"(}, "objects": [)" + object + R"(], "environment": {"radiance": 1}})";
+  }
+  fs::path dir_;
+};
+
+const char* kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+TEST_F(SceneInput, MissingMesh) {
+  write("s.json", scene_with(R"({"mesh": "nothere.obj", "material": "m"})"));
+  expect_rejected("s.json", {"s.json", "nothere.obj", "not found"});
+}
+
+TEST_F(SceneInput, MissingTexture) {
+  write("t.obj", kTriangleObj);
+  write("s.json", scene_with(R"({"mesh": "t.obj", "material": "m"})", R"({"type":"skin","albedo_texture":"skin.jpg"})"));
+  expect_rejected("s.json", {"s.json", "skin.jpg", "not found"});
+}
+
+TEST_F(SceneInput, MalformedJson) {
+  write("s.json", R"({"camera": {"eye": [0,0,5], )");
+  expect_rejected("s.json", {"s.json", "malformed JSON"});
+}
+
+TEST_F(SceneInput, MissingSceneFile) { expect_rejected("absent.json", {"absent.json", "not found"}); }
+
+TEST_F(SceneInput, UnknownMaterialReference) {
+  write("t.obj", kTriangleObj);
+  write("s.json", scene_with(R"({"mesh": "t.obj", "material": "marble"})"));
+  expect_rejected("s.json", {"s.json", "objects[0]", "unknown material 'marble'"});
+}
+
+TEST_F(SceneInput, UnknownMaterialType) {
+  write("t.obj", kTriangleObj);
+  write("s.json", scene_with(R"({"mesh": "t.obj", "material": "m"})", R"({"type":"velvet"})"));
+  expect_rejected("s.json", {"s.json", "materials.m", "unknown material type 'velvet'"});
+}
+
+TEST_F(SceneInput, UnknownKey) {
+  write("t.obj", kTriangleObj);
+  write("s.json", scene_with(R"({"mesh": "t.obj", "material": "m", "colour": 1})"));
+  expect_rejected("s.json", {"s.json", "unknown key 'colour'"});
+}
+
+TEST_F(SceneInput, OutOfRangeSkinParameter) {
+  write("t.obj", kTriangleObj);
+  write("s.json", scene_with(R"({"mesh": "t.obj", "material": "m"})", R"({"type":"skin","C_m":1.5})"));
+  expect_rejected("s.json", {"s.json", "materials.m", "1.5"});
+}
+
+TEST_F(SceneInput, EmptyMesh) {
+  write("e.obj", "# nothing here\n");
+  write("s.json", scene_with(R"({"mesh": "e.obj", "material": "m"})"));
+  expect_rejected("s.json", {"s.json", "e.obj", "no triangles"});
+}
+
+TEST_F(SceneInput, InvalidIndices) {
+  write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  write("s.json", scene_with(R"({"mesh": "bad.obj", "material": "m"})"));
+  expect_rejected("s.json", {"s.json", "bad.obj", "vertex"});
+}
+
+TEST_F(SceneInput, InvalidGltf) {
+  write("bad.glb", "glTF this is not a binary glTF");
+  write("s.json", scene_with(R"({"mesh": "bad.glb", "material": "m"})"));
+  expect_rejected("s.json", {"s.json", "bad.glb"});
+}
+
+TEST_F(SceneInput, BadOutputExtensionAndResolution) {
+  std::string err;
+  EXPECT_EQ(run("-o out.bmp --spp 1", &err), 2);
+  EXPECT_NE(err.find("out.bmp"), std::string::npos) << err;
+  EXPECT_EQ(run("-o out.png --resolution 0x5", &err), 2);
+  EXPECT_NE(err.find("resolution"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.png"));
+}
+
+TEST_F(SceneInput, ExistingOutputSurvivesFailure) {
+  write("out.png", "precious");
+  write("s.json", "{");
+  std::string err;
+  EXPECT_EQ(run("s.json -o out.png", &err), 2);
+  std::stringstream ss;
+  ss << std::ifstream(dir_ / "out.png").rdbuf();
+  EXPECT_EQ(ss.str(), "precious");
+}
+
+TEST_F(SceneInput, NonManifoldMeshRenders) {
+  // Three triangles sharing one edge (non-manifold), a dangling vertex, a degenerate triangle
+  // and a skin material: scanned meshes look like this and must render.
+  write("nm.obj",
+        "v 0 0 0\nv 0 1 0\nv 1 0 0\nv -1 0 0\nv 0 0 1\nv 5 5 5\n"
+        "f 1 2 3\nf 1 2 4\nf 1 2 5\nf 1 1 2\n");
+  write("s.json", scene_with(R"({"mesh": "nm.obj", "material": "m"})", R"({"type":"skin","preset":"african"})"));
+  std::string err;
+  EXPECT_EQ(run("s.json -o out.png --spp 2 --resolution 16x16", &err), 0) << err;
+  EXPECT_TRUE(fs::exists(dir_ / "out.png"));
+  const Image img = read_image((dir_ / "out.png").string());
+  EXPECT_EQ(img.width, 16);
+}
+
+TEST_F(SceneInput, DefaultSceneWritesExr) {
+  std::string err;
+  EXPECT_EQ(run("-o out.exr --spp 1 --resolution 24x16", &err), 0) << err;
+  const Image img = read_image((dir_ / "out.exr").string());
+  EXPECT_EQ(img.width, 24);
+  EXPECT_EQ(img.height, 16);
+  // Linear floats: some pixel is lit, none is NaN.
+  float mx = 0;
+  for (float v : img.rgb) {
+    EXPECT_TRUE(std::isfinite(v));
+    EXPECT_GT(v, -0.02f);  // the blue profile dips below zero at a few mm (sRGB weights), so a
+                           // single sample may be slightly negative; never by much
+    mx = std::max(mx, v);
+  }
+  EXPECT_GT(mx, 0.01f);
+}
+
+TEST(Texture, RowZeroIsTheTopAndVIsUp) {
+  // OpenGL convention (the Lee Perry-Smith GLB, PROVENANCE.md section 4): row = (1 - v) height.
+  Texture t;
+  t.width = 1;
+  t.height = 2;
+  t.rgb = {1, 0, 0, 0, 0, 1};  // row 0 (top) red, row 1 (bottom) blue
+  EXPECT_EQ(t.lookup(0.5, 0.75).r, 1.0);
+  EXPECT_EQ(t.lookup(0.5, 0.75).b, 0.0);
+  EXPECT_EQ(t.lookup(0.5, 0.25).b, 1.0);
+}
+
+TEST(HeadMesh, LoadsWithNormalsAndUvs) {
+  const std::string path = std::string(SKIN_SHARED_DATA_DIR) + "/meshes/LeePerrySmith/LeePerrySmith.glb";
+  if (!fs::exists(path)) GTEST_SKIP() << "no head mesh at " << path;
+  const auto meshes = load_mesh_file(path, 0);
+  std::size_t tris = 0;
+  for (const auto& m : meshes) {
+    tris += m.triangles.size();
+    EXPECT_EQ(m.normal.size(), m.position.size());
+    EXPECT_EQ(m.uv.size(), m.position.size());
+  }
+  EXPECT_EQ(tris, 17684u);  // PROVENANCE.md section 4
+}
+
+}  // namespace
+}  // namespace skin::render
