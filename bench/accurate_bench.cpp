@@ -1,0 +1,90 @@
+// Accurate (adding-doubling) solver against the multipole, same inputs, one thread.
+//   build/bin/accurate_bench
+#include <benchmark/benchmark.h>
+
+#include "skin/accurate/accurate.hpp"
+#include "skin/model/skin_model.hpp"
+
+using namespace skin;
+
+namespace {
+const SkinParameters& params(int preset) {
+  static const SkinParameters caucasian = find_preset("caucasian").parameters;
+  static const SkinParameters african = find_preset("african").parameters;
+  return preset == 0 ? caucasian : african;
+}
+const char* label(int preset) { return preset == 0 ? "caucasian" : "african"; }
+}  // namespace
+
+// R_d(lambda) at 151 wavelengths (400-700 nm, 2 nm): layer optics + adding-doubling per
+// wavelength. Arg 0: preset (0 caucasian, 1 african); arg 1: quadrature points per panel.
+static void BM_AccurateRdSpectrum(benchmark::State& state) {
+  const WavelengthGrid grid;
+  const auto& p = params(static_cast<int>(state.range(0)));
+  const accurate::Options o{static_cast<int>(state.range(1))};
+  for (auto _ : state) {
+    double sum = 0;
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      sum += accurate::adding_doubling(skin_layer_stack(p, grid[i]), o).R_d;
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetLabel(label(static_cast<int>(state.range(0))));
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(grid.size()));
+}
+BENCHMARK(BM_AccurateRdSpectrum)
+    ->Args({0, 0})
+    ->Args({1, 0})
+    ->Args({0, 4})
+    ->Args({0, 16})
+    ->Unit(benchmark::kMillisecond);
+
+// The multipole on the same inputs, for comparison.
+static void BM_MultipoleRdSpectrum(benchmark::State& state) {
+  const WavelengthGrid grid;
+  const auto& p = params(static_cast<int>(state.range(0)));
+  for (auto _ : state) {
+    double sum = 0;
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      sum += DiffusionStack(skin_layer_stack(p, grid[i])).R_d();
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetLabel(label(static_cast<int>(state.range(0))));
+  state.SetItemsProcessed(state.iterations() * static_cast<int64_t>(grid.size()));
+}
+BENCHMARK(BM_MultipoleRdSpectrum)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// 151 wavelengths -> 3 linear sRGB channels, 512 radii (log-spaced 1 um - 16 mm), as
+// skin_bench's BM_RgbProfile does for the multipole: AccurateStack per wavelength, then the
+// profile solver (which keeps its quadrature between calls).
+static void BM_AccurateRgbProfile(benchmark::State& state) {
+  const WavelengthGrid grid;
+  const auto& p = params(static_cast<int>(state.range(0)));
+  ProfileSolver solver(RadialGrid::logarithmic(1e-3, 16.0, 512));
+  const auto weights = color::Colorimetry(grid).srgb_weights();
+  for (auto _ : state) {
+    std::vector<accurate::AccurateStack> stacks;
+    stacks.reserve(grid.size());
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      stacks.emplace_back(skin_layer_stack(p, grid[i]));
+    std::vector<const RadialResponse*> ptrs;
+    for (const auto& s : stacks) ptrs.push_back(&s);
+    benchmark::DoNotOptimize(solver.rgb(ptrs, weights));
+  }
+  state.SetLabel(label(static_cast<int>(state.range(0))));
+  state.counters["nodes"] = static_cast<double>(solver.nodes_used());
+}
+BENCHMARK(BM_AccurateRgbProfile)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+static void BM_MultipoleRgbProfile(benchmark::State& state) {
+  const WavelengthGrid grid;
+  const auto& p = params(static_cast<int>(state.range(0)));
+  ProfileSolver solver(RadialGrid::logarithmic(1e-3, 16.0, 512));
+  const auto weights = color::Colorimetry(grid).srgb_weights();
+  for (auto _ : state) {
+    const auto stacks = skin_diffusion_stacks(p, grid);
+    benchmark::DoNotOptimize(solver.rgb(stacks, weights));
+  }
+  state.SetLabel(label(static_cast<int>(state.range(0))));
+  state.counters["nodes"] = static_cast<double>(solver.nodes_used());
+}
+BENCHMARK(BM_MultipoleRgbProfile)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);

