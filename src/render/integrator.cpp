@@ -58,7 +58,14 @@ class Integrator {
   // face_ray: turn the normals toward -d (two-sided shading of what a ray sees); otherwise keep
   // the mesh's own orientation (its normals, else its winding), outward for closed meshes.
   Surface surface(const RayHit& h, const Vec3& d, bool face_ray = true) const;
-  bool sample_light(const Vec3& p, const Vec3& n, Rng& rng, LightSample* ls) const;
+  // Samples light k (k == lights.size() is the environment) as seen from p with normal n.
+  bool sample_light(std::size_t k, const Vec3& p, const Vec3& n, Rng& rng, LightSample* ls) const;
+  // Direct light at a point: one sample of every light (next-event estimation over all of
+  // them, rather than one picked at random: scenes have few lights, and the shadow rays are
+  // cheap next to the variance a random pick adds), each weighted by MIS against the BSDF.
+  // f(wi) returns the BSDF value times cos(theta_i), pdf(wi) its sampling density.
+  template <class F, class P>
+  Rgb3 direct(const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng, F f, P pdf) const;
   // Area light hit along a ray before t_max: radiance and solid-angle pdf for MIS.
   bool hit_area_light(const Vec3& o, const Vec3& d, double t_max, Rgb3* Le, double* pdf, double* t) const;
   double light_pdf(const Light& l, const Vec3& o, const Vec3& d, double t) const;
@@ -151,7 +158,7 @@ bool Integrator::hit_area_light(const Vec3& o, const Vec3& d, double t_max, Rgb3
     if (t > 0 && t < best) {
       best = t;
       *Le = l.intensity;
-      *pdf = light_pdf(l, o, d, t) / static_cast<double>(n_lights_);
+      *pdf = light_pdf(l, o, d, t);
       any = true;
     }
   }
@@ -159,10 +166,23 @@ bool Integrator::hit_area_light(const Vec3& o, const Vec3& d, double t_max, Rgb3
   return any;
 }
 
-bool Integrator::sample_light(const Vec3& p, const Vec3& n, Rng& rng, LightSample* ls) const {
-  if (n_lights_ == 0) return false;
-  const double sel = 1.0 / static_cast<double>(n_lights_);
-  const auto k = std::min(static_cast<std::size_t>(rng.uniform() * static_cast<double>(n_lights_)), n_lights_ - 1);
+template <class F, class P>
+Rgb3 Integrator::direct(const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng, F f, P pdf) const {
+  Rgb3 L;
+  for (std::size_t k = 0; k < n_lights_; ++k) {
+    LightSample ls;
+    if (!sample_light(k, p, ns, rng, &ls) || ls.L.is_black()) continue;
+    if (dot(ls.wi, ng) <= 0) continue;
+    const double fc = f(ls.wi);
+    if (!(fc > 0) || !visible(p, ng, ls.wi, ls.dist)) continue;
+    const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, pdf(ls.wi));
+    L += ls.L * (fc * w / ls.pdf);
+  }
+  return L;
+}
+
+bool Integrator::sample_light(std::size_t k, const Vec3& p, const Vec3& n, Rng& rng, LightSample* ls) const {
+  const double sel = 1.0;
   const Vec2 u{rng.uniform(), rng.uniform()};
   if (k == s_.lights.size()) {  // the environment
     double pdf = 0;
@@ -309,7 +329,7 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
     }
     if (!hit) {
       if (!s_.environment.black()) {
-        const double lpdf = s_.environment.pdf(d, prev_n) / static_cast<double>(n_lights_);
+        const double lpdf = s_.environment.pdf(d, prev_n);
         const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
         L += beta * s_.environment.radiance(d) * w;
       }
@@ -322,14 +342,8 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
     if (!m.translucent()) {
       Rgb3 albedo = m.albedo;
       if (m.albedo_map && x.has_uv) albedo = m.albedo_map->lookup(x.uv.x, x.uv.y);
-      LightSample ls;
-      if (sample_light(x.p, x.ns, rng, &ls)) {
-        const double cos_i = dot(ls.wi, x.ns);
-        if (cos_i > 0 && dot(ls.wi, x.ng) > 0 && !ls.L.is_black() && visible(x.p, x.ng, ls.wi, ls.dist)) {
-          const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, cos_i / kPi);
-          L += beta * albedo * ls.L * (cos_i / kPi * w / ls.pdf);
-        }
-      }
+      const auto lambert = [&](const Vec3& wi) { return std::max(0.0, dot(wi, x.ns)) / kPi; };
+      L += beta * albedo * direct(x.p, x.ns, x.ng, rng, lambert, lambert);
       const Frame f = Frame::from_normal(x.ns);
       const Vec3 wi = f.to_world(sample_cosine_hemisphere({rng.uniform(), rng.uniform()}));
       if (dot(wi, x.ng) <= 0) break;
@@ -345,16 +359,11 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
       const double cos_o = std::max(wo_l.z, 1e-4);
       const TorranceSparrow lobe(m.rho_s, m.roughness, m.eta);
       // Surface term: direct light with MIS.
+      const Vec3 wo_c{wo_l.x, wo_l.y, cos_o};
       if (m.rho_s > 0) {
-        LightSample ls;
-        if (sample_light(x.p, x.ns, rng, &ls)) {
-          const Vec3 wi_l = f.to_local(ls.wi);
-          const double fs = lobe.f({wo_l.x, wo_l.y, cos_o}, wi_l);
-          if (fs > 0 && dot(ls.wi, x.ng) > 0 && !ls.L.is_black() && visible(x.p, x.ng, ls.wi, ls.dist)) {
-            const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, lobe.pdf({wo_l.x, wo_l.y, cos_o}, wi_l));
-            L += beta * ls.L * (fs * wi_l.z * w / ls.pdf);
-          }
-        }
+        L += beta * direct(x.p, x.ns, x.ng, rng,
+                           [&](const Vec3& wi) { const Vec3 l = f.to_local(wi); return lobe.f(wo_c, l) * l.z; },
+                           [&](const Vec3& wi) { return lobe.pdf(wo_c, f.to_local(wi)); });
       }
       // Subsurface term: entry point x_i, then direct light there with MIS.
       const double Ft_o = 1 - rho_dr(m, cos_o);
@@ -366,15 +375,12 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
         Rgb3 tex{1, 1, 1};
         if (m.albedo_map && x.has_uv) tex = m.albedo_map->lookup(x.uv.x, x.uv.y) * m.texture_normalisation;
         beta_ss = beta * wss * tex * Ft_o;
-        LightSample ls;
-        if (sample_light(xi.p, xi.ns, rng, &ls)) {
-          const double cos_i = dot(ls.wi, xi.ns);
-          if (cos_i > 0 && dot(ls.wi, xi.ng) > 0 && !ls.L.is_black() && visible(xi.p, xi.ng, ls.wi, ls.dist)) {
-            const double fi = (1 - rho_dr(m, cos_i)) / kPi;
-            const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, cos_i / kPi);
-            L += beta_ss * ls.L * (fi * cos_i * w / ls.pdf);
-          }
-        }
+        L += beta_ss * direct(xi.p, xi.ns, xi.ng, rng,
+                              [&](const Vec3& wi) {
+                                const double c = dot(wi, xi.ns);
+                                return c > 0 ? (1 - rho_dr(m, c)) / kPi * c : 0.0;
+                              },
+                              [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, xi.ns)); });
       }
       // Continue with one of the two terms, chosen by their albedo at w_o.
       const double a_spec = rho_dr(m, cos_o);

@@ -43,18 +43,28 @@ void prepare_skin_material(Material& m, const SkinParameters& p) {
   m.roughness = p.roughness;
   m.eta = p.eta;
   ProfileSolver solver(profile_radii());
-  // The paper's 400-700 nm grid in 2 nm steps, so that R_d matches `skin color` exactly.
-  const RgbProfile prof = skin_rgb_profile(p, WavelengthGrid(), solver);
+  // The shape of each channel's profile from a 10 nm grid (the spectra are smooth at that scale
+  // and the transform costs in proportion to the number of wavelengths), its total from the
+  // paper's 2 nm grid (exact at k = 0 and cheap), so that R_d matches `skin color` exactly.
+  const RgbProfile prof = skin_rgb_profile(p, WavelengthGrid(400.0, 700.0, 10.0), solver);
+  const auto total = skin_spectrum(p).color.srgb_linear;
   for (int c = 0; c < 3; ++c) {
     const auto ci = static_cast<std::size_t>(c);
-    m.profile[ci] = TabulatedProfile(prof.radii.r, prof.R[ci], prof.R_d[ci]);
-    m.R_d[c] = prof.R_d[ci];
+    m.R_d[c] = total[c];
+    m.profile[ci] = TabulatedProfile(prof.radii.r, prof.R[ci], total[c]);
   }
   // Albedo texture normalisation (DJ06 section 3.6): the texture is divided by the R_d colour
   // of the chromophore values assumed for it (these parameters), so that subsurface light times
   // the normalised texture reproduces the texture's own colour.
-  for (int c = 0; c < 3; ++c) m.texture_normalisation[c] = m.R_d[c] > 1e-6 ? 1.0 / m.R_d[c] : 0.0;
+  if (!m.texture_reference_fixed)
+    for (int c = 0; c < 3; ++c) m.texture_normalisation[c] = m.R_d[c] > 1e-6 ? 1.0 / m.R_d[c] : 0.0;
   m.specular_albedo = specular_albedo(m.roughness, m.eta);
+}
+
+void set_texture_reference(Material& m, const SkinParameters& reference) {
+  const auto rgb = skin_spectrum(reference).color.srgb_linear;
+  for (int c = 0; c < 3; ++c) m.texture_normalisation[c] = rgb[c] > 1e-6 ? 1.0 / rgb[c] : 0.0;
+  m.texture_reference_fixed = true;
 }
 
 void prepare_layered_material(Material& m, const std::array<LayerStack, 3>& stacks) {

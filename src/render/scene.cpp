@@ -7,6 +7,8 @@
 #include <set>
 #include <sstream>
 
+#include <tbb/parallel_for.h>
+
 #include "scene_impl.hpp"
 #include "skin/physics/error.hpp"
 
@@ -128,7 +130,7 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
   } else if (type == "skin") {
     r.allow({"type", "preset", "C_m", "beta_m", "C_h", "rho_s", "gamma", "epidermis_thickness",
-             "dermis_scattering_scale", "eta", "roughness", "albedo_texture"});
+             "dermis_scattering_scale", "eta", "roughness", "albedo_texture", "texture_reference"});
     SkinParameters p = r.has("preset") ? with_context(r.file(), r.path("preset"), [&] { return find_preset(r.string("preset")).parameters; })
                                        : SkinParameters{};
     p.melanin = r.number("C_m", p.melanin);
@@ -141,8 +143,17 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
     p.eta = r.number("eta", p.eta);
     p.roughness = r.number("roughness", p.roughness);
     with_context(r.file(), "materials." + name, [&] { prepare_skin_material(m, p); return 0; });
-    if (r.has("albedo_texture"))
+    if (r.has("albedo_texture")) {
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
+      // The chromophores assumed to have produced the texture (DJ06 section 3.6): the texture
+      // is divided by their R_d colour. Default: the material's own parameters.
+      if (r.has("texture_reference")) {
+        const SkinParameters ref = with_context(r.file(), r.path("texture_reference"), [&] { return find_preset(r.string("texture_reference")).parameters; });
+        set_texture_reference(m, ref);
+      }
+    } else if (r.has("texture_reference")) {
+      r.fail("'texture_reference' needs 'albedo_texture'");
+    }
   } else if (type == "layered") {
     r.allow({"type", "layers", "eta_above", "eta_below", "rho_s", "roughness", "eta", "albedo_texture"});
     m.rho_s = r.number("rho_s", 0.0);
@@ -354,21 +365,21 @@ Scene Scene::load(const std::string& path) {
 
 Scene Scene::default_scene() {
   // Scene units are mm. Three Fig. 8 skin types on spheres of radius 28 mm and a thin ear-like
-  // fin (6 mm thick) of the Fig. 10 "ear" preset, on a grey floor; a large key light in front,
+  // fin (4 mm thick, like the rim of an ear) of the Fig. 10 "ear" preset, on a grey floor; a large key light in front,
   // a small back light behind the fin that shows light bleeding through it.
   SceneData s;
   s.source = "built-in default scene";
   s.mm_per_unit = 1.0;
   s.camera = {{0, 70, 330}, {0, 24, 0}, {0, 1, 0}, 30.0, 384, 256};
-  s.spp = 32;
+  s.spp = 64;
   s.max_depth = 4;
+  s.exposure = 0.3;
   const char* names[] = {"caucasian", "asian", "african", "ear"};
-  for (const char* n : names) {
-    Material m;
-    m.name = n;
-    prepare_skin_material(m, find_preset(n).parameters);
-    s.materials.push_back(std::move(m));
-  }
+  s.materials.resize(4);
+  tbb::parallel_for(0, 4, [&](int i) {  // independent profile computations
+    s.materials[static_cast<std::size_t>(i)].name = names[i];
+    prepare_skin_material(s.materials[static_cast<std::size_t>(i)], find_preset(names[i]).parameters);
+  });
   Material floor;
   floor.name = "floor";
   floor.albedo = {0.35, 0.35, 0.35};
@@ -376,7 +387,7 @@ Scene Scene::default_scene() {
   s.meshes.push_back(make_sphere({-96, 28, 0}, 28, 64, 128, 0));
   s.meshes.push_back(make_sphere({-32, 28, 0}, 28, 64, 128, 1));
   s.meshes.push_back(make_sphere({32, 28, 0}, 28, 64, 128, 2));
-  s.meshes.push_back(make_ellipsoid({94, 30, 0}, {20, 30, 3}, 64, 128, 3));
+  s.meshes.push_back(make_ellipsoid({94, 30, 0}, {18, 28, 2}, 64, 128, 3));
   s.meshes.push_back(make_quad({-400, 0, 300}, {800, 0, 0}, {0, 0, -700}, 4));
   Light key;
   key.kind = LightKind::sphere;
@@ -386,20 +397,28 @@ Scene Scene::default_scene() {
   s.lights.push_back(key);
   Light back;
   back.kind = LightKind::sphere;
-  back.position = {100, 36, -45};
-  back.radius = 8;
-  back.intensity = {300, 300, 300};
+  back.position = {98, 36, -30};
+  back.radius = 6;
+  back.intensity = {400, 400, 400};
   s.lights.push_back(back);
   s.environment.constant = {0.04, 0.045, 0.05};
   return make_scene(std::move(s));
 }
 
 void Scene::set_skin_parameters(const SkinParameters& p) {
+  // The profiles depend only on the parameters: compute them once, share them.
+  Material fresh;
+  prepare_skin_material(fresh, p);
   for (auto& m : impl_->data.materials)
     if (m.kind == MaterialKind::skin) {
-      auto tex = m.albedo_map;
-      prepare_skin_material(m, p);
-      m.albedo_map = tex;
+      m.parameters = p;
+      m.profile = fresh.profile;
+      m.R_d = fresh.R_d;
+      m.rho_s = fresh.rho_s;
+      m.roughness = fresh.roughness;
+      m.eta = fresh.eta;
+      m.specular_albedo = fresh.specular_albedo;
+      if (!m.texture_reference_fixed) m.texture_normalisation = fresh.texture_normalisation;
     }
 }
 

@@ -38,6 +38,7 @@ struct Material {
   std::array<TabulatedProfile, 3> profile;    // R(r) per linear sRGB channel [1/mm^2]
   Rgb3 R_d;                                   // totals per channel
   Rgb3 texture_normalisation{1, 1, 1};        // 1 / R_d colour of the assumed chromophores
+  bool texture_reference_fixed = false;       // normalisation set by texture_reference
   double rho_s = 0, roughness = 0.35, eta = 1.4;
   std::shared_ptr<const SpecularAlbedo> specular_albedo;
   bool translucent() const { return kind != MaterialKind::diffuse; }
@@ -100,6 +101,8 @@ struct SceneData {
 // Builds the diffusion profiles, specular albedo and normalisation of a translucent material
 // from a LayerStack per channel (layered) or from skin parameters; `name` for messages.
 void prepare_skin_material(Material& m, const SkinParameters& p);
+// Sets the texture normalisation to 1 / R_d colour of `reference` (DJ06 section 3.6).
+void set_texture_reference(Material& m, const SkinParameters& reference);
 void prepare_layered_material(Material& m, const std::array<LayerStack, 3>& stacks);
 
 // Procedural geometry for built-in scenes (in scene units).
