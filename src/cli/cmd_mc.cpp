@@ -181,7 +181,7 @@ void register_validate_command(CLI::App& app) {
   sub->add_option("--out", o->out, "Output directory (created if missing)")->required();
   sub->add_option("--wavelength", o->wavelengths, "Wavelengths of the preset cases [nm] (repeatable)")
       ->capture_default_str()->allow_extra_args(false);
-  o->mc.add_to(*sub, 1000000, 100, false);
+  o->mc.add_to(*sub, 1000000, 200, false);
   sub->callback([o] {
     for (double l : o->wavelengths) require_in_range("wavelength", l, 250.0, 1000.0, "nm");
     mc::Options opts = o->mc.resolve();

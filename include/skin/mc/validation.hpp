@@ -9,6 +9,7 @@
 #include <functional>
 #include <iosfwd>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "skin/mc/mc.hpp"
@@ -31,7 +32,7 @@ struct ValidationCase {
   std::string group;  // section of the report: "Skin presets", "Semi-infinite", ...
   std::string title;  // one line for humans
   LayerStack stack;
-  // Thick, high-albedo (alpha' >= 0.95, several transport mean free paths): where diffusion is
+  // Thick, high-albedo (alpha' >= 0.99, several transport mean free paths): where diffusion is
   // known to be accurate and the report expects agreement within a few per cent.
   bool diffusion_regime = false;
   double r_max = 10.0;  // outer radius of the profile [mm]
@@ -48,12 +49,20 @@ struct CaseResult {
   ValidationCase c;
   Result mc;
   std::vector<double> R_d;             // per solver
-  std::vector<std::vector<double>> R;  // per solver, at mc.r_mm (empty: solver has no profile)
+  // Per solver: R(r) averaged over the same annuli as the Monte Carlo bins (so that the two are
+  // compared like for like near r = 0, where R changes fast); empty: solver has no profile.
+  std::vector<std::vector<double>> R;
+  // Per solver: R(r) at the radii r_fine (log-spaced, for the plots).
+  std::vector<double> r_fine;
+  std::vector<std::vector<double>> R_fine;
   // (R_d[solver] - mc.R_d) / mc.R_d
   double relative_error(std::size_t solver) const;
-  // Largest |R[solver] / mc.R - 1| over the bins where the Monte Carlo relative standard error
-  // is below 5 %, and the radius of that bin [mm] (0, 0 when no profile).
-  std::pair<double, double> max_profile_error(std::size_t solver) const;
+  // Largest |R[solver] / mc.R - 1| over the bins at r >= r_min [mm] where the Monte Carlo
+  // relative standard error is below 5 %, and the radius of that bin [mm] (NaN, NaN when no bin
+  // qualifies).
+  std::pair<double, double> max_profile_error(std::size_t solver, double r_min = 0.0) const;
+  // Transport mean free path 1 / sigma_t' of the top layer [mm].
+  double top_mfp() const;
 };
 
 struct ValidationRun {
