@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <string>
 
+#include <tbb/parallel_for.h>
+
 #include "scene_impl.hpp"
 #include "skin/physics/error.hpp"
 #include "skin/render/figure.hpp"
@@ -120,11 +122,12 @@ Scene Scene::figure(int number, const std::string& mesh_path) {
   SceneData s;
   s.source = "figure " + std::to_string(number);
   s.mm_per_unit = 1.0;
+  s.materials.resize(list.size());
+  tbb::parallel_for(std::size_t{0}, list.size(), [&](std::size_t i) {  // independent profiles
+    s.materials[i].name = list[i].label;
+    prepare_skin_material(s.materials[i], list[i].p);
+  });
   for (std::size_t i = 0; i < list.size(); ++i) {
-    Material m;
-    m.name = list[i].label;
-    prepare_skin_material(m, list[i].p);
-    s.materials.push_back(std::move(m));
     const int col = static_cast<int>(i) % columns, row = static_cast<int>(i) / columns;
     const Vec3 centre{(col - (columns - 1) / 2.0) * kCell, ((rows - 1) / 2.0 - row) * kCell, 0};
     if (proto.empty()) {
@@ -142,19 +145,21 @@ Scene Scene::figure(int number, const std::string& mesh_path) {
   back.albedo = {0.12, 0.12, 0.12};
   s.materials.push_back(back);
   s.meshes.push_back(make_quad({-1000, -1000, -60}, {2000, 0, 0}, {0, 2000, 0}, s.materials.size() - 1));
-  // Orthographic-looking view from far away: each cell is 128 px.
+  // Orthographic-looking view from far away: each cell is 128 px (160 px for the long labels of
+  // Fig. 7).
   const double half_h = rows * kCell / 2;
   const double dist = 2000;
-  s.camera = {{0, 0, dist}, {0, 0, 0}, {0, 1, 0}, 2 * std::atan(half_h / dist) * 180 / kPi, 128 * columns, 128 * rows};
+  const int cell_px = number == 7 ? 160 : 128;
+  s.camera = {{0, 0, dist}, {0, 0, 0}, {0, 1, 0}, 2 * std::atan(half_h / dist) * 180 / kPi, cell_px * columns, cell_px * rows};
   s.spp = 32;
   s.max_depth = 3;
   Light key;
   key.kind = LightKind::sphere;
   key.position = {-900, 900, 1500};
   key.radius = 120;
-  key.intensity = {8, 8, 8};
+  key.intensity = {60, 60, 60};  // irradiance about pi x 60 x (120 / 2300)^2 = 0.5
   s.lights.push_back(key);
-  s.environment.constant = {0.15, 0.15, 0.15};
+  s.environment.constant = {0.12, 0.12, 0.12};
   return make_scene(std::move(s));
 }
 

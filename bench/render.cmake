@@ -1,0 +1,8 @@
+# render_bench: renderer throughput (camera samples per second) on the built-in default scene,
+# with the skin materials and with the same scene made diffuse (target: skin at most 2.5x the
+# cost of diffuse), plus the material setup (profiles) and the scene build. Included by
+# bench/CMakeLists.txt. Run a Release build: build/bin/render_bench
+if(TARGET skin_render)
+  add_executable(render_bench ${CMAKE_CURRENT_LIST_DIR}/render_bench.cpp)
+  target_link_libraries(render_bench PRIVATE skin::render benchmark::benchmark benchmark::benchmark_main)
+endif()
