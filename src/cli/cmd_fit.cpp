@@ -182,6 +182,10 @@ void run_color(const FitOpts& o) {
   const color::Colorimetry cm{WavelengthGrid{}};
   const color::ColorSummary in = color::summarize_rgb(cm, target);
   const color::ColorSummary out = color::summarize_rgb(cm, r.fitted_srgb_linear);
+  if (r.delta_e > 1.0)
+    std::cerr << "skin fit: warning: the closest model colour is " << r.delta_e
+              << " dE2000 away: the target is outside the colours the model reaches with the "
+                 "fixed parameters\n";
   std::string text;
   switch (o.out.resolve()) {
     case Format::json: {

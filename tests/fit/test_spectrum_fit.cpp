@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <sstream>
 
 #include "skin/fit/fit.hpp"
 #include "skin/fit/report.hpp"
@@ -216,4 +217,36 @@ TEST(MeasuredSpectra, PaperSpectraFitWithExtendedModel) {
     EXPECT_LE(b.rms, a.rms + 1e-9);  // a superset of parameters can only do better
     EXPECT_LT(a.rms, 0.05);          // the paper's model is already in the right region
   }
+}
+
+// The report on a directory with one synthetic spectrum (known parameters) and its metadata:
+// markdown names it, flags it, and the plot exists.
+TEST(MeasuredReport, WritesMarkdownAndPlots) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "skin_fit_report_in";
+  const fs::path out = fs::temp_directory_path() / "skin_fit_report_out";
+  fs::remove_all(dir);
+  fs::remove_all(out);
+  fs::create_directories(dir);
+  const auto truth = params(0.05, 0.5, 0.02);
+  std::vector<double> l;
+  for (double x = 400; x <= 700; x += 10) l.push_back(x);
+  const auto R = model_reflectance(truth, l, {});
+  {
+    std::ofstream f(dir / "spectra.csv");
+    f << "lambda_nm,synth_a\n";
+    for (std::size_t i = 0; i < l.size(); ++i) f << l[i] << "," << R[i] << "\n";
+    std::ofstream(dir / "spectra_metadata.csv") << "Column,original_label,used_in_donner_jensen_2006\n"
+                                                   "synth_a,\"synthetic, known answer\",yes\n";
+  }
+  std::ostringstream md;
+  const auto entries = write_measured_report(dir.string(), out.string(), md);
+  ASSERT_EQ(entries.size(), 1u);
+  EXPECT_TRUE(entries[0].used_in_paper);
+  EXPECT_EQ(entries[0].description, "synthetic, known answer");
+  EXPECT_LT(entries[0].paper.rms, 1e-4);
+  EXPECT_LE(entries[0].extended.rms, entries[0].paper.rms + 1e-9);
+  EXPECT_NE(md.str().find("synth_a*"), std::string::npos);
+  EXPECT_TRUE(fs::exists(out / "synth_a.png"));
+  EXPECT_THROW(fit_measured_spectra((dir / "missing").string()), skin::InputError);
 }

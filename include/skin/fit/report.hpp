@@ -28,7 +28,7 @@ std::string default_spectra_dir();
 const std::vector<Parameter>& extended_parameters();
 
 // Reads every *.csv under `spectra_dir` (recursively, sorted; files named *metadata* are read as
-// metadata: columns `Column`, `original_label`, `used_in_donner_jensen_2006`) and fits each
+// metadata: columns `column`, `original_label`, `used_in_donner_jensen_2006`, header case-insensitive) and fits each
 // spectrum. `model` empty: multipole. Throws InputError if the directory has no spectra.
 std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir,
                                                 const ForwardModel& model = {});
