@@ -5,6 +5,8 @@
 
 #include "skin/model/skin_model.hpp"
 #include "skin/render/microfacet.hpp"
+#include "scene_data.hpp"
+#include <filesystem>
 #include "skin/render/scene.hpp"
 
 namespace skin::render {
@@ -149,6 +151,59 @@ TEST(Determinism, SameImageWithOneAndTwoThreads) {
   RenderSettings other = two;
   other.seed = 1235;
   EXPECT_FALSE(render(scene, other).rgb == a.rgb);  // the seed matters
+}
+
+
+TEST(KnownAnswer, ThinSlabLitFromBehindShowsTranslucency) {
+  // A slab of skin 1 mm thick, lit only from behind by unit radiance over the back hemisphere
+  // (an environment map bright for z < 0, black for z > 0), seen from the front. With rho_s = 0
+  // every point of the back face receives E = pi and lets in all of it; the front face receives
+  // nothing directly. The diffusion profile connects a front point to back points at distance
+  // sqrt(s^2 + t^2) >= t, so the front radiance is the profile's tail beyond t:
+  //   L_front = 2 pi int_t^inf R(rho) rho drho
+  // (the semi-infinite profile applied across the slab, which is what the probe rays do).
+  const double t = 1.0;
+  const auto dir = std::filesystem::temp_directory_path() / ("skin_thin_slab_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  Image env(64, 32);
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 64; ++x) {
+      // u = phi / 2 pi with phi = atan2(x, -z): |phi| < 90 deg (u < 1/4 or u > 3/4) is z < 0.
+      const double u = (x + 0.5) / 64;
+      const double v = (u < 0.25 || u > 0.75) ? 1.0 : 0.0;
+      env.set(x, y, {v, v, v});
+    }
+  write_image((dir / "back.exr").string(), env);
+  const std::string js = R"({ "camera": {"eye":[0,0,100], "look_at":[0,0,0], "fov": 4, "resolution":[48,48]},
+    "materials": {"m": {"type":"skin","preset":"caucasian","rho_s":0}},
+    "objects": [{"quad": {"corner":[-500,-500,0], "edge_u":[1000,0,0], "edge_v":[0,1000,0]}, "material":"m"},
+                {"quad": {"corner":[-500,-500,-1], "edge_u":[0,1000,0], "edge_v":[1000,0,0]}, "material":"m"}],
+    "environment": {"map": "back.exr"}, "render": {"spp": 32, "max_depth": 1} })";
+  RenderSettings rs;
+  rs.seed = 21;
+  const Stats st = pixel_stats(render(Scene::parse(js, dir.string(), "thin-slab"), rs));
+  std::filesystem::remove_all(dir);
+  Material m;
+  SkinParameters p = find_preset("caucasian").parameters;
+  p.oiliness = 0;
+  prepare_skin_material(m, p);
+  for (int c = 0; c < 3; ++c) {
+    const TabulatedProfile& prof = m.profile[static_cast<std::size_t>(c)];
+    // Tail integral by the midpoint rule on a fine log grid from t to r_max.
+    double tail = 0;
+    constexpr int kN = 20000;
+    for (int i = 0; i < kN; ++i) {
+      const double a = t * std::pow(prof.r_max() / t, static_cast<double>(i) / kN);
+      const double b = t * std::pow(prof.r_max() / t, static_cast<double>(i + 1) / kN);
+      const double mid = 0.5 * (a + b);
+      tail += 2 * kPi * prof.eval(mid) * mid * (b - a);
+    }
+    SCOPED_TRACE(::testing::Message() << "channel " << c << " expected " << tail);
+    EXPECT_GT(tail, 0.0);
+    EXPECT_NEAR(st.mean[c], tail, 4 * st.stderr_[c] + 0.02 * tail) << st.mean << " stderr " << st.stderr_;
+  }
+  // Red light crosses the slab best (least absorbed, longest profile): the back-lit colour is red.
+  EXPECT_GT(st.mean.r, 2 * st.mean.b);
 }
 
 }  // namespace
