@@ -3,6 +3,7 @@
 # accurate RGB profile < 20 ms). Run a Release build: build/bin/accurate_bench
 if(TARGET skin_accurate)
   add_executable(accurate_bench ${CMAKE_CURRENT_LIST_DIR}/accurate_bench.cpp)
-  target_link_libraries(accurate_bench PRIVATE skin::accurate skin::model benchmark::benchmark
+  find_package(Threads REQUIRED)
+  target_link_libraries(accurate_bench PRIVATE skin::accurate skin::model Threads::Threads benchmark::benchmark
     benchmark::benchmark_main)
 endif()

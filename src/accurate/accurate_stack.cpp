@@ -21,9 +21,9 @@ LayerStack top_layer(const LayerStack& stack) {
 }  // namespace
 
 AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
-    : totals_(adding_doubling(stack, options)), stack_(stack), top_(top_layer(stack)) {
+    : totals_(adding_doubling(stack, options)), stack_(stack) {
   const double R_mp = stack_.R_d();
-  const double R_top_mp = top_.R_d();
+  const double R_top_mp = stack_.slabs().front().R_d();
   if (stack.layers.size() == 1) {
     c_top_ = c_deep_ = totals_.R_d / R_mp;
     return;
@@ -45,7 +45,7 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
 double AccurateStack::singular(double r) const { return c_top_ * stack_.dipole(r); }
 
 double AccurateStack::residual_k(double k) const {
-  const double R_top = top_.R_k(k);
+  const double R_top = stack_.slabs().front().R_k(k);
   return c_top_ * (R_top - stack_.dipole_k(k)) + c_deep_ * (stack_.R_k(k) - R_top);
 }
 

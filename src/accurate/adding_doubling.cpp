@@ -150,6 +150,19 @@ struct SemiInfiniteTable {
   std::vector<Mat> R = std::vector<Mat>(kNodes + 1);
 };
 
+// Finite-layer reflection and transmission on the nodes (x_i, tau_j): x_i = i / kX (x = sqrt(1 -
+// omega)), tau_j = kTauMin 2^(j / kPerOctave) (delta-M scaled optical depth), filled on demand
+// (see slab_table_at below).
+struct SlabTable {
+  static constexpr int kX = 128;
+  static constexpr int kPerOctave = 8;
+  static constexpr double kTauMin = 1.0 / 8;
+  // Up to tau = 2^9 kTauMin = 64: beyond, the diffusive decay exp(-kappa tau), kappa ~ x, varies
+  // too fast across an x cell for cubic interpolation (the caller then doubles directly).
+  static constexpr int kTau = 9 * kPerOctave;
+  std::vector<LayerRT> nodes = std::vector<LayerRT>((kX + 1) * (kTau + 1));
+};
+
 // Angular data of one medium (index n, anisotropy g) on a stream set: cosines, weights and the
 // delta-M redistribution matrices. Cached per thread (a spectrum repeats the same geometry).
 struct Geometry {
@@ -159,6 +172,7 @@ struct Geometry {
   Mat Pplus, Pminus;  // p0(mu_i, mu_j), p0(-mu_i, mu_j), renormalised
   double f = 0;       // delta-M forward fraction g^(2m)
   mutable SemiInfiniteTable table;
+  mutable SlabTable slab_table;
 };
 
 struct GeometryKey {
@@ -311,6 +325,65 @@ Mat table_at(const Geometry& geo, double omega) {
   return out;
 }
 
+// A finite homogeneous layer by diamond initialisation (tau / 2^k <= kThinnest) and k doublings.
+LayerRT finite_direct(const Geometry& geo, double omega, double tau) {
+  int k = 0;
+  double dtau = tau;
+  while (dtau > kThinnest) {
+    dtau *= 0.5;
+    ++k;
+  }
+  Mat A, B;
+  scattering_matrices(geo, omega, A, B);
+  LayerRT rt = diamond(A, B, dtau);
+  for (int i = 0; i < k; ++i) {
+    double_once(rt);
+    if (rt.T.colwise().sum().maxCoeff() < 1e-30) break;  // thicker than infinite
+  }
+  return rt;
+}
+
+// Finite layers depend on (omega, tau) alone for a given geometry, smoothly in x = sqrt(1 -
+// omega) and in log tau. Bicubic (4 x 4 point Lagrange) interpolation on the lazily filled
+// SlabTable; false when tau is outside the table (the caller then doubles directly). A spectrum
+// of one parameter set touches a few hundred nodes; later spectra of nearby parameters reuse
+// them, so a warm table costs two 4 x 4 weighted sums of matrices instead of ~10 doublings.
+bool slab_table_at(const Geometry& geo, double omega, double tau, LayerRT& out) {
+  using Tab = SlabTable;
+  const double u = std::log2(tau / Tab::kTauMin) * Tab::kPerOctave;
+  if (!(u >= 1.0 && u <= Tab::kTau - 1.0)) return false;
+  const double x = std::sqrt(std::max(0.0, 1.0 - omega)) * Tab::kX;
+  const int i0 = std::clamp(static_cast<int>(std::floor(x)) - 1, 0, Tab::kX - 3);
+  const int j0 = std::clamp(static_cast<int>(std::floor(u)) - 1, 0, Tab::kTau - 3);
+  auto lagrange = [](double t, double* w) {
+    for (int a = 0; a < 4; ++a) {
+      w[a] = 1;
+      for (int b = 0; b < 4; ++b)
+        if (b != a) w[a] *= (t - b) / static_cast<double>(a - b);
+    }
+  };
+  double wx[4], wt[4];
+  lagrange(x - i0, wx);
+  lagrange(u - j0, wt);
+  out.R = Mat::Zero(geo.m, geo.m);
+  out.T = Mat::Zero(geo.m, geo.m);
+  for (int a = 0; a < 4; ++a) {
+    for (int b = 0; b < 4; ++b) {
+      const int i = i0 + a, j = j0 + b;
+      LayerRT& node = geo.slab_table.nodes[static_cast<std::size_t>(i * (Tab::kTau + 1) + j)];
+      if (node.R.size() == 0) {
+        const double xi = static_cast<double>(i) / Tab::kX;
+        node = finite_direct(geo, 1.0 - xi * xi,
+                             Tab::kTauMin * std::exp2(static_cast<double>(j) / Tab::kPerOctave));
+      }
+      const double w = wx[a] * wt[b];
+      out.R += w * node.R;
+      out.T += w * node.T;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 // Reflection and transmission (flux form, m x m) of one homogeneous layer of optical thickness
@@ -332,22 +405,11 @@ LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulat
     return rt;
   }
   const double tau = sigma_t * layer.thickness;
-  // Initial thickness: tau / 2^k <= kThinnest, then doubled k times.
-  const double thin = kThinnest;
-  int k = 0;
-  double dtau = tau;
-  while (dtau > thin) {
-    dtau *= 0.5;
-    ++k;
+  if (tabulate) {
+    LayerRT rt;
+    if (slab_table_at(geo, omega, tau, rt)) return rt;
   }
-  Mat A, B;
-  scattering_matrices(geo, omega, A, B);
-  LayerRT rt = diamond(A, B, dtau);
-  for (int i = 0; i < k; ++i) {
-    double_once(rt);
-    if (rt.T.colwise().sum().maxCoeff() < 1e-30) break;  // thicker than infinite
-  }
-  return rt;
+  return finite_direct(geo, omega, tau);
 }
 
 // Diagonal boundary between media of index n_a (above) and n_b (below) on the stream set.

@@ -195,6 +195,32 @@ TEST(Limits, SemiInfiniteTableMatchesDirectDoubling) {
   }
 }
 
+// The finite-layer table (bicubic in sqrt(1 - omega) and log tau) against direct doubling, over
+// the skin presets' whole spectrum and a spread of generic slabs.
+TEST(Limits, SlabTableMatchesDirectDoubling) {
+  double worst = 0;
+  for (const auto& preset : skin::presets()) {
+    for (double lambda = 400; lambda <= 700; lambda += 10) {
+      const auto st = skin::skin_layer_stack(preset.parameters, lambda);
+      const auto tab = skin::accurate::detail::solve(st, {}, true);
+      const auto direct = skin::accurate::detail::solve(st, {}, false);
+      worst = std::max(worst, std::abs(tab.R_d / direct.R_d - 1));
+    }
+  }
+  for (double albedo : {0.02, 0.4, 0.9, 0.999}) {
+    for (double d : {0.03, 0.3, 3.0, 30.0}) {
+      for (double n : {1.0, 1.4}) {
+        const LayerStack s = slab(1 - albedo, 10 * albedo, 0.9, d, n);
+        const auto tab = skin::accurate::detail::solve(s, {}, true);
+        const auto direct = skin::accurate::detail::solve(s, {}, false);
+        EXPECT_NEAR(tab.R_d, direct.R_d, 1e-4 * direct.R_d + 1e-9) << albedo << " " << d << " " << n;
+        EXPECT_NEAR(tab.T_d, direct.T_d, 1e-4 * direct.T_d + 1e-7) << albedo << " " << d << " " << n;
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-4);
+}
+
 TEST(Limits, ThickSlabTendsToHalfSpace) {
   LayerStack half;
   half.layers = {Layer{0.05, 2.0, skin::kInfinity, 1.4, 0.9}};

@@ -71,8 +71,8 @@ class AccurateStack final : public RadialResponse {
 
  private:
   Totals totals_;
-  DiffusionStack stack_;  // multipole model of the whole stack
-  DiffusionStack top_;    // multipole model of the top layer alone
+  DiffusionStack stack_;  // multipole model of the whole stack (its first slab is the top layer
+                          // alone, with the same boundaries)
   double c_top_ = 1, c_deep_ = 1;
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);
