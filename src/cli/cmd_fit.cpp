@@ -28,12 +28,7 @@ struct FitOpts {
   double blend_prior = 0.7, blend_weight = 0.2;
 };
 
-fit::ForwardModel forward_model(const std::string& solver) {
-  // Only the closed-form multipole for now; other solvers (adding-doubling: "accurate") plug in
-  // here as further ForwardModel callables.
-  if (solver == "multipole") return fit::multipole_model();
-  throw InputError("solver = '" + solver + "' is unknown: known solvers are multipole");
-}
+fit::ForwardModel forward_model(const std::string& solver) { return fit::forward_model(solver); }
 
 std::vector<std::pair<fit::Parameter, fit::Bounds>> parse_bounds(const std::vector<std::string>& specs) {
   std::vector<std::pair<fit::Parameter, fit::Bounds>> out;
@@ -308,8 +303,10 @@ void register_fit(CLI::App& app) {
                   "Colour fits: beta_m the regulariser pulls toward, [0, 1]")->capture_default_str()->group(g_fit);
   sub->add_option("--melanin-blend-weight", o->blend_weight,
                   "Colour fits: regulariser weight [Lab units per unit beta_m], >= 0")->capture_default_str()->group(g_fit);
-  sub->add_option("--solver", o->solver, "Forward model for R_d")
-      ->check(CLI::IsMember({"multipole"}))->capture_default_str()->group(g_fit);
+  sub->add_option("--solver", o->solver,
+                  "Forward model for R_d: multipole (closed form, fast) or accurate (adding-doubling, "
+                  "~100x slower, valid for any epidermis thickness)")
+      ->check(CLI::IsMember(fit::solver_names()))->capture_default_str()->group(g_fit);
 
   o->params.add_to(*sub);
   o->out.add_to(*sub);

@@ -14,6 +14,9 @@
 #include "skin/physics/diffusion.hpp"
 #include "skin/physics/error.hpp"
 #include "skin/physics/stack.hpp"
+#ifdef SKIN_FIT_HAVE_ACCURATE
+#include "skin/accurate/accurate.hpp"
+#endif
 
 namespace skin::fit {
 
@@ -29,6 +32,32 @@ ForwardModel multipole_model() {
       return std::numeric_limits<double>::quiet_NaN();
     return DiffusionStack(stack).R_d();
   };
+}
+
+ForwardModel accurate_model() {
+#ifdef SKIN_FIT_HAVE_ACCURATE
+  return [](const SkinParameters& p, double lambda) {
+    return accurate::adding_doubling(skin_layer_stack(p, lambda)).R_d;
+  };
+#else
+  throw InputError("solver = 'accurate' is not available: this build has no skin_accurate library");
+#endif
+}
+
+std::vector<std::string> solver_names() {
+#ifdef SKIN_FIT_HAVE_ACCURATE
+  return {"multipole", "accurate"};
+#else
+  return {"multipole"};
+#endif
+}
+
+ForwardModel forward_model(std::string_view solver) {
+  if (solver == "multipole") return multipole_model();
+  if (solver == "accurate") return accurate_model();
+  std::string known;
+  for (const auto& n : solver_names()) known += (known.empty() ? "" : ", ") + n;
+  throw InputError("solver = '" + std::string(solver) + "' is unknown: known solvers are " + known);
 }
 
 double FitResult::uncertainty_of(Parameter p) const {

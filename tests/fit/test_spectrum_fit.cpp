@@ -3,6 +3,7 @@
 // bad input, and the measured spectra the paper compares against (Fig. 9).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -249,4 +250,26 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
   EXPECT_NE(md.str().find("synth_a*"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "synth_a.png"));
   EXPECT_THROW(fit_measured_spectra((dir / "missing").string()), skin::InputError);
+}
+
+// Forward models by name; where the adding-doubling solver is built, a spectrum made with it is
+// recovered by a fit that uses it (the fit does not depend on the multipole).
+TEST(SpectrumFit, SolversByName) {
+  EXPECT_THROW(forward_model("diffusion-ish"), skin::InputError);
+  EXPECT_NO_THROW(forward_model("multipole"));
+  const auto names = solver_names();
+  if (std::find(names.begin(), names.end(), "accurate") == names.end())
+    GTEST_SKIP() << "built without skin_accurate";
+  SpectrumFitOptions o;
+  o.model = forward_model("accurate");
+  const SpectrumFitter fitter(o);
+  MeasuredSpectrum m;
+  for (double l = 400; l <= 700; l += 10) m.wavelength_nm.push_back(l);
+  const auto truth = params(0.04, 0.5, 0.02);
+  m.R = model_reflectance(truth, m.wavelength_nm, o);
+  const FitResult r = fitter.fit(m);
+  SCOPED_TRACE(::testing::Message() << r);
+  EXPECT_LT(r.rms, 1e-5);
+  EXPECT_NEAR(r.parameters.melanin, 0.04, 0.02 * 0.04);
+  EXPECT_NEAR(r.parameters.hemoglobin, 0.02, 0.02 * 0.02);
 }

@@ -55,6 +55,12 @@ Bounds default_bounds(Parameter p);
 using ForwardModel = std::function<double(const SkinParameters& p, double lambda)>;
 // The closed-form multipole model: DiffusionStack(skin_layer_stack(p, lambda)).R_d() (k = 0).
 ForwardModel multipole_model();
+// Adding-doubling R_d (skin::accurate, docs/accurate-solver.md), when the library is built with
+// it; otherwise throws InputError. Slower (~ms per wavelength) but valid for any thickness.
+ForwardModel accurate_model();
+// By name: "multipole" or "accurate" (throws InputError naming the known ones).
+ForwardModel forward_model(std::string_view solver);
+std::vector<std::string> solver_names();  // the ones available in this build
 
 // A measured reflectance spectrum: wavelengths [nm], strictly increasing, and reflectance 0-1.
 struct MeasuredSpectrum {
