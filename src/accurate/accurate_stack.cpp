@@ -1,30 +1,105 @@
-// AccurateStack: multipole shapes with adding-doubling totals (docs/accurate-solver.md, sec. 3).
+// AccurateStack: diffusion shapes with adding-doubling totals (docs/accurate-solver.md, sec. 3).
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <ostream>
 
 #include "skin/accurate/accurate.hpp"
+#include "skin/physics/diffusion.hpp"
 
 namespace skin::accurate {
 
 namespace {
+
 // The top layer alone, with the boundaries it has in the stack (the index below it is that of
 // the next layer, or of the medium below).
 LayerStack top_layer(const LayerStack& stack) {
-  stack.validate();
   LayerStack top;
   top.layers = {stack.layers.front()};
   top.eta_above = stack.eta_above;
   top.eta_below = stack.layers.size() > 1 ? stack.layers[1].eta : stack.eta_below;
   return top;
 }
+
+// Fresnel moments of a boundary seen from inside a medium of relative index eta = n_in / n_out:
+// C1 = int_0^1 F(mu) mu dmu, C2 = int_0^1 F(mu) mu^2 dmu (midpoint rule on 4000 cells; the
+// integrand has only a square-root kink at the critical angle: error < 1e-6).
+struct FresnelMoments {
+  double C1 = 0, C2 = 0;
+};
+FresnelMoments fresnel_moments(double eta) {
+  FresnelMoments m;
+  if (eta == 1.0) return m;
+  constexpr int n = 4000;
+  for (int i = 0; i < n; ++i) {
+    const double mu = (i + 0.5) / n;
+    const double F = fresnel_dielectric(mu, eta, 1.0);
+    m.C1 += F * mu / n;
+    m.C2 += F * mu * mu / n;
+  }
+  return m;
+}
+
+// Sums over the pole family c + i P (all integers i) of exp(-|c + i P| s), with and without the
+// sign of the depth: the 2D transforms of the fluence (e^{-s_tr d} / d -> 2 pi e^{-|z| s} / s) and
+// of the flux (z (1 + s_tr d) e^{-s_tr d} / d^3 -> 2 pi sgn(z) e^{-|z| s}) of each pole.
+struct PoleSums {
+  double plain = 0, signed_ = 0;
+};
+PoleSums pole_sums(double c, double P, double s) {
+  if (!std::isfinite(P)) {
+    const double e = std::exp(-std::abs(c) * s);
+    return {e, c >= 0 ? e : -e};
+  }
+  const double c0 = c - P * std::floor(c / P);  // in [0, P)
+  const double q = 1.0 / (1.0 - std::exp(-P * s));
+  const double up = std::exp(-c0 * s) * q, down = std::exp(-(P - c0) * s) * q;
+  return {up + down, up - down};
+}
+
+// Partial current leaving the surface z = z_s of a slab: C_phi phi + C_j j, from the real poles
+// z_r + i 2L and the images -z_r - 2 z_b_top + i 2L (DJ05 eq 7), fluence phi = alpha' / (4 pi D)
+// sum(+-e^{-s_tr d} / d), flux j = alpha' / (4 pi) sum(+-z (1 + s_tr d) e^{-s_tr d} / d^3).
+double partial_current_k(const DiffusionSlab& sl, double z_s, double C_phi, double C_j, double k,
+                         bool nearest_pair_only) {
+  const double s = std::sqrt(sl.sigma_tr * sl.sigma_tr + k * k);
+  const double P = nearest_pair_only || sl.semi_infinite() ? kInfinity : 2.0 * sl.L;
+  // Depths of the poles below the surface z_s (the surface z = d counts depth d - z).
+  const double sign = z_s == 0.0 ? 1.0 : -1.0;
+  const PoleSums real = pole_sums(sign * (sl.z_r - z_s), P, s);
+  const PoleSums image = pole_sums(sign * (-sl.z_r - 2.0 * sl.z_b_top - z_s), P, s);
+  const double phi = sl.alpha_prime / (2.0 * sl.D * s) * (real.plain - image.plain);
+  const double j = 0.5 * sl.alpha_prime * (real.signed_ - image.signed_);
+  return C_phi * phi + C_j * j;
+}
+
 }  // namespace
 
 AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
-    : totals_(adding_doubling(stack, options)), stack_(stack) {
-  const double R_mp = stack_.R_d();
-  const double R_top_mp = stack_.slabs().front().R_d();
-  if (stack.layers.size() == 1) {
+    : totals_(adding_doubling(stack, options)) {
+  const auto& ls = stack.layers;
+  const Layer& l0 = ls.front();
+  const double eta_top = l0.eta / stack.eta_above;
+  const FresnelMoments fm = fresnel_moments(eta_top);
+  // Partial current through the top surface (Kienle & Patterson 1997): the diffuse radiance
+  // phi / 4 pi + 3 j mu / 4 pi, times 1 - F(mu), integrated over the outgoing hemisphere.
+  C_phi_ = 0.25 * (1.0 - 2.0 * fm.C1);
+  C_j_ = 0.5 * (1.0 - 3.0 * fm.C2);
+  const double A_top = eta_top == 1.0 ? 1.0 : (1.0 + 3.0 * fm.C2) / (1.0 - 2.0 * fm.C1);
+  const double n_below = ls.size() > 1 ? ls[1].eta : stack.eta_below;
+  const double A_bottom = A_boundary(l0.eta / n_below);
+  top_ = DiffusionSlab::make(l0.sigma_a, l0.sigma_s_prime, l0.thickness, A_top, A_bottom);
+  if (!top_.semi_infinite()) top_up_ = top_.flipped();
+  if (ls.size() > 1) {
+    LayerStack rest;
+    rest.layers.assign(ls.begin() + 1, ls.end());
+    rest.eta_above = l0.eta;
+    rest.eta_below = stack.eta_below;
+    rest_.emplace(rest);
+  }
+  const double R_mp = diffusion_R_k(0.0);
+  const double R_top_mp = diffusion_top_R_k(0.0);
+  if (!rest_) {
     c_top_ = c_deep_ = totals_.R_d / R_mp;
     return;
   }
@@ -42,11 +117,43 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
   }
 }
 
-double AccurateStack::singular(double r) const { return c_top_ * stack_.dipole(r); }
+double AccurateStack::diffusion_top_R_k(double k) const {
+  return partial_current_k(top_, 0.0, C_phi_, C_j_, k, false);
+}
+
+double AccurateStack::top_dipole_k(double k) const {
+  return partial_current_k(top_, 0.0, C_phi_, C_j_, k, true);
+}
+
+double AccurateStack::diffusion_R_k(double k) const {
+  const double R1 = diffusion_top_R_k(k);
+  if (!rest_) return R1;
+  // DJ05 adding with the top layer's own transfer inside the stack (flux j), except where light
+  // leaves through the top surface: there the partial current. Seen from below, the top surface
+  // is the slab's bottom, z = d of the flipped slab.
+  const double T1_down = top_.T_k(k);
+  const double R1_up = top_up_.R_k(k);
+  const double T1_up = partial_current_k(top_up_, top_up_.d, C_phi_, C_j_, k, false);
+  const double R2 = rest_->R_k(k);
+  return R1 + T1_down * R2 * T1_up / (1.0 - R1_up * R2);
+}
+
+double AccurateStack::singular(double r) const {
+  // The nearest image pair of the top layer in space: fluence and flux of a dipole.
+  const double z_v = top_.z_r + 2.0 * top_.z_b_top;
+  const double d_r = std::sqrt(r * r + top_.z_r * top_.z_r), d_v = std::sqrt(r * r + z_v * z_v);
+  const double e_r = std::exp(-top_.sigma_tr * d_r), e_v = std::exp(-top_.sigma_tr * d_v);
+  const double phi = top_.alpha_prime / (4.0 * std::numbers::pi * top_.D) * (e_r / d_r - e_v / d_v);
+  const double j = top_.alpha_prime / (4.0 * std::numbers::pi) *
+                   (top_.z_r * (1.0 + top_.sigma_tr * d_r) * e_r / (d_r * d_r * d_r) +
+                    z_v * (1.0 + top_.sigma_tr * d_v) * e_v / (d_v * d_v * d_v));
+  return c_top_ * (C_phi_ * phi + C_j_ * j);
+}
 
 double AccurateStack::residual_k(double k) const {
-  const double R_top = stack_.slabs().front().R_k(k);
-  return c_top_ * (R_top - stack_.dipole_k(k)) + c_deep_ * (stack_.R_k(k) - R_top);
+  const double R_top = diffusion_top_R_k(k);
+  const double deep = rest_ ? diffusion_R_k(k) - R_top : 0.0;
+  return c_top_ * (R_top - top_dipole_k(k)) + c_deep_ * deep;
 }
 
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s) {

@@ -151,13 +151,11 @@ TEST(Anisotropy, SolverFollowsMonteCarloForBothG) {
   }
 }
 
-// Profiles. The accurate response corrects the multipole's totals, not its radial shape; the
-// shape of diffusion is off by ~20 % (r-weighted L1 over 0.1 - 5 mm) against Monte Carlo even in
-// bright skin (docs/accurate-solver.md, section 4: the 10 % goal of the issue is not met). These
-// tests pin what is achieved: the r-weighted L1 error of the annulus averages stays below 0.35,
-// and where diffusion fails (dark epidermis) the corrected profile is far closer than the
-// multipole. The model is averaged over each annulus like the Monte Carlo tally (8 sub-radii,
-// area weights).
+// Profiles, as r-weighted L1 errors sum |model - MC| r / sum MC r of the annulus averages over
+// 0.1 - 5 mm (the model is averaged over each annulus like the Monte Carlo tally: 8 sub-radii,
+// area weights). Measured with 100 000 photons (docs/accurate-solver.md, section 3): 0.05-0.09
+// in light skin against 0.21-0.29 for the multipole; the dark epidermis' near field (< 0.3 mm)
+// is where diffusion's shape still fails. Bounds below leave room for 40 000-photon noise.
 struct ProfileErrors {
   double accurate = 0, multipole = 0;
 };
@@ -195,19 +193,18 @@ ProfileErrors profile_errors(const char* name, double lambda) {
 
 class PresetProfiles : public ::testing::TestWithParam<PresetCase> {};
 
-TEST_P(PresetProfiles, L1ErrorAgainstMonteCarloFrom0_1To5mmIsBounded) {
+TEST_P(PresetProfiles, WithinTenPercentL1OfMonteCarloFrom0_1To5mm) {
   const auto [name, lambda] = GetParam();
   const auto e = profile_errors(name, lambda);
-  EXPECT_LT(e.accurate, 0.35) << name << " " << lambda << " nm: multipole " << e.multipole;
-  // Never much worse than the multipole (the correction can only redistribute its shape).
-  EXPECT_LT(e.accurate, e.multipole + 0.02) << name << " " << lambda;
+  EXPECT_LT(e.accurate, 0.12) << name << " " << lambda << " nm: multipole " << e.multipole;
+  EXPECT_LT(e.accurate, 0.6 * e.multipole) << name << " " << lambda;
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Presets, PresetProfiles,
-    ::testing::Values(PresetCase{"caucasian", 550}, PresetCase{"pale", 650},
-                      PresetCase{"tanned", 450}, PresetCase{"asian", 550},
-                      PresetCase{"african", 650}),
+    ::testing::Values(PresetCase{"caucasian", 450}, PresetCase{"caucasian", 550},
+                      PresetCase{"pale", 650}, PresetCase{"tanned", 450},
+                      PresetCase{"tanned", 650}),
     [](const auto& param_info) {
       return std::string(param_info.param.preset) + "_" + std::to_string(int(param_info.param.lambda));
     });
@@ -216,6 +213,7 @@ TEST(PresetProfilesDark, CorrectionHelpsWhereDiffusionFails) {
   for (const auto& [name, lambda] : {PresetCase{"asian", 550}, PresetCase{"african", 650}}) {
     const auto e = profile_errors(name, lambda);
     EXPECT_LT(e.accurate, 0.5 * e.multipole) << name << " " << lambda;
+    EXPECT_LT(e.accurate, 0.8) << name << " " << lambda;  // the dark near field, section 3
   }
 }
 

@@ -16,13 +16,16 @@
 // (divided by 1 - R_specular). T_d includes light transmitted without scattering.
 //
 // AccurateStack: a radial response (for skin::ProfileSolver) whose total is the adding-doubling
-// R_d and whose shape comes from the multipole model, corrected per component (the top layer's
-// own reflectance, and the light that came back from below it) so that each component's total is
-// the adding-doubling one. Units: mm, 1/mm, k in rad/mm.
+// R_d and whose shape comes from the multipole model with a partial-current top surface,
+// corrected per component (the top layer's own reflectance, and the light that came back from
+// below it) so that each component's total is the adding-doubling one. Units: mm, 1/mm, k in
+// rad/mm.
 #include <iosfwd>
+#include <optional>
 
 #include "skin/physics/layer.hpp"
 #include "skin/physics/profile_fwd.hpp"
+#include "skin/physics/diffusion.hpp"
 #include "skin/physics/stack.hpp"
 
 namespace skin::accurate {
@@ -49,10 +52,15 @@ std::ostream& operator<<(std::ostream& os, const Totals& t);
 Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d.
-// R(k) = c_top R_top(k) + c_deep (R_stack(k) - R_top(k)), with R_top the multipole reflectance of
-// the top layer alone (over the index of what lies below it) and R_stack the multipole stack;
-// c_top = R_top^AD / R_top^multipole, and c_deep makes the total the adding-doubling R_d. The
-// singular part is c_top times the top layer's dipole. A one-layer stack has c_deep = c_top.
+// The shape is diffusion's (multipole, DJ05) with two changes (docs/accurate-solver.md, sec. 3):
+// 1. light leaving through the top surface is the partial current of the diffuse radiance,
+//    R = C_phi phi + C_j j (fluence and flux, Kienle & Patterson 1997), with the extrapolation
+//    distance from the same exact Fresnel moments, A = (1 + 3 C2) / (1 - 2 C1), instead of the
+//    flux j alone: this fixes most of diffusion's error in the radial shape beyond ~0.3 mm;
+// 2. the totals are the adding-doubling ones, corrected per component:
+//    R(k) = c_top R_top(k) + c_deep (R_stack(k) - R_top(k)), R_top the top layer alone (over the
+//    index of what lies below it), c_top = R_top^AD / R_top(0), c_deep making R(0) the
+//    adding-doubling R_d. The singular part is c_top times the top layer's nearest image pair.
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const LayerStack& stack, const Options& options = {});
@@ -65,14 +73,19 @@ class AccurateStack final : public RadialResponse {
   double T_d() const { return totals_.T_d; }
   double R_specular() const { return totals_.R_specular; }
   const Totals& totals() const { return totals_; }
-  // The correction factors (1 where diffusion already agrees with transport).
+  // The correction factors (1 where the diffusion shape already has the transport total).
   double c_top() const { return c_top_; }
   double c_deep() const { return c_deep_; }
+  // The uncorrected diffusion response with the partial-current top surface: total, and R(k).
+  double diffusion_R_k(double k) const;
+  double diffusion_top_R_k(double k) const;
 
  private:
+  double top_dipole_k(double k) const;
   Totals totals_;
-  DiffusionStack stack_;  // multipole model of the whole stack (its first slab is the top layer
-                          // alone, with the same boundaries)
+  DiffusionSlab top_, top_up_;        // top layer seen from above / from below
+  double C_phi_ = 0.25, C_j_ = 0.5;   // partial-current coefficients of the top surface
+  std::optional<DiffusionStack> rest_;  // the layers below the top one (none for one layer)
   double c_top_ = 1, c_deep_ = 1;
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);
