@@ -336,7 +336,8 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
       break;
     }
     if (depth >= max_depth_) break;
-    const Surface x = surface(h, d);
+    Surface x = surface(h, d);
+    if (x.mat->has_maps() && x.has_uv) x.mat = &x.mat->node_at(x.uv.x, x.uv.y, rng.uniform());
     const Material& m = *x.mat;
     const Vec3 wo = -d;
     if (!m.translucent()) {

@@ -1,6 +1,9 @@
 // Translucent materials: from skin parameters or layer stacks to the tabulated RGB diffusion
 // profiles the integrator samples (DJ06 section 4: the spectral profiles are converted to colour
 // radius by radius; ProfileSolver::rgb applies the colour weights in the frequency domain).
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <map>
 #include <mutex>
 #include <utility>
@@ -65,6 +68,53 @@ void set_texture_reference(Material& m, const SkinParameters& reference) {
   const auto rgb = skin_spectrum(reference).color.srgb_linear;
   for (int c = 0; c < 3; ++c) m.texture_normalisation[c] = rgb[c] > 1e-6 ? 1.0 / rgb[c] : 0.0;
   m.texture_reference_fixed = true;
+}
+
+void prepare_parameter_maps(Material& m, const SkinParameters& p) {
+  if (m.maps.empty()) return;
+  std::size_t count = 1;
+  for (const auto& mp : m.maps) count *= static_cast<std::size_t>(mp.levels);
+  m.nodes.assign(count, Material{});
+  std::vector<SkinParameters> params(count, p);
+  for (std::size_t i = 0; i < count; ++i) {
+    std::size_t rest = i;
+    for (const auto& mp : m.maps) {
+      const auto level = rest % static_cast<std::size_t>(mp.levels);
+      rest /= static_cast<std::size_t>(mp.levels);
+      params[i].*(mp.member) = mp.min + (mp.max - mp.min) * static_cast<double>(level) / (mp.levels - 1);
+    }
+    params[i].validate();  // InputError names the parameter and value
+  }
+  tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) { prepare_skin_material(m.nodes[i], params[i]); });
+  for (auto& n : m.nodes) {
+    n.albedo_map = m.albedo_map;
+    if (m.texture_reference_fixed) {
+      n.texture_normalisation = m.texture_normalisation;
+      n.texture_reference_fixed = true;
+    }
+  }
+}
+
+const Material& Material::node_at(double u, double v, double xi) const {
+  // Pick one corner of the grid cell per map dimension, each with its linear weight, using
+  // successive bits of xi (stretched to stay uniform).
+  std::size_t index = 0, stride = 1;
+  for (const auto& mp : maps) {
+    const double value = mp.texture->lookup(u, v).r;  // [0, 1] data, not colour
+    const double x = std::clamp(value, 0.0, 1.0) * (mp.levels - 1);
+    const auto lo = std::min(static_cast<std::size_t>(x), static_cast<std::size_t>(mp.levels - 2));
+    const double w_hi = x - static_cast<double>(lo);
+    std::size_t level = lo;
+    if (xi < w_hi) {
+      level = lo + 1;
+      xi = xi / w_hi;
+    } else {
+      xi = w_hi < 1 ? (xi - w_hi) / (1 - w_hi) : 0.0;
+    }
+    index += level * stride;
+    stride *= static_cast<std::size_t>(mp.levels);
+  }
+  return nodes[index];
 }
 
 void prepare_layered_material(Material& m, const std::array<LayerStack, 3>& stacks) {

@@ -130,7 +130,8 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
   } else if (type == "skin") {
     r.allow({"type", "preset", "C_m", "beta_m", "C_h", "rho_s", "gamma", "epidermis_thickness",
-             "dermis_scattering_scale", "eta", "roughness", "albedo_texture", "texture_reference"});
+             "dermis_scattering_scale", "eta", "roughness", "albedo_texture", "texture_reference",
+             "parameter_maps"});
     SkinParameters p = r.has("preset") ? with_context(r.file(), r.path("preset"), [&] { return find_preset(r.string("preset")).parameters; })
                                        : SkinParameters{};
     p.melanin = r.number("C_m", p.melanin);
@@ -153,6 +154,32 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
       }
     } else if (r.has("texture_reference")) {
       r.fail("'texture_reference' needs 'albedo_texture'");
+    }
+    if (r.has("parameter_maps")) {
+      const Reader pm(r.raw("parameter_maps"), r.file(), r.path("parameter_maps"));
+      pm.allow({"C_m", "beta_m", "C_h", "rho_s"});
+      const std::pair<const char*, double SkinParameters::*> members[] = {
+          {"C_m", &SkinParameters::melanin}, {"beta_m", &SkinParameters::melanin_blend},
+          {"C_h", &SkinParameters::hemoglobin}, {"rho_s", &SkinParameters::oiliness}};
+      for (const auto& [key, member] : members) {
+        if (!pm.has(key)) continue;
+        const Reader e(pm.raw(key), r.file(), pm.path(key));
+        e.allow({"texture", "min", "max", "levels"});
+        Material::ParameterMap mp;
+        mp.key = key;
+        mp.member = member;
+        mp.min = e.number("min");
+        mp.max = e.number("max");
+        mp.levels = e.integer("levels", 4);
+        if (!(mp.max > mp.min)) e.fail("'max' = " + format_number(mp.max) + " must be > 'min' = " + format_number(mp.min));
+        if (mp.levels < 2 || mp.levels > 16) e.fail("'levels' = " + std::to_string(mp.levels) + " is out of range: [2, 16]");
+        mp.texture = with_context(r.file(), e.path("texture"), [&] { return load_texture(resolve(base, e.string("texture")), false); });
+        m.maps.push_back(mp);
+      }
+      std::size_t nodes = 1;
+      for (const auto& mp : m.maps) nodes *= static_cast<std::size_t>(mp.levels);
+      if (nodes > 64) pm.fail("the maps need " + std::to_string(nodes) + " precomputed parameter sets; at most 64 (lower 'levels')");
+      with_context(r.file(), r.path("parameter_maps"), [&] { prepare_parameter_maps(m, p); return 0; });
     }
   } else if (type == "layered") {
     r.allow({"type", "layers", "eta_above", "eta_below", "rho_s", "roughness", "eta", "albedo_texture"});
@@ -419,6 +446,7 @@ void Scene::set_skin_parameters(const SkinParameters& p) {
       m.eta = fresh.eta;
       m.specular_albedo = fresh.specular_albedo;
       if (!m.texture_reference_fixed) m.texture_normalisation = fresh.texture_normalisation;
+      prepare_parameter_maps(m, p);  // mapped parameters keep their maps
     }
 }
 
@@ -428,6 +456,8 @@ void Scene::make_translucent_diffuse() {
       m.kind = MaterialKind::diffuse;
       m.albedo = m.R_d;
       m.albedo_map = nullptr;
+      m.maps.clear();
+      m.nodes.clear();
     }
 }
 

@@ -42,6 +42,24 @@ struct Material {
   double rho_s = 0, roughness = 0.35, eta = 1.4;
   std::shared_ptr<const SpecularAlbedo> specular_albedo;
   bool translucent() const { return kind != MaterialKind::diffuse; }
+
+  // Per-texel parameter maps (skin only): each map sets one parameter from a texture's red
+  // channel, value = min + texel x (max - min). The BSSRDF is precomputed at the nodes of a
+  // regular grid over the mapped parameters (`nodes`, first map fastest), and a shading point
+  // uses one node chosen at random with its multilinear interpolation weight: in expectation,
+  // the profiles interpolated multilinearly in parameter space.
+  struct ParameterMap {
+    double SkinParameters::*member = nullptr;
+    std::string key;  // JSON key (C_m, ...)
+    std::shared_ptr<const Texture> texture;
+    double min = 0, max = 1;
+    int levels = 2;
+  };
+  std::vector<ParameterMap> maps;
+  std::vector<Material> nodes;
+  bool has_maps() const { return !maps.empty(); }
+  // The node for texture coordinates (u, v) and a uniform random number.
+  const Material& node_at(double u, double v, double xi) const;
 };
 
 struct Mesh {
@@ -101,6 +119,8 @@ struct SceneData {
 // Builds the diffusion profiles, specular albedo and normalisation of a translucent material
 // from a LayerStack per channel (layered) or from skin parameters; `name` for messages.
 void prepare_skin_material(Material& m, const SkinParameters& p);
+// Builds the node materials of m.maps around the base parameters p (profiles in parallel).
+void prepare_parameter_maps(Material& m, const SkinParameters& p);
 // Sets the texture normalisation to 1 / R_d colour of `reference` (DJ06 section 3.6).
 void set_texture_reference(Material& m, const SkinParameters& reference);
 void prepare_layered_material(Material& m, const std::array<LayerStack, 3>& stacks);

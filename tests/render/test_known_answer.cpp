@@ -206,5 +206,33 @@ TEST(KnownAnswer, ThinSlabLitFromBehindShowsTranslucency) {
   EXPECT_GT(st.mean.r, 2 * st.mean.b);
 }
 
+
+TEST(KnownAnswer, ParameterMapBlendsNodeProfiles) {
+  // A C_m map of constant value 0.25 over [0.002, 0.042] with 3 levels (nodes 0.002, 0.022,
+  // 0.042) lies halfway between the first two nodes: each shading point uses one of them with
+  // probability 1/2, so the slab renders to the mean of their R_d colours.
+  const auto dir = std::filesystem::temp_directory_path() / ("skin_param_map_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  Image map(4, 4);
+  for (int y = 0; y < 4; ++y)
+    for (int x = 0; x < 4; ++x) map.set(x, y, {0.25, 0.25, 0.25});
+  write_image((dir / "cm.exr").string(), map);
+  const std::string material = R"({"type":"skin","preset":"caucasian","rho_s":0,
+      "parameter_maps": {"C_m": {"texture": "cm.exr", "min": 0.002, "max": 0.042, "levels": 3}}})";
+  RenderSettings rs;
+  rs.seed = 17;
+  const Stats st = pixel_stats(render(Scene::parse(slab_scene(material), dir.string(), "map"), rs));
+  std::filesystem::remove_all(dir);
+  SkinParameters a = find_preset("caucasian").parameters, b = a;
+  a.oiliness = b.oiliness = 0;
+  a.melanin = 0.002;
+  b.melanin = 0.022;
+  const auto ca = skin_spectrum(a).color.srgb_linear, cb = skin_spectrum(b).color.srgb_linear;
+  for (int c = 0; c < 3; ++c) {
+    const double expected = 0.5 * (ca[c] + cb[c]);
+    EXPECT_NEAR(st.mean[c], expected, 0.015 * expected) << st.mean << " stderr " << st.stderr_;
+  }
+}
+
 }  // namespace
 }  // namespace skin::render
