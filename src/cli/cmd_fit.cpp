@@ -151,7 +151,9 @@ void run_spectrum(const FitOpts& o) {
   if (!o.fitted.empty()) io::write_file_atomic(o.fitted, fitted_text(r, o.fitted));
   if (!o.plot.empty()) {
     plot::Figure f;
-    f.title = "Fit of " + m.name + " (RMS " + std::to_string(r.rms).substr(0, 6) + ")";
+    char rms[32];
+    std::snprintf(rms, sizeof rms, "%.4f", r.rms);
+    f.title = "Fit of " + std::filesystem::path(m.name).filename().string() + " (" + o.solver + ", RMS " + rms + ")";
     f.x_label = "wavelength [nm]";
     f.y_label = "reflectance";
     f.y_min = 0.0;
@@ -249,7 +251,7 @@ void run_texture(const FitOpts& o) {
 void run_report(const FitOpts& o) {
   namespace fs = std::filesystem;
   std::ostringstream md;
-  fit::write_measured_report(o.spectra_dir, o.report_dir, md, forward_model(o.solver));
+  fit::write_measured_report(o.spectra_dir, o.report_dir, md, forward_model(o.solver), o.solver);
   const std::string path = (fs::path(o.report_dir) / "README.md").string();
   io::write_file_atomic(path, md.str());
   std::cout << "wrote " << path << " and one PNG per spectrum\n";

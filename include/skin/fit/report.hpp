@@ -35,9 +35,11 @@ std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir,
 
 // Fits, writes one PNG per spectrum into `out_dir` (created if needed; <name>.png) and the
 // markdown report (relative image links) to `markdown`. Returns the entries.
+// `model_name` names the forward model in the text.
 std::vector<MeasuredEntry> write_measured_report(const std::string& spectra_dir,
                                                  const std::string& out_dir,
                                                  std::ostream& markdown,
-                                                 const ForwardModel& model = {});
+                                                 const ForwardModel& model = {},
+                                                 const std::string& model_name = "multipole");
 
 }  // namespace skin::fit
