@@ -121,7 +121,9 @@ Scene Scene::figure(int number, const std::string& mesh_path) {
   }
   SceneData s;
   s.source = "figure " + std::to_string(number);
-  s.mm_per_unit = 1.0;
+  // Spheres are 48 mm across; a mesh is drawn 48 units tall at 4 mm per unit (about 190 mm, the
+  // height of a head), so that the diffusion profiles act on it at a lifelike scale.
+  s.mm_per_unit = proto.empty() ? 1.0 : 4.0;
   s.materials.resize(list.size());
   tbb::parallel_for(std::size_t{0}, list.size(), [&](std::size_t i) {  // independent profiles
     s.materials[i].name = list[i].label;
