@@ -46,13 +46,13 @@ FresnelMoments fresnel_moments(double eta) {
 struct PoleSums {
   double plain = 0, signed_ = 0;
 };
-PoleSums pole_sums(double c, double P, double s) {
+// q = 1 / (1 - exp(-P s)), shared by the two families of a slab (0 for P = infinity: no images).
+PoleSums pole_sums(double c, double P, double q, double s) {
   if (!std::isfinite(P)) {
     const double e = std::exp(-std::abs(c) * s);
     return {e, c >= 0 ? e : -e};
   }
   const double c0 = c - P * std::floor(c / P);  // in [0, P)
-  const double q = 1.0 / (1.0 - std::exp(-P * s));
   const double up = std::exp(-c0 * s) * q, down = std::exp(-(P - c0) * s) * q;
   return {up + down, up - down};
 }
@@ -64,10 +64,11 @@ double partial_current_k(const DiffusionSlab& sl, double z_s, double C_phi, doub
                          bool nearest_pair_only) {
   const double s = std::sqrt(sl.sigma_tr * sl.sigma_tr + k * k);
   const double P = nearest_pair_only || sl.semi_infinite() ? kInfinity : 2.0 * sl.L;
+  const double q = std::isfinite(P) ? 1.0 / (1.0 - std::exp(-P * s)) : 0.0;
   // Depths of the poles below the surface z_s (the surface z = d counts depth d - z).
   const double sign = z_s == 0.0 ? 1.0 : -1.0;
-  const PoleSums real = pole_sums(sign * (sl.z_r - z_s), P, s);
-  const PoleSums image = pole_sums(sign * (-sl.z_r - 2.0 * sl.z_b_top - z_s), P, s);
+  const PoleSums real = pole_sums(sign * (sl.z_r - z_s), P, q, s);
+  const PoleSums image = pole_sums(sign * (-sl.z_r - 2.0 * sl.z_b_top - z_s), P, q, s);
   const double phi = sl.alpha_prime / (2.0 * sl.D * s) * (real.plain - image.plain);
   const double j = 0.5 * sl.alpha_prime * (real.signed_ - image.signed_);
   return C_phi * phi + C_j * j;
@@ -126,7 +127,10 @@ double AccurateStack::top_dipole_k(double k) const {
 }
 
 double AccurateStack::diffusion_R_k(double k) const {
-  const double R1 = diffusion_top_R_k(k);
+  return diffusion_R_k_given_top(k, diffusion_top_R_k(k));
+}
+
+double AccurateStack::diffusion_R_k_given_top(double k, double R1) const {
   if (!rest_) return R1;
   // DJ05 adding with the top layer's own transfer inside the stack (flux j), except where light
   // leaves through the top surface: there the partial current. Seen from below, the top surface
@@ -152,7 +156,7 @@ double AccurateStack::singular(double r) const {
 
 double AccurateStack::residual_k(double k) const {
   const double R_top = diffusion_top_R_k(k);
-  const double deep = rest_ ? diffusion_R_k(k) - R_top : 0.0;
+  const double deep = rest_ ? diffusion_R_k_given_top(k, R_top) - R_top : 0.0;
   return c_top_ * (R_top - top_dipole_k(k)) + c_deep_ * deep;
 }
 

@@ -82,6 +82,7 @@ class AccurateStack final : public RadialResponse {
 
  private:
   double top_dipole_k(double k) const;
+  double diffusion_R_k_given_top(double k, double R_top) const;
   Totals totals_;
   DiffusionSlab top_, top_up_;        // top layer seen from above / from below
   double C_phi_ = 0.25, C_j_ = 0.5;   // partial-current coefficients of the top surface
