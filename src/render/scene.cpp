@@ -3,7 +3,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -364,6 +366,17 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
 }
 
 }  // namespace
+
+std::ostream& operator<<(std::ostream& os, const RenderSettings& s) {
+  return os << "RenderSettings{spp=" << s.spp << ", seed=" << s.seed << ", threads=" << s.threads
+            << ", max_depth=" << s.max_depth << ", time_budget=" << s.time_budget << " s, " << s.width << "x"
+            << s.height << '}';
+}
+
+std::ostream& operator<<(std::ostream& os, const RenderStats& s) {
+  return os << "RenderStats{" << s.seconds << " s, spp=" << s.spp_done << ", samples=" << s.camera_samples
+            << ", invalid=" << s.invalid_samples << '}';
+}
 
 Scene make_scene(SceneData data) { return Scene(std::make_unique<Scene::Impl>(std::move(data))); }
 

@@ -187,6 +187,16 @@ TEST(Beckmann, NormalisedAndSamplesItsPdf) {
   }
 }
 
+TEST(ChiSquare, DetectsAWrongSampler) {
+  // The test must be able to fail: a Beckmann sampler of RMS slope 0.37 checked against the pdf
+  // of 0.35 (a 6 % error in roughness) is rejected.
+  const Beckmann right{0.35}, wrong{0.37};
+  double p = 0, integral = 0;
+  direction_chi_square([&](Vec2 u, Vec3* w) { *w = wrong.sample_h(u); return true; },
+                       [&](const Vec3& h) { return right.pdf_h(h); }, 11, &p, &integral);
+  EXPECT_LT(p, 1e-3);
+}
+
 TEST(TorranceSparrow, SampledDirectionsFollowPdf) {
   const TorranceSparrow lobe(0.3, 0.35, 1.4);
   for (double theta_o : {0.1, 0.8, 1.3}) {

@@ -4,6 +4,7 @@
 // docs/scene-format.md, the integrator in docs/renderer.md. No Embree or TBB type appears here.
 #include <cstdint>
 #include <functional>
+#include <iosfwd>
 #include <memory>
 #include <string>
 #include <vector>
@@ -29,6 +30,9 @@ struct RenderStats {
   std::uint64_t invalid_samples = 0; // non-finite path contributions dropped (should be 0)
   double samples_per_second() const { return seconds > 0 ? static_cast<double>(camera_samples) / seconds : 0; }
 };
+
+std::ostream& operator<<(std::ostream& os, const RenderSettings& s);
+std::ostream& operator<<(std::ostream& os, const RenderStats& s);
 
 class Scene {
  public:
