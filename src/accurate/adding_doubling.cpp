@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <deque>
+#include <cstdlib>
 #include <cmath>
 #include <map>
 #include <mutex>
@@ -196,7 +197,7 @@ Geometry build_geometry(const Streams& st, double n, double g) {
   }
   // Delta-M (Wiscombe 1977): the HG moments g^l are kept for l < 2m; the forward peak beyond
   // them, f = g^(2m), is treated as unscattered. chi_l = (g^l - f) / (1 - f).
-  const int L = 2 * m;
+  const int L = std::getenv("LMODE") ? std::min(2 * m, std::atoi(std::getenv("LMODE"))) : 2 * m;
   geo.f = std::pow(g, L);
   if (std::abs(g) < 1e-300) geo.f = 0;
   // Legendre polynomials at the cosines: Pl(i, l).

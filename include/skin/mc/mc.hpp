@@ -33,6 +33,7 @@ struct Result {
   double R_specular = 0;  // Fresnel reflectance of the top surface at normal incidence
   // Diffuse reflectance and transmittance per power that entered (divide by 1 - R_specular to
   // get these from per-incident values), with their standard errors (one sigma).
+  // T_d includes the unscattered (ballistic) transmission, as MCML's total transmittance.
   double R_d = 0, R_d_se = 0, T_d = 0, T_d_se = 0;
   double R_d_incident = 0, T_d_incident = 0;  // the same per incident power
   std::uint64_t photons = 0;

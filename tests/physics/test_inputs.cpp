@@ -1,0 +1,77 @@
+// Input validation: every bad value names the parameter, its value and the allowed range.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "skin/physics/error.hpp"
+#include "skin/physics/skin_parameters.hpp"
+#include "skin/physics/spectrum.hpp"
+#include "skin/physics/stack.hpp"
+#include "skin/physics/table.hpp"
+
+using namespace skin;
+
+namespace {
+std::string message_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+}  // namespace
+
+TEST(Inputs, ParametersOutOfRange) {
+  SkinParameters p;
+  p.melanin = 1.5;
+  EXPECT_EQ(message_of([&] { p.validate(); }),
+            "melanin (C_m) = 1.5 is out of range: allowed range is [0, 1]");
+  p = {};
+  p.hemoglobin = std::nan("");
+  EXPECT_EQ(message_of([&] { p.validate(); }),
+            "hemoglobin (C_h) = nan is out of range: allowed range is [0, 1]");
+  p = {};
+  p.epidermis_thickness = -0.1;
+  EXPECT_EQ(message_of([&] { p.validate(); }),
+            "epidermis-thickness = -0.1 mm is out of range: must be a finite number > 0");
+}
+
+TEST(Inputs, LayerStacks) {
+  LayerStack s;
+  EXPECT_NE(message_of([&] { s.validate(); }).find("empty"), std::string::npos);
+  s.layers = {{0.1, 1.0, kInfinity, 1.4}, {0.1, 1.0, 1.0, 1.4}};
+  EXPECT_EQ(message_of([&] { s.validate(); }),
+            "layer 1 thickness = inf is out of range: only the last layer may be semi-infinite "
+            "(give a thickness in mm)");
+  s.layers = {{-0.1, 1.0, 1.0, 1.4}};
+  EXPECT_EQ(message_of([&] { s.validate(); }),
+            "layer 1 sigma_a = -0.1 1/mm is out of range: must be a finite number >= 0");
+  s.layers = {{0.1, 0.0, 1.0, 1.4}};
+  EXPECT_NE(message_of([&] { DiffusionStack d(s); }).find("layer 1 sigma_s_prime = 0"), std::string::npos);
+  s.layers = {{0.1, 1.0, std::numeric_limits<double>::infinity(), 1.4}};
+  EXPECT_EQ(message_of([&] { s.validate(); }), "(no error)");
+}
+
+TEST(Inputs, PresetsAndGrids) {
+  EXPECT_NE(message_of([] { find_preset("martian"); }).find("known presets are caucasian"), std::string::npos);
+  EXPECT_EQ(&find_preset("several-lights"), &find_preset("ear"));
+  EXPECT_NE(message_of([] { WavelengthGrid(400, 700, 7); }).find("whole number"), std::string::npos);
+  EXPECT_NE(message_of([] { WavelengthGrid(700, 400, 2); }).find("lambda_max"), std::string::npos);
+  EXPECT_EQ(WavelengthGrid().size(), 151u);
+}
+
+TEST(Inputs, CsvParsing) {
+  const Table t = parse_csv("# comment\nlambda,R\n400,0.5\n\n402, 0.25\n", "x.csv");
+  EXPECT_EQ(t.rows(), 2u);
+  EXPECT_EQ(t.data[1][1], 0.25);
+  EXPECT_EQ(message_of([] { parse_csv("a,b\n1,2,3\n", "y.csv"); }),
+            "y.csv:2: expected 2 comma-separated fields, found 3");
+  EXPECT_EQ(message_of([] { parse_csv("a,b\n1,zz\n", "y.csv"); }),
+            "y.csv:2: field 2 ('zz') is not a number");
+  EXPECT_EQ(message_of([] { parse_csv("# only comments\n", "z.csv"); }),
+            "z.csv: no header line (column names) found");
+  EXPECT_EQ(message_of([] { read_csv_file("/nonexistent/file.csv"); }),
+            "/nonexistent/file.csv: cannot open file for reading");
+}
