@@ -405,7 +405,26 @@ void write_validation_report(std::ostream& md, const ValidationRun& run,
         "layers` warns), and the stack's reflectance with it (case thin-top-over-bright). The "
         "DJ06 epidermis (0.25 mm) is about 1-3 transport mean free paths thick at 400-700 nm.\n"
         "- *Near the entry point* (r below about one transport mean free path) diffusion "
-        "misses single and low-order scattering; both errors columns below show it.\n\n";
+        "misses single and low-order scattering; both errors columns below show it.\n";
+  // The profile shape under a matched and a mismatched boundary, when both cases were run.
+  const CaseResult* matched = nullptr;
+  const CaseResult* mismatched = nullptr;
+  for (const auto& c : run.cases) {
+    if (c.c.id == "semi-matched-a0.99") matched = &c;
+    if (c.c.id == "semi-n1.4-a0.99") mismatched = &c;
+  }
+  if (matched && mismatched && ns > 0 && !matched->R[0].empty()) {
+    md << "- *Profile shape at a mismatched boundary*: the DJ05 R(r) is the diffusive flux "
+          "-D dphi/dz at the surface alone; the light that escapes through a mismatched boundary "
+          "also carries a part proportional to the fluence there (Kienle & Patterson 1997). "
+          "Where R_d agrees to about 1 %, the "
+       << names[0] << " R(r) beyond one transport mean free path is off by up to "
+       << profile_error_text(*matched, 0, matched->top_mfp()) << " with a matched boundary "
+       << "(semi-matched-a0.99) and " << profile_error_text(*mismatched, 0, mismatched->top_mfp())
+       << " under air with n = 1.4 (semi-n1.4-a0.99): total reflectance is right, its radial "
+          "distribution less so.\n";
+  }
+  md << "\n";
 
   // Largest errors.
   md << "## Where the errors are largest\n\n";
