@@ -95,6 +95,7 @@ std::vector<GenericCase> generic_cases() {
   c.push_back({"semi_albedo0.5_n1.4", one(0.5, 0.5, skin::kInfinity, 1.4, 0.9)});
   c.push_back({"semi_albedo0.999_n1.4", one(0.001, 0.999, skin::kInfinity, 1.4, 0.9)});
   c.push_back({"semi_albedo0.9_n1.5_g0", one(0.1, 0.9, skin::kInfinity, 1.5, 0.0)});
+  c.push_back({"semi_albedo0.86_n1.03", one(0.415918, 2.51028, skin::kInfinity, 1.03, 0.9)});
   // Slabs of 0.1 to 20 transport mean free paths.
   c.push_back({"slab0.1mfp_albedo0.9_n1.4", one(0.1, 0.9, 0.1, 1.4, 0.9)});
   c.push_back({"slab1mfp_albedo0.3_n1.33", one(0.7, 0.3, 1.0, 1.33, 0.8)});
