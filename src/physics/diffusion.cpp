@@ -73,6 +73,18 @@ DiffusionSlab DiffusionSlab::flipped() const {
 
 namespace {
 
+// image_series (below) with the shared factor q = exp(-P s) precomputed: one exp per family, used where
+// P s is not small (otherwise image_series' expm1 form keeps the precision).
+inline double image_series_q(double c, double P, double s, double q) {
+  double c0 = c - P * std::floor(c / P);
+  if (c0 >= P) c0 -= P;
+  const bool on_boundary = c0 == 0.0;
+  const double a = std::exp(-c0 * s);
+  const double b = a > 1e-300 ? q / a : std::exp(-(P - c0) * s);  // exp(-(P - c0) s)
+  const double value = (a - b) / (1.0 - q);
+  return on_boundary ? value - 1.0 : value;
+}
+
 // S(c) = sum over all integers i of sgn(i P + c) exp(-|i P + c| s), P = 2L: the image sum of one
 // family of poles in the frequency domain (each pole at depth z contributes 2 pi sgn(z)
 // exp(-|z| s), model-notes section 4). With c0 = c mod P in [0, P) the positive poles are
@@ -84,6 +96,7 @@ double image_series(double c, double P, double s) {
   double c0 = c - P * std::floor(c / P);
   if (c0 >= P) c0 -= P;
   const bool on_boundary = c0 == 0.0;  // the pole at depth 0 has sgn 0
+  if (P * s >= 0.05) return image_series_q(c, P, s, std::exp(-P * s));
   double value;
   if (s == 0.0) {
     value = 1.0 - 2.0 * c0 / P;
@@ -124,6 +137,26 @@ double DiffusionSlab::R_k(double k) const {
   // Real poles at 2iL + z_r, images at 2iL - z_r - 2 z_b_top (DJ05 eq 7).
   return 0.5 * alpha_prime *
          (image_series(z_r, P, s) - image_series(-z_r - 2.0 * z_b_top, P, s));
+}
+
+std::array<double, 4> DiffusionSlab::transfer_k(double k) const {
+  if (semi_infinite()) return {R_dipole_k(k), 0.0, 0.0, 0.0};
+  const double s = std::sqrt(sigma_tr * sigma_tr + k * k);
+  const double P = 2.0 * L;
+  const double h = 0.5 * alpha_prime;
+  if (P * s < 0.05) {  // near the non-absorbing, k = 0 limit: keep the expm1 form
+    const double Sr = image_series(z_r, P, s), St = image_series(d - z_r, P, s);
+    return {h * (Sr - image_series(-z_r - 2.0 * z_b_top, P, s)),
+            h * (St - image_series(d + z_r + 2.0 * z_b_top, P, s)),
+            h * (Sr - image_series(-z_r - 2.0 * z_b_bottom, P, s)),
+            h * (St - image_series(d + z_r + 2.0 * z_b_bottom, P, s))};
+  }
+  const double q = std::exp(-P * s);
+  const double Sr = image_series_q(z_r, P, s, q), St = image_series_q(d - z_r, P, s, q);
+  return {h * (Sr - image_series_q(-z_r - 2.0 * z_b_top, P, s, q)),
+          h * (St - image_series_q(d + z_r + 2.0 * z_b_top, P, s, q)),
+          h * (Sr - image_series_q(-z_r - 2.0 * z_b_bottom, P, s, q)),
+          h * (St - image_series_q(d + z_r + 2.0 * z_b_bottom, P, s, q))};
 }
 
 double DiffusionSlab::T_k(double k) const {

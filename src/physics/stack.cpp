@@ -25,7 +25,6 @@ DiffusionStack::DiffusionStack(const LayerStack& stack) {
   const auto& ls = stack.layers;
   const std::size_t n = ls.size();
   down_.reserve(n);
-  up_.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
     const double n_above = i == 0 ? stack.eta_above : ls[i - 1].eta;
     const double n_below = i + 1 == n ? stack.eta_below : ls[i + 1].eta;
@@ -33,23 +32,16 @@ DiffusionStack::DiffusionStack(const LayerStack& stack) {
     const double A_bottom = A_boundary(ls[i].eta / n_below);
     down_.push_back(DiffusionSlab::make(ls[i].sigma_a, ls[i].sigma_s_prime, ls[i].thickness,
                                         A_top, A_bottom));
-    up_.push_back(down_.back().flipped());
   }
 }
 
 Transfer DiffusionStack::at(double k) const {
-  auto layer = [k](const DiffusionSlab& down, const DiffusionSlab& up) {
-    Transfer t;
-    t.R_down = down.R_k(k);
-    t.T_down = down.T_k(k);
-    if (!down.semi_infinite()) {
-      t.R_up = up.R_k(k);
-      t.T_up = up.T_k(k);
-    }
-    return t;
+  auto layer = [k](const DiffusionSlab& slab) {
+    const auto t = slab.transfer_k(k);  // the layer from above and from below (flipped)
+    return Transfer{t[0], t[1], t[2], t[3]};
   };
-  Transfer acc = layer(down_[0], up_[0]);
-  for (std::size_t i = 1; i < down_.size(); ++i) acc = add_layers(acc, layer(down_[i], up_[i]));
+  Transfer acc = layer(down_[0]);
+  for (std::size_t i = 1; i < down_.size(); ++i) acc = add_layers(acc, layer(down_[i]));
   return acc;
 }
 

@@ -153,3 +153,16 @@ TEST(Fresnel, PolynomialFitAgreesWithExactIntegral) {
   EXPECT_NEAR(fresnel_dielectric(1.0, 1.0, 1.5), 0.04, 1e-15);
   EXPECT_EQ(fresnel_dielectric(0.1, 1.5, 1.0), 1.0);  // beyond the critical angle
 }
+
+TEST_P(SlabTest, CombinedTransferEqualsSeparateCalls) {
+  const DiffusionSlab s = slab(GetParam());
+  const DiffusionSlab f = s.flipped();
+  for (double k : {0.0, 1e-4, 0.3, 2.0, 15.0, 200.0}) {
+    const auto t = s.transfer_k(k);
+    const double tol = 1e-12;
+    EXPECT_NEAR(t[0], s.R_k(k), tol) << s << " k=" << k;
+    EXPECT_NEAR(t[1], s.T_k(k), tol) << s << " k=" << k;
+    EXPECT_NEAR(t[2], f.R_k(k), tol) << s << " k=" << k;
+    EXPECT_NEAR(t[3], f.T_k(k), tol) << s << " k=" << k;
+  }
+}

@@ -5,6 +5,7 @@
 //
 // Fourier convention (radially symmetric functions): F(k) = 2 pi int_0^inf f(r) J0(k r) r dr, so
 // that F(0) is the total (R_d, T_d) and a 2D convolution is a product.
+#include <array>
 #include <iosfwd>
 
 namespace skin {
@@ -44,6 +45,10 @@ struct DiffusionSlab {
   // s = sqrt(sigma_tr^2 + k^2), summed in closed form (no truncation at all).
   double R_k(double k) const;
   double T_k(double k) const;  // 0 for a semi-infinite layer
+  // R_k and T_k of the slab seen from above and from below (flipped()) at once: the four share
+  // sigma_tr, L and two of their six image families, so this costs about a quarter of four calls.
+  // Returns {R_down, T_down, R_up, T_up}.
+  std::array<double, 4> transfer_k(double k) const;
   double R_d() const { return R_k(0.0); }
   double T_d() const { return T_k(0.0); }
 

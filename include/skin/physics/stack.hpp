@@ -48,7 +48,7 @@ class DiffusionStack final : public RadialResponse {
   bool semi_infinite() const { return down_.back().semi_infinite(); }
 
  private:
-  std::vector<DiffusionSlab> down_, up_;
+  std::vector<DiffusionSlab> down_;  // each layer with its boundaries; transfer_k gives both directions
 };
 
 }  // namespace skin
