@@ -489,6 +489,10 @@ Totals detail::solve(const LayerStack& stack, const Options& options, bool optio
   if (semi) {
     --i;
     below.R = embed(detail::layer_rt(st, ls[i], points, options_tabulate).R);
+    if (i > 0 && ls[i - 1].eta != ls[i].eta) {  // the interface above the half-space
+      const auto b = detail::boundary(st, ls[i - 1].eta, ls[i].eta);
+      add_on_top(below, Mat(b.r.asDiagonal()), Mat(b.t.asDiagonal()), false);
+    }
   } else {
     const auto b = detail::boundary(st, ls.back().eta, stack.eta_below);
     below.R = b.r.asDiagonal();

@@ -113,6 +113,11 @@ std::vector<GenericCase> generic_cases() {
   step.eta_above = 1.0;
   step.eta_below = 1.0;
   c.push_back({"index_step_1.5_1.33", step});
+  // An index step above a half-space (the interface between the last two layers).
+  LayerStack step_half;
+  step_half.layers = {Layer{0.373415, 0.933955, 0.447847, 1.31763, 0.5},
+                      Layer{0.0190289, 2.42362, skin::kInfinity, 1.09022, 0.5}};
+  c.push_back({"index_step_over_half_space", step_half});
   return c;
 }
 

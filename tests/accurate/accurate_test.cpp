@@ -171,6 +171,16 @@ TEST(Limits, ClearSlabIsTheFresnelEtalon) {
   }
 }
 
+// A half-space under an index step is the limit of ever thicker slabs over the same medium.
+TEST(Limits, HalfSpaceUnderAnIndexStepIsTheThickSlabLimit) {
+  LayerStack half;
+  half.layers = {Layer{0.37, 0.93, 0.45, 1.32, 0.5}, Layer{0.02, 2.4, skin::kInfinity, 1.09, 0.5}};
+  LayerStack thick = half;
+  thick.layers[1].thickness = 200.0;
+  thick.eta_below = 1.09;
+  EXPECT_NEAR(adding_doubling(half).R_d, adding_doubling(thick).R_d, 1e-5);
+}
+
 TEST(Limits, SplittingALayerChangesNothing) {
   LayerStack one = slab(0.5, 20.0, 0.9, 0.3, 1.4);
   LayerStack two = one;
