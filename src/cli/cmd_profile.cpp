@@ -10,6 +10,7 @@ void register_profile(CLI::App& app) {
   struct Opts {
     ParameterOptions params;
     GridOptions grid;
+    SolverOption solver;
     OutputOptions out;
     bool rgb = false;
     double radius_min = 1e-3, radius_max = 16.0;
@@ -19,10 +20,11 @@ void register_profile(CLI::App& app) {
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand(
-      "profile", "Radial diffusion profile R(r) [1/mm^2] of the two-layer skin (multipole, DJ06 "
-                 "section 4), per wavelength or per linear sRGB channel");
+      "profile", "Radial profile R(r) [1/mm^2] of the two-layer skin (DJ06 section 4), per "
+                 "wavelength or per linear sRGB channel");
   o->params.add_to(*sub);
   o->grid.add_to(*sub);
+  o->solver.add_to(*sub);
   o->out.add_to(*sub);
   sub->add_flag("--rgb", o->rgb, "Per linear sRGB channel (r, g, b) instead of per wavelength");
   sub->add_option("--radius-min", o->radius_min, "Smallest radius [mm] (log spacing)")->capture_default_str();
@@ -38,10 +40,11 @@ void register_profile(CLI::App& app) {
     RadialGrid radii = o->spacing == "log" ? RadialGrid::logarithmic(o->radius_min, o->radius_max, o->samples)
                                            : RadialGrid::linear(o->radius_max, o->samples);
     ProfileSolver solver(radii);
+    const Solver transport = parse_solver(o->solver.name);
     const Format fmt = o->out.resolve();
     std::string text;
     RgbProfile rgb;
-    if (o->rgb || !o->plot.empty()) rgb = skin_rgb_profile(p, grid, solver);
+    if (o->rgb || !o->plot.empty()) rgb = skin_rgb_profile(p, grid, solver, transport);
     if (o->rgb) {
       const char* names[3] = {"r", "g", "b"};
       for (int c = 0; c < 3; ++c) warn_if_negative(std::string("R(r) channel ") + names[c], rgb.R[c], radii.r, "mm");
@@ -49,6 +52,7 @@ void register_profile(CLI::App& app) {
         json j;
         j["preset"] = o->params.preset;
         j["parameters"] = to_json(p);
+        j["solver"] = o->solver.name;
         j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
         j["r_mm"] = radii.r;
         j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
@@ -60,7 +64,7 @@ void register_profile(CLI::App& app) {
         text = fmt == Format::csv ? format_csv(h, cols) : format_table(h, cols);
       }
     } else {
-      const SpectralProfile sp = skin_spectral_profile(p, grid, solver);
+      const SpectralProfile sp = skin_spectral_profile(p, grid, solver, transport);
       std::vector<std::vector<double>> rows(grid.size());
       for (std::size_t i = 0; i < grid.size(); ++i) {
         rows[i].assign(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
@@ -71,6 +75,7 @@ void register_profile(CLI::App& app) {
         json j;
         j["preset"] = o->params.preset;
         j["parameters"] = to_json(p);
+        j["solver"] = o->solver.name;
         j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
         j["r_mm"] = radii.r;
         j["wavelength_nm"] = grid.values();
@@ -89,7 +94,7 @@ void register_profile(CLI::App& app) {
     }
     if (!o->plot.empty()) {
       plot::Figure f;
-      f.title = "Diffusion profile, preset " + o->params.preset + " (multipole)";
+      f.title = "Radial profile, preset " + o->params.preset + " (" + o->solver.name + ")";
       f.x_label = "r [mm]";
       f.y_label = "R(r) [1/mm^2]";
       f.log_x = o->spacing == "log";

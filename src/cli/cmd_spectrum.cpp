@@ -10,7 +10,7 @@ json spectrum_json(const SkinSpectrum& s, const std::string& preset) {
   json j;
   j["preset"] = preset;
   j["parameters"] = to_json(s.parameters);
-  j["solver"] = "multipole";
+  j["solver"] = std::string(to_string(s.solver));
   j["units"] = {{"wavelength_nm", "nm"}, {"sigma_a", "1/mm"}, {"sigma_s_prime", "1/mm"}, {"R_d", "1"}};
   j["wavelength_nm"] = s.grid.values();
   j["R_d"] = s.R_d.values;
@@ -28,6 +28,7 @@ void register_spectrum(CLI::App& app) {
   struct Opts {
     ParameterOptions params;
     GridOptions grid;
+    SolverOption solver;
     OutputOptions out;
     std::string plot;
   };
@@ -38,13 +39,14 @@ void register_spectrum(CLI::App& app) {
       "sigma_s_prime [1/mm], and the colour under D65");
   o->params.add_to(*sub);
   o->grid.add_to(*sub);
+  o->solver.add_to(*sub);
   o->out.add_to(*sub);
   sub->add_option("--plot", o->plot, "Also draw the spectrum with its sRGB swatch to FILE.png or FILE.svg")
       ->group("Output");
   sub->callback([o] {
     const SkinParameters p = o->params.resolve();
     const WavelengthGrid grid = o->grid.resolve();
-    const SkinSpectrum s = skin_spectrum(p, grid);
+    const SkinSpectrum s = skin_spectrum(p, grid, parse_solver(o->solver.name));
     warn_if_negative("R_d", s.R_d.values, grid.values(), "nm");
     std::string text;
     const std::vector<std::string> header = {"wavelength_nm", "R_d", "epidermis.sigma_a",
@@ -62,7 +64,7 @@ void register_spectrum(CLI::App& app) {
     }
     if (!o->plot.empty()) {
       plot::Figure f;
-      f.title = "Total diffuse reflectance, preset " + o->params.preset + " (multipole)";
+      f.title = "Total diffuse reflectance, preset " + o->params.preset + " (" + o->solver.name + ")";
       f.x_label = "wavelength [nm]";
       f.y_label = "R_d";
       f.y_min = 0.0;
@@ -79,6 +81,7 @@ void register_color(CLI::App& app) {
   struct Opts {
     ParameterOptions params;
     GridOptions grid;
+    SolverOption solver;
     OutputOptions out;
   };
   auto o = std::make_shared<Opts>();
@@ -87,15 +90,18 @@ void register_color(CLI::App& app) {
                "sRGB (white-balanced: a perfect reflector is 1, 1, 1), 8-bit sRGB, hex, CIELAB");
   o->params.add_to(*sub);
   o->grid.add_to(*sub);
+  o->solver.add_to(*sub);
   o->out.add_to(*sub);
   sub->callback([o] {
-    const SkinSpectrum s = skin_spectrum(o->params.resolve(), o->grid.resolve());
+    const SkinSpectrum s =
+        skin_spectrum(o->params.resolve(), o->grid.resolve(), parse_solver(o->solver.name));
     std::string text;
     switch (o->out.resolve()) {
       case Format::json: {
         json j;
         j["preset"] = o->params.preset;
         j["parameters"] = to_json(s.parameters);
+        j["solver"] = std::string(to_string(s.solver));
         j["color"] = to_json(s.color);
         text = j.dump(2) + "\n";
         break;

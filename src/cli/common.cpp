@@ -57,6 +57,14 @@ SkinParameters ParameterOptions::resolve() const {
   return p;
 }
 
+void SolverOption::add_to(CLI::App& app) {
+  app.add_option("--solver", name,
+                 "Light transport in the layers: accurate (adding-doubling radiative transfer, "
+                 "within Monte Carlo noise) or multipole (the paper's diffusion model)")
+      ->check(CLI::IsMember({"accurate", "multipole"}))
+      ->capture_default_str();
+}
+
 void GridOptions::add_to(CLI::App& app) {
   app.add_option("--lambda-min", lambda_min, "Shortest wavelength [nm]")->capture_default_str()->group("Wavelengths");
   app.add_option("--lambda-max", lambda_max, "Longest wavelength [nm]")->capture_default_str()->group("Wavelengths");

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "skin/color/color.hpp"
+#include "skin/model/skin_model.hpp"
 #include "skin/physics/layer.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/physics/spectrum.hpp"
@@ -33,6 +34,12 @@ struct GridOptions {
   double lambda_min = 400, lambda_max = 700, lambda_step = 2;
   void add_to(CLI::App& app);
   WavelengthGrid resolve() const { return WavelengthGrid(lambda_min, lambda_max, lambda_step); }
+};
+
+// --solver accurate|multipole (default accurate; see skin::Solver).
+struct SolverOption {
+  std::string name = "accurate";
+  void add_to(CLI::App& app);
 };
 
 enum class Format { table, csv, json };

@@ -80,7 +80,7 @@ void expect_close(const json& a, const json& b, const std::string& path) {
 }  // namespace
 
 TEST_F(Cli, SpectrumJsonMatchesGolden) {
-  const CmdResult r = run("spectrum --preset caucasian --lambda-step 10 --format json");
+  const CmdResult r = run("spectrum --preset caucasian --lambda-step 10 --solver multipole --format json");
   ASSERT_EQ(r.code, 0) << r.err;
   const json got = json::parse(r.out);
   const json golden = json::parse(slurp(fs::path(SKIN_SOURCE_DIR) / "tests/cli/golden/spectrum_caucasian.json"));
@@ -108,7 +108,7 @@ TEST_F(Cli, OverridesApplyOnTopOfPreset) {
 }
 
 TEST_F(Cli, LayersOneSemiInfiniteLayerIsTheClassicDipole) {
-  const CmdResult r = run("layers --layer sigma_a=0.01,sigma_s_prime=1 --radius 0.5 --radius 1 --format json");
+  const CmdResult r = run("layers --solver multipole --layer sigma_a=0.01,sigma_s_prime=1 --radius 0.5 --radius 1 --format json");
   ASSERT_EQ(r.code, 0) << r.err;
   const json j = json::parse(r.out);
   // alpha' = 1 / 1.01, A(1.4) = 3.2504: R_d = 0.6141 (closed form of Jensen et al. 2001).
@@ -116,6 +116,18 @@ TEST_F(Cli, LayersOneSemiInfiniteLayerIsTheClassicDipole) {
   EXPECT_EQ(j["T_d"].get<double>(), 0.0);
   EXPECT_EQ(j["profile"]["r_mm"].size(), 2u);
   EXPECT_EQ(j["profile"]["R"].size(), 2u);
+}
+
+TEST_F(Cli, AccurateSpectrumMatchesGoldenAndIsTheDefault) {
+  const CmdResult r = run("spectrum --preset african --lambda-step 10 --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json got = json::parse(r.out);
+  EXPECT_EQ(got["solver"], "accurate");
+  expect_close(got, json::parse(slurp(fs::path(SKIN_SOURCE_DIR) / "tests/cli/golden/spectrum_african_accurate.json")),
+               "spectrum");
+  // Dark skin in the blue: the multipole overstates R_d (docs/accurate-solver.md).
+  const json mp = json::parse(run("spectrum --preset african --lambda-step 10 --solver multipole --format json").out);
+  EXPECT_GT(mp["R_d"][5].get<double>(), 1.5 * got["R_d"][5].get<double>());  // 450 nm
 }
 
 TEST_F(Cli, LayersSlabHasTransmittance) {
@@ -194,7 +206,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"layers --layer sigma_a=-1,sigma_s_prime=2", "layer 1 sigma_a = -1 1/mm is out of range"},
         BadInput{"layers --layer sigma_a=0.1,sigma_s_prime=0", "layer 1 sigma_s_prime = 0 1/mm is out of range"},
         BadInput{"layers --layer sigma_a=0.1,sigma_s_prime=1,eta=nan", "layer 1 eta = nan is out of range"},
-        BadInput{"spectrum --plot plot.gif", "unsupported extension"}));
+        BadInput{"spectrum --plot plot.gif", "unsupported extension"},
+        BadInput{"color --solver monte-carlo", "--solver"}));
 
 TEST_F(Cli, MissingDirectoryForOutput) {
   const CmdResult r = run("spectrum --format json -o no/such/dir/out.json");
