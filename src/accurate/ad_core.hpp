@@ -28,7 +28,7 @@ struct Streams {
   double n_ref = 1;
   std::vector<double> edges;  // panel edges in s, ascending, last = n_ref
   std::vector<double> s2, a_ref;
-  double min_density = kInfinity;  // quadrature points per unit of mu_ref in the first panel
+  double escape_density = kInfinity;  // quadrature points per unit of mu_ref in the first panel
 };
 Streams make_streams(const LayerStack& stack, int points);
 // Number of streams that propagate in a medium of index n (they are the leading ones).

@@ -94,9 +94,8 @@ const Rule& quadrature_rule(int n, bool radau) {
 Streams make_streams(const LayerStack& stack, int points) {
   double n_ref = 0;
   for (const auto& l : stack.layers) n_ref = std::max(n_ref, l.eta);
-  // Panel edges in s: every index of the stack below n_ref (media of higher index than every
-  // layer are never reached by light that left the top at normal incidence... nor do they
-  // bound any stream the layers carry).
+  // Panel edges in s: every index of the stack below n_ref (streams with s > n_ref exist in no
+  // layer, so a higher index of the surroundings bounds nothing).
   std::vector<double> edges;
   auto add_edge = [&](double n) {
     if (n < n_ref * (1 - 1e-12)) edges.push_back(n);
@@ -121,7 +120,7 @@ Streams make_streams(const LayerStack& stack, int points) {
     const double mu_lo = std::sqrt(std::max(0.0, 1.0 - (s_hi / n_ref) * (s_hi / n_ref)));
     const Rule& rule = quadrature_rule(points, p == 0);
     const double half = 0.5 * (mu_hi - mu_lo), mid = 0.5 * (mu_hi + mu_lo);
-    if (p == 0) st.min_density = points / (mu_hi - mu_lo);
+    if (p == 0) st.escape_density = points / (mu_hi - mu_lo);
     // Descending x (ascending s) within the panel: the propagating streams of every medium are
     // then the leading ones.
     for (int i = points - 1; i >= 0; --i) {
@@ -202,7 +201,7 @@ Geometry build_geometry(const Streams& st, double n, double g) {
   // Without this cap a wide escape panel next to a narrow one (an index step of a few per cent)
   // under-resolves the kept forward peak and R_d goes wrong by up to 10 %
   // (docs/accurate-solver.md, section 2).
-  const int L = std::max(2, std::min(2 * m, static_cast<int>(std::floor(2 * st.min_density))));
+  const int L = std::max(2, std::min(2 * m, static_cast<int>(std::floor(2 * st.escape_density))));
   geo.f = std::pow(g, L);
   if (std::abs(g) < 1e-300) geo.f = 0;
   // Legendre polynomials at the cosines: Pl(i, l).
