@@ -42,7 +42,12 @@ struct SolverOption {
   void add_to(CLI::App& app);
 };
 
+// The enumerator `json` names the format, the alias above the library: both read naturally at
+// their use (Format::json, json j), so the shadowing warning is silenced here only.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wshadow"
 enum class Format { table, csv, json };
+#pragma GCC diagnostic pop
 struct OutputOptions {
   std::string format;  // empty: table on a terminal, json otherwise
   std::string output;  // -o FILE; empty: stdout
