@@ -18,6 +18,7 @@ struct RenderOpts {
   std::uint64_t seed = 1;
   double time_budget = 0, exposure = 0;
   bool exposure_given = false, diffuse = false;
+  SolverOption solver;
 };
 
 void parse_resolution(const std::string& s, render::RenderSettings* rs) {
@@ -52,6 +53,7 @@ render::Progress progress_bar() {
 }
 
 void add_common(CLI::App* sub, RenderOpts* o) {
+  o->solver.add_to(*sub);
   sub->add_option("-o,--output", o->output, "Output image: .png (sRGB 8-bit) or .exr (linear float)")->required();
   sub->add_option("--spp", o->spp, "Samples per pixel (default: the scene's)");
   sub->add_option("--seed", o->seed, "Random seed; same seed, same image at any thread count")->capture_default_str();
@@ -96,7 +98,7 @@ void register_render(CLI::App& app) {
   sub->add_option("--preset", o->preset, "Use this parameter set for every skin material of the scene");
   sub->add_option("--resolution", o->resolution, "Image size WxH (default: the scene's)");
   sub->add_flag("--diffuse", o->diffuse, "Replace every translucent material by a diffuse one of the same R_d (comparison)");
-  sub->callback([o] {
+  sub->callback([o, sub] {
     check_output(o->output);
     if (!o->resolution.empty()) {
       render::RenderSettings tmp;
@@ -106,6 +108,7 @@ void register_render(CLI::App& app) {
     if (!o->preset.empty()) preset = find_preset(o->preset).parameters;
     render::Scene scene = o->scene.empty() ? render::Scene::default_scene() : render::Scene::load(o->scene);
     if (preset) scene.set_skin_parameters(*preset);
+    if (sub->count("--solver") > 0) scene.set_solver(parse_solver(o->solver.name));  // else the scene's
     if (o->diffuse) scene.make_translucent_diffuse();
     run(*o, scene, nullptr);
   });
@@ -120,6 +123,7 @@ void register_render(CLI::App& app) {
     check_output(f->output);
     const render::FigureLayout layout = render::figure_layout(f->figure);
     render::Scene scene = render::Scene::figure(f->figure, f->mesh);
+    scene.set_solver(parse_solver(f->solver.name));
     run(*f, scene, &layout);
   });
 }

@@ -49,8 +49,8 @@ void prepare_skin_material(Material& m, const SkinParameters& p) {
   // The shape of each channel's profile from a 10 nm grid (the spectra are smooth at that scale
   // and the transform costs in proportion to the number of wavelengths), its total from the
   // paper's 2 nm grid (exact at k = 0 and cheap), so that R_d matches `skin color` exactly.
-  const RgbProfile prof = skin_rgb_profile(p, WavelengthGrid(400.0, 700.0, 10.0), solver);
-  const auto total = skin_spectrum(p).color.srgb_linear;
+  const RgbProfile prof = skin_rgb_profile(p, WavelengthGrid(400.0, 700.0, 10.0), solver, m.solver);
+  const auto total = skin_spectrum(p, WavelengthGrid(), m.solver).color.srgb_linear;
   for (int c = 0; c < 3; ++c) {
     const auto ci = static_cast<std::size_t>(c);
     m.R_d[c] = total[c];
@@ -85,7 +85,10 @@ void prepare_parameter_maps(Material& m, const SkinParameters& p) {
     }
     params[i].validate();  // InputError names the parameter and value
   }
-  tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) { prepare_skin_material(m.nodes[i], params[i]); });
+  tbb::parallel_for(std::size_t{0}, count, [&](std::size_t i) {
+    m.nodes[i].solver = m.solver;
+    prepare_skin_material(m.nodes[i], params[i]);
+  });
   for (auto& n : m.nodes) {
     n.albedo_map = m.albedo_map;
     if (m.texture_reference_fixed) {

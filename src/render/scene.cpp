@@ -133,7 +133,7 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
   } else if (type == "skin") {
     r.allow({"type", "preset", "C_m", "beta_m", "C_h", "rho_s", "gamma", "epidermis_thickness",
              "dermis_scattering_scale", "eta", "roughness", "albedo_texture", "texture_reference",
-             "parameter_maps"});
+             "parameter_maps", "solver"});
     SkinParameters p = r.has("preset") ? with_context(r.file(), r.path("preset"), [&] { return find_preset(r.string("preset")).parameters; })
                                        : SkinParameters{};
     p.melanin = r.number("C_m", p.melanin);
@@ -145,6 +145,7 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
     p.dermis_scattering_scale = r.number("dermis_scattering_scale", p.dermis_scattering_scale);
     p.eta = r.number("eta", p.eta);
     p.roughness = r.number("roughness", p.roughness);
+    if (r.has("solver")) m.solver = with_context(r.file(), r.path("solver"), [&] { return parse_solver(r.string("solver")); });
     with_context(r.file(), "materials." + name, [&] { prepare_skin_material(m, p); return 0; });
     if (r.has("albedo_texture")) {
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
@@ -446,11 +447,18 @@ Scene Scene::default_scene() {
 }
 
 void Scene::set_skin_parameters(const SkinParameters& p) {
-  // The profiles depend only on the parameters: compute them once, share them.
-  Material fresh;
-  prepare_skin_material(fresh, p);
+  // The profiles depend only on the parameters and the solver: compute them once per solver.
+  std::map<Solver, Material> computed;
   for (auto& m : impl_->data.materials)
     if (m.kind == MaterialKind::skin) {
+      auto it = computed.find(m.solver);
+      if (it == computed.end()) {
+        Material f;
+        f.solver = m.solver;
+        prepare_skin_material(f, p);
+        it = computed.emplace(m.solver, std::move(f)).first;
+      }
+      const Material& fresh = it->second;
       m.parameters = p;
       m.profile = fresh.profile;
       m.R_d = fresh.R_d;
@@ -471,6 +479,15 @@ void Scene::make_translucent_diffuse() {
       m.albedo_map = nullptr;
       m.maps.clear();
       m.nodes.clear();
+    }
+}
+
+void Scene::set_solver(Solver solver) {
+  for (auto& m : impl_->data.materials)
+    if (m.kind == MaterialKind::skin && m.solver != solver) {
+      m.solver = solver;
+      prepare_skin_material(m, m.parameters);
+      prepare_parameter_maps(m, m.parameters);
     }
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "skin/model/skin_model.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/render/math.hpp"
 #include "skin/render/microfacet.hpp"
@@ -35,6 +36,7 @@ struct Material {
   std::shared_ptr<const Texture> albedo_map; // diffuse: reflectance; skin: colour to reproduce
   // Translucent materials (skin, layered):
   SkinParameters parameters;                  // skin only (for reports)
+  Solver solver = Solver::accurate;           // skin only: the model's transport solver
   std::array<TabulatedProfile, 3> profile;    // R(r) per linear sRGB channel [1/mm^2]
   Rgb3 R_d;                                   // totals per channel
   Rgb3 texture_normalisation{1, 1, 1};        // 1 / R_d colour of the assumed chromophores

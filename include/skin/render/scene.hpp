@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "skin/model/skin_model.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/render/image.hpp"
 
@@ -54,6 +55,9 @@ class Scene {
 
   // Replaces the parameters of every `skin` material (the CLI's --preset).
   void set_skin_parameters(const SkinParameters& p);
+  // Recomputes every `skin` material with this solver of the model (the CLI's --solver; the
+  // default, accurate, is the one `skin color` uses; multipole is the paper's).
+  void set_solver(Solver solver);
   // Turns every translucent material into a `diffuse` one of the same R_d (for benchmarks).
   void make_translucent_diffuse();
   int width() const;
