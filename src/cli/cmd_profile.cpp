@@ -47,7 +47,7 @@ void register_profile(CLI::App& app) {
     if (o->rgb || !o->plot.empty()) rgb = skin_rgb_profile(p, grid, solver, transport);
     if (o->rgb) {
       const char* names[3] = {"r", "g", "b"};
-      for (int c = 0; c < 3; ++c) warn_if_negative(std::string("R(r) channel ") + names[c], rgb.R[c], radii.r, "mm");
+      for (int c = 0; c < 3; ++c) warn_if_negative(std::string("R(r) linear sRGB channel ") + names[c], rgb.R[c], radii.r, "mm", true);
       if (fmt == Format::json) {
         json j;
         j["preset"] = o->params.preset;

@@ -223,13 +223,21 @@ Layer parse_layer(const std::string& spec, std::size_t index) {
 }
 
 void warn_if_negative(const std::string& what, const std::vector<double>& values,
-                      const std::vector<double>& where, const std::string& where_unit) {
+                      const std::vector<double>& where, const std::string& where_unit,
+                      bool colour) {
   double peak = 0.0;
   for (double v : values) peak = std::max(peak, std::abs(v));
   for (std::size_t i = 0; i < values.size(); ++i) {
     // The numerical inverse transform is accurate to ~1e-8 of the profile's peak (tests in
     // tests/physics); values below that are its noise, anything beyond is real.
     if (values[i] < -1e-8 * peak) {
+      if (colour) {
+        std::cerr << "skin: note: " << what << " is negative (" << values[i] << ") from "
+                  << where[i] << ' ' << where_unit
+                  << " on: the light there is outside the sRGB gamut (too saturated); values are "
+                     "not clamped\n";
+        return;
+      }
       std::cerr << "skin: warning: " << what << " is negative (" << values[i] << ") at "
                 << where[i] << ' ' << where_unit
                 << ": diffusion theory is outside its validity here (unphysical input or a layer "

@@ -74,8 +74,11 @@ Layer parse_layer(const std::string& spec, std::size_t index);
 
 // Warns on stderr (once per quantity) if a spectrum or profile has negative values: diffusion
 // outside its validity or an unphysical input. Values are never clamped.
+// `colour` = true for linear sRGB channels, where negative values are legitimate (a spectrum
+// outside the sRGB gamut, such as the deep-red tail of a profile) and the note says so.
 void warn_if_negative(const std::string& what, const std::vector<double>& values,
-                      const std::vector<double>& where, const std::string& where_unit);
+                      const std::vector<double>& where, const std::string& where_unit,
+                      bool colour = false);
 
 // Each subcommand registers itself: adds a sub-App with its options and a callback.
 using Registrar = void (*)(CLI::App& app);
