@@ -29,7 +29,8 @@ DiffusionStack::DiffusionStack(const LayerStack& stack) {
     const double n_above = i == 0 ? stack.eta_above : ls[i - 1].eta;
     const double n_below = i + 1 == n ? stack.eta_below : ls[i + 1].eta;
     const double A_top = A_boundary(ls[i].eta / n_above);
-    const double A_bottom = A_boundary(ls[i].eta / n_below);
+    // A semi-infinite layer has no bottom boundary (A = 1 is a placeholder, never used).
+    const double A_bottom = ls[i].semi_infinite() ? 1.0 : A_boundary(ls[i].eta / n_below);
     down_.push_back(DiffusionSlab::make(ls[i].sigma_a, ls[i].sigma_s_prime, ls[i].thickness,
                                         A_top, A_bottom));
   }
