@@ -21,7 +21,8 @@ struct FitOpts {
   ParameterOptions params;
   OutputOptions out;
   std::string spectrum, column, srgb, hex, texture, report_dir, spectra_dir;
-  std::string free, plot, fitted, solver = "multipole";
+  // Default solver: the project default (accurate) when built, as skin spectrum/color use.
+  std::string free, plot, fitted, solver = fit::solver_names().back();
   std::vector<std::string> bounds;
   bool includes_specular = false;
   double lambda_min = 400, lambda_max = 700;
@@ -284,7 +285,7 @@ void register_fit(CLI::App& app) {
       if (a != b) a->excludes(b);
   sub->add_option("--spectra-dir", o->spectra_dir, "Directory of measured spectra for --measured-report")
       ->capture_default_str()->group(g_in);
-  sub->add_option("--column", o->column, "Reflectance column of a multi-column CSV")->group(g_in);
+  auto* o_col = sub->add_option("--column", o->column, "Reflectance column of a multi-column CSV")->group(g_in);
 
   auto* g_fit = "Fit";
   sub->add_option("--free", o->free,
@@ -292,30 +293,35 @@ void register_fit(CLI::App& app) {
                   "extended: epidermal-hemoglobin, beta-carotene, bilirubin, epidermis-thickness, "
                   "oxygenation, scattering-scale")
       ->group(g_fit);
-  sub->add_flag("--includes-specular", o->includes_specular,
+  auto* o_specular = sub->add_flag("--includes-specular", o->includes_specular,
                 "The measurement includes the surface reflection: add rho_s F (F = Fresnel at normal "
                 "incidence, 0.028) and fit oiliness")
       ->group(g_fit);
   sub->add_option("--bound", o->bounds, "Search interval NAME=LO:HI (repeatable), e.g. melanin=0:0.3")->group(g_fit);
-  sub->add_option("--fit-lambda-min", o->lambda_min, "Fit only samples at or above this wavelength [nm]")
+  auto* o_lmin = sub->add_option("--fit-lambda-min", o->lambda_min, "Fit only samples at or above this wavelength [nm]")
       ->capture_default_str()->group(g_fit);
-  sub->add_option("--fit-lambda-max", o->lambda_max, "Fit only samples at or below this wavelength [nm]")
+  auto* o_lmax = sub->add_option("--fit-lambda-max", o->lambda_max, "Fit only samples at or below this wavelength [nm]")
       ->capture_default_str()->group(g_fit);
-  sub->add_option("--melanin-blend-prior", o->blend_prior,
+  auto* o_prior = sub->add_option("--melanin-blend-prior", o->blend_prior,
                   "Colour fits: beta_m the regulariser pulls toward, [0, 1]")->capture_default_str()->group(g_fit);
-  sub->add_option("--melanin-blend-weight", o->blend_weight,
+  auto* o_weight = sub->add_option("--melanin-blend-weight", o->blend_weight,
                   "Colour fits: regulariser weight [Lab units per unit beta_m], >= 0")->capture_default_str()->group(g_fit);
   sub->add_option("--solver", o->solver,
-                  "Forward model for R_d: multipole (closed form, fast) or accurate (adding-doubling, "
-                  "~100x slower, valid for any epidermis thickness)")
+                  "Forward model for R_d: accurate (adding-doubling, the project's default, as in "
+                  "skin spectrum/color) or multipole (the paper's diffusion model, ~70x faster)")
       ->check(CLI::IsMember(fit::solver_names()))->capture_default_str()->group(g_fit);
 
   o->params.add_to(*sub);
   o->out.add_to(*sub);
-  sub->add_option("--plot", o->plot, "Spectrum fit: draw measurement and model to FILE.png or FILE.svg")->group("Output");
-  sub->add_option("--fitted", o->fitted, "Spectrum fit: write the fitted spectrum to FILE.csv or FILE.json")->group("Output");
+  auto* o_plot = sub->add_option("--plot", o->plot, "Spectrum fit: draw measurement and model to FILE.png or FILE.svg")->group("Output");
+  auto* o_fitted = sub->add_option("--fitted", o->fitted, "Spectrum fit: write the fitted spectrum to FILE.csv or FILE.json")->group("Output");
 
-  sub->callback([o, o_spec, o_srgb, o_hex, o_tex, o_rep] {
+  // Options that only make sense for one kind of input are rejected elsewhere, before any work.
+  for (auto* opt : {o_col, o_specular, o_lmin, o_lmax, o_plot, o_fitted}) opt->needs(o_spec);
+  sub->callback([o, o_spec, o_srgb, o_hex, o_tex, o_rep, o_prior, o_weight] {
+    if ((o_prior->count() || o_weight->count()) && !(o_srgb->count() || o_hex->count() || o_tex->count()))
+      throw InputError("--melanin-blend-prior and --melanin-blend-weight apply to colour fits only "
+                       "(--srgb, --hex, --texture)");
     if (o_spec->count()) run_spectrum(*o);
     else if (o_srgb->count() || o_hex->count()) run_color(*o);
     else if (o_tex->count()) run_texture(*o);

@@ -47,7 +47,7 @@ TEST(CliFit, SpectrumJson) {
   const std::string in = write_spectrum("ok.csv", p), png = temp("ok.png"), fitted = temp("ok_fitted.csv");
   fs::remove(png);
   fs::remove(fitted);
-  const CliRun r = run("--spectrum " + in + " --format json --plot " + png + " --fitted " + fitted);
+  const CliRun r = run("--spectrum " + in + " --solver multipole --format json --plot " + png + " --fitted " + fitted);
   ASSERT_EQ(r.code, 0);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_NEAR(j["parameters"]["melanin"].get<double>(), 0.04, 1e-3);
@@ -85,6 +85,9 @@ TEST(CliFit, BadInputExitsTwoAndWritesNothing) {
   EXPECT_EQ(run("--srgb 1,2").code, 2);
   EXPECT_EQ(run("--hex zzzzzz").code, 2);
   EXPECT_EQ(run("--srgb 1,2,3 --hex 010203").code, 2);  // conflicting inputs
+  EXPECT_EQ(run("--srgb 100,80,70 --includes-specular").code, 2);  // spectrum-only option
+  EXPECT_EQ(run("--srgb 100,80,70 --plot " + png).code, 2);
+  EXPECT_FALSE(fs::exists(png));
   EXPECT_EQ(run("--spectrum x.csv --free melanin,nonsense").code, 2);
   EXPECT_EQ(run("--texture /nonexistent.png -o " + temp("never.exr")).code, 2);
   EXPECT_FALSE(fs::exists(temp("never.exr")));

@@ -2,6 +2,7 @@
 // (skin_spectrum), the table interpolation against the exact model, parsing, and the EXR maps.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
@@ -37,32 +38,50 @@ skin::SkinParameters params(double cm, double bm, double ch) {
 
 // In-gamut colours: rendered by the model itself from parameters over the paper's ranges, then
 // rounded to 8-bit sRGB as a user would give them. The fitted parameters' colour, computed the
-// way `skin color` does (skin_spectrum), must be within 1 dE2000 of the 8-bit input.
-TEST(ColorFit, SrgbRoundTripWithinOneDeltaE) {
-  const ColorFitter fitter;
+// way `skin color` does (skin_spectrum with the same solver), must be within 1 dE2000 of the
+// 8-bit input. Multipole over a 5 x 3 x 3 grid; adding-doubling (`skin color`'s default) on a
+// smaller one (each of its evaluations costs ~70 multipole ones).
+namespace {
+void srgb_round_trip(const char* solver_name, skin::Solver solver, const std::vector<double>& cms,
+                     const std::vector<double>& bms, const std::vector<double>& chs) {
+  ColorFitOptions o;
+  o.model = forward_model(solver_name);
+  const ColorFitter fitter(o);
   const color::Colorimetry cm{skin::WavelengthGrid{}};
-  for (double c_m : {0.002, 0.01, 0.05, 0.2, 0.45})
-    for (double b_m : {0.0, 0.5, 1.0})
-      for (double c_h : {0.002, 0.02, 0.12}) {
-        const auto truth = skin::skin_spectrum(params(c_m, b_m, c_h));
+  for (double c_m : cms)
+    for (double b_m : bms)
+      for (double c_h : chs) {
+        const auto truth = skin::skin_spectrum(params(c_m, b_m, c_h), {}, solver);
         const auto s8 = truth.color.srgb8;
         const color::Rgb input{color::srgb_decode(s8[0] / 255.0), color::srgb_decode(s8[1] / 255.0),
                                color::srgb_decode(s8[2] / 255.0)};
         const ColorFitResult r = fitter.fit(input);
-        const auto fitted = skin::skin_spectrum(r.parameters);
+        const auto fitted = skin::skin_spectrum(r.parameters, {}, solver);
         const double de = color::delta_e_2000(color::summarize_rgb(cm, input).lab, fitted.color.lab);
-        SCOPED_TRACE(::testing::Message() << truth.parameters << " -> " << r);
+        SCOPED_TRACE(::testing::Message() << solver_name << " " << truth.parameters << " -> " << r);
         EXPECT_LT(de, 1.0);
-        // The fitter reaches Lab through white-balanced linear sRGB, skin color through XYZ: the two
-    // paths agree to the rounding of the 4-digit IEC matrices (~1e-5 dE).
-    EXPECT_NEAR(de, r.delta_e, 1e-3);
+        // The fitter reaches Lab through white-balanced linear sRGB, skin color through XYZ: the
+        // two paths agree to the rounding of the 4-digit IEC matrices (~1e-5 dE).
+        EXPECT_NEAR(de, r.delta_e, 1e-3);
       }
+}
+}  // namespace
+
+TEST(ColorFit, SrgbRoundTripWithinOneDeltaEMultipole) {
+  srgb_round_trip("multipole", skin::Solver::multipole, {0.002, 0.01, 0.05, 0.2, 0.45}, {0.0, 0.5, 1.0},
+                  {0.002, 0.02, 0.12});
+}
+
+TEST(ColorFit, SrgbRoundTripWithinOneDeltaEAccurate) {
+  const auto names = solver_names();
+  if (std::find(names.begin(), names.end(), "accurate") == names.end()) GTEST_SKIP() << "no skin_accurate";
+  srgb_round_trip("accurate", skin::Solver::accurate, {0.005, 0.05, 0.3}, {0.3, 0.8}, {0.005, 0.05});
 }
 
 // With beta_m free but regularised, flat directions go to the prior: a fit of the colour of a
 // beta_m = 0.7 skin returns close to 0.7; fixing beta_m (not free) keeps it exactly.
 TEST(ColorFit, MelaninBlendResolvedByPriorOrFixed) {
-  const auto truth = skin::skin_spectrum(params(0.01, 0.7, 0.01));
+  const auto truth = skin::skin_spectrum(params(0.01, 0.7, 0.01), {}, skin::Solver::multipole);
   ColorFitOptions o;
   o.free = {Parameter::melanin, Parameter::hemoglobin};
   o.start.melanin_blend = 0.3;
@@ -88,9 +107,10 @@ TEST(ColorFit, Parsing) {
   EXPECT_THROW(ColorFitter{o}, skin::InputError);
 }
 
-// The texture path interpolates a table (48 x 6 x 48 nodes, log-spaced in C_m and C_h). Its
-// colour must stay within 0.3 dE2000 of the exact model anywhere in the box (random points,
-// fixed seed), so that the error map measures the fit, not the table.
+// The texture path interpolates a table (40 x 6 x 40 nodes, log-spaced in C_m and C_h; R_d at
+// 10 nm interpolated to the 2 nm colour grid). Its colour must stay within 0.3 dE2000 of the
+// exact model anywhere in the box (random points, fixed seed), so that the error map measures
+// the fit, not the table.
 TEST(TextureFit, TableInterpolationMatchesExactModel) {
   const TextureFitter tex;
   const ColorFitter exact;
@@ -114,7 +134,7 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
     for (int x = 0; x < w; ++x) {
       const auto p = params(0.002 * std::pow(1.6, x), 0.7, 0.002 * std::pow(2.5, y));
       truth.push_back(p);
-      const auto s8 = skin::skin_spectrum(p).color.srgb8;
+      const auto s8 = skin::skin_spectrum(p, {}, skin::Solver::multipole).color.srgb8;
       for (int c = 0; c < 3; ++c) px[static_cast<std::size_t>((y * w + x) * 3 + c)] = static_cast<unsigned char>(s8[static_cast<std::size_t>(c)]);
     }
   px[0] = 0, px[1] = 0, px[2] = 255;
