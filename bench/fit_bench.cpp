@@ -1,6 +1,7 @@
 // Inverse-model benchmarks. Targets (issue): one spectrum fit < 10 ms, a 1024 x 1024 texture
 // < 10 s on the 2-core reference machine. Run a Release build:
 //   build/bin/fit_bench
+// Each fit runs with the multipole and, where it matters, the adding-doubling forward model.
 // Spectrum fits alternate 3 parameters (the paper's), + specular, and the extended model, on a
 // synthetic 151-sample spectrum; the fitters' coarse tables are built once outside the timing
 // (BM_SpectrumTable times that one-off cost). The texture is synthetic: smooth parameter maps
@@ -31,8 +32,10 @@ MeasuredSpectrum synthetic_spectrum() {
   for (std::size_t i = 0; i < m.R.size(); ++i) m.R[i] += 0.004 * std::sin(0.37 * static_cast<double>(i));  // "noise"
   return m;
 }
-SpectrumFitOptions options(int which) {
+const char* solver_name(int s) { return s == 0 ? "multipole" : "accurate"; }
+SpectrumFitOptions options(int which, int solver) {
   SpectrumFitOptions o;
+  o.model = forward_model(solver_name(solver));
   if (which >= 1) o.includes_specular = true;
   if (which == 2)
     for (Parameter p : extended_parameters()) o.free.push_back(p);
@@ -40,9 +43,10 @@ SpectrumFitOptions options(int which) {
 }
 }  // namespace
 
-// Arg: 0 = C_m, beta_m, C_h; 1 = + rho_s (specular); 2 = + all extended terms.
+// Args: {0 = C_m, beta_m, C_h; 1 = + rho_s (specular); 2 = + all extended terms},
+//       {0 = multipole, 1 = accurate (adding-doubling)}.
 static void BM_SpectrumFit(benchmark::State& state) {
-  const SpectrumFitter fitter(options(static_cast<int>(state.range(0))));
+  const SpectrumFitter fitter(options(static_cast<int>(state.range(0)), static_cast<int>(state.range(1))));
   fitter.prepare();
   const MeasuredSpectrum m = synthetic_spectrum();
   double rms = 0;
@@ -52,7 +56,8 @@ static void BM_SpectrumFit(benchmark::State& state) {
   }
   state.SetLabel("fit rms " + std::to_string(rms));
 }
-BENCHMARK(BM_SpectrumFit)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SpectrumFit)->Args({0, 0})->Args({1, 0})->Args({2, 0})->Args({0, 1})
+    ->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // One-off cost of the global stage's table (paid once per fitter, e.g. once per CLI call).
 static void BM_SpectrumTable(benchmark::State& state) {
@@ -63,17 +68,23 @@ static void BM_SpectrumTable(benchmark::State& state) {
 }
 BENCHMARK(BM_SpectrumTable)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 
+// Arg: 0 = multipole, 1 = accurate.
 static void BM_SrgbFit(benchmark::State& state) {
-  const ColorFitter fitter;
+  ColorFitOptions o;
+  o.model = forward_model(solver_name(static_cast<int>(state.range(0))));
+  const ColorFitter fitter(o);
   fitter.prepare();
   const color::Rgb target = parse_hex("c0a090");
   for (auto _ : state) benchmark::DoNotOptimize(fitter.fit(target).delta_e);
 }
-BENCHMARK(BM_SrgbFit)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_SrgbFit)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // Whole texture fit, table included (what `skin fit --texture` does after reading the PNG).
+// Args: {size}, {0 = multipole, 1 = accurate}.
 static void BM_Texture(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
+  ColorFitOptions o;
+  o.model = forward_model(solver_name(static_cast<int>(state.range(1))));
   Image img;
   img.width = img.height = n;
   img.channels = 3;
@@ -87,7 +98,7 @@ static void BM_Texture(benchmark::State& state) {
       p.melanin = 0.002 * std::pow(150.0, x / 63.0);
       p.melanin_blend = 0.7;
       p.hemoglobin = 0.002 * std::pow(50.0, y / 63.0);
-      grid[static_cast<std::size_t>(y * 64 + x)] = skin_spectrum(p).color.srgb_linear;
+      grid[static_cast<std::size_t>(y * 64 + x)] = skin_spectrum(p, {}, Solver::multipole).color.srgb_linear;
     }
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {
@@ -105,11 +116,12 @@ static void BM_Texture(benchmark::State& state) {
     }
   double mean = 0;
   for (auto _ : state) {
-    const TextureFitter fitter;
+    const TextureFitter fitter(o);
     const ParameterMaps maps = fitter.fit(img);
     mean = maps.mean_error;
   }
   state.SetLabel("mean dE2000 " + std::to_string(mean));
   state.SetItemsProcessed(state.iterations() * n * n);
 }
-BENCHMARK(BM_Texture)->Arg(256)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_Texture)->Args({256, 0})->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)
+    ->UseRealTime()->Iterations(1);
