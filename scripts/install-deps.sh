@@ -10,6 +10,7 @@ PKGS=(
   libtinyobjloader-dev libtinygltf-dev libstb-dev  # meshes and texture decoding
   libopenexr-dev libpng-dev                        # image output
   libcairo2-dev                                    # plots (PNG and SVG)
+  pybind11-dev python3-dev                         # Python module
 )
 missing=()
 for p in "${PKGS[@]}"; do

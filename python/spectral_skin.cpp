@@ -1,0 +1,151 @@
+// Python bindings: a thin layer over the C++ API, keywords identical to the C++ parameter names
+// (and to the CLI flags with underscores). No logic here beyond converting types.
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "skin/accurate/accurate.hpp"
+#include "skin/model/skin_model.hpp"
+#include "skin/physics/error.hpp"
+
+namespace py = pybind11;
+using namespace skin;
+
+namespace {
+
+SkinParameters parameters(const std::string& preset, const py::kwargs& kw) {
+  SkinParameters p = find_preset(preset).parameters;
+  // Every SkinParameters field by its C++ name.
+  static const std::pair<const char*, double SkinParameters::*> fields[] = {
+      {"melanin", &SkinParameters::melanin},
+      {"melanin_blend", &SkinParameters::melanin_blend},
+      {"hemoglobin", &SkinParameters::hemoglobin},
+      {"oiliness", &SkinParameters::oiliness},
+      {"oxygenation", &SkinParameters::oxygenation},
+      {"epidermis_thickness", &SkinParameters::epidermis_thickness},
+      {"dermis_scattering_scale", &SkinParameters::dermis_scattering_scale},
+      {"eta", &SkinParameters::eta},
+      {"roughness", &SkinParameters::roughness},
+      {"g", &SkinParameters::g},
+      {"epidermal_hemoglobin", &SkinParameters::epidermal_hemoglobin},
+      {"beta_carotene", &SkinParameters::beta_carotene},
+      {"bilirubin", &SkinParameters::bilirubin},
+      {"scattering_scale", &SkinParameters::scattering_scale},
+  };
+  for (auto item : kw) {
+    const auto key = py::cast<std::string>(item.first);
+    bool known = false;
+    for (const auto& [name, member] : fields)
+      if (key == name) {
+        p.*member = py::cast<double>(item.second);
+        known = true;
+      }
+    if (!known) throw InputError("unknown parameter '" + key + "'");
+  }
+  p.validate();
+  return p;
+}
+
+py::dict color_dict(const color::ColorSummary& c) {
+  py::dict d;
+  d["XYZ"] = std::vector<double>{c.XYZ.X, c.XYZ.Y, c.XYZ.Z};
+  d["srgb_linear"] = std::vector<double>{c.srgb_linear.r, c.srgb_linear.g, c.srgb_linear.b};
+  d["srgb8"] = std::vector<int>{c.srgb8[0], c.srgb8[1], c.srgb8[2]};
+  d["hex"] = c.hex;
+  d["lab"] = std::vector<double>{c.lab.L, c.lab.a, c.lab.b};
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(spectral_skin, m) {
+  m.doc() = "Spectral Skin: skin reflectance, profiles and colour from four biophysical "
+            "parameters (units: mm, 1/mm, nm). Same names as the C++ API and the `skin` CLI.";
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+
+  m.def("presets", [] {
+    std::vector<std::string> names;
+    for (const auto& p : presets()) names.push_back(p.name);
+    return names;
+  }, "Names of the paper's parameter sets.");
+
+  m.def(
+      "spectrum",
+      [](const std::string& preset, double lambda_min, double lambda_max, double lambda_step,
+         const std::string& solver, const py::kwargs& kw) {
+        const SkinSpectrum s = skin_spectrum(parameters(preset, kw),
+                                             WavelengthGrid(lambda_min, lambda_max, lambda_step),
+                                             parse_solver(solver));
+        py::dict d;
+        d["solver"] = std::string(to_string(s.solver));
+        d["wavelength_nm"] = s.grid.values();
+        d["R_d"] = s.R_d.values;
+        d["epidermis"] = py::dict(py::arg("sigma_a") = s.epidermis_sigma_a.values,
+                                  py::arg("sigma_s_prime") = s.epidermis_sigma_s_prime.values);
+        d["dermis"] = py::dict(py::arg("sigma_a") = s.dermis_sigma_a.values,
+                               py::arg("sigma_s_prime") = s.dermis_sigma_s_prime.values);
+        d["color"] = color_dict(s.color);
+        return d;
+      },
+      py::arg("preset") = "caucasian", py::arg("lambda_min") = 400.0,
+      py::arg("lambda_max") = 700.0, py::arg("lambda_step") = 2.0,
+      py::arg("solver") = "accurate",
+      "R_d(lambda), the layers' sigma_a and sigma_s_prime [1/mm] and the colour; any "
+      "SkinParameters field (melanin, melanin_blend, hemoglobin, ...) as a keyword.");
+
+  m.def(
+      "rgb_profile",
+      [](const std::string& preset, std::vector<double> r_mm, const std::string& solver,
+         const py::kwargs& kw) {
+        ProfileSolver ps(RadialGrid::from(std::move(r_mm)));
+        const RgbProfile p = skin_rgb_profile(parameters(preset, kw), WavelengthGrid(), ps,
+                                              parse_solver(solver));
+        py::dict d;
+        d["r_mm"] = p.radii.r;
+        d["R"] = py::dict(py::arg("r") = p.R[0], py::arg("g") = p.R[1], py::arg("b") = p.R[2]);
+        d["R_d"] = std::vector<double>(p.R_d.begin(), p.R_d.end());
+        return d;
+      },
+      py::arg("preset") = "caucasian", py::arg("r_mm"), py::arg("solver") = "accurate",
+      "Radial profile R(r) [1/mm^2] per linear sRGB channel at the radii r_mm [mm].");
+
+  m.def(
+      "layers",
+      [](const std::vector<std::map<std::string, double>>& layers, std::vector<double> r_mm,
+         double eta_above, double eta_below, const std::string& solver) {
+        LayerStack st;
+        st.eta_above = eta_above;
+        st.eta_below = eta_below;
+        for (const auto& l : layers) {
+          Layer x;
+          for (const auto& [k, v] : l) {
+            if (k == "sigma_a") x.sigma_a = v;
+            else if (k == "sigma_s_prime") x.sigma_s_prime = v;
+            else if (k == "thickness") x.thickness = v;
+            else if (k == "eta") x.eta = v;
+            else if (k == "g") x.g = v;
+            else throw InputError("unknown layer key '" + k + "'");
+          }
+          st.layers.push_back(x);
+        }
+        const DiffusionStack ds(st);
+        py::dict d;
+        std::vector<double> R;
+        if (parse_solver(solver) == Solver::accurate) {
+          const accurate::AccurateStack as(st);
+          d["R_d"] = as.R_d();
+          d["T_d"] = as.T_d();
+          d["R_specular"] = as.R_specular();
+          if (!r_mm.empty()) R = ProfileSolver(RadialGrid::from(r_mm)).profile(as);
+        } else {
+          d["R_d"] = ds.R_d();
+          d["T_d"] = ds.T_d();
+          if (!r_mm.empty()) R = ProfileSolver(RadialGrid::from(r_mm)).profile(ds);
+        }
+        d["profile"] = py::dict(py::arg("r_mm") = r_mm, py::arg("R") = R);
+        return d;
+      },
+      py::arg("layers"), py::arg("r_mm") = std::vector<double>{}, py::arg("eta_above") = 1.0,
+      py::arg("eta_below") = 1.0, py::arg("solver") = "accurate",
+      "R_d, T_d (per power that entered) and R(r) of a layer stack given as a list of dicts with "
+      "sigma_a, sigma_s_prime [1/mm], thickness [mm] (absent = semi-infinite), eta, g.");
+}
