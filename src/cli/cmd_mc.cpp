@@ -9,6 +9,12 @@
 #include "skin/mc/mc.hpp"
 #include "skin/mc/validation.hpp"
 #include "skin/physics/error.hpp"
+#include "skin/accurate/accurate.hpp"
+#include "skin/physics/profile.hpp"
+#ifdef SKIN_HAVE_FIT
+#include "skin/fit/fit.hpp"
+#include "skin/fit/report.hpp"
+#endif
 
 namespace skin::cli {
 
@@ -167,20 +173,38 @@ void register_mc_command(CLI::App& app) {
   });
 }
 
+// The accurate solver as a column of the report: adding-doubling totals and the accurate radial
+// response (docs/accurate-solver.md).
+mc::SolverColumn accurate_solver() {
+  mc::SolverColumn s;
+  s.name = "accurate";
+  s.R_d = [](const LayerStack& stack) { return accurate::adding_doubling(stack).R_d; };
+  s.profile = [](const LayerStack& stack, const std::vector<double>& r_mm) {
+    ProfileSolver solver(RadialGrid::from(r_mm));
+    return solver.profile(accurate::AccurateStack(stack));
+  };
+  return s;
+}
+
 void register_validate_command(CLI::App& app) {
   struct Opts {
     std::string out;
+    std::string spectra_dir = "../shared/data/skin_spectra";
     std::vector<double> wavelengths{450, 550, 650};
     McOptions mc;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand(
       "validate",
-      "Diffusion (multipole) against Monte Carlo over the paper's presets at several wavelengths "
-      "and over generic layer stacks; writes OUT/README.md (tables, errors) and PNG profiles");
+      "Both solvers (multipole, accurate) against Monte Carlo over the paper's presets at several "
+      "wavelengths and over generic layer stacks, and the model against measured skin spectra; "
+      "writes OUT/README.md (tables, errors), PNG profiles and OUT/measured/");
   sub->add_option("--out", o->out, "Output directory (created if missing)")->required();
   sub->add_option("--wavelength", o->wavelengths, "Wavelengths of the preset cases [nm] (repeatable)")
       ->capture_default_str()->allow_extra_args(false);
+  sub->add_option("--spectra-dir", o->spectra_dir,
+                  "Measured skin spectra (CSV) for the measured-spectra part; skipped if absent")
+      ->capture_default_str();
   o->mc.add_to(*sub, 1000000, 200, false);
   sub->callback([o] {
     for (double l : o->wavelengths) require_in_range("wavelength", l, 250.0, 1000.0, "nm");
@@ -197,9 +221,28 @@ void register_validate_command(CLI::App& app) {
       ++done;
       if (verbose) std::cerr << "[" << done << "/" << cases.size() << "] " << line << '\n';
     };
-    const mc::ValidationRun run = mc::run_validation(cases, {mc::multipole_solver()}, opts, log);
+    const mc::ValidationRun run =
+        mc::run_validation(cases, {mc::multipole_solver(), accurate_solver()}, opts, log);
     std::ostringstream md;
     mc::write_validation_report(md, run, o->out, "");
+    md << "\n## Measured skin spectra\n\n";
+#ifdef SKIN_HAVE_FIT
+    if (std::filesystem::is_directory(o->spectra_dir)) {
+      // The model fitted to every measured spectrum, with each solver (skin::fit).
+      for (const char* solver : {"multipole", "accurate"}) {
+        const std::string sub_dir = std::string("measured/") + (std::string(solver) == "multipole" ? "" : "accurate/");
+        std::ostringstream part;
+        fit::write_measured_report(o->spectra_dir, o->out + "/" + sub_dir, part, fit::forward_model(solver), solver);
+        io::write_file_atomic(o->out + "/" + sub_dir + "README.md", part.str());
+        md << "- with the " << solver << " solver: [" << sub_dir << "README.md](" << sub_dir
+           << "README.md)\n";
+      }
+    } else {
+      md << "Skipped: no measured spectra at " << o->spectra_dir << ".\n";
+    }
+#else
+    md << "Not built (the fitting library is needed).\n";
+#endif
     io::write_file_atomic(o->out + "/README.md", md.str());
     std::cout << "wrote " << o->out << "/README.md and " << run.cases.size() + 1
               << " plots (" << run.cases.size() << " cases, " << format_number(run.seconds)
