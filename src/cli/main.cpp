@@ -5,6 +5,13 @@
 #include "common.hpp"
 #include "skin/physics/error.hpp"
 
+#if defined(__SANITIZE_ADDRESS__)
+// LeakSanitizer builds (SKIN_SANITIZE): fontconfig, used by Cairo to draw plot text, keeps a
+// process-lifetime cache that it never frees; that is not a leak of ours.
+extern "C" const char* __lsan_default_suppressions();
+extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfig\n"; }
+#endif
+
 namespace skin::cli {
 // Subcommands living in other targets register through these weak hooks (renderer, Monte Carlo,
 // fitting), so that the CLI builds with whichever parts are enabled.
