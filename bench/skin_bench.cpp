@@ -27,12 +27,18 @@ static void BM_RdSpectrum(benchmark::State& state) {
 }
 BENCHMARK(BM_RdSpectrum)->Unit(benchmark::kMicrosecond);
 
-// Same plus colour (what `skin spectrum` computes).
+// Same plus layer coefficients and colour (what `skin spectrum --solver multipole` computes), and
+// with the default accurate (adding-doubling) solver.
 static void BM_RdSpectrumWithColor(benchmark::State& state) {
   const WavelengthGrid grid;
-  for (auto _ : state) benchmark::DoNotOptimize(skin_spectrum(params(), grid));
+  for (auto _ : state) benchmark::DoNotOptimize(skin_spectrum(params(), grid, Solver::multipole));
 }
 BENCHMARK(BM_RdSpectrumWithColor)->Unit(benchmark::kMicrosecond);
+static void BM_RdSpectrumWithColorAccurate(benchmark::State& state) {
+  const WavelengthGrid grid;
+  for (auto _ : state) benchmark::DoNotOptimize(skin_spectrum(params(), grid, Solver::accurate));
+}
+BENCHMARK(BM_RdSpectrumWithColorAccurate)->Unit(benchmark::kMicrosecond);
 
 // 151 wavelengths -> 3 linear sRGB channels, 512 radii (log-spaced 1 um - 16 mm). The solver
 // keeps its quadrature between calls, as a renderer building many profiles would.
