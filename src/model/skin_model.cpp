@@ -42,14 +42,13 @@ SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid, 
   SkinSpectrum s{p,           solver,         grid,           Spectrum(grid), Spectrum(grid),
                  Spectrum(grid), Spectrum(grid), Spectrum(grid), {}};
   for (std::size_t i = 0; i < grid.size(); ++i) {
-    const double lambda = grid[i];
-    const auto e = epidermis_coefficients(p, lambda);
-    const auto d = dermis_coefficients(p, lambda);
-    s.epidermis_sigma_a[i] = e.sigma_a;
-    s.epidermis_sigma_s_prime[i] = e.sigma_s_prime;
-    s.dermis_sigma_a[i] = d.sigma_a;
-    s.dermis_sigma_s_prime[i] = d.sigma_s_prime;
-    s.R_d[i] = stack_R_d(skin_layer_stack(p, lambda), solver);
+    // The stack carries the layer coefficients (eqs 6-8); report them from it.
+    const LayerStack stack = skin_layer_stack(p, grid[i]);
+    s.epidermis_sigma_a[i] = stack.layers[0].sigma_a;
+    s.epidermis_sigma_s_prime[i] = stack.layers[0].sigma_s_prime;
+    s.dermis_sigma_a[i] = stack.layers[1].sigma_a;
+    s.dermis_sigma_s_prime[i] = stack.layers[1].sigma_s_prime;
+    s.R_d[i] = stack_R_d(stack, solver);
   }
   s.color = color::summarize(color::Colorimetry(grid), s.R_d);
   return s;
