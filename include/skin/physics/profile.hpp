@@ -2,8 +2,10 @@
 // Radial diffusion profiles R(r) of layer stacks, per wavelength and per colour channel.
 // R(r) = dipole_top(r) + (1 / 2 pi) int_0^inf G(k) J0(k r) k dk,  G = R_stack(k) - dipole_top(k):
 // the top layer's nearest image pair (all of the r -> 0 singularity) is inverted exactly in space,
-// and only the smooth, fast-decaying remainder G is transformed numerically (Gauss-Legendre panels
-// no wider than one period of J0 at the largest radius, up to a k_max where G has decayed).
+// and only the smooth, fast-decaying remainder G is transformed numerically: G is sampled at ~220
+// frequencies up to a k_max where it has decayed, interpolated, and integrated against J0 by
+// Gauss-Legendre panels (product integration; the weights depend only on the radii and are
+// cached). Accuracy: ~1e-6 relative where R is not tiny, ~1e-8 of the peak absolutely (tested).
 #include <array>
 #include <cstddef>
 #include <iosfwd>
@@ -78,7 +80,7 @@ class ProfileSolver {
   RgbProfile rgb(const std::vector<DiffusionStack>& stacks, const ChannelWeights& weights);
 
   // Upper frequency of the numerical transform for these stacks [rad/mm] (where |G| has fallen
-  // below 1e-10 of the total), and the number of quadrature nodes used by the last call.
+  // below 1e-10 of the total), and the number of frequency samples used by the last call.
   static double k_max_for(const std::vector<const RadialResponse*>& stacks);
   std::size_t nodes_used() const;
 
