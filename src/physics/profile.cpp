@@ -89,7 +89,7 @@ ProfileSolver& ProfileSolver::operator=(ProfileSolver&&) noexcept = default;
 std::size_t ProfileSolver::nodes_used() const { return quad_ ? quad_->k.size() : 0; }
 
 namespace {
-constexpr double kK0 = 0.02;   // [rad/mm]: sample spacing near k = 0 is kK0 * kDu
+constexpr double kK0 = 0.3;    // [rad/mm]: sample spacing near k = 0 is kK0 * kDu
 constexpr double kDu = 0.04;   // spacing in u: interpolation error below 1e-6 of R (tested)
 }  // namespace
 

@@ -89,6 +89,22 @@ TEST(Profile, InverseTransformOfSlabMatchesSpatialImageSum) {
   }
 }
 
+TEST(Profile, InverseTransformOfWeaklyAbsorbingSlabFarOut) {
+  // sigma_tr = 0.12/mm: the residual varies on that scale near k = 0 and the profile reaches far;
+  // this checks the sampling of G near k = 0.
+  LayerStack st;
+  st.layers = {{0.005, 1.0, 3.0, 1.4}};
+  const DiffusionStack ds(st);
+  const DiffusionSlab& s = ds.slabs()[0];
+  ProfileSolver solver(RadialGrid::logarithmic(1e-2, 30.0, 48));
+  const auto R = solver.profile(ds);
+  for (std::size_t j = 0; j < R.size(); ++j) {
+    const double r = solver.radii().r[j];
+    const double exact = s.R(r, 1e-13);
+    EXPECT_NEAR(R[j], exact, 1e-5 * std::abs(exact) + 1e-8 * R[0]) << "r=" << r;
+  }
+}
+
 TEST(Profile, SemiInfiniteProfileIsExactlyTheDipole) {
   LayerStack st;
   st.layers = {{0.02, 2.0, kInfinity, 1.4}};
