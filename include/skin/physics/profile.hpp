@@ -2,7 +2,7 @@
 // Radial diffusion profiles R(r) of layer stacks, per wavelength and per colour channel.
 // R(r) = dipole_top(r) + (1 / 2 pi) int_0^inf G(k) J0(k r) k dk,  G = R_stack(k) - dipole_top(k):
 // the top layer's nearest image pair (all of the r -> 0 singularity) is inverted exactly in space,
-// and only the smooth, fast-decaying remainder G is transformed numerically: G is sampled at ~220
+// and only the smooth, fast-decaying remainder G is transformed numerically: G is sampled at ~150
 // frequencies up to a k_max where it has decayed, interpolated, and integrated against J0 by
 // Gauss-Legendre panels (product integration; the weights depend only on the radii and are
 // cached). Accuracy: ~1e-6 relative where R is not tiny, ~1e-8 of the peak absolutely (tested).
