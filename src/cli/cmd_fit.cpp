@@ -167,7 +167,8 @@ void run_spectrum(const FitOpts& o) {
   o.out.emit(text);
 }
 
-void run_color(const FitOpts& o) {
+// Options shared by the colour and the texture fits.
+fit::ColorFitOptions color_fit_options(const FitOpts& o) {
   fit::ColorFitOptions opt;
   opt.start = o.params.resolve();
   if (!o.free.empty()) opt.free = fit::parse_parameter_list(o.free);
@@ -175,6 +176,11 @@ void run_color(const FitOpts& o) {
   opt.melanin_blend_weight = o.blend_weight;
   opt.bounds = parse_bounds(o.bounds);
   opt.model = forward_model(o.solver);
+  return opt;
+}
+
+void run_color(const FitOpts& o) {
+  const fit::ColorFitOptions opt = color_fit_options(o);
   const color::Rgb target = o.hex.empty() ? fit::parse_srgb8(o.srgb) : fit::parse_hex(o.hex);
   const fit::ColorFitResult r = fit::ColorFitter(opt).fit(target);
   const color::Colorimetry cm{WavelengthGrid{}};
@@ -220,13 +226,7 @@ void run_texture(const FitOpts& o) {
   if (o.out.output.empty()) throw InputError("texture: give the output parameter maps with -o FILE.exr");
   if (io::extension(o.out.output) != "exr")
     throw InputError("output = '" + o.out.output + "': parameter maps are written as .exr");
-  fit::ColorFitOptions opt;
-  opt.start = o.params.resolve();
-  if (!o.free.empty()) opt.free = fit::parse_parameter_list(o.free);
-  opt.melanin_blend_prior = o.blend_prior;
-  opt.melanin_blend_weight = o.blend_weight;
-  opt.bounds = parse_bounds(o.bounds);
-  opt.model = forward_model(o.solver);
+  const fit::ColorFitOptions opt = color_fit_options(o);
   const fit::Image img = fit::read_albedo(o.texture);
   const fit::TextureFitter fitter(opt);
   const bool bar = stderr_is_terminal();

@@ -519,17 +519,22 @@ ParameterMaps TextureFitter::fit(const Image& img,
     maps.hemoglobin[i] = solved[q].h;
     maps.error[i] = solved[q].e;
   });
+  maps.update_error_statistics();
+  return maps;
+}
+
+void ParameterMaps::update_error_statistics() {
   double sum = 0, mx = 0;
   std::size_t below = 0;
-  for (float e : maps.error) {
+  for (float e : error) {
     sum += e;
     mx = std::max(mx, static_cast<double>(e));
     below += e < 1.0f;
   }
-  maps.mean_error = sum / static_cast<double>(npix);
-  maps.max_error = mx;
-  maps.fraction_below_1 = static_cast<double>(below) / static_cast<double>(npix);
-  return maps;
+  const auto n = static_cast<double>(error.size());
+  mean_error = error.empty() ? 0 : sum / n;
+  max_error = mx;
+  fraction_below_1 = error.empty() ? 0 : static_cast<double>(below) / n;
 }
 
 }  // namespace skin::fit

@@ -109,16 +109,7 @@ ParameterMaps read_parameter_maps(const std::string& path) {
     }
     in.setFrameBuffer(fb);
     in.readPixels(dw.min.y, dw.max.y);
-    double sum = 0, mx = 0;
-    std::size_t below = 0;
-    for (float e : maps.error) {
-      sum += e;
-      mx = std::max(mx, static_cast<double>(e));
-      below += e < 1.0f;
-    }
-    maps.mean_error = npix ? sum / static_cast<double>(npix) : 0;
-    maps.max_error = mx;
-    maps.fraction_below_1 = npix ? static_cast<double>(below) / static_cast<double>(npix) : 0;
+    maps.update_error_statistics();
     return maps;
   } catch (const InputError&) {
     throw;

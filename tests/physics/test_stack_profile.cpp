@@ -74,35 +74,36 @@ TEST(Stack, ReflectanceFromBelowIsComputedWithSwappedBoundaries) {
 }
 
 // The numerical inverse transform against the spatial image sum of a single slab, which is exact.
-TEST(Profile, InverseTransformOfSlabMatchesSpatialImageSum) {
+namespace {
+// The numerical inverse transform of a one-slab stack against the spatial image sum, which is
+// exact: |error| <= rel |R| + abs_of_peak R(r_min).
+void expect_profile_matches_image_sum(const Layer& layer, const RadialGrid& radii, double rel,
+                                      double abs_of_peak) {
   LayerStack st;
-  st.layers = {{0.2, 5.0, 0.4, 1.4}};
+  st.layers = {layer};
   const DiffusionStack ds(st);
   const DiffusionSlab& s = ds.slabs()[0];
-  ProfileSolver solver(RadialGrid::logarithmic(1e-3, 20.0, 64));
+  ProfileSolver solver(radii);
   const auto R = solver.profile(ds);
   for (std::size_t j = 0; j < R.size(); ++j) {
-    const double r = solver.radii().r[j];
+    const double r = radii.r[j];
     const double exact = s.R(r, 1e-14);
-    // Absolute error of the quadrature ~1e-9 of the peak; relative 1e-6 where R is not tiny.
-    EXPECT_NEAR(R[j], exact, 1e-6 * std::abs(exact) + 1e-9 * R[0]) << "r=" << r;
+    EXPECT_NEAR(R[j], exact, rel * std::abs(exact) + abs_of_peak * R[0]) << "r=" << r << ' ' << st;
   }
+}
+}  // namespace
+
+TEST(Profile, InverseTransformOfSlabMatchesSpatialImageSum) {
+  // Absolute error of the transform ~1e-9 of the peak; relative 1e-6 where R is not tiny.
+  expect_profile_matches_image_sum({0.2, 5.0, 0.4, 1.4}, RadialGrid::logarithmic(1e-3, 20.0, 64),
+                                   1e-6, 1e-9);
 }
 
 TEST(Profile, InverseTransformOfWeaklyAbsorbingSlabFarOut) {
   // sigma_tr = 0.12/mm: the residual varies on that scale near k = 0 and the profile reaches far;
   // this checks the sampling of G near k = 0.
-  LayerStack st;
-  st.layers = {{0.005, 1.0, 3.0, 1.4}};
-  const DiffusionStack ds(st);
-  const DiffusionSlab& s = ds.slabs()[0];
-  ProfileSolver solver(RadialGrid::logarithmic(1e-2, 30.0, 48));
-  const auto R = solver.profile(ds);
-  for (std::size_t j = 0; j < R.size(); ++j) {
-    const double r = solver.radii().r[j];
-    const double exact = s.R(r, 1e-13);
-    EXPECT_NEAR(R[j], exact, 1e-5 * std::abs(exact) + 1e-8 * R[0]) << "r=" << r;
-  }
+  expect_profile_matches_image_sum({0.005, 1.0, 3.0, 1.4}, RadialGrid::logarithmic(1e-2, 30.0, 48),
+                                   1e-5, 1e-8);
 }
 
 TEST(Profile, SemiInfiniteProfileIsExactlyTheDipole) {

@@ -94,6 +94,8 @@ struct ParameterMaps {
   // Statistics of the error channel.
   double mean_error = 0, max_error = 0;
   double fraction_below_1 = 0;  // share of pixels with error < 1
+  // Recomputes the three statistics from the error channel.
+  void update_error_statistics();
 };
 std::ostream& operator<<(std::ostream& os, const ParameterMaps& m);
 
