@@ -44,11 +44,12 @@ struct Slab {
 // so per-photon sums of weight and weight^2 give exact sample variances.
 struct Tally {
   std::vector<double> S1, S2;  // reflected weight per annulus, and its square
+  std::vector<double> E_top, E_bottom;  // exit weight per logarithmic bin (Options::exit_bins)
   double R1 = 0, R2 = 0, T1 = 0, T2 = 0;
-  explicit Tally(std::size_t bins = 0) : S1(bins, 0.0), S2(bins, 0.0) {}
+  explicit Tally(std::size_t bins = 0, std::size_t exit_bins = 0)
+      : S1(bins, 0.0), S2(bins, 0.0), E_top(exit_bins, 0.0), E_bottom(exit_bins, 0.0) {}
   void clear() {
-    std::fill(S1.begin(), S1.end(), 0.0);
-    std::fill(S2.begin(), S2.end(), 0.0);
+    for (auto* v : {&S1, &S2, &E_top, &E_bottom}) std::fill(v->begin(), v->end(), 0.0);
     R1 = R2 = T1 = T2 = 0;
   }
   void add(const Tally& o) {
@@ -56,10 +57,37 @@ struct Tally {
       S1[i] += o.S1[i];
       S2[i] += o.S2[i];
     }
+    for (std::size_t i = 0; i < E_top.size(); ++i) {
+      E_top[i] += o.E_top[i];
+      E_bottom[i] += o.E_bottom[i];
+    }
     R1 += o.R1;
     R2 += o.R2;
     T1 += o.T1;
     T2 += o.T2;
+  }
+};
+
+// Logarithmic exit-radius bins (Options::exit_bins): bin 0 is [0, r_min), bin i >= 1 covers
+// [r_min q^(i-1), r_min q^i), q = (r_max / r_min)^(1 / (n - 1)).
+struct ExitBins {
+  std::size_t n = 0;
+  double r_min = 1, inv_log_q = 1;
+  ExitBins() = default;
+  ExitBins(std::size_t n_, double r_min_, double r_max)
+      : n(n_), r_min(r_min_),
+        inv_log_q(n_ > 1 ? static_cast<double>(n_ - 1) / std::log(r_max / r_min_) : 1.0) {}
+  // The bin of radius r, or n if beyond r_max.
+  std::size_t bin(double r) const {
+    if (r < r_min) return 0;
+    const double b = 1.0 + std::log(r / r_min) * inv_log_q;
+    return b < static_cast<double>(n) ? static_cast<std::size_t>(b) : n;
+  }
+  std::vector<double> edges() const {
+    std::vector<double> e(n + 1, 0.0);
+    for (std::size_t i = 1; i <= n; ++i)
+      e[i] = r_min * std::exp(static_cast<double>(i - 1) / inv_log_q);
+    return e;
   }
 };
 
@@ -85,8 +113,21 @@ std::vector<Slab> prepare(const LayerStack& stack) {
 }
 
 // Traces `count` packets, drawing from `rng`, into `tally`.
+// A uniform azimuth without trigonometry: a uniform point (a, b) of the unit disc gives
+// cos(phi) = (a^2 - b^2) / r^2, sin(phi) = 2ab / r^2 with phi = 2 atan2(b, a) uniform.
+void sample_azimuth(Rng& rng, double& cos_p, double& sin_p) {
+  double a, b, r2;
+  do {
+    a = 2.0 * rng.uniform() - 1.0;
+    b = 2.0 * rng.uniform() - 1.0;
+    r2 = a * a + b * b;
+  } while (r2 > 1.0 || r2 == 0.0);
+  cos_p = (a * a - b * b) / r2;
+  sin_p = 2.0 * a * b / r2;
+}
+
 void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double inv_dr,
-           Tally& tally) {
+           Source source, const ExitBins& exits, Tally& tally) {
   const std::size_t n_layers = slabs.size();
   const std::size_t bins = tally.S1.size();
   for (std::uint64_t p = 0; p < count; ++p) {
@@ -94,6 +135,18 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double
     double ux = 0, uy = 0, uz = 1;  // pencil beam at normal incidence (refraction-free)
     double w = 1;                   // per power that entered
     std::size_t li = 0;
+    if (source == Source::diffuse_bottom) {
+      // Lambertian emission upwards from the bottom boundary: mu = sqrt(u) has pdf 2 mu.
+      li = n_layers - 1;
+      z = slabs[li].z_bottom;
+      const double mu = std::sqrt(rng.uniform_open0());
+      const double sin_t = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+      double cos_p, sin_p;
+      sample_azimuth(rng, cos_p, sin_p);
+      ux = sin_t * cos_p;
+      uy = sin_t * sin_p;
+      uz = -mu;
+    }
     double tau_left = 0;  // unused optical depth carried across an interface
     for (;;) {
       const Slab& s = slabs[li];
@@ -123,6 +176,10 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double
         }
         if (down) {
           if (li + 1 == n_layers) {  // transmitted out of the bottom
+            if (exits.n) {
+              const std::size_t b = exits.bin(std::sqrt(x * x + y * y));
+              if (b < exits.n) tally.E_bottom[b] += w;
+            }
             tally.T1 += w;
             tally.T2 += w * w;
             break;
@@ -136,6 +193,10 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double
               const auto i = static_cast<std::size_t>(b);
               tally.S1[i] += w;
               tally.S2[i] += w * w;
+            }
+            if (exits.n) {
+              const std::size_t e = exits.bin(r);
+              if (e < exits.n) tally.E_top[e] += w;
             }
             tally.R1 += w;
             tally.R2 += w * w;
@@ -153,16 +214,8 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double
       w *= s.albedo;
       const double cos_t = hg_sample_cos(s.g, rng.uniform());
       const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
-      // Uniform azimuth without trigonometry: a uniform point (a, b) of the unit disc gives
-      // cos(phi) = (a^2 - b^2) / r^2, sin(phi) = 2ab / r^2 with phi = 2 atan2(b, a) uniform.
-      double a, b, r2;
-      do {
-        a = 2.0 * rng.uniform() - 1.0;
-        b = 2.0 * rng.uniform() - 1.0;
-        r2 = a * a + b * b;
-      } while (r2 > 1.0 || r2 == 0.0);
-      const double cos_p = (a * a - b * b) / r2;
-      const double sin_p = 2.0 * a * b / r2;
+      double cos_p, sin_p;
+      sample_azimuth(rng, cos_p, sin_p);
       if (std::abs(uz) > 0.99999) {
         ux = sin_t * cos_p;
         uy = sin_t * sin_p;
@@ -195,6 +248,15 @@ void validate(const Options& o) {
   require_positive("radius-max", o.r_max, "mm");
   if (o.bins < 1 || o.bins > 1000000)
     throw InputError("bins = " + std::to_string(o.bins) + " is out of range: must be in [1, 1e6]");
+  if (o.exit_bins == 1 || o.exit_bins > 1000000)
+    throw InputError("exit_bins = " + std::to_string(o.exit_bins) +
+                     " is out of range: must be 0 or in [2, 1e6]");
+  if (o.exit_bins) {
+    require_positive("exit_r_min", o.exit_r_min, "mm");
+    if (!(o.exit_r_max > o.exit_r_min))
+      throw InputError("exit_r_max = " + std::to_string(o.exit_r_max) +
+                       " is out of range: must be > exit_r_min");
+  }
 }
 
 void draw_progress(std::uint64_t done, std::uint64_t total, double seconds) {
@@ -213,7 +275,10 @@ void draw_progress(std::uint64_t done, std::uint64_t total, double seconds) {
 std::ostream& operator<<(std::ostream& os, const Options& o) {
   return os << "mc::Options{photons=" << o.photons << ", seed=" << o.seed
             << ", threads=" << o.threads << ", r_max=" << o.r_max << "mm, bins=" << o.bins
-            << ", progress=" << o.progress << '}';
+            << ", progress=" << o.progress << ", source="
+            << (o.source == Source::pencil ? "pencil" : "diffuse_bottom")
+            << ", exit_bins=" << o.exit_bins << " [" << o.exit_r_min << ", " << o.exit_r_max
+            << "]mm}";
 }
 
 std::ostream& operator<<(std::ostream& os, const Result& r) {
@@ -229,6 +294,8 @@ std::ostream& operator<<(std::ostream& os, const Result& r) {
 Result simulate(const LayerStack& stack, const Options& options) {
   stack.validate();
   validate(options);
+  if (options.source == Source::diffuse_bottom && stack.semi_infinite())
+    throw InputError("source = diffuse_bottom needs a finite last layer (it starts on its bottom)");
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<Slab> slabs = prepare(stack);
   const std::size_t bins = options.bins;
@@ -242,8 +309,12 @@ Result simulate(const LayerStack& stack, const Options& options) {
   // Batches run in rounds; within a round each batch fills its own tally, and the tallies are
   // then added in batch order, so the floating-point sums do not depend on the schedule.
   const std::uint64_t round = std::max<std::uint64_t>(64, 16 * static_cast<std::uint64_t>(threads));
-  std::vector<Tally> slots(static_cast<std::size_t>(std::min(round, n_batches)), Tally(bins));
-  Tally total(bins);
+  const ExitBins exits = options.exit_bins
+                             ? ExitBins(options.exit_bins, options.exit_r_min, options.exit_r_max)
+                             : ExitBins();
+  std::vector<Tally> slots(static_cast<std::size_t>(std::min(round, n_batches)),
+                           Tally(bins, exits.n));
+  Tally total(bins, exits.n);
   for (std::uint64_t first = 0; first < n_batches; first += round) {
     const std::uint64_t count = std::min(round, n_batches - first);
     arena.execute([&] {
@@ -256,7 +327,7 @@ Result simulate(const LayerStack& stack, const Options& options) {
                             Tally& t = slots[static_cast<std::size_t>(k)];
                             t.clear();
                             Rng rng(options.seed, b);
-                            trace(slabs, photons, rng, inv_dr, t);
+                            trace(slabs, photons, rng, inv_dr, options.source, exits, t);
                           }
                         });
     });
@@ -272,7 +343,8 @@ Result simulate(const LayerStack& stack, const Options& options) {
   Result r;
   const double eta0 = stack.layers.front().eta;
   const double q = (stack.eta_above - eta0) / (stack.eta_above + eta0);
-  r.R_specular = q * q;  // Fresnel at normal incidence
+  // Fresnel at normal incidence (no beam meets the top surface from outside for diffuse_bottom)
+  r.R_specular = options.source == Source::pencil ? q * q : 0.0;
   const double n = static_cast<double>(N);
   // Standard error of a mean of N per-photon contributions X: sqrt((E[X^2] - E[X]^2) / (N - 1)).
   auto se = [n](double s1, double s2) {
@@ -297,8 +369,32 @@ Result simulate(const LayerStack& stack, const Options& options) {
     r.R[i] = total.S1[i] / n / area;
     r.R_se[i] = se(total.S1[i], total.S2[i]) / area;
   }
+  if (exits.n) {
+    r.exit_r_edges = exits.edges();
+    r.top_exit.resize(exits.n);
+    r.bottom_exit.resize(exits.n);
+    for (std::size_t i = 0; i < exits.n; ++i) {
+      r.top_exit[i] = total.E_top[i] / n;
+      r.bottom_exit[i] = total.E_bottom[i] / n;
+    }
+  }
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return r;
+}
+
+double hankel_transform(const std::vector<double>& edges, const std::vector<double>& w, double k) {
+  double F = 0;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (w[i] == 0.0) continue;
+    const double a = edges[i], b = edges[i + 1];
+    if (k * b < 1e-3) {  // J0 ~ 1 - (k r)^2 / 4: annulus mean 1 - k^2 (a^2 + b^2) / 8
+      F += w[i] * (1.0 - k * k * (a * a + b * b) / 8.0);
+      continue;
+    }
+    const double Ja = a > 0 ? a * std::cyl_bessel_j(1.0, k * a) : 0.0;
+    F += w[i] * 2.0 * (b * std::cyl_bessel_j(1.0, k * b) - Ja) / (k * (b * b - a * a));
+  }
+  return F;
 }
 
 double hg_pdf_cos(double g, double mu) {

@@ -252,6 +252,77 @@ TEST(MonteCarloVsDiffusion, ThickHighAlbedoAgreesWithinAFewPercent) {
 
 // --- Input checking ------------------------------------------------------------------------
 
+// --- The diffuse source from below and the exit histograms (for TopLayerTable) -------------
+
+// Exponential integral E3(x) = int_1^inf e^{-x t} / t^3 dt, by Gauss-Legendre in u = 1 / t:
+// E3(x) = int_0^1 u e^{-x / u} du.
+double E3(double x) {
+  std::vector<double> u, w;
+  gauss_legendre_01(200, u, w);
+  double s = 0;
+  for (std::size_t i = 0; i < u.size(); ++i) s += w[i] * u[i] * std::exp(-x / u[i]);
+  return s;
+}
+
+TEST(MonteCarloDiffuseSource, NonScatteringSlabTransmitsTwoE3) {
+  // A Lambertian source under a purely absorbing, index-matched slab of optical depth tau: the
+  // light crossing it is int_0^1 2 mu e^{-tau / mu} dmu = 2 E3(tau); none comes back.
+  const double tau = 0.7;
+  auto o = opts(100000);
+  o.source = mc::Source::diffuse_bottom;
+  const auto r = mc::simulate(one_layer(tau, 1e-12, 1.0, 1.0, 0.0), o);
+  EXPECT_NEAR(r.R_d, 2 * E3(tau), 4 * r.R_d_se + 1e-6) << r;
+  EXPECT_NEAR(r.T_d, 0.0, 1e-9);
+  EXPECT_EQ(r.R_specular, 0.0);
+}
+
+TEST(MonteCarloDiffuseSource, NonAbsorbingSlabConservesEnergyAndTotalInternalReflection) {
+  // No absorption: everything leaves, up or down. With n = 1.4 under air and no scattering, the
+  // light beyond the critical angle (1 - 1/n^2 of a Lambertian source) is reflected back down.
+  auto o = opts(50000);
+  o.source = mc::Source::diffuse_bottom;
+  const auto a = mc::simulate(one_layer(0.0, 0.8, 0.5, 1.4, 0.9, 1.0, 1.4), o);
+  EXPECT_NEAR(a.R_d + a.T_d, 1.0, 1e-9) << a;
+  const auto b = mc::simulate(one_layer(0.0, 1e-12, 0.5, 1.4, 0.0, 1.0, 1.4), o);
+  EXPECT_GT(b.T_d, 1 - 1 / (1.4 * 1.4)) << b;  // plus the Fresnel share below the critical angle
+  EXPECT_LT(b.T_d, 1 - 1 / (1.4 * 1.4) + 0.1) << b;
+  // A diffuse source needs a bottom to start on.
+  EXPECT_THROW(mc::simulate(one_layer(0.1, 1, kInfinity, 1.4, 0.9), o), skin::InputError);
+}
+
+TEST(MonteCarloExitHistogram, SumsToTheTotalsAndHankelOfItIsTheTransform) {
+  auto o = opts(20000);
+  o.exit_bins = 300;
+  o.exit_r_min = 1e-3;
+  o.exit_r_max = 100;
+  const auto r = mc::simulate(one_layer(0.2, 1.0, 1.0, 1.4, 0.9), o);
+  ASSERT_EQ(r.exit_r_edges.size(), 301u);
+  EXPECT_EQ(r.exit_r_edges[0], 0.0);
+  EXPECT_NEAR(r.exit_r_edges[1], 1e-3, 1e-15);
+  EXPECT_NEAR(r.exit_r_edges[300], 100, 1e-9);
+  const double top = std::accumulate(r.top_exit.begin(), r.top_exit.end(), 0.0);
+  const double bottom = std::accumulate(r.bottom_exit.begin(), r.bottom_exit.end(), 0.0);
+  EXPECT_NEAR(top, r.R_d, 1e-3 * r.R_d);  // a few photons may leave beyond 100 mm
+  EXPECT_NEAR(bottom, r.T_d, 1e-3 * r.T_d);
+  EXPECT_NEAR(mc::hankel_transform(r.exit_r_edges, r.top_exit, 0.0), top, 1e-12);
+  // The transform decays with frequency and is below its value at k = 0.
+  EXPECT_LT(mc::hankel_transform(r.exit_r_edges, r.top_exit, 5.0), 0.5 * top);
+}
+
+TEST(MonteCarloExitHistogram, HankelTransformOfAUniformDiscIsExact) {
+  // Weight spread uniformly over a disc of radius a: F(k) = 2 J1(k a) / (k a). A histogram whose
+  // bins hold weights proportional to their areas is exactly that distribution.
+  const double a = 2.0;
+  std::vector<double> edges{0.0}, w;
+  for (int i = 1; i <= 50; ++i) edges.push_back(a * std::pow(i / 50.0, 1.5));
+  for (std::size_t i = 0; i + 1 < edges.size(); ++i)
+    w.push_back((edges[i + 1] * edges[i + 1] - edges[i] * edges[i]) / (a * a));
+  for (double k : {0.0, 1e-4, 0.3, 1.0, 7.0, 40.0}) {
+    const double exact = k == 0 ? 1.0 : 2 * std::cyl_bessel_j(1.0, k * a) / (k * a);
+    EXPECT_NEAR(mc::hankel_transform(edges, w, k), exact, 1e-9) << "k = " << k;
+  }
+}
+
 TEST(MonteCarloInput, RejectsBadOptionsAndStacks) {
   const auto s = one_layer(0.1, 1.0, kInfinity, 1.4, 0.9);
   auto o = opts(100);
@@ -271,6 +342,12 @@ TEST(MonteCarloInput, RejectsBadOptionsAndStacks) {
   EXPECT_THROW(mc::simulate(LayerStack{}, opts(100)), skin::InputError);
   EXPECT_THROW(mc::simulate(one_layer(-1, 1, 1, 1.4, 0.9), opts(100)), skin::InputError);
   EXPECT_THROW(mc::simulate(one_layer(0.1, 1, 1, 1.4, 1.0), opts(100)), skin::InputError);
+  o = opts(100);
+  o.exit_bins = 1;
+  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  o.exit_bins = 10;
+  o.exit_r_max = o.exit_r_min;
+  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
 }
 
 }  // namespace

@@ -19,6 +19,17 @@
 
 namespace skin::mc {
 
+// Where the photons start:
+// - pencil: a pencil beam at normal incidence on the top surface (MCML; results per power that
+//   entered, i.e. after the specular reflection);
+// - diffuse_bottom: a Lambertian point source on the bottom boundary of the last (finite) layer,
+//   radiating upwards into it (radiance uniform over the upward hemisphere, so the cosine of the
+//   direction is drawn with pdf 2 mu). Results per emitted power; R_d is then the power leaving
+//   through the top surface and T_d the power returning down through the bottom boundary. Used
+//   to tabulate a layer's transfer functions for diffuse light arriving from below
+//   (skin::accurate::TopLayerTable).
+enum class Source { pencil, diffuse_bottom };
+
 struct Options {
   std::uint64_t photons = 100000;  // photon packets entering the medium, >= 1
   std::uint64_t seed = 1;
@@ -26,6 +37,13 @@ struct Options {
   double r_max = 10.0;   // outer radius of the radial profile [mm], > 0
   std::size_t bins = 200;  // annular bins of width r_max / bins, >= 1
   bool progress = false;   // progress bar on stderr
+  Source source = Source::pencil;
+  // Exit-radius histograms of both surfaces on logarithmic bins (0 = none): bin 0 is
+  // [0, exit_r_min), then exit_bins - 1 bins evenly in log r up to exit_r_max [mm]; exits beyond
+  // exit_r_max are counted in the totals only. For transfer functions in the frequency domain
+  // (hankel_transform). Allowed: exit_bins 0 or >= 2, 0 < exit_r_min < exit_r_max.
+  std::size_t exit_bins = 0;
+  double exit_r_min = 1e-3, exit_r_max = 10.0;
 };
 std::ostream& operator<<(std::ostream& os, const Options& o);
 
@@ -41,10 +59,19 @@ struct Result {
   // R(r) per power that entered [1/mm^2] averaged over annuli [r_i, r_i + dr] (bin-centred
   // r_mm), and its standard error. Light escaping beyond r_max counts in R_d only.
   std::vector<double> r_mm, R, R_se;
+  // With Options::exit_bins: bin edges [mm] (exit_bins + 1) and the power leaving through the
+  // top and through the bottom surface in each bin (per power that entered / was emitted).
+  std::vector<double> exit_r_edges, top_exit, bottom_exit;
 };
 std::ostream& operator<<(std::ostream& os, const Result& r);
 
 // Validates the stack and the options (InputError naming the parameter), then runs.
 Result simulate(const LayerStack& stack, const Options& options);
+
+// The 2D Fourier (Hankel) transform F(k) = sum_i w_i J0(k r_i) of exits histogrammed on
+// `edges` (weights `w`, one per bin), each bin's weight spread uniformly over its annulus:
+// the annulus mean of J0 is 2 (b J1(k b) - a J1(k a)) / (k (b^2 - a^2)). F(0) = sum w. The error
+// against the exact per-photon sum is second order in the bin width (tested). k in rad/mm.
+double hankel_transform(const std::vector<double>& edges, const std::vector<double>& w, double k);
 
 }  // namespace skin::mc

@@ -1,0 +1,280 @@
+// Tabulated transport of a thin top layer (top_layer_table.hpp).
+#include "skin/accurate/top_layer_table.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+#include <ostream>
+#include <sstream>
+
+#include "skin/physics/error.hpp"
+#include "skin/physics/table.hpp"
+
+namespace skin::accurate {
+
+namespace {
+
+// Index i and weight t of v in the increasing nodes: v ~ (1 - t) nodes[i] + t nodes[i + 1],
+// clamped to the ends.
+std::pair<std::size_t, double> locate(const std::vector<double>& nodes, double v) {
+  if (v <= nodes.front()) return {0, 0.0};
+  if (v >= nodes.back()) return {nodes.size() - 2, 1.0};
+  const auto it = std::upper_bound(nodes.begin(), nodes.end(), v);
+  const std::size_t i = static_cast<std::size_t>(it - nodes.begin()) - 1;
+  return {i, (v - nodes[i]) / (nodes[i + 1] - nodes[i])};
+}
+
+void blend(std::vector<double>& out, const std::vector<double>& a, double w) {
+  if (out.empty()) out.assign(a.size(), 0.0);
+  for (std::size_t i = 0; i < a.size(); ++i) out[i] += w * a[i];
+}
+
+std::string join(const std::vector<double>& v) {
+  std::string s;
+  char buf[32];
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%s%.7g", i ? "," : "", v[i]);
+    s += buf;
+  }
+  return s;
+}
+
+std::vector<double> parse_list(std::string_view v, std::string_view source, std::string_view key) {
+  std::vector<double> out;
+  std::size_t start = 0;
+  while (start <= v.size()) {
+    std::size_t end = v.find(',', start);
+    if (end == std::string_view::npos) end = v.size();
+    std::string_view f = v.substr(start, end - start);
+    while (!f.empty() && f.front() == ' ') f.remove_prefix(1);
+    double d = 0;
+    const auto r = std::from_chars(f.data(), f.data() + f.size(), d);
+    if (r.ec != std::errc() || f.empty())
+      throw InputError(std::string(source) + ": '" + std::string(key) + "' has a value that is not a number");
+    out.push_back(d);
+    start = end + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+bool TopLayerTable::covers(double alpha_prime, double tau_prime) const {
+  return std::isfinite(alpha_prime) && alpha_prime >= 0 && alpha_prime <= 1 &&
+         tau_prime >= tau.front() && tau_prime <= tau.back();
+}
+
+TopLayerTable::Sample TopLayerTable::sample(double alpha_prime, double tau_prime) const {
+  const double xv = std::sqrt(std::max(0.0, 1.0 - alpha_prime));
+  const auto [ix, tx] = locate(x, xv);
+  // Linear in log tau.
+  std::vector<double> log_tau(tau.size());
+  for (std::size_t i = 0; i < tau.size(); ++i) log_tau[i] = std::log(tau[i]);
+  const auto [jt, ut] = locate(log_tau, std::log(tau_prime));
+  Sample s;
+  const std::size_t nx = x.size();
+  const std::pair<std::size_t, double> corners[4] = {
+      {jt * nx + ix, (1 - ut) * (1 - tx)},
+      {jt * nx + ix + 1, (1 - ut) * tx},
+      {(jt + 1) * nx + ix, ut * (1 - tx)},
+      {(jt + 1) * nx + ix + 1, ut * tx}};
+  for (const auto& [i, w] : corners) {
+    const Node& n = nodes[i];
+    s.R_e += w * n.R_e;
+    s.T_down += w * n.T_down;
+    s.T_up += w * n.T_up;
+    s.R_up += w * n.R_up;
+    blend(s.R_e_rho, n.R_e_rho, w);
+    blend(s.T_down_k, n.T_down_k, w);
+    blend(s.T_up_k, n.T_up_k, w);
+    blend(s.R_up_k, n.R_up_k, w);
+  }
+  return s;
+}
+
+double TopLayerTable::rho_centre(std::size_t i) const {
+  return i == 0 ? 0.5 * rho_edges[1] : std::sqrt(rho_edges[i] * rho_edges[i + 1]);
+}
+
+double TopLayerTable::R_e_at(const Sample& s, double rho) const {
+  const std::size_t n = s.R_e_rho.size();
+  if (rho <= rho_centre(0)) return s.R_e_rho[0];
+  if (rho >= rho_centre(n - 1)) return 0.0;
+  // Bin centres are evenly spaced in log rho from bin 1 on.
+  std::size_t i;
+  if (rho < rho_centre(1)) {
+    i = 0;
+  } else {
+    const double q = std::log(rho_edges[2] / rho_edges[1]);
+    i = 1 + static_cast<std::size_t>(std::log(rho / rho_centre(1)) / q);
+    i = std::min(i, n - 2);
+  }
+  const double a = std::log(rho_centre(i)), b = std::log(rho_centre(i + 1));
+  const double t = (std::log(rho) - a) / (b - a);
+  return (1 - t) * s.R_e_rho[i] + t * s.R_e_rho[i + 1];
+}
+
+double TopLayerTable::transform_at(const std::vector<double>& values, double k) const {
+  if (k >= kappa.back()) return 0.0;
+  // Nodes are kappa_0 sinh(u_i), u evenly spaced from 0.
+  const double du = std::asinh(kappa[1] / kappa_0);
+  const double u = std::asinh(k / kappa_0) / du;
+  const std::size_t i = std::min(static_cast<std::size_t>(u), kappa.size() - 2);
+  const double t = u - static_cast<double>(i);
+  return (1 - t) * values[i] + t * values[i + 1];
+}
+
+double TopLayerTable::R_e_integral(const Sample& s) const {
+  // Simpson in log rho over each interval between bin centres (the interpolant is linear in
+  // log rho there), plus the constant core disc.
+  const double c0 = rho_centre(0);
+  double total = s.R_e_rho[0] * std::numbers::pi * c0 * c0;
+  for (std::size_t i = 0; i + 1 < s.R_e_rho.size(); ++i) {
+    const double a = std::log(rho_centre(i)), b = std::log(rho_centre(i + 1));
+    constexpr int m = 8;  // even
+    const double h = (b - a) / m;
+    double sum = 0;
+    for (int j = 0; j <= m; ++j) {
+      const double l = a + j * h;
+      const double rho = std::exp(l);
+      const double t = static_cast<double>(j) / m;
+      const double f = ((1 - t) * s.R_e_rho[i] + t * s.R_e_rho[i + 1]) * rho * rho;  // dr = r dl
+      sum += (j == 0 || j == m ? 1.0 : (j % 2 ? 4.0 : 2.0)) * f;
+    }
+    total += 2.0 * std::numbers::pi * sum * h / 3.0;
+  }
+  return total;
+}
+
+std::string TopLayerTable::to_csv() const {
+  std::ostringstream os;
+  os << "# Spectral Skin: transport of a thin top layer (the epidermis) in reduced units,\n"
+        "# tabulated by this project's Monte Carlo solver (include/skin/accurate/top_layer_table.hpp\n"
+        "# defines every column; docs/accurate-solver.md sec. 3 describes the method).\n";
+  os << "# provenance: " << provenance << '\n';
+  os << "# g: " << g << "\n# eta: " << eta << "\n# eta_above: " << eta_above << '\n';
+  os << "# kappa_0: " << kappa_0 << '\n';
+  os << "# x: " << join(x) << "\n# tau: " << join(tau) << "\n# kappa: " << join(kappa)
+     << "\n# rho_edges: " << join(rho_edges) << '\n';
+  os << "x,tau,R_e,T_down,T_up,R_up";
+  for (std::size_t i = 0; i + 1 < rho_edges.size(); ++i) os << ",R_e_rho_" << i;
+  for (const char* name : {"T_down_k_", "T_up_k_", "R_up_k_"})
+    for (std::size_t i = 0; i < kappa.size(); ++i) os << ',' << name << i;
+  os << '\n';
+  char buf[32];
+  for (std::size_t j = 0; j < tau.size(); ++j)
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      const Node& n = nodes[j * x.size() + i];
+      os << join({x[i], tau[j], n.R_e, n.T_down, n.T_up, n.R_up});
+      for (const auto* v : {&n.R_e_rho, &n.T_down_k, &n.T_up_k, &n.R_up_k})
+        for (double d : *v) {
+          std::snprintf(buf, sizeof buf, ",%.5g", d);
+          os << buf;
+        }
+      os << '\n';
+    }
+  return os.str();
+}
+
+TopLayerTable TopLayerTable::parse(std::string_view text, std::string_view source) {
+  const std::string src(source);
+  std::map<std::string, std::string, std::less<>> meta;
+  for (std::size_t pos = 0; pos < text.size();) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(pos, end - pos);
+    pos = end + 1;
+    if (line.size() < 2 || line.front() != '#') continue;
+    line.remove_prefix(1);
+    const std::size_t colon = line.find(':');
+    if (colon == std::string_view::npos) continue;
+    std::string_view key = line.substr(0, colon), value = line.substr(colon + 1);
+    while (!key.empty() && key.front() == ' ') key.remove_prefix(1);
+    while (!value.empty() && value.front() == ' ') value.remove_prefix(1);
+    meta.emplace(std::string(key), std::string(value));
+  }
+  auto need = [&](const char* key) -> const std::string& {
+    const auto it = meta.find(key);
+    if (it == meta.end()) throw InputError(src + ": missing the '# " + key + ":' line");
+    return it->second;
+  };
+  auto scalar = [&](const char* key) {
+    const auto v = parse_list(need(key), src, key);
+    if (v.size() != 1) throw InputError(src + ": '" + key + "' must be one number");
+    return v[0];
+  };
+  TopLayerTable t;
+  t.provenance = meta.count("provenance") ? meta.at("provenance") : "";
+  t.g = scalar("g");
+  t.eta = scalar("eta");
+  t.eta_above = scalar("eta_above");
+  t.kappa_0 = scalar("kappa_0");
+  t.x = parse_list(need("x"), src, "x");
+  t.tau = parse_list(need("tau"), src, "tau");
+  t.kappa = parse_list(need("kappa"), src, "kappa");
+  t.rho_edges = parse_list(need("rho_edges"), src, "rho_edges");
+  auto increasing = [&](const std::vector<double>& v, const char* key, std::size_t min_size) {
+    if (v.size() < min_size) throw InputError(src + ": '" + key + "' has too few values");
+    for (std::size_t i = 1; i < v.size(); ++i)
+      if (!(v[i] > v[i - 1])) throw InputError(src + ": '" + key + "' must increase");
+  };
+  increasing(t.x, "x", 2);
+  increasing(t.tau, "tau", 2);
+  increasing(t.kappa, "kappa", 3);
+  increasing(t.rho_edges, "rho_edges", 4);
+  if (t.kappa.front() != 0.0 || t.rho_edges.front() != 0.0 || t.tau.front() <= 0 || t.x.front() < 0)
+    throw InputError(src + ": kappa and rho_edges must start at 0, tau and x be positive");
+  const Table data = parse_csv(text, src);
+  const std::size_t n_rho = t.rho_edges.size() - 1, n_k = t.kappa.size();
+  if (data.columns.size() != 6 + n_rho + 3 * n_k)
+    throw InputError(src + ": expected " + std::to_string(6 + n_rho + 3 * n_k) + " columns, found " +
+                     std::to_string(data.columns.size()));
+  if (data.rows() != t.x.size() * t.tau.size())
+    throw InputError(src + ": expected " + std::to_string(t.x.size() * t.tau.size()) +
+                     " rows (x times tau), found " + std::to_string(data.rows()));
+  t.nodes.resize(data.rows());
+  for (std::size_t r = 0; r < data.rows(); ++r) {
+    const std::size_t ix = r % t.x.size(), it = r / t.x.size();
+    if (std::abs(data.data[0][r] - t.x[ix]) > 1e-6 || std::abs(data.data[1][r] / t.tau[it] - 1) > 1e-6)
+      throw InputError(src + ": row " + std::to_string(r + 1) + " is not node (x, tau) = (" +
+                       format_number(t.x[ix]) + ", " + format_number(t.tau[it]) + ")");
+    Node& n = t.nodes[r];
+    n.R_e = data.data[2][r];
+    n.T_down = data.data[3][r];
+    n.T_up = data.data[4][r];
+    n.R_up = data.data[5][r];
+    std::size_t c = 6;
+    for (auto* v : {&n.R_e_rho}) {
+      v->resize(n_rho);
+      for (auto& d : *v) d = data.data[c++][r];
+    }
+    for (auto* v : {&n.T_down_k, &n.T_up_k, &n.R_up_k}) {
+      v->resize(n_k);
+      for (auto& d : *v) d = data.data[c++][r];
+    }
+    for (std::size_t col = 2; col < data.columns.size(); ++col)
+      if (!std::isfinite(data.data[col][r]))
+        throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[col] +
+                         " is not a finite number");
+  }
+  return t;
+}
+
+const TopLayerTable& TopLayerTable::builtin() {
+  static const TopLayerTable table =
+      parse(data::embedded("top_layer_transport.csv"), "top_layer_transport.csv");
+  return table;
+}
+
+std::ostream& operator<<(std::ostream& os, const TopLayerTable& t) {
+  return os << "TopLayerTable{g=" << t.g << ", eta=" << t.eta << ", eta_above=" << t.eta_above
+            << ", x=" << t.x.size() << " nodes [" << t.x.front() << ", " << t.x.back()
+            << "], tau=" << t.tau.size() << " nodes [" << t.tau.front() << ", " << t.tau.back()
+            << "], kappa=" << t.kappa.size() << " nodes up to " << t.kappa.back()
+            << ", rho bins=" << t.rho_edges.size() - 1 << '}';
+}
+
+}  // namespace skin::accurate
