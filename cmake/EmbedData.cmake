@@ -9,8 +9,10 @@ function(skin_embed_data target)
     get_filename_component(name ${f} NAME)
     string(MAKE_C_IDENTIFIER ${name} id)
     file(READ ${f} text)
-    string(APPEND body "static constexpr std::string_view ${id} = R\"SKINDATA(${text})SKINDATA\";\n")
-    string(APPEND entries "    std::pair<std::string_view, std::string_view>{\"${name}\", ${id}},\n")
+    # A char array, not a constexpr string_view: its length is known without a constexpr loop
+    # over the characters (which large files would exceed).
+    string(APPEND body "static constexpr char ${id}[] = R\"SKINDATA(${text})SKINDATA\";\n")
+    string(APPEND entries "    std::pair<std::string_view, std::string_view>{\"${name}\", std::string_view(${id}, sizeof(${id}) - 1)},\n")
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${f})
   endforeach()
   list(LENGTH ARGN n)

@@ -87,10 +87,22 @@ TopLayerTable::Sample TopLayerTable::sample(double alpha_prime, double tau_prime
     s.T_down += w * n.T_down;
     s.T_up += w * n.T_up;
     s.R_up += w * n.R_up;
-    blend(s.R_e_rho, n.R_e_rho, w);
     blend(s.T_down_k, n.T_down_k, w);
     blend(s.T_up_k, n.T_up_k, w);
     blend(s.R_up_k, n.R_up_k, w);
+  }
+  const std::size_t n_rho = nodes[0].R_e_centre.size();
+  s.R_e_centre.assign(n_rho, 0.0);
+  for (std::size_t b = 0; b < n_rho; ++b) {
+    bool positive = true;
+    double lin = 0, log_sum = 0;
+    for (const auto& [i, w] : corners) {
+      const double v = nodes[i].R_e_centre[b];
+      positive = positive && v > 0;
+      lin += w * v;
+      if (v > 0) log_sum += w * std::log(v);
+    }
+    s.R_e_centre[b] = positive ? std::exp(log_sum) : lin;
   }
   return s;
 }
@@ -99,9 +111,42 @@ double TopLayerTable::rho_centre(std::size_t i) const {
   return i == 0 ? 0.5 * rho_edges[1] : std::sqrt(rho_edges[i] * rho_edges[i + 1]);
 }
 
+namespace {
+// Between two centre values at reduced log-radius fraction t: log-linear where both are
+// positive, linear otherwise (zero or noise-level bins far out).
+double between(double a, double b, double t) {
+  return a > 0 && b > 0 ? a * std::pow(b / a, t) : (1 - t) * a + t * b;
+}
+}  // namespace
+
+void TopLayerTable::Node::derive_centre_values(const std::vector<double>& edges) {
+  const std::size_t n = R_e_rho.size();
+  R_e_centre = R_e_rho;
+  auto centre = [&](std::size_t i) {
+    return i == 0 ? 0.5 * edges[1] : std::sqrt(edges[i] * edges[i + 1]);
+  };
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const double lo = R_e_rho[i - 1], hi = R_e_rho[i + 1];
+    if (!(lo > 0 && hi > 0 && R_e_rho[i] > 0)) continue;
+    // Local model f = f_c exp(-beta (rho - c)); its annulus average over [a, b] relative to f_c
+    // is int_a^b e^{-beta (rho - c)} rho drho / ((b^2 - a^2) / 2) (Simpson, 8 intervals).
+    const double beta = -std::log(hi / lo) / (centre(i + 1) - centre(i - 1));
+    const double a = edges[i], b = edges[i + 1], c = centre(i);
+    constexpr int m = 8;
+    const double h = (b - a) / m;
+    double sum = 0;
+    for (int j = 0; j <= m; ++j) {
+      const double r = a + j * h;
+      sum += (j == 0 || j == m ? 1.0 : (j % 2 ? 4.0 : 2.0)) * std::exp(-beta * (r - c)) * r;
+    }
+    const double ratio = (sum * h / 3.0) / (0.5 * (b * b - a * a));
+    R_e_centre[i] = R_e_rho[i] / ratio;
+  }
+}
+
 double TopLayerTable::R_e_at(const Sample& s, double rho) const {
-  const std::size_t n = s.R_e_rho.size();
-  if (rho <= rho_centre(0)) return s.R_e_rho[0];
+  const std::size_t n = s.R_e_centre.size();
+  if (rho <= rho_centre(0)) return s.R_e_centre[0];
   if (rho >= rho_centre(n - 1)) return 0.0;
   // Bin centres are evenly spaced in log rho from bin 1 on.
   std::size_t i;
@@ -114,7 +159,7 @@ double TopLayerTable::R_e_at(const Sample& s, double rho) const {
   }
   const double a = std::log(rho_centre(i)), b = std::log(rho_centre(i + 1));
   const double t = (std::log(rho) - a) / (b - a);
-  return (1 - t) * s.R_e_rho[i] + t * s.R_e_rho[i + 1];
+  return between(s.R_e_centre[i], s.R_e_centre[i + 1], t);
 }
 
 double TopLayerTable::transform_at(const std::vector<double>& values, double k) const {
@@ -128,11 +173,11 @@ double TopLayerTable::transform_at(const std::vector<double>& values, double k) 
 }
 
 double TopLayerTable::R_e_integral(const Sample& s) const {
-  // Simpson in log rho over each interval between bin centres (the interpolant is linear in
-  // log rho there), plus the constant core disc.
+  // Simpson in log rho over each interval between bin centres (the interpolant of R_e_at), plus
+  // the constant core disc.
   const double c0 = rho_centre(0);
-  double total = s.R_e_rho[0] * std::numbers::pi * c0 * c0;
-  for (std::size_t i = 0; i + 1 < s.R_e_rho.size(); ++i) {
+  double total = s.R_e_centre[0] * std::numbers::pi * c0 * c0;
+  for (std::size_t i = 0; i + 1 < s.R_e_centre.size(); ++i) {
     const double a = std::log(rho_centre(i)), b = std::log(rho_centre(i + 1));
     constexpr int m = 8;  // even
     const double h = (b - a) / m;
@@ -141,7 +186,7 @@ double TopLayerTable::R_e_integral(const Sample& s) const {
       const double l = a + j * h;
       const double rho = std::exp(l);
       const double t = static_cast<double>(j) / m;
-      const double f = ((1 - t) * s.R_e_rho[i] + t * s.R_e_rho[i + 1]) * rho * rho;  // dr = r dl
+      const double f = between(s.R_e_centre[i], s.R_e_centre[i + 1], t) * rho * rho;  // dr = r dl
       sum += (j == 0 || j == m ? 1.0 : (j % 2 ? 4.0 : 2.0)) * f;
     }
     total += 2.0 * std::numbers::pi * sum * h / 3.0;
@@ -255,6 +300,7 @@ TopLayerTable TopLayerTable::parse(std::string_view text, std::string_view sourc
       v->resize(n_k);
       for (auto& d : *v) d = data.data[c++][r];
     }
+    n.derive_centre_values(t.rho_edges);
     for (std::size_t col = 2; col < data.columns.size(); ++col)
       if (!std::isfinite(data.data[col][r]))
         throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[col] +

@@ -5,6 +5,7 @@
 // check where it is known to be poor, so the tests can fail.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -157,69 +158,104 @@ TEST(Anisotropy, SolverFollowsMonteCarloForBothG) {
   }
 }
 
-// Profiles, as r-weighted L1 errors sum |model - MC| r / sum MC r of the annulus averages over
-// 0.1 - 5 mm (the model is averaged over each annulus like the Monte Carlo tally: 8 sub-radii,
-// area weights). Measured with 100 000 photons (docs/accurate-solver.md, section 3): 0.05-0.09
-// in light skin against 0.21-0.29 for the multipole; the dark epidermis' near field (< 0.3 mm)
-// is where diffusion's shape still fails. Bounds below leave room for 40 000-photon noise.
+// Profiles against the Monte Carlo annulus averages over 0.1 - 5 mm (200 annuli of 25 um; the
+// model is averaged over each annulus like the tally: 8 sub-radii, area weights). Two measures:
+// - pointwise: every annulus whose Monte Carlo estimate has a relative standard error below 5 %
+//   must be within 10 % + 3 standard errors (the goal);
+// - r-weighted L1 beyond the noise, sum max(0, |model - MC| - 2 SE) r / sum MC r, below 0.10
+//   (in dark skin the Monte Carlo tail beyond 0.3 mm is mostly noise, 10^-5 of the peak).
+// Measured with 10^6 photons at 400-700 nm (docs/accurate-solver.md, section 3): the accurate
+// solver's L1 is 0.01-0.06 with no annulus beyond 10 % + 3 SE; the multipole's L1 is 0.2-2.
 struct ProfileErrors {
-  double accurate = 0, multipole = 0;
+  double accurate = 0, multipole = 0;  // r-weighted L1 beyond the noise
+  int checked = 0, accurate_bad = 0, multipole_bad = 0;  // annuli, and those beyond 10 % + 3 SE
+  std::string worst;                                     // the accurate solver's worst annulus
 };
 
+// Photons: enough for ~8000 reflected (40 000 to 800 000; dark skin's photons are cheap, they
+// are absorbed within a few steps).
 ProfileErrors profile_errors(const char* name, double lambda) {
   const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
-  constexpr double r_max = 5.5;
-  constexpr std::size_t bins = 55;
+  const double R_d = skin::accurate::adding_doubling(st).R_d;
+  const auto photons = static_cast<std::uint64_t>(std::clamp(8000 / R_d, 4e4, 8e5));
+  constexpr double r_max = 5.0;
+  constexpr std::size_t bins = 200;
+  constexpr int sub = 8;
   const double dr = r_max / bins;
-  const auto mc = run_mc(st, 40000, 99, r_max, bins);
+  const auto mc = run_mc(st, photons, 99, r_max, bins);
   std::vector<double> radii;
   for (std::size_t b = 0; b < bins; ++b)
-    for (int s = 0; s < 8; ++s) radii.push_back((static_cast<double>(b) + (s + 0.5) / 8) * dr);
+    for (int s = 0; s < sub; ++s) radii.push_back((static_cast<double>(b) + (s + 0.5) / sub) * dr);
   skin::ProfileSolver solver(skin::RadialGrid::from(radii));
   const skin::accurate::AccurateStack acc(st);
   const skin::DiffusionStack mp(st);
   const auto Ra = solver.profile(acc);
   const auto Rm = solver.profile(mp);
-  double ea = 0, em = 0, norm = 0;
+  ProfileErrors e;
+  double norm = 0, worst = 0;
   for (std::size_t b = 0; b < bins; ++b) {
     if (mc.r_mm[b] < 0.1 || mc.r_mm[b] > 5.0) continue;
     double a = 0, m = 0, w = 0;
-    for (int s = 0; s < 8; ++s) {
-      const double r = radii[b * 8 + s];
-      a += Ra[b * 8 + s] * r;
-      m += Rm[b * 8 + s] * r;
+    for (int s = 0; s < sub; ++s) {
+      const double r = radii[b * sub + s];
+      a += Ra[b * sub + s] * r;
+      m += Rm[b * sub + s] * r;
       w += r;
     }
-    ea += std::abs(a / w - mc.R[b]) * mc.r_mm[b];
-    em += std::abs(m / w - mc.R[b]) * mc.r_mm[b];
+    a /= w;
+    m /= w;
+    e.accurate += std::max(0.0, std::abs(a - mc.R[b]) - 2 * mc.R_se[b]) * mc.r_mm[b];
+    e.multipole += std::max(0.0, std::abs(m - mc.R[b]) - 2 * mc.R_se[b]) * mc.r_mm[b];
     norm += mc.R[b] * mc.r_mm[b];
+    if (!(mc.R_se[b] < 0.05 * mc.R[b])) continue;
+    ++e.checked;
+    if (!within(a, mc.R[b], mc.R_se[b], 0.10)) ++e.accurate_bad;
+    if (!within(m, mc.R[b], mc.R_se[b], 0.10)) ++e.multipole_bad;
+    const double rel = std::abs(a / mc.R[b] - 1);
+    if (rel > worst) {
+      worst = rel;
+      e.worst = "r=" + std::to_string(mc.r_mm[b]) + " mm: model " + std::to_string(a) + ", MC " +
+                std::to_string(mc.R[b]) + " +- " + std::to_string(mc.R_se[b]);
+    }
   }
-  return {ea / norm, em / norm};
+  e.accurate /= norm;
+  e.multipole /= norm;
+  return e;
 }
 
 class PresetProfiles : public ::testing::TestWithParam<PresetCase> {};
 
-TEST_P(PresetProfiles, WithinTenPercentL1OfMonteCarloFrom0_1To5mm) {
+TEST_P(PresetProfiles, WithinTenPercentOfMonteCarloFrom0_1To5mm) {
   const auto [name, lambda] = GetParam();
   const auto e = profile_errors(name, lambda);
-  EXPECT_LT(e.accurate, 0.12) << name << " " << lambda << " nm: multipole " << e.multipole;
-  EXPECT_LT(e.accurate, 0.6 * e.multipole) << name << " " << lambda;
+  EXPECT_GT(e.checked, 0);
+  EXPECT_EQ(e.accurate_bad, 0) << name << " " << lambda << " nm: " << e.accurate_bad << " of "
+                               << e.checked << " annuli beyond 10 % + 3 SE; worst " << e.worst;
+  EXPECT_LT(e.accurate, 0.10) << name << " " << lambda << " nm: L1 " << e.accurate
+                              << " (multipole " << e.multipole << ")";
 }
 
 INSTANTIATE_TEST_SUITE_P(
     Presets, PresetProfiles,
     ::testing::Values(PresetCase{"caucasian", 450}, PresetCase{"caucasian", 550},
-                      PresetCase{"pale", 650}, PresetCase{"tanned", 450},
+                      PresetCase{"caucasian", 650}, PresetCase{"asian", 450},
+                      PresetCase{"asian", 550}, PresetCase{"asian", 650},
+                      PresetCase{"african", 450}, PresetCase{"african", 550},
+                      PresetCase{"african", 650}, PresetCase{"pale", 450},
+                      PresetCase{"pale", 550}, PresetCase{"pale", 650},
+                      PresetCase{"tanned", 450}, PresetCase{"tanned", 550},
                       PresetCase{"tanned", 650}),
     [](const auto& param_info) {
       return std::string(param_info.param.preset) + "_" + std::to_string(int(param_info.param.lambda));
     });
 
-TEST(PresetProfilesDark, CorrectionHelpsWhereDiffusionFails) {
-  for (const auto& [name, lambda] : {PresetCase{"asian", 550}, PresetCase{"african", 650}}) {
+// The same checks fail for the diffusion model (the paper's multipole), so they can fail.
+TEST(PresetProfilesMultipole, FailsTheSameChecks) {
+  for (const auto& [name, lambda] : {PresetCase{"caucasian", 550}, PresetCase{"asian", 550},
+                                     PresetCase{"african", 650}}) {
     const auto e = profile_errors(name, lambda);
-    EXPECT_LT(e.accurate, 0.5 * e.multipole) << name << " " << lambda;
-    EXPECT_LT(e.accurate, 0.8) << name << " " << lambda;  // the dark near field, section 3
+    EXPECT_GT(e.multipole_bad, 0) << name << " " << lambda;
+    EXPECT_GT(e.multipole, 0.15) << name << " " << lambda;
   }
 }
 

@@ -307,10 +307,15 @@ TEST(Input, TypesPrintThemselves) {
 // ---------------------------------------------------------------------------------------------
 // AccurateStack: the radial response.
 
+// The diffusion shape (used where the top layer is outside the built-in transport table: here
+// g = 0.8; the transport top layer is tested in top_layer_table_test.cpp).
 TEST(AccurateStack, TotalIsTheAddingDoublingTotalAndTheTransformStartsThere) {
   for (const char* name : {"caucasian", "african"}) {
-    const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, 550);
+    auto params = skin::find_preset(name).parameters;
+    params.g = 0.8;
+    const auto st = skin::skin_layer_stack(params, 550);
     const skin::accurate::AccurateStack acc(st);
+    ASSERT_FALSE(acc.transport_top());
     EXPECT_DOUBLE_EQ(acc.total(), adding_doubling(st).R_d);
     // R(k = 0) of the corrected response is the total, so the profile integrates to the
     // adding-doubling R_d exactly (no integration error at all).

@@ -23,6 +23,7 @@
 #include <iosfwd>
 #include <optional>
 
+#include "skin/accurate/top_layer_table.hpp"
 #include "skin/physics/layer.hpp"
 #include "skin/physics/profile_fwd.hpp"
 #include "skin/physics/diffusion.hpp"
@@ -51,16 +52,25 @@ std::ostream& operator<<(std::ostream& os, const Totals& t);
 // Validates the stack (LayerStack::validate) and the options (InputError naming the parameter).
 Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 
-// An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d.
-// The shape is diffusion's (multipole, DJ05) with two changes (docs/accurate-solver.md, sec. 3):
-// 1. light leaving through the top surface is the partial current of the diffuse radiance,
-//    R = C_phi phi + C_j j (fluence and flux, Kienle & Patterson 1997), with the extrapolation
-//    distance from the same exact Fresnel moments, A = (1 + 3 C2) / (1 - 2 C1), instead of the
-//    flux j alone: this fixes most of diffusion's error in the radial shape beyond ~0.3 mm;
-// 2. the totals are the adding-doubling ones, corrected per component:
-//    R(k) = c_top R_top(k) + c_deep (R_stack(k) - R_top(k)), R_top the top layer alone (over the
-//    index of what lies below it), c_top = R_top^AD / R_top(0), c_deep making R(0) the
-//    adding-doubling R_d. The singular part is c_top times the top layer's nearest image pair.
+// An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
+// the profile integrates to it exactly. Two shapes (docs/accurate-solver.md, sec. 3):
+// - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its
+//   index and the index above it are the table's, the layer below it has the same index, and
+//   its reduced optical thickness is in the table's range; skin with the default g and index
+//   always is): R(r) = c_top R_e(r) + inverse transform of
+//   c_deep T_down(k) R_below(k) T_up(k) / (1 - R_up(k) R_below(k)), where R_e, T_down, T_up and
+//   R_up are the top layer's Monte Carlo transport (R_e in space, the others in the frequency
+//   domain), R_below is the multipole of the layers below it (diffusion, accurate there: they
+//   are thick and bright), c_top = R_top^AD / int R_e (the adding-doubling reflectance of the
+//   top layer alone over its index) and c_deep makes R(0) the adding-doubling R_d;
+// - otherwise, diffusion (multipole, DJ05) with two changes:
+//   1. light leaving through the top surface is the partial current of the diffuse radiance,
+//      R = C_phi phi + C_j j (fluence and flux, Kienle & Patterson 1997), with the extrapolation
+//      distance from the same exact Fresnel moments, A = (1 + 3 C2) / (1 - 2 C1);
+//   2. the totals are the adding-doubling ones, corrected per component:
+//      R(k) = c_top R_top(k) + c_deep (R_stack(k) - R_top(k)), R_top the top layer alone (over
+//      the index of what lies below it), c_top = R_top^AD / R_top(0), c_deep making R(0) the
+//      adding-doubling R_d. The singular part is c_top times the top layer's nearest image pair.
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const LayerStack& stack, const Options& options = {});
@@ -73,7 +83,9 @@ class AccurateStack final : public RadialResponse {
   double T_d() const { return totals_.T_d; }
   double R_specular() const { return totals_.R_specular; }
   const Totals& totals() const { return totals_; }
-  // The correction factors (1 where the diffusion shape already has the transport total).
+  // True when the top layer's transport comes from the built-in TopLayerTable.
+  bool transport_top() const { return table_ != nullptr; }
+  // The correction factors (1 where the shape already has the transport total).
   double c_top() const { return c_top_; }
   double c_deep() const { return c_deep_; }
   // The uncorrected diffusion response with the partial-current top surface: total, and R(k).
@@ -83,7 +95,11 @@ class AccurateStack final : public RadialResponse {
  private:
   double top_dipole_k(double k) const;
   double diffusion_R_k_given_top(double k, double R_top) const;
+  double coupling_k(double k) const;  // transport top layer: the light from below it
   Totals totals_;
+  const TopLayerTable* table_ = nullptr;  // set when the transport top layer is used
+  TopLayerTable::Sample top_sample_;
+  double sigma_t_prime_ = 1;              // of the top layer [1/mm]
   DiffusionSlab top_, top_up_;        // top layer seen from above / from below
   double C_phi_ = 0.25, C_j_ = 0.5;   // partial-current coefficients of the top surface
   std::optional<DiffusionStack> rest_;  // the layers below the top one (none for one layer)

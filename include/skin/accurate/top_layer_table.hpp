@@ -17,7 +17,9 @@
 // - the totals of the four (kappa = 0).
 // Physical values: R_e(r) = sigma_t'^2 R_e(r sigma_t'), T(k) = T(k / sigma_t').
 // Interpolation: bilinear in x = sqrt(1 - alpha') (diffusion's sigma_tr / sigma_t' is sqrt(3) x)
-// and log tau'; linear in log rho for R_e and in asinh(kappa / kappa_0) for the transforms.
+// and log tau' (of log R_e, so that exponential tails with different decay rates blend into an
+// exponential tail, where the four values are positive); log R_e linear in log rho between bin
+// centres; linear in asinh(kappa / kappa_0) for the transforms.
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -39,13 +41,18 @@ struct TopLayerTable {
     double R_e = 0, T_down = 0, T_up = 0, R_up = 0;     // totals (kappa = 0)
     std::vector<double> R_e_rho;                       // per rho bin [per unit reduced area]
     std::vector<double> T_down_k, T_up_k, R_up_k;      // at the kappa nodes
+    // Derived (not stored): R_e at the bin centres. An annulus average exceeds the value at the
+    // centre where the profile is convex (by 10 % for a bin across which it falls five-fold);
+    // each average is divided by the average of a local exponential fitted to its neighbours.
+    std::vector<double> R_e_centre;
+    void derive_centre_values(const std::vector<double>& rho_edges);
   };
   std::vector<Node> nodes;  // nodes[i_tau * x.size() + i_x]
 
   // The interpolated functions of one layer (reduced units).
   struct Sample {
     double R_e = 0, T_down = 0, T_up = 0, R_up = 0;
-    std::vector<double> R_e_rho, T_down_k, T_up_k, R_up_k;
+    std::vector<double> R_e_centre, T_down_k, T_up_k, R_up_k;
   };
   // Within the table's (x, tau) range (alpha' is clamped to the x range: beyond its ends the
   // functions change by less than the Monte Carlo noise).
