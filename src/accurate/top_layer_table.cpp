@@ -5,6 +5,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <ostream>
@@ -16,6 +17,8 @@
 namespace skin::accurate {
 
 namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Index i and weight t of v in the increasing nodes: v ~ (1 - t) nodes[i] + t nodes[i + 1],
 // clamped to the ends.
@@ -93,6 +96,7 @@ TopLayerTable::Sample TopLayerTable::sample(double alpha_prime, double tau_prime
   }
   const std::size_t n_rho = nodes[0].R_e_centre.size();
   s.R_e_centre.assign(n_rho, 0.0);
+  s.log_R_e_centre.assign(n_rho, -kInf);
   for (std::size_t b = 0; b < n_rho; ++b) {
     bool positive = true;
     double lin = 0, log_sum = 0;
@@ -100,9 +104,15 @@ TopLayerTable::Sample TopLayerTable::sample(double alpha_prime, double tau_prime
       const double v = nodes[i].R_e_centre[b];
       positive = positive && v > 0;
       lin += w * v;
-      if (v > 0) log_sum += w * std::log(v);
+      log_sum += w * nodes[i].log_R_e_centre[b];
     }
-    s.R_e_centre[b] = positive ? std::exp(log_sum) : lin;
+    if (positive) {
+      s.R_e_centre[b] = std::exp(log_sum);
+      s.log_R_e_centre[b] = log_sum;
+    } else {
+      s.R_e_centre[b] = lin;
+      if (lin > 0) s.log_R_e_centre[b] = std::log(lin);
+    }
   }
   return s;
 }
@@ -112,10 +122,12 @@ double TopLayerTable::rho_centre(std::size_t i) const {
 }
 
 namespace {
-// Between two centre values at reduced log-radius fraction t: log-linear where both are
-// positive, linear otherwise (zero or noise-level bins far out).
-double between(double a, double b, double t) {
-  return a > 0 && b > 0 ? a * std::pow(b / a, t) : (1 - t) * a + t * b;
+// Between centre values i and i + 1 of a sample at log-radius fraction t: log-linear where both
+// are positive, linear otherwise (zero or noise-level bins far out).
+double between(const TopLayerTable::Sample& s, std::size_t i, double t) {
+  const double a = s.R_e_centre[i], b = s.R_e_centre[i + 1];
+  if (a > 0 && b > 0) return std::exp((1 - t) * s.log_R_e_centre[i] + t * s.log_R_e_centre[i + 1]);
+  return (1 - t) * a + t * b;
 }
 }  // namespace
 
@@ -142,6 +154,9 @@ void TopLayerTable::Node::derive_centre_values(const std::vector<double>& edges)
     const double ratio = (sum * h / 3.0) / (0.5 * (b * b - a * a));
     R_e_centre[i] = R_e_rho[i] / ratio;
   }
+  log_R_e_centre.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    log_R_e_centre[i] = R_e_centre[i] > 0 ? std::log(R_e_centre[i]) : -kInf;
 }
 
 double TopLayerTable::R_e_at(const Sample& s, double rho) const {
@@ -153,13 +168,13 @@ double TopLayerTable::R_e_at(const Sample& s, double rho) const {
   if (rho < rho_centre(1)) {
     i = 0;
   } else {
-    const double q = std::log(rho_edges[2] / rho_edges[1]);
-    i = 1 + static_cast<std::size_t>(std::log(rho / rho_centre(1)) / q);
+    const double q = log_rho_centre[2] - log_rho_centre[1];
+    i = 1 + static_cast<std::size_t>((std::log(rho) - log_rho_centre[1]) / q);
     i = std::min(i, n - 2);
   }
-  const double a = std::log(rho_centre(i)), b = std::log(rho_centre(i + 1));
+  const double a = log_rho_centre[i], b = log_rho_centre[i + 1];
   const double t = (std::log(rho) - a) / (b - a);
-  return between(s.R_e_centre[i], s.R_e_centre[i + 1], t);
+  return between(s, i, t);
 }
 
 double TopLayerTable::transform_at(const std::vector<double>& values, double k) const {
@@ -173,23 +188,32 @@ double TopLayerTable::transform_at(const std::vector<double>& values, double k) 
 }
 
 double TopLayerTable::R_e_integral(const Sample& s) const {
-  // Simpson in log rho over each interval between bin centres (the interpolant of R_e_at), plus
-  // the constant core disc.
-  const double c0 = rho_centre(0);
-  double total = s.R_e_centre[0] * std::numbers::pi * c0 * c0;
+  // 2 pi int R_e rho drho of the interpolant of R_e_at, in closed form: the constant core disc,
+  // then per interval between bin centres c0 < c1 either a power law R = a (rho / c0)^p (log-
+  // linear in log rho), whose integral is (b c1^2 - a c0^2) / (p + 2), or a linear function of
+  // log rho where a value is not positive (Simpson).
+  const double core = rho_centre(0);
+  double total = s.R_e_centre[0] * std::numbers::pi * core * core;
   for (std::size_t i = 0; i + 1 < s.R_e_centre.size(); ++i) {
-    const double a = std::log(rho_centre(i)), b = std::log(rho_centre(i + 1));
-    constexpr int m = 8;  // even
-    const double h = (b - a) / m;
-    double sum = 0;
-    for (int j = 0; j <= m; ++j) {
-      const double l = a + j * h;
-      const double rho = std::exp(l);
-      const double t = static_cast<double>(j) / m;
-      const double f = between(s.R_e_centre[i], s.R_e_centre[i + 1], t) * rho * rho;  // dr = r dl
-      sum += (j == 0 || j == m ? 1.0 : (j % 2 ? 4.0 : 2.0)) * f;
+    const double c0 = rho_centre(i), c1 = rho_centre(i + 1);
+    const double a = s.R_e_centre[i], b = s.R_e_centre[i + 1];
+    const double L = std::log(c1 / c0);
+    double part;
+    if (a > 0 && b > 0) {
+      const double q = s.log_R_e_centre[i + 1] - s.log_R_e_centre[i] + 2.0 * L;  // (p + 2) L
+      part = std::abs(q) < 1e-9 ? a * c0 * c0 * L : (b * c1 * c1 - a * c0 * c0) * L / q;
+    } else {
+      constexpr int m = 8;  // even
+      const double h = L / m;
+      double sum = 0;
+      for (int j = 0; j <= m; ++j) {
+        const double t = static_cast<double>(j) / m;
+        const double rho = c0 * std::exp(j * h);
+        sum += (j == 0 || j == m ? 1.0 : (j % 2 ? 4.0 : 2.0)) * ((1 - t) * a + t * b) * rho * rho;
+      }
+      part = sum * h / 3.0;
     }
-    total += 2.0 * std::numbers::pi * sum * h / 3.0;
+    total += 2.0 * std::numbers::pi * part;
   }
   return total;
 }
@@ -300,13 +324,19 @@ TopLayerTable TopLayerTable::parse(std::string_view text, std::string_view sourc
       v->resize(n_k);
       for (auto& d : *v) d = data.data[c++][r];
     }
-    n.derive_centre_values(t.rho_edges);
     for (std::size_t col = 2; col < data.columns.size(); ++col)
       if (!std::isfinite(data.data[col][r]))
         throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[col] +
                          " is not a finite number");
   }
+  t.derive();
   return t;
+}
+
+void TopLayerTable::derive() {
+  log_rho_centre.resize(rho_edges.size() - 1);
+  for (std::size_t i = 0; i < log_rho_centre.size(); ++i) log_rho_centre[i] = std::log(rho_centre(i));
+  for (Node& n : nodes) n.derive_centre_values(rho_edges);
 }
 
 const TopLayerTable& TopLayerTable::builtin() {

@@ -139,7 +139,6 @@ accurate::TopLayerTable tabulate_top_layer(const TabulateOptions& o) {
             w += down.top_exit[f];
         n.R_e_rho.push_back(w / (std::numbers::pi * (b * b - a * a)));
       }
-      n.derive_centre_values(t.rho_edges);
       for (double k : t.kappa) {
         n.T_down_k.push_back(k == 0 ? down.T_d : hankel_transform(fine_edges, down.bottom_exit, k));
         n.T_up_k.push_back(k == 0 ? up.R_d : hankel_transform(fine_edges, up.top_exit, k));
@@ -149,6 +148,7 @@ accurate::TopLayerTable tabulate_top_layer(const TabulateOptions& o) {
       if (o.on_node) o.on_node(node + 1, total);
     }
   }
+  t.derive();
   return t;
 }
 

@@ -45,14 +45,19 @@ struct TopLayerTable {
     // centre where the profile is convex (by 10 % for a bin across which it falls five-fold);
     // each average is divided by the average of a local exponential fitted to its neighbours.
     std::vector<double> R_e_centre;
+    std::vector<double> log_R_e_centre;  // log of it, -inf where it is not positive
     void derive_centre_values(const std::vector<double>& rho_edges);
   };
   std::vector<Node> nodes;  // nodes[i_tau * x.size() + i_x]
+  // Derived from the above by derive() (parse() calls it): log of the R_e bin centres, and each
+  // node's R_e_centre and log_R_e_centre.
+  std::vector<double> log_rho_centre;
+  void derive();
 
   // The interpolated functions of one layer (reduced units).
   struct Sample {
     double R_e = 0, T_down = 0, T_up = 0, R_up = 0;
-    std::vector<double> R_e_centre, T_down_k, T_up_k, R_up_k;
+    std::vector<double> R_e_centre, log_R_e_centre, T_down_k, T_up_k, R_up_k;
   };
   // Within the table's (x, tau) range (alpha' is clamped to the x range: beyond its ends the
   // functions change by less than the Monte Carlo noise).
