@@ -94,24 +94,30 @@ TopLayerTable::Sample TopLayerTable::sample(double alpha_prime, double tau_prime
     blend(s.T_up_k, n.T_up_k, w);
     blend(s.R_up_k, n.R_up_k, w);
   }
+  // R_e: the shapes (profiles per unit total) are blended, geometrically where all four are
+  // positive, and scaled by the blended total. (Near the dark end the totals of neighbouring
+  // nodes differ up to three-fold; blending the raw profiles geometrically would lose 13 % of
+  // the total between nodes.)
   const std::size_t n_rho = nodes[0].R_e_centre.size();
   s.R_e_centre.assign(n_rho, 0.0);
   s.log_R_e_centre.assign(n_rho, -kInf);
+  const double log_total = s.R_e > 0 ? std::log(s.R_e) : -kInf;
   for (std::size_t b = 0; b < n_rho; ++b) {
     bool positive = true;
     double lin = 0, log_sum = 0;
     for (const auto& [i, w] : corners) {
-      const double v = nodes[i].R_e_centre[b];
-      positive = positive && v > 0;
-      lin += w * v;
-      log_sum += w * nodes[i].log_R_e_centre[b];
+      const Node& n = nodes[i];
+      const double v = n.R_e_centre[b];
+      positive = positive && v > 0 && n.R_e > 0;
+      if (n.R_e > 0) lin += w * v / n.R_e;
+      if (positive) log_sum += w * (n.log_R_e_centre[b] - std::log(n.R_e));
     }
-    if (positive) {
-      s.R_e_centre[b] = std::exp(log_sum);
-      s.log_R_e_centre[b] = log_sum;
+    if (positive && s.R_e > 0) {
+      s.log_R_e_centre[b] = log_sum + log_total;
+      s.R_e_centre[b] = std::exp(s.log_R_e_centre[b]);
     } else {
-      s.R_e_centre[b] = lin;
-      if (lin > 0) s.log_R_e_centre[b] = std::log(lin);
+      s.R_e_centre[b] = lin * s.R_e;
+      if (s.R_e_centre[b] > 0) s.log_R_e_centre[b] = std::log(s.R_e_centre[b]);
     }
   }
   return s;

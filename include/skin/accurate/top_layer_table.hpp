@@ -17,9 +17,9 @@
 // - the totals of the four (kappa = 0).
 // Physical values: R_e(r) = sigma_t'^2 R_e(r sigma_t'), T(k) = T(k / sigma_t').
 // Interpolation: bilinear in x = sqrt(1 - alpha') (diffusion's sigma_tr / sigma_t' is sqrt(3) x)
-// and log tau' (of log R_e, so that exponential tails with different decay rates blend into an
-// exponential tail, where the four values are positive); log R_e linear in log rho between bin
-// centres; linear in asinh(kappa / kappa_0) for the transforms.
+// and log tau' (for R_e: of the log of its shape, R_e(rho) / R_e, so that exponential tails with
+// different decay rates blend into an exponential tail, times the blended total); log R_e linear
+// in log rho between bin centres; linear in asinh(kappa / kappa_0) for the transforms.
 #include <iosfwd>
 #include <string>
 #include <string_view>
