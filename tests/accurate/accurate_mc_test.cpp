@@ -119,6 +119,19 @@ std::vector<GenericCase> generic_cases() {
   step_half.layers = {Layer{0.373415, 0.933955, 0.447847, 1.31763, 0.5},
                       Layer{0.0190289, 2.42362, skin::kInfinity, 1.09022, 0.5}};
   c.push_back({"index_step_over_half_space", step_half});
+  // Random stacks with index steps between every layer (docs/accurate-solver.md sec. 4; the
+  // automatic quadrature uses 16 points per panel for them).
+  LayerStack r3;
+  r3.layers = {Layer{0.3761, 0.6239, 0.1031, 1.2511, 0.9}, Layer{0.0073, 0.9927, 0.2425, 1.4988, 0.9},
+               Layer{0.6417, 0.3583, 0.5708, 1.2411, 0.9}};
+  r3.eta_above = 1.2255;
+  r3.eta_below = 1.0250;
+  c.push_back({"random_three_index_steps", r3});
+  LayerStack r2;
+  r2.layers = {Layer{0.6108, 0.3892, 0.4975, 1.1546, 0.9}, Layer{0.1925, 0.8075, 0.2665, 1.4715, 0.5}};
+  r2.eta_above = 1.0885;
+  r2.eta_below = 1.3383;
+  c.push_back({"random_dark_low_index_over_bright", r2});
   return c;
 }
 
