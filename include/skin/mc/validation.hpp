@@ -61,6 +61,15 @@ struct CaseResult {
   // relative standard error is below 5 %, and the radius of that bin [mm] (NaN, NaN when no bin
   // qualifies).
   std::pair<double, double> max_profile_error(std::size_t solver, double r_min = 0.0) const;
+  // The profile check: over the bins with centre in [r_lo, r_hi] [mm] whose Monte Carlo
+  // relative standard error is below 5 %, how many there are, how many are off by more than
+  // `rel` + 3 standard errors, and the largest excess (|R / mc.R - 1| - 3 SE / mc.R) with its
+  // radius.
+  struct ProfileCheck {
+    int checked = 0, beyond = 0;
+    double worst = 0, worst_r = 0;
+  };
+  ProfileCheck check_profile(std::size_t solver, double r_lo, double r_hi, double rel) const;
   // Transport mean free path 1 / sigma_t' of the top layer [mm].
   double top_mfp() const;
 };
