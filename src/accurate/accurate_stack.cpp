@@ -122,10 +122,10 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     c_top_ = R_e > 0 ? R_top_ad / R_e : 1.0;
     const double deep_ad = totals_.R_d - R_top_ad;
     // The light from below is the adding-doubling share of the total when that share is resolved
-    // (the two adding-doubling totals differ by more than their ~1e-5 relative accuracy). In
-    // the darkest skin, blue light (african, 400-450 nm), almost nothing comes back from the
-    // dermis: the share is lost in the round-off of the totals, and the transport coupling is
-    // kept as it is (its epidermis is Monte Carlo transport; c_deep is 0.85-1.3 where resolved).
+    // (more than 0.1 % of the total). In the darkest skin (african, below 650 nm) almost
+    // nothing comes back from the dermis and the share is not resolved by the difference of two
+    // totals: the transport coupling is kept as it is (its epidermis is Monte Carlo transport;
+    // c_deep is 0.95-1.3 where resolved).
     if (rest_ && deep > 0 && deep_ad > 1e-3 * totals_.R_d && deep_ad > 0.1 * deep) {
       c_deep_ = deep_ad / deep;
     } else {

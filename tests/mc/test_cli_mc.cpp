@@ -9,8 +9,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+
+#include "skin/accurate/top_layer_table.hpp"
 
 namespace {
 
@@ -93,6 +96,35 @@ TEST(CliValidate, RejectsBadInputBeforeWork) {
   EXPECT_EQ(run_skin("validate --out " + dir.string() + " --wavelength 5").status, 2);
   EXPECT_FALSE(std::filesystem::exists(dir / "README.md"));
   std::filesystem::remove_all(dir);
+}
+
+TEST(CliTabulate, SmallTableParsesBackAndBadInputLeavesNoFile) {
+  const auto out = std::filesystem::temp_directory_path() / "skin_tabulate_cli_test.csv";
+  std::filesystem::remove(out);
+  EXPECT_EQ(run_skin("tabulate-top-layer").status, 2);  // -o is required
+  EXPECT_EQ(run_skin("tabulate-top-layer --x 0.5,0.1 --tau 1,2 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("tabulate-top-layer --x 0.1,1.5 --tau 1,2 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("tabulate-top-layer --x 0.1,0.5 --tau 0,2 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("tabulate-top-layer --g 1 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("tabulate-top-layer --min-photons 10 --max-photons 5 -o " + out.string()).status, 2);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // Two by two nodes, few photons: a table the library reads back, whose totals conserve energy.
+  const auto r = run_skin("tabulate-top-layer --x 0.1,0.5 --tau 1,2 --min-photons 2000 "
+                          "--max-photons 4000 -o " + out.string());
+  ASSERT_EQ(r.status, 0) << r.out;
+  EXPECT_NE(r.out.find("TopLayerTable{g=0.9"), std::string::npos) << r.out;
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("# x: 0.1,0.5"), std::string::npos);
+  EXPECT_NE(text.find("# tau: 1,2"), std::string::npos);
+  const auto t = skin::accurate::TopLayerTable::parse(text, out.string());
+  ASSERT_EQ(t.nodes.size(), 4u);
+  for (const auto& n : t.nodes) {
+    EXPECT_GT(n.R_e, 0);
+    EXPECT_LE(n.R_e + n.T_down, 1 + 1e-9);
+    EXPECT_LE(n.T_up + n.R_up, 1 + 1e-9);
+  }
+  std::filesystem::remove(out);
 }
 
 }  // namespace
