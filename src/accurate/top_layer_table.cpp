@@ -188,9 +188,17 @@ double TopLayerTable::transform_at(const std::vector<double>& values, double k) 
   // Nodes are kappa_0 sinh(u_i), u evenly spaced from 0.
   const double du = std::asinh(kappa[1] / kappa_0);
   const double u = std::asinh(k / kappa_0) / du;
-  const std::size_t i = std::min(static_cast<std::size_t>(u), kappa.size() - 2);
+  const std::size_t n = kappa.size();
+  const std::size_t i = std::min(static_cast<std::size_t>(u), n - 2);
   const double t = u - static_cast<double>(i);
-  return (1 - t) * values[i] + t * values[i + 1];
+  // Catmull-Rom (C1) in u. A transform of a radial function is even in kappa and smooth at 0;
+  // u is odd in kappa, so the node before the first is its mirror image (values[1] at u = -1).
+  // (Linear interpolation in u would put a |kappa| kink at 0, which the inverse transform turns
+  // into a spurious 1/r^3 tail far from the source.)
+  const double p0 = i == 0 ? values[1] : values[i - 1];
+  const double p1 = values[i], p2 = values[i + 1];
+  const double p3 = i + 2 < n ? values[i + 2] : 2.0 * p2 - p1;
+  return p1 + 0.5 * t * (p2 - p0 + t * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + t * (3.0 * (p1 - p2) + p3 - p0)));
 }
 
 double TopLayerTable::R_e_integral(const Sample& s) const {

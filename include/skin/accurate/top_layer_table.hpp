@@ -19,7 +19,8 @@
 // Interpolation: bilinear in x = sqrt(1 - alpha') (diffusion's sigma_tr / sigma_t' is sqrt(3) x)
 // and log tau' (for R_e: of the log of its shape, R_e(rho) / R_e, so that exponential tails with
 // different decay rates blend into an exponential tail, times the blended total); log R_e linear
-// in log rho between bin centres; linear in asinh(kappa / kappa_0) for the transforms.
+// in log rho between bin centres; Catmull-Rom in asinh(kappa / kappa_0) for the transforms (even
+// in kappa, smooth at 0).
 #include <iosfwd>
 #include <string>
 #include <string_view>
