@@ -160,6 +160,32 @@ void TopLayerTable::Node::derive_centre_values(const std::vector<double>& edges)
     const double ratio = (sum * h / 3.0) / (0.5 * (b * b - a * a));
     R_e_centre[i] = R_e_rho[i] / ratio;
   }
+  // Near the entry point (rho < kCore) the bins are small and hold few photons: their values
+  // are replaced by a power law C rho^p, p fitted to them (least squares in log-log, weighted by
+  // each bin's weight, clamped to [-1.9, 0]: integrable, not rising outwards), C keeping the
+  // weight they hold together. Single and low-order scattering make R_e ~ 1/rho there.
+  constexpr double kCore = 0.1;
+  std::size_t m = 0;
+  while (m < n && edges[m + 1] <= kCore * (1 + 1e-9)) ++m;
+  double mass = 0, sw = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < m; ++i) {
+    const double w = R_e_rho[i] * (edges[i + 1] * edges[i + 1] - edges[i] * edges[i]);
+    mass += w;
+    if (i == 0 || !(R_e_rho[i] > 0)) continue;
+    const double x = std::log(centre(i)), y = std::log(R_e_rho[i]);
+    sw += w;
+    sx += w * x;
+    sy += w * y;
+    sxx += w * x * x;
+    sxy += w * x * y;
+  }
+  if (m > 2 && mass > 0 && sw > 0) {
+    const double den = sw * sxx - sx * sx;
+    const double p = std::clamp(den > 0 ? (sw * sxy - sx * sy) / den : -1.0, -1.9, 0.0);
+    // pi sum(avg (b^2 - a^2)) = int_0^edge C rho^p 2 pi rho drho = 2 pi C edge^(p+2) / (p + 2).
+    const double C = mass * (p + 2.0) / (2.0 * std::pow(edges[m], p + 2.0));
+    for (std::size_t i = 0; i < m; ++i) R_e_centre[i] = C * std::pow(centre(i), p);
+  }
   log_R_e_centre.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     log_R_e_centre[i] = R_e_centre[i] > 0 ? std::log(R_e_centre[i]) : -kInf;
