@@ -74,20 +74,22 @@ double partial_current_k(const DiffusionSlab& sl, double z_s, double C_phi, doub
   return C_phi * phi + C_j * j;
 }
 
-// The built-in table when it describes the top layer of `stack`, else null.
+// The built-in table when it describes the top layer of `stack` (its g, its index, the index
+// above it and, for a finite layer, a matched index below and a thickness in range), else null.
 const TopLayerTable* table_for(const LayerStack& stack) {
   const Layer& l0 = stack.layers.front();
-  if (l0.semi_infinite()) return nullptr;
-  const double n_below = stack.layers.size() > 1 ? stack.layers[1].eta : stack.eta_below;
   const TopLayerTable& t = TopLayerTable::builtin();
   const double sigma_t_prime = l0.sigma_a + l0.sigma_s_prime;
-  const bool same = std::abs(l0.g - t.g) < 1e-9 && std::abs(l0.eta - t.eta) < 1e-9 &&
-                    std::abs(stack.eta_above - t.eta_above) < 1e-9 &&
-                    std::abs(n_below - l0.eta) < 1e-9;
-  return same && t.covers(l0.sigma_s_prime / sigma_t_prime, l0.thickness * sigma_t_prime) ? &t
-                                                                                            : nullptr;
+  const bool same_geometry = std::abs(l0.g - t.g) < 1e-9 && std::abs(l0.eta - t.eta) < 1e-9 &&
+                             std::abs(stack.eta_above - t.eta_above) < 1e-9;
+  if (!same_geometry) return nullptr;
+  if (l0.semi_infinite()) return &t;  // split at the table's thickest layer (constructor)
+  const double n_below = stack.layers.size() > 1 ? stack.layers[1].eta : stack.eta_below;
+  return std::abs(n_below - l0.eta) < 1e-9 &&
+                 t.covers(l0.sigma_s_prime / sigma_t_prime, l0.thickness * sigma_t_prime)
+             ? &t
+             : nullptr;
 }
-
 }  // namespace
 
 AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
@@ -115,8 +117,20 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
   if ((table_ = table_for(stack))) {
     // Transport top layer (accurate.hpp): R_e in space, the light from below in k.
     sigma_t_prime_ = l0.sigma_a + l0.sigma_s_prime;
-    top_sample_ = table_->sample(l0.sigma_s_prime / sigma_t_prime_, l0.thickness * sigma_t_prime_);
-    const double R_top_ad = rest_ ? adding_doubling(top_layer(stack), options).R_d : totals_.R_d;
+    LayerStack top = top_layer(stack);
+    if (l0.semi_infinite()) {
+      // A half-space is split at the table's thickest layer (32 transport mean free paths): the
+      // transport slab on top, the same medium below it by diffusion (accurate that deep).
+      top.layers.front().thickness = table_->tau.back() / sigma_t_prime_;
+      top.eta_below = l0.eta;
+      LayerStack rest;
+      rest.layers = {l0};
+      rest.eta_above = l0.eta;
+      rest_.emplace(rest);
+    }
+    const double tau_prime = top.layers.front().thickness * sigma_t_prime_;
+    top_sample_ = table_->sample(l0.sigma_s_prime / sigma_t_prime_, tau_prime);
+    const double R_top_ad = rest_ ? adding_doubling(top, options).R_d : totals_.R_d;
     const double R_e = table_->R_e_integral(top_sample_);
     const double deep = coupling_k(0.0);
     c_top_ = R_e > 0 ? R_top_ad / R_e : 1.0;

@@ -262,6 +262,40 @@ INSTANTIATE_TEST_SUITE_P(
       return std::string(param_info.param.preset) + "_" + std::to_string(int(param_info.param.lambda));
     });
 
+// Half-spaces of skin's index and g under air (the transport table, split at 32 transport mean
+// free paths): the same pointwise check, over 0.1-5 transport mean free paths (sigma_t' = 1/mm).
+TEST(HalfSpaceProfiles, WithinTenPercentOfMonteCarlo) {
+  for (double alpha : {0.5, 0.9, 0.99}) {
+    LayerStack s;
+    s.layers = {Layer{1 - alpha, alpha, skin::kInfinity, 1.4, 0.9}};
+    constexpr std::size_t bins = 100;
+    constexpr int sub = 8;
+    const double dr = 5.0 / bins;
+    const auto mc = run_mc(s, alpha < 0.9 ? 400000 : 100000, 5, 5.0, bins);  // dark: cheap photons
+    std::vector<double> radii;
+    for (std::size_t b = 0; b < bins; ++b)
+      for (int k = 0; k < sub; ++k) radii.push_back((static_cast<double>(b) + (k + 0.5) / sub) * dr);
+    skin::ProfileSolver solver(skin::RadialGrid::from(radii));
+    const skin::accurate::AccurateStack acc(s);
+    ASSERT_TRUE(acc.transport_top());
+    const auto R = solver.profile(acc);
+    int checked = 0;
+    for (std::size_t b = 0; b < bins; ++b) {
+      if (mc.r_mm[b] < 0.1 || !(mc.R_se[b] < 0.05 * mc.R[b])) continue;
+      double m = 0, w = 0;
+      for (int k = 0; k < sub; ++k) {
+        m += R[b * sub + k] * radii[b * sub + k];
+        w += radii[b * sub + k];
+      }
+      ++checked;
+      EXPECT_TRUE(within(m / w, mc.R[b], mc.R_se[b], 0.10))
+          << "alpha'=" << alpha << " r=" << mc.r_mm[b] << ": model " << m / w << ", MC " << mc.R[b]
+          << " +- " << mc.R_se[b];
+    }
+    EXPECT_GT(checked, 3) << alpha;
+  }
+}
+
 // The same checks fail for the diffusion model (the paper's multipole), so they can fail.
 TEST(PresetProfilesMultipole, FailsTheSameChecks) {
   for (const auto& [name, lambda] : {PresetCase{"caucasian", 550}, PresetCase{"asian", 550},

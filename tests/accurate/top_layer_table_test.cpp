@@ -129,6 +129,26 @@ TEST(TransportTop, CoversThePresetsAndFallsBackOutsideTheTable) {
   EXPECT_FALSE(skin::accurate::AccurateStack(skin::skin_layer_stack(params, 550)).transport_top());
 }
 
+// A half-space of the table's geometry is split at the table's thickest layer: transport above,
+// the same medium by diffusion below; its profile integrates to the adding-doubling total.
+TEST(TransportTop, HalfSpaceIsSplitAtTheThickestLayer) {
+  for (double alpha : {0.5, 0.95, 0.999}) {
+    LayerStack s;
+    s.layers = {Layer{1 - alpha, alpha, skin::kInfinity, 1.4, 0.9}};
+    const skin::accurate::AccurateStack acc(s);
+    ASSERT_TRUE(acc.transport_top()) << alpha;
+    const int m = 4000;
+    const double a = std::log(1e-6), b = std::log(400.0), h = (b - a) / m;
+    double sum = 0;
+    for (int i = 0; i <= m; ++i) {
+      const double r = std::exp(a + i * h);
+      sum += (i == 0 || i == m ? 1 : (i % 2 ? 4 : 2)) * acc.singular(r) * r * r;
+    }
+    const double total = 2 * std::numbers::pi * sum * h / 3 + acc.residual_k(0);
+    EXPECT_NEAR(total / acc.total(), 1.0, 2e-3) << alpha << " " << acc;
+  }
+}
+
 // The profile integrates exactly to the adding-doubling total: the space part's integral plus the
 // transform of the rest at k = 0.
 TEST(TransportTop, TotalIsTheAddingDoublingTotal) {

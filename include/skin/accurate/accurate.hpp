@@ -61,9 +61,10 @@ Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
 // the profile integrates to it exactly. Two shapes (docs/accurate-solver.md, sec. 3):
 // - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its
-//   index and the index above it are the table's, the layer below it has the same index, and
-//   its reduced optical thickness is in the table's range; skin with the default g and index
-//   always is): R(r) = c_top R_e(r) + inverse transform of
+//   index and the index above it are the table's, and it is either finite with the same index
+//   below it and a reduced optical thickness in the table's range, or a half-space, which is
+//   split at the table's thickest layer over the same medium by diffusion; skin with the default
+//   g and index always is): R(r) = c_top R_e(r) + inverse transform of
 //   c_deep T_down(k) R_below(k) T_up(k) / (1 - R_up(k) R_below(k)), where R_e, T_down, T_up and
 //   R_up are the top layer's Monte Carlo transport (R_e in space, the others in the frequency
 //   domain), R_below is the multipole of the layers below it (diffusion, accurate there: they
