@@ -16,10 +16,11 @@
 // (divided by 1 - R_specular). T_d includes light transmitted without scattering.
 //
 // AccurateStack: a radial response (for skin::ProfileSolver) whose total is the adding-doubling
-// R_d and whose shape comes from the multipole model with a partial-current top surface,
-// corrected per component (the top layer's own reflectance, and the light that came back from
-// below it) so that each component's total is the adding-doubling one. Units: mm, 1/mm, k in
-// rad/mm.
+// R_d; its shape comes from Monte Carlo transport of the top layer (TopLayerTable) coupled in the
+// frequency domain to diffusion below it, or, outside the table, from the multipole model with a
+// partial-current top surface; either way corrected per component (the top layer's own
+// reflectance, and the light that came back from below it) so that each component's total is
+// the adding-doubling one. Units: mm, 1/mm, k in rad/mm.
 #include <iosfwd>
 #include <optional>
 
