@@ -74,21 +74,41 @@ double partial_current_k(const DiffusionSlab& sl, double z_s, double C_phi, doub
   return C_phi * phi + C_j * j;
 }
 
-// The built-in table when it describes the top layer of `stack` (its g, its index, the index
-// above it and, for a finite layer, a matched index below and a thickness in range), else null.
-const TopLayerTable* table_for(const LayerStack& stack) {
+// The built-in tables that describe the top layer of `stack`: its index and the index above it
+// are theirs, its g is a table's or lies between two tables' (then blended, weight w on the
+// upper one), and, for a finite layer, the index below it is matched and its thickness in range.
+struct TableChoice {
+  const TopLayerTable* lo = nullptr;
+  const TopLayerTable* hi = nullptr;
+  double w = 0;
+};
+TableChoice tables_for(const LayerStack& stack) {
   const Layer& l0 = stack.layers.front();
-  const TopLayerTable& t = TopLayerTable::builtin();
+  std::vector<const TopLayerTable*> same;
+  for (const auto& t : TopLayerTable::builtin_set())
+    if (std::abs(l0.eta - t.eta) < 1e-9 && std::abs(stack.eta_above - t.eta_above) < 1e-9)
+      same.push_back(&t);
+  TableChoice c;
+  for (std::size_t i = 0; i < same.size(); ++i) {
+    if (std::abs(l0.g - same[i]->g) < 1e-9) {
+      c.lo = c.hi = same[i];
+      break;
+    }
+    if (i + 1 < same.size() && l0.g > same[i]->g && l0.g < same[i + 1]->g &&
+        same[i]->same_grid(*same[i + 1])) {
+      c.lo = same[i];
+      c.hi = same[i + 1];
+      c.w = (l0.g - same[i]->g) / (same[i + 1]->g - same[i]->g);
+      break;
+    }
+  }
+  if (!c.lo || l0.semi_infinite()) return c;  // a half-space is split (constructor)
   const double sigma_t_prime = l0.sigma_a + l0.sigma_s_prime;
-  const bool same_geometry = std::abs(l0.g - t.g) < 1e-9 && std::abs(l0.eta - t.eta) < 1e-9 &&
-                             std::abs(stack.eta_above - t.eta_above) < 1e-9;
-  if (!same_geometry) return nullptr;
-  if (l0.semi_infinite()) return &t;  // split at the table's thickest layer (constructor)
   const double n_below = stack.layers.size() > 1 ? stack.layers[1].eta : stack.eta_below;
-  return std::abs(n_below - l0.eta) < 1e-9 &&
-                 t.covers(l0.sigma_s_prime / sigma_t_prime, l0.thickness * sigma_t_prime)
-             ? &t
-             : nullptr;
+  if (std::abs(n_below - l0.eta) >= 1e-9 ||
+      !c.lo->covers(l0.sigma_s_prime / sigma_t_prime, l0.thickness * sigma_t_prime))
+    return {};
+  return c;
 }
 }  // namespace
 
@@ -114,7 +134,8 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     rest.eta_below = stack.eta_below;
     rest_.emplace(rest);
   }
-  if ((table_ = table_for(stack))) {
+  const TableChoice choice = tables_for(stack);
+  if ((table_ = choice.lo)) {
     // Transport top layer (accurate.hpp): R_e in space, the light from below in k.
     sigma_t_prime_ = l0.sigma_a + l0.sigma_s_prime;
     LayerStack top = top_layer(stack);
@@ -129,7 +150,11 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
       rest_.emplace(rest);
     }
     const double tau_prime = top.layers.front().thickness * sigma_t_prime_;
-    top_sample_ = table_->sample(l0.sigma_s_prime / sigma_t_prime_, tau_prime);
+    const double alpha_prime = l0.sigma_s_prime / sigma_t_prime_;
+    top_sample_ = table_->sample(alpha_prime, tau_prime);
+    if (choice.hi != choice.lo)
+      top_sample_ = TopLayerTable::blend(top_sample_, choice.hi->sample(alpha_prime, tau_prime),
+                                         choice.w);
     const double R_top_ad = rest_ ? adding_doubling(top, options).R_d : totals_.R_d;
     const double R_e = table_->R_e_integral(top_sample_);
     const double deep = coupling_k(0.0);

@@ -30,7 +30,7 @@ std::pair<std::size_t, double> locate(const std::vector<double>& nodes, double v
   return {i, (v - nodes[i]) / (nodes[i + 1] - nodes[i])};
 }
 
-void blend(std::vector<double>& out, const std::vector<double>& a, double w) {
+void accumulate(std::vector<double>& out, const std::vector<double>& a, double w) {
   if (out.empty()) out.assign(a.size(), 0.0);
   for (std::size_t i = 0; i < a.size(); ++i) out[i] += w * a[i];
 }
@@ -90,9 +90,9 @@ TopLayerTable::Sample TopLayerTable::sample(double alpha_prime, double tau_prime
     s.T_down += w * n.T_down;
     s.T_up += w * n.T_up;
     s.R_up += w * n.R_up;
-    blend(s.T_down_k, n.T_down_k, w);
-    blend(s.T_up_k, n.T_up_k, w);
-    blend(s.R_up_k, n.R_up_k, w);
+    accumulate(s.T_down_k, n.T_down_k, w);
+    accumulate(s.T_up_k, n.T_up_k, w);
+    accumulate(s.R_up_k, n.R_up_k, w);
   }
   // R_e: the shapes (profiles per unit total) are blended, geometrically where all four are
   // positive, and scaled by the blended total. (Near the dark end the totals of neighbouring
@@ -379,10 +379,54 @@ void TopLayerTable::derive() {
   for (Node& n : nodes) n.derive_centre_values(rho_edges);
 }
 
+const std::vector<TopLayerTable>& TopLayerTable::builtin_set() {
+  static const std::vector<TopLayerTable> set = [] {
+    std::vector<TopLayerTable> v;
+    for (const char* name : {"top_layer_transport_g0.8.csv", "top_layer_transport_g0.9.csv",
+                             "top_layer_transport_g0.95.csv"})
+      v.push_back(parse(data::embedded(name), name));
+    std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.g < b.g; });
+    return v;
+  }();
+  return set;
+}
+
 const TopLayerTable& TopLayerTable::builtin() {
-  static const TopLayerTable table =
-      parse(data::embedded("top_layer_transport.csv"), "top_layer_transport.csv");
-  return table;
+  for (const auto& t : builtin_set())
+    if (t.g == 0.9) return t;
+  return builtin_set().front();
+}
+
+bool TopLayerTable::same_grid(const TopLayerTable& o) const {
+  return x == o.x && tau == o.tau && kappa == o.kappa && kappa_0 == o.kappa_0 &&
+         rho_edges == o.rho_edges;
+}
+
+TopLayerTable::Sample TopLayerTable::blend(const Sample& a, const Sample& b, double w) {
+  Sample s;
+  s.R_e = (1 - w) * a.R_e + w * b.R_e;
+  s.T_down = (1 - w) * a.T_down + w * b.T_down;
+  s.T_up = (1 - w) * a.T_up + w * b.T_up;
+  s.R_up = (1 - w) * a.R_up + w * b.R_up;
+  auto lin = [w](const std::vector<double>& u, const std::vector<double>& v) {
+    std::vector<double> out(u.size());
+    for (std::size_t i = 0; i < u.size(); ++i) out[i] = (1 - w) * u[i] + w * v[i];
+    return out;
+  };
+  s.T_down_k = lin(a.T_down_k, b.T_down_k);
+  s.T_up_k = lin(a.T_up_k, b.T_up_k);
+  s.R_up_k = lin(a.R_up_k, b.R_up_k);
+  s.R_e_centre = lin(a.R_e_centre, b.R_e_centre);
+  s.log_R_e_centre.assign(s.R_e_centre.size(), -kInf);
+  for (std::size_t i = 0; i < s.R_e_centre.size(); ++i) {
+    if (a.R_e_centre[i] > 0 && b.R_e_centre[i] > 0) {
+      s.log_R_e_centre[i] = (1 - w) * a.log_R_e_centre[i] + w * b.log_R_e_centre[i];
+      s.R_e_centre[i] = std::exp(s.log_R_e_centre[i]);
+    } else if (s.R_e_centre[i] > 0) {
+      s.log_R_e_centre[i] = std::log(s.R_e_centre[i]);
+    }
+  }
+  return s;
 }
 
 std::ostream& operator<<(std::ostream& os, const TopLayerTable& t) {

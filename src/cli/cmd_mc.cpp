@@ -263,7 +263,7 @@ void register_tabulate_command(CLI::App& app) {
       "tabulate-top-layer",
       "Tabulate a thin top layer's transport (reflectance profile and transfer functions) by Monte "
       "Carlo over its reduced albedo and optical thickness: the data file "
-      "data/top_layer_transport.csv of the accurate solver's profiles (about 30 min on 2 cores)");
+      "data/top_layer_transport_g*.csv of the accurate solver's profiles (about 9 min on 2 cores)");
   sub->add_option("-o,--output", o->out, "Output CSV file (written atomically)")->required();
   sub->add_option("--g", o->t.g, "Henyey-Greenstein anisotropy, (-1, 1)")->capture_default_str();
   sub->add_option("--eta", o->t.eta, "Refractive index of the layer, [1, 3]")->capture_default_str();

@@ -187,8 +187,7 @@ struct ProfileErrors {
 
 // Photons: enough for ~8000 reflected (40 000 to 800 000; dark skin's photons are cheap, they
 // are absorbed within a few steps).
-ProfileErrors profile_errors(const char* name, double lambda) {
-  const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
+ProfileErrors profile_errors(const LayerStack& st) {
   const double R_d = skin::accurate::adding_doubling(st).R_d;
   const auto photons = static_cast<std::uint64_t>(std::clamp(8000 / R_d, 4e4, 8e5));
   constexpr double r_max = 5.0;
@@ -234,6 +233,12 @@ ProfileErrors profile_errors(const char* name, double lambda) {
   e.accurate /= norm;
   e.multipole /= norm;
   return e;
+}
+
+ProfileErrors profile_errors(const char* name, double lambda, double g = 0.9) {
+  auto params = skin::find_preset(name).parameters;
+  params.g = g;
+  return profile_errors(skin::skin_layer_stack(params, lambda));
 }
 
 class PresetProfiles : public ::testing::TestWithParam<PresetCase> {};
@@ -294,6 +299,17 @@ TEST(HalfSpaceProfiles, WithinTenPercentOfMonteCarlo) {
     }
     EXPECT_GT(checked, 3) << alpha;
   }
+}
+
+// Another anisotropy: the tables for g = 0.8 and 0.95, and g = 0.85 between two tables (blended).
+TEST(PresetProfilesOtherG, WithinTenPercentOfMonteCarlo) {
+  for (double g : {0.8, 0.85, 0.95})
+    for (const auto& [name, lambda] : {PresetCase{"caucasian", 550}, PresetCase{"african", 550}}) {
+      const auto e = profile_errors(name, lambda, g);
+      EXPECT_GT(e.checked, 0) << name << " g=" << g;
+      EXPECT_EQ(e.accurate_bad, 0) << name << " g=" << g << ": worst " << e.worst;
+      EXPECT_LT(e.accurate, 0.10) << name << " g=" << g;
+    }
 }
 
 // The same checks fail for the diffusion model (the paper's multipole), so they can fail.

@@ -351,12 +351,12 @@ TEST(Input, TypesPrintThemselves) {
 // ---------------------------------------------------------------------------------------------
 // AccurateStack: the radial response.
 
-// The diffusion shape (used where the top layer is outside the built-in transport table: here
-// g = 0.8; the transport top layer is tested in top_layer_table_test.cpp).
+// The diffusion shape (used where the top layer is outside the built-in transport tables: here
+// g = 0.7; the transport top layer is tested in top_layer_table_test.cpp).
 TEST(AccurateStack, TotalIsTheAddingDoublingTotalAndTheTransformStartsThere) {
   for (const char* name : {"caucasian", "african"}) {
     auto params = skin::find_preset(name).parameters;
-    params.g = 0.8;
+    params.g = 0.7;
     const auto st = skin::skin_layer_stack(params, 550);
     const skin::accurate::AccurateStack acc(st);
     ASSERT_FALSE(acc.transport_top());
@@ -372,13 +372,13 @@ TEST(AccurateStack, TotalIsTheAddingDoublingTotalAndTheTransformStartsThere) {
 }
 
 // The partial-current dipole (fluence and flux) in space against its transform: for one
-// semi-infinite layer of the diffusion shape (g = 0.8: outside the transport table) the whole
+// semi-infinite layer of the diffusion shape (g = 0.7: outside the transport tables) the whole
 // response is the singular part, so its brute-force integral 2 pi int R(r) r dr (Simpson on a
 // log grid from 1e-7 to 200 mm) must give the total.
 TEST(AccurateStack, SpaceDomainDipoleIntegratesToTheTotal) {
   for (double n : {1.0, 1.4}) {
     LayerStack s;
-    s.layers = {Layer{0.05, 1.2, skin::kInfinity, n, 0.8}};
+    s.layers = {Layer{0.05, 1.2, skin::kInfinity, n, 0.7}};
     const skin::accurate::AccurateStack acc(s);
     ASSERT_FALSE(acc.transport_top());
     EXPECT_NEAR(acc.residual_k(0.0), 0.0, 1e-15);

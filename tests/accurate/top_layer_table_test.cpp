@@ -1,4 +1,4 @@
-// The built-in TopLayerTable (data/top_layer_transport.csv, Monte Carlo) against the independent
+// The built-in TopLayerTables (data/top_layer_transport_g*.csv, Monte Carlo) against the independent
 // adding-doubling solver at every node, its text form, its interpolation, and the transport-top
 // radial response built on it (docs/accurate-solver.md, sec. 3).
 #include <gtest/gtest.h>
@@ -37,6 +37,16 @@ TEST(TopLayerTable, BuiltinDescribesSkinAndPrintsItself) {
   EXPECT_EQ(t.eta, 1.4);
   EXPECT_EQ(t.eta_above, 1.0);
   EXPECT_EQ(t.nodes.size(), t.x.size() * t.tau.size());
+  // The set: g = 0.8, 0.9, 0.95 for the same geometry, on one grid (so that they blend).
+  const auto& set = TopLayerTable::builtin_set();
+  ASSERT_EQ(set.size(), 3u);
+  EXPECT_EQ(set[0].g, 0.8);
+  EXPECT_EQ(set[2].g, 0.95);
+  for (const auto& u : set) {
+    EXPECT_TRUE(u.same_grid(t));
+    EXPECT_EQ(u.eta, t.eta);
+    EXPECT_EQ(u.eta_above, t.eta_above);
+  }
   std::ostringstream os;
   os << t;
   EXPECT_NE(os.str().find("TopLayerTable{g=0.9"), std::string::npos) << os.str();
@@ -46,15 +56,19 @@ TEST(TopLayerTable, BuiltinDescribesSkinAndPrintsItself) {
 // two (reflectance and transmittance of the beam) by a different method. They agree within 2 %
 // (relative) plus 3e-4 (the Monte Carlo noise of the smallest values).
 TEST(TopLayerTable, EveryNodeAgreesWithAddingDoubling) {
-  const auto& t = table();
   double worst_R = 0, worst_T = 0;
+  for (const auto& t : TopLayerTable::builtin_set())
   for (std::size_t j = 0; j < t.tau.size(); ++j)
     for (std::size_t i = 0; i < t.x.size(); ++i) {
       const double alpha = 1 - t.x[i] * t.x[i];
-      const auto ad = skin::accurate::adding_doubling(reduced_slab(alpha, t.tau[j]));
+      auto slab = reduced_slab(alpha, t.tau[j]);
+      slab.layers.front().g = t.g;
+      const auto ad = skin::accurate::adding_doubling(slab);
       const auto& n = t.nodes[j * t.x.size() + i];
-      EXPECT_NEAR(n.R_e, ad.R_d, 0.02 * ad.R_d + 3e-4) << "alpha'=" << alpha << " tau'=" << t.tau[j];
-      EXPECT_NEAR(n.T_down, ad.T_d, 0.02 * ad.T_d + 3e-4) << "alpha'=" << alpha << " tau'=" << t.tau[j];
+      EXPECT_NEAR(n.R_e, ad.R_d, 0.02 * ad.R_d + 3e-4)
+          << "g=" << t.g << " alpha'=" << alpha << " tau'=" << t.tau[j];
+      EXPECT_NEAR(n.T_down, ad.T_d, 0.02 * ad.T_d + 3e-4)
+          << "g=" << t.g << " alpha'=" << alpha << " tau'=" << t.tau[j];
       worst_R = std::max(worst_R, std::abs(n.R_e - ad.R_d) / ad.R_d);
       worst_T = std::max(worst_T, std::abs(n.T_down - ad.T_d) / (ad.T_d + 1e-3));
     }
@@ -111,7 +125,7 @@ TEST(TopLayerTable, TextRoundTripAndMalformedInput) {
   std::string short_row = text.substr(0, text.rfind(','));  // last row loses a field
   expect_error(short_row, "a short row");
   std::string nan = text;
-  nan.replace(nan.rfind(',') + 1, 1, "x");
+  nan[nan.rfind(',') + 1] = 'x';  // (not replace(): GCC 12 warns falsely, -Wrestrict)
   expect_error(nan, "a field that is not a number");
   expect_error("", "empty text");
 }
@@ -124,9 +138,33 @@ TEST(TransportTop, CoversThePresetsAndFallsBackOutsideTheTable) {
       const skin::accurate::AccurateStack acc(skin::skin_layer_stack(p.parameters, lambda));
       EXPECT_TRUE(acc.transport_top()) << p.name << " " << lambda;
     }
+  // g between two tables' blends them; outside their range falls back.
   auto params = skin::find_preset("caucasian").parameters;
-  params.g = 0.8;
+  for (double g : {0.8, 0.85, 0.93, 0.95}) {
+    params.g = g;
+    EXPECT_TRUE(skin::accurate::AccurateStack(skin::skin_layer_stack(params, 550)).transport_top())
+        << g;
+  }
+  for (double g : {0.0, 0.7, 0.97}) {
+    params.g = g;
+    EXPECT_FALSE(skin::accurate::AccurateStack(skin::skin_layer_stack(params, 550)).transport_top())
+        << g;
+  }
+  params.g = 0.9;
+  params.eta = 1.33;
   EXPECT_FALSE(skin::accurate::AccurateStack(skin::skin_layer_stack(params, 550)).transport_top());
+}
+
+TEST(TopLayerTable, BlendIsLinearInTheTransformsAndGeometricInTheProfile) {
+  const auto& set = TopLayerTable::builtin_set();
+  const auto a = set[0].sample(0.9, 2.0), b = set[1].sample(0.9, 2.0);
+  const auto m = TopLayerTable::blend(a, b, 0.25);
+  EXPECT_NEAR(m.T_down_k[5], 0.75 * a.T_down_k[5] + 0.25 * b.T_down_k[5], 1e-15);
+  EXPECT_NEAR(m.R_e, 0.75 * a.R_e + 0.25 * b.R_e, 1e-15);
+  EXPECT_NEAR(m.R_e_centre[40], std::pow(a.R_e_centre[40], 0.75) * std::pow(b.R_e_centre[40], 0.25),
+              1e-12 * m.R_e_centre[40]);
+  const auto end = TopLayerTable::blend(a, b, 1.0);
+  EXPECT_NEAR(end.R_up_k[3], b.R_up_k[3], 1e-15);
 }
 
 // Brute force: 2 pi int singular(r) r dr (Simpson in log r from 1 nm to r_max) + residual(0),

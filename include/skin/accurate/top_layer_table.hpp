@@ -76,8 +76,14 @@ struct TopLayerTable {
   // Text form (CSV with '#' comments). parse() throws InputError naming `source` and the line.
   std::string to_csv() const;
   static TopLayerTable parse(std::string_view text, std::string_view source);
-  // The table compiled into the library (data/top_layer_transport.csv): g 0.9, eta 1.4 under air.
+  // The tables compiled into the library (data/top_layer_transport_g*.csv): eta 1.4 under air,
+  // g = 0.8, 0.9 and 0.95, in increasing g, on identical grids. builtin() is the g = 0.9 one.
+  static const std::vector<TopLayerTable>& builtin_set();
   static const TopLayerTable& builtin();
+  // True when `other` has the same nodes and bins (samples of the two can be blended).
+  bool same_grid(const TopLayerTable& other) const;
+  // (1 - w) a + w b: transforms and totals linearly, R_e geometrically where both are positive.
+  static Sample blend(const Sample& a, const Sample& b, double w);
 };
 std::ostream& operator<<(std::ostream& os, const TopLayerTable& t);
 

@@ -1,6 +1,6 @@
 #pragma once
 // Generation of skin::accurate::TopLayerTable by Monte Carlo (the data file
-// data/top_layer_transport.csv is made by `skin tabulate-top-layer`, which calls this).
+// data/top_layer_transport_g*.csv are made by `skin tabulate-top-layer`, which calls this).
 #include <cstdint>
 #include <functional>
 #include <iosfwd>
