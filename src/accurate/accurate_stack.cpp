@@ -170,6 +170,12 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     } else {
       c_deep_ = rest_ && deep > 0 ? 1.0 : 0.0;
       c_top_ = R_e > 0 ? (totals_.R_d - c_deep_ * deep) / R_e : 1.0;
+      if (c_top_ <= 0 && deep > 0) {
+        // The coupling alone would exceed the total (a stack far from skin): give the light from
+        // below its adding-doubling share, or none, so that both parts stay positive.
+        c_deep_ = std::max(0.0, deep_ad) / deep;
+        c_top_ = R_e > 0 ? (totals_.R_d - c_deep_ * deep) / R_e : 1.0;
+      }
     }
     return;
   }
