@@ -183,6 +183,7 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
   const double R_top_mp = diffusion_top_R_k(0.0);
   if (!rest_) {
     c_top_ = c_deep_ = totals_.R_d / R_mp;
+    if (!(c_top_ > 0 && std::isfinite(c_top_))) use_dipole_only();
     return;
   }
   const double R_top_ad = adding_doubling(top_layer(stack), options).R_d;
@@ -197,6 +198,26 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     c_deep_ = 1;
     c_top_ = (totals_.R_d - deep_mp) / R_top_mp;
   }
+  if (!(c_top_ > 0 && c_deep_ >= 0 && std::isfinite(c_top_) && std::isfinite(c_deep_))) {
+    // A top layer much thinner than a transport mean free path (below the tables' range) puts
+    // diffusion's source z_r below it, and its diffusion reflectance or the rest can turn
+    // negative: then the whole stack's diffusion shape, scaled to the total, or, where that is
+    // not positive either, the light from below alone.
+    if (R_mp > 0) {
+      c_top_ = c_deep_ = totals_.R_d / R_mp;
+    } else {
+      use_dipole_only();
+    }
+  }
+}
+
+void AccurateStack::use_dipole_only() {
+  // The last resort of the diffusion shape: the top layer's nearest image pair alone (always
+  // positive), scaled to the total.
+  dipole_only_ = true;
+  c_deep_ = 0;
+  const double dipole = top_dipole_k(0.0);
+  c_top_ = dipole > 0 ? totals_.R_d / dipole : 0.0;
 }
 
 double AccurateStack::coupling_k(double k) const {
@@ -250,6 +271,7 @@ double AccurateStack::singular(double r) const {
 
 double AccurateStack::residual_k(double k) const {
   if (table_) return c_deep_ * coupling_k(k);
+  if (dipole_only_) return 0.0;
   const double R_top = diffusion_top_R_k(k);
   const double deep = rest_ ? diffusion_R_k_given_top(k, R_top) - R_top : 0.0;
   return c_top_ * (R_top - top_dipole_k(k)) + c_deep_ * deep;

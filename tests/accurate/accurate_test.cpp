@@ -413,6 +413,27 @@ TEST(AccurateStack, ProfilesOfThePresetsArePositiveAndDecreasing) {
   }
 }
 
+// A top layer far thinner than a transport mean free path (below the transport tables' range,
+// with diffusion's source z_r below it): the diffusion shape turns negative there, and the
+// response falls back to a positive one that still integrates to the adding-doubling total.
+TEST(AccurateStack, ThinTopLayersStayPositive) {
+  LayerStack one;
+  one.layers = {Layer{0.3, 0.2, 0.05, 1.4, 0.9}};  // 0.025 mean free paths, air below
+  LayerStack two;
+  two.layers = {Layer{0.25, 0.26, 0.036, 1.4, 0.89}, Layer{0.013, 0.89, 0.13, 1.4, 0.82}};
+  two.eta_below = 1.4;
+  skin::ProfileSolver solver(skin::RadialGrid::logarithmic(1e-3, 20, 64));
+  for (const auto& s : {one, two}) {
+    const skin::accurate::AccurateStack acc(s);
+    EXPECT_FALSE(acc.transport_top()) << s;
+    EXPECT_GE(acc.c_top(), 0) << acc;
+    EXPECT_GE(acc.c_deep(), 0) << acc;
+    const auto R = solver.profile(acc);
+    for (double v : R) EXPECT_GE(v, -1e-8 * R[0]) << acc;
+    EXPECT_GT(acc.singular(1e-3), 0) << acc;
+  }
+}
+
 TEST(AccurateStack, OneLayerHasOneCorrectionFactor) {
   LayerStack s;
   s.layers = {Layer{0.02, 1.5, 2.0, 1.4, 0.9}};

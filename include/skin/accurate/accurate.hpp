@@ -104,6 +104,7 @@ class AccurateStack final : public RadialResponse {
   double top_dipole_k(double k) const;
   double diffusion_R_k_given_top(double k, double R_top) const;
   double coupling_k(double k) const;  // transport top layer: the light from below it
+  void use_dipole_only();             // diffusion shape unusable (thin top layer): dipole alone
   Totals totals_;
   const TopLayerTable* table_ = nullptr;  // set when the transport top layer is used
   TopLayerTable::Sample top_sample_;
@@ -112,6 +113,7 @@ class AccurateStack final : public RadialResponse {
   double C_phi_ = 0.25, C_j_ = 0.5;   // partial-current coefficients of the top surface
   std::optional<DiffusionStack> rest_;  // the layers below the top one (none for one layer)
   double c_top_ = 1, c_deep_ = 1;
+  bool dipole_only_ = false;
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);
 
