@@ -89,6 +89,7 @@ accurate::TopLayerTable tabulate_top_layer(const TabulateOptions& o) {
   mo.exit_r_min = kFineMin;
   mo.exit_r_max = kFineMax;
   std::vector<double> fine_edges;
+  std::vector<std::size_t> coarse_at;  // index of each R_e bin edge among the fine edges
   const std::size_t total = o.x.size() * o.tau.size();
   for (std::size_t j = 0; j < o.tau.size(); ++j) {
     for (std::size_t i = 0; i < o.x.size(); ++i) {
@@ -123,6 +124,7 @@ accurate::TopLayerTable tabulate_top_layer(const TabulateOptions& o) {
         for (std::size_t b = 0; b < fine_edges.size(); b += (b == 0 ? 1 : kCoarsen)) {
           if (fine_edges[b] > kRhoMax) break;
           t.rho_edges.push_back(fine_edges[b]);
+          coarse_at.push_back(b);
         }
       }
       accurate::TopLayerTable::Node n;
@@ -131,12 +133,10 @@ accurate::TopLayerTable tabulate_top_layer(const TabulateOptions& o) {
       n.T_up = up.R_d;
       n.R_up = up.T_d;
       // R_e per unit reduced area, on the coarse bins (sums of whole fine bins).
-      for (std::size_t c = 0; c + 1 < t.rho_edges.size(); ++c) {
-        const double a = t.rho_edges[c], b = t.rho_edges[c + 1];
+      for (std::size_t c = 0; c + 1 < coarse_at.size(); ++c) {
         double w = 0;
-        for (std::size_t f = 0; f < kFineBins; ++f)
-          if (fine_edges[f] >= a * (1 - 1e-12) && fine_edges[f + 1] <= b * (1 + 1e-12))
-            w += down.top_exit[f];
+        for (std::size_t f = coarse_at[c]; f < coarse_at[c + 1]; ++f) w += down.top_exit[f];
+        const double a = t.rho_edges[c], b = t.rho_edges[c + 1];
         n.R_e_rho.push_back(w / (std::numbers::pi * (b * b - a * a)));
       }
       for (double k : t.kappa) {

@@ -40,6 +40,17 @@ struct PresetCase {
   double lambda;
 };
 
+// The preset checks: the five presets at 450, 550 and 650 nm.
+const std::vector<PresetCase> kPresetCases = [] {
+  std::vector<PresetCase> v;
+  for (const char* name : {"caucasian", "asian", "african", "pale", "tanned"})
+    for (double lambda : {450.0, 550.0, 650.0}) v.push_back({name, lambda});
+  return v;
+}();
+std::string preset_case_name(const ::testing::TestParamInfo<PresetCase>& info) {
+  return std::string(info.param.preset) + "_" + std::to_string(int(info.param.lambda));
+}
+
 class PresetTotals : public ::testing::TestWithParam<PresetCase> {};
 
 TEST_P(PresetTotals, RdWithinTwoPercentOfMonteCarlo) {
@@ -54,17 +65,7 @@ TEST_P(PresetTotals, RdWithinTwoPercentOfMonteCarlo) {
 
 INSTANTIATE_TEST_SUITE_P(
     Presets, PresetTotals,
-    ::testing::Values(PresetCase{"caucasian", 450}, PresetCase{"caucasian", 550},
-                      PresetCase{"caucasian", 650}, PresetCase{"asian", 450},
-                      PresetCase{"asian", 550}, PresetCase{"asian", 650},
-                      PresetCase{"african", 450}, PresetCase{"african", 550},
-                      PresetCase{"african", 650}, PresetCase{"pale", 450},
-                      PresetCase{"pale", 550}, PresetCase{"pale", 650},
-                      PresetCase{"tanned", 450}, PresetCase{"tanned", 550},
-                      PresetCase{"tanned", 650}),
-    [](const auto& param_info) {
-      return std::string(param_info.param.preset) + "_" + std::to_string(int(param_info.param.lambda));
-    });
+    ::testing::ValuesIn(kPresetCases), preset_case_name);
 
 // The same check fails for diffusion in dark skin (it overstates R_d about 3.5 times at 450 nm).
 TEST(PresetTotals, MultipoleFailsTheSameCheckInDarkSkin) {
@@ -255,17 +256,7 @@ TEST_P(PresetProfiles, WithinTenPercentOfMonteCarloFrom0_1To5mm) {
 
 INSTANTIATE_TEST_SUITE_P(
     Presets, PresetProfiles,
-    ::testing::Values(PresetCase{"caucasian", 450}, PresetCase{"caucasian", 550},
-                      PresetCase{"caucasian", 650}, PresetCase{"asian", 450},
-                      PresetCase{"asian", 550}, PresetCase{"asian", 650},
-                      PresetCase{"african", 450}, PresetCase{"african", 550},
-                      PresetCase{"african", 650}, PresetCase{"pale", 450},
-                      PresetCase{"pale", 550}, PresetCase{"pale", 650},
-                      PresetCase{"tanned", 450}, PresetCase{"tanned", 550},
-                      PresetCase{"tanned", 650}),
-    [](const auto& param_info) {
-      return std::string(param_info.param.preset) + "_" + std::to_string(int(param_info.param.lambda));
-    });
+    ::testing::ValuesIn(kPresetCases), preset_case_name);
 
 // Half-spaces of skin's index and g under air (the transport table, split at 32 transport mean
 // free paths): the same pointwise check, over 0.1-5 transport mean free paths (sigma_t' = 1/mm).

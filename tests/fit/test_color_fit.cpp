@@ -23,17 +23,13 @@
 #include "skin/model/skin_model.hpp"
 #include "skin/physics/error.hpp"
 
+#include "test_params.hpp"
+
 using namespace skin::fit;
 namespace color = skin::color;
 
 namespace {
-skin::SkinParameters params(double cm, double bm, double ch) {
-  skin::SkinParameters p;
-  p.melanin = cm;
-  p.melanin_blend = bm;
-  p.hemoglobin = ch;
-  return p;
-}
+using skin_test::params;
 }  // namespace
 
 // In-gamut colours: rendered by the model itself from parameters over the paper's ranges, then

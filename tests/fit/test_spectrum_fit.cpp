@@ -14,6 +14,8 @@
 #include "skin/fit/report.hpp"
 #include "skin/physics/error.hpp"
 
+#include "test_params.hpp"
+
 using namespace skin::fit;
 
 namespace {
@@ -29,13 +31,7 @@ MeasuredSpectrum synthetic(const skin::SkinParameters& p, const SpectrumFitOptio
     for (double& r : m.R) r = std::clamp(r + noise(rng), 0.0, 1.0);
   return m;
 }
-skin::SkinParameters params(double cm, double bm, double ch) {
-  skin::SkinParameters p;
-  p.melanin = cm;
-  p.melanin_blend = bm;
-  p.hemoglobin = ch;
-  return p;
-}
+using skin_test::params;
 }  // namespace
 
 // Noise-free round trip over a grid spanning the paper's ranges (Figs 3-5, 7: C_m 0.1-50 %,
