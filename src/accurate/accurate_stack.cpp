@@ -28,8 +28,14 @@ struct FresnelMoments {
   double C1 = 0, C2 = 0;
 };
 FresnelMoments fresnel_moments(double eta) {
+  // They depend on eta alone, and a spectrum asks for the same eta at every wavelength: the last
+  // one is kept per thread (4000 Fresnel evaluations each).
+  thread_local double last_eta = -1;
+  thread_local FresnelMoments last;
+  if (eta == last_eta) return last;
   FresnelMoments m;
-  if (eta == 1.0) return m;
+  last_eta = eta;
+  if (eta == 1.0) return last = m;
   constexpr int n = 4000;
   for (int i = 0; i < n; ++i) {
     const double mu = (i + 0.5) / n;
@@ -37,7 +43,7 @@ FresnelMoments fresnel_moments(double eta) {
     m.C1 += F * mu / n;
     m.C2 += F * mu * mu / n;
   }
-  return m;
+  return last = m;
 }
 
 // Sums over the pole family c + i P (all integers i) of exp(-|c + i P| s), with and without the

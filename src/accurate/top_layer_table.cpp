@@ -74,8 +74,6 @@ TopLayerTable::Sample TopLayerTable::sample(double alpha_prime, double tau_prime
   const double xv = std::sqrt(std::max(0.0, 1.0 - alpha_prime));
   const auto [ix, tx] = locate(x, xv);
   // Linear in log tau.
-  std::vector<double> log_tau(tau.size());
-  for (std::size_t i = 0; i < tau.size(); ++i) log_tau[i] = std::log(tau[i]);
   const auto [jt, ut] = locate(log_tau, std::log(tau_prime));
   Sample s;
   const std::size_t nx = x.size();
@@ -102,15 +100,20 @@ TopLayerTable::Sample TopLayerTable::sample(double alpha_prime, double tau_prime
   s.R_e_centre.assign(n_rho, 0.0);
   s.log_R_e_centre.assign(n_rho, -kInf);
   const double log_total = s.R_e > 0 ? std::log(s.R_e) : -kInf;
+  double log_node_total[4];
+  for (int c = 0; c < 4; ++c) {
+    const double t = nodes[corners[c].first].R_e;
+    log_node_total[c] = t > 0 ? std::log(t) : -kInf;
+  }
   for (std::size_t b = 0; b < n_rho; ++b) {
     bool positive = true;
     double lin = 0, log_sum = 0;
-    for (const auto& [i, w] : corners) {
-      const Node& n = nodes[i];
-      const double v = n.R_e_centre[b];
+    for (int c = 0; c < 4; ++c) {
+      const Node& n = nodes[corners[c].first];
+      const double w = corners[c].second, v = n.R_e_centre[b];
       positive = positive && v > 0 && n.R_e > 0;
       if (n.R_e > 0) lin += w * v / n.R_e;
-      if (positive) log_sum += w * (n.log_R_e_centre[b] - std::log(n.R_e));
+      if (positive) log_sum += w * (n.log_R_e_centre[b] - log_node_total[c]);
     }
     if (positive && s.R_e > 0) {
       s.log_R_e_centre[b] = log_sum + log_total;
@@ -374,6 +377,8 @@ TopLayerTable TopLayerTable::parse(std::string_view text, std::string_view sourc
 }
 
 void TopLayerTable::derive() {
+  log_tau.resize(tau.size());
+  for (std::size_t i = 0; i < tau.size(); ++i) log_tau[i] = std::log(tau[i]);
   log_rho_centre.resize(rho_edges.size() - 1);
   for (std::size_t i = 0; i < log_rho_centre.size(); ++i) log_rho_centre[i] = std::log(rho_centre(i));
   for (Node& n : nodes) n.derive_centre_values(rho_edges);

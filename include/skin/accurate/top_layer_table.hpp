@@ -50,9 +50,9 @@ struct TopLayerTable {
     void derive_centre_values(const std::vector<double>& rho_edges);
   };
   std::vector<Node> nodes;  // nodes[i_tau * x.size() + i_x]
-  // Derived from the above by derive() (parse() calls it): log of the R_e bin centres, and each
-  // node's R_e_centre and log_R_e_centre.
-  std::vector<double> log_rho_centre;
+  // Derived from the above by derive() (parse() calls it): log of the tau nodes and of the R_e
+  // bin centres, and each node's R_e_centre and log_R_e_centre.
+  std::vector<double> log_tau, log_rho_centre;
   void derive();
 
   // The interpolated functions of one layer (reduced units).
