@@ -1,0 +1,171 @@
+// The numbers do not move: spectra, colours, RGB and spectral profiles, generic stacks, spectrum
+// and colour fits and a seeded Monte Carlo run, for both solvers, against tests/golden/golden.json
+// (taken before the one-vocabulary refactor) to 1e-12 relative (1e-300 absolute for zeros).
+// SKIN_GOLDEN_WRITE=1 rewrites the file instead of comparing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "skin/accurate/accurate.hpp"
+#include "skin/fit/color_fit.hpp"
+#include "skin/fit/fit.hpp"
+#include "skin/mc/mc.hpp"
+#include "skin/model/skin_model.hpp"
+
+namespace {
+
+using json = nlohmann::ordered_json;
+const char* const kSolvers[] = {"multipole", "accurate"};
+
+std::vector<double> values(const skin::Spectrum& s) { return s.values; }
+
+json color_json(const skin::color::ColorSummary& c) {
+  return {{"XYZ", {c.XYZ.X, c.XYZ.Y, c.XYZ.Z}},
+          {"srgb_linear", {c.srgb_linear.r, c.srgb_linear.g, c.srgb_linear.b}},
+          {"lab", {c.lab.L, c.lab.a, c.lab.b}}};
+}
+
+std::vector<skin::LayerStack> generic_stacks() {
+  using skin::Layer;
+  std::vector<skin::LayerStack> out;
+  skin::LayerStack a;  // the README's two-layer example
+  a.layers = {Layer{0.5, 5, 0.25, 1.4, 0.9}, Layer{0.05, 2.5, skin::kInfinity, 1.4, 0.9}};
+  out.push_back(a);
+  skin::LayerStack b;  // an index step and a finite slab over glass
+  b.layers = {Layer{0.2, 3, 0.4, 1.33, 0.8}, Layer{0.02, 1.5, 2.0, 1.55, 0.9}};
+  b.eta_below = 1.5;
+  out.push_back(b);
+  skin::LayerStack c;  // dark over bright
+  c.layers = {Layer{3.0, 4, 0.1, 1.4, 0.9}, Layer{0.01, 2, skin::kInfinity, 1.4, 0.9}};
+  out.push_back(c);
+  return out;
+}
+
+json compute() {
+  json out;
+  const skin::WavelengthGrid grid;  // 400-700 nm every 2 nm
+  const auto radii = skin::RadialGrid::logarithmic(0.001, 16, 24);
+  for (const char* name : kSolvers) {
+    const skin::Solver solver = skin::parse_solver(name);
+    json& js = out[name];
+    skin::ProfileSolver profiles(radii);
+    for (const auto& preset : skin::presets()) {
+      const auto s = skin::skin_spectrum(preset.parameters, grid, solver);
+      json& jp = js["presets"][preset.name];
+      jp["R_d"] = values(s.R_d);
+      jp["epidermis_sigma_a"] = values(s.epidermis_sigma_a);
+      jp["dermis_sigma_a"] = values(s.dermis_sigma_a);
+      jp["dermis_sigma_s_prime"] = values(s.dermis_sigma_s_prime);
+      jp["color"] = color_json(s.color);
+      const auto rgb = skin::skin_rgb_profile(preset.parameters, grid, profiles, solver);
+      jp["rgb_profile"] = {rgb.R[0], rgb.R[1], rgb.R[2]};
+      jp["rgb_R_d"] = {rgb.R_d[0], rgb.R_d[1], rgb.R_d[2]};
+      const skin::WavelengthGrid three(450, 650, 100);
+      const auto sp = skin::skin_spectral_profile(preset.parameters, three, profiles, solver);
+      jp["spectral_profile"] = sp.R;
+    }
+    int i = 0;
+    for (const auto& stack : generic_stacks()) {
+      json& jg = js["stacks"][std::to_string(i++)];
+      jg["R_d"] = skin::stack_R_d(stack, solver);
+      if (solver == skin::Solver::accurate) {
+        const skin::accurate::AccurateStack acc(stack);
+        jg["T_d"] = acc.T_d();
+        jg["profile"] = profiles.profile(acc);
+      } else {
+        jg["profile"] = profiles.profile(skin::DiffusionStack(stack));
+      }
+    }
+    // Spectrum fit of a deterministic, slightly perturbed tanned spectrum.
+    {
+      const skin::WavelengthGrid g5(400, 700, 5);
+      const auto s = skin::skin_spectrum(skin::find_preset("tanned").parameters, g5,
+                                         skin::Solver::multipole);
+      skin::fit::MeasuredSpectrum m;
+      m.name = "golden";
+      for (std::size_t k = 0; k < g5.size(); ++k) {
+        m.wavelength_nm.push_back(g5[k]);
+        m.R.push_back(s.R_d[k] * (1.0 + 0.02 * std::sin(0.05 * g5[k])));
+      }
+      skin::fit::SpectrumFitOptions o;
+      o.model = skin::fit::forward_model(name);
+      const auto r = skin::fit::fit_spectrum(m, o);
+      js["spectrum_fit"] = {{"melanin", r.parameters.melanin},
+                            {"melanin_blend", r.parameters.melanin_blend},
+                            {"hemoglobin", r.parameters.hemoglobin},
+                            {"uncertainty", r.uncertainty},
+                            {"rms", r.rms}};
+    }
+    // Colour fit of #af9882.
+    {
+      skin::fit::ColorFitOptions o;
+      o.model = skin::fit::forward_model(name);
+      const skin::fit::ColorFitter f(o);
+      const auto r = f.fit(skin::fit::parse_hex("af9882"));
+      js["color_fit"] = {{"melanin", r.parameters.melanin},
+                         {"melanin_blend", r.parameters.melanin_blend},
+                         {"hemoglobin", r.parameters.hemoglobin},
+                         {"delta_e", r.delta_e}};
+    }
+  }
+  // Seeded Monte Carlo (the same at any thread count).
+  {
+    skin::mc::Options o;
+    o.photons = 3000;
+    o.seed = 7;
+    o.threads = 2;
+    o.bins = 20;
+    o.r_max = 2;
+    const auto stack = skin::skin_layer_stack(skin::find_preset("pale").parameters, 650);
+    const auto r = skin::mc::simulate(stack, o);
+    out["mc"] = {{"R_d", r.R_d}, {"R_d_se", r.R_d_se}, {"T_d", r.T_d}, {"R", r.R}};
+  }
+  return out;
+}
+
+// Compares numbers recursively; reports the first few mismatches with their path.
+void compare(const json& want, const json& got, const std::string& path, int& failures) {
+  if (failures > 20) return;
+  if (want.is_number()) {
+    ASSERT_TRUE(got.is_number()) << path;
+    const double a = want.get<double>(), b = got.get<double>();
+    const double tol = 1e-12 * std::max(std::abs(a), std::abs(b)) + 1e-300;
+    if (!(std::abs(a - b) <= tol)) {
+      ++failures;
+      ADD_FAILURE() << path << ": golden " << a << " now " << b << " (rel "
+                    << std::abs(a - b) / std::max(std::abs(a), 1e-300) << ")";
+    }
+  } else if (want.is_array()) {
+    ASSERT_TRUE(got.is_array() && got.size() == want.size()) << path;
+    for (std::size_t i = 0; i < want.size(); ++i)
+      compare(want[i], got[i], path + "[" + std::to_string(i) + "]", failures);
+  } else if (want.is_object()) {
+    ASSERT_TRUE(got.is_object()) << path;
+    for (auto it = want.begin(); it != want.end(); ++it) {
+      ASSERT_TRUE(got.contains(it.key())) << path << "." << it.key();
+      compare(it.value(), got[it.key()], path + "." + it.key(), failures);
+    }
+  }
+}
+
+TEST(Golden, NumbersUnchangedToOneInATrillion) {
+  const std::string file = std::string(SKIN_SOURCE_DIR) + "/tests/golden/golden.json";
+  const json got = compute();
+  if (const char* w = std::getenv("SKIN_GOLDEN_WRITE"); w && std::string(w) == "1") {
+    std::ofstream(file) << got.dump(1) << '\n';
+    GTEST_SKIP() << "rewrote " << file;
+  }
+  std::ifstream in(file);
+  ASSERT_TRUE(in) << file;
+  const json want = json::parse(in);
+  int failures = 0;
+  compare(want, got, "", failures);
+  EXPECT_EQ(failures, 0);
+}
+
+}  // namespace
