@@ -4,7 +4,7 @@
 
 #include <thread>
 
-#include "skin/accurate/accurate.hpp"
+#include "skin/transport/accurate.hpp"
 #include "skin/model/skin_model.hpp"
 
 using namespace skin;

@@ -3,9 +3,9 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "skin/accurate/accurate.hpp"
+#include "skin/transport/accurate.hpp"
 #include "skin/model/skin_model.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace py = pybind11;
 using namespace skin;

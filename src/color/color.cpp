@@ -6,8 +6,8 @@
 #include <numbers>
 #include <ostream>
 
-#include "skin/physics/error.hpp"
-#include "skin/physics/table.hpp"
+#include "skin/util/error.hpp"
+#include "skin/util/table.hpp"
 
 namespace skin::color {
 

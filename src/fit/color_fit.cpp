@@ -12,7 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "lm.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::fit {
 

@@ -5,8 +5,8 @@
 #include <sstream>
 
 #include "skin/fit/fit.hpp"
-#include "skin/physics/error.hpp"
-#include "skin/physics/table.hpp"
+#include "skin/util/error.hpp"
+#include "skin/util/table.hpp"
 
 namespace skin::fit {
 

@@ -12,7 +12,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 #include "skin/plot/plot.hpp"
 
 namespace skin::fit {

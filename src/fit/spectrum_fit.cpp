@@ -11,11 +11,11 @@
 
 #include "lm.hpp"
 #include "skin/fit/fit.hpp"
-#include "skin/physics/diffusion.hpp"
-#include "skin/physics/error.hpp"
-#include "skin/physics/stack.hpp"
+#include "skin/transport/diffusion.hpp"
+#include "skin/util/error.hpp"
+#include "skin/transport/stack.hpp"
 #ifdef SKIN_FIT_HAVE_ACCURATE
-#include "skin/accurate/accurate.hpp"
+#include "skin/transport/accurate.hpp"
 #endif
 
 namespace skin::fit {
@@ -40,7 +40,7 @@ ForwardModel accurate_model() {
     return accurate::adding_doubling(skin_layer_stack(p, lambda)).R_d;
   };
 #else
-  throw InputError("solver = 'accurate' is not available: this build has no skin_accurate library");
+  throw InputError("solver = 'accurate' is not available: this build has no skin_transport library");
 #endif
 }
 

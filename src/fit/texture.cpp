@@ -28,8 +28,8 @@
 #endif
 
 #include "skin/fit/color_fit.hpp"
-#include "skin/io/atomic_file.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/atomic_file.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::fit {
 

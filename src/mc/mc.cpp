@@ -15,7 +15,7 @@
 #include <ostream>
 
 #include "skin/mc/sampling.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::mc {
 

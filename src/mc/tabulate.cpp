@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "skin/mc/mc.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::mc {
 

@@ -10,10 +10,10 @@
 #include <ostream>
 #include <sstream>
 
-#include "skin/physics/error.hpp"
-#include "skin/physics/profile.hpp"
+#include "skin/util/error.hpp"
+#include "skin/transport/profile.hpp"
 #include "skin/physics/skin_parameters.hpp"
-#include "skin/physics/stack.hpp"
+#include "skin/transport/stack.hpp"
 #include "skin/plot/plot.hpp"
 
 namespace skin::mc {

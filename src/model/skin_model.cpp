@@ -2,8 +2,8 @@
 
 #include <memory>
 
-#include "skin/accurate/accurate.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/transport/accurate.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin {
 

@@ -4,7 +4,7 @@
 #include <string>
 
 #include "skin/physics/spectrum.hpp"
-#include "skin/physics/table.hpp"
+#include "skin/util/table.hpp"
 
 namespace skin::chromophores {
 

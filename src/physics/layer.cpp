@@ -4,7 +4,7 @@
 #include <ostream>
 #include <sstream>
 
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin {
 

@@ -3,7 +3,7 @@
 #include <ostream>
 
 #include "skin/physics/chromophores.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin {
 

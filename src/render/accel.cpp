@@ -5,7 +5,7 @@
 #include <limits>
 #include <string>
 
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::render {
 

@@ -18,7 +18,7 @@
 #include <tbb/parallel_for.h>
 
 #include "scene_impl.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 #include "skin/render/figure.hpp"
 
 namespace skin::render {

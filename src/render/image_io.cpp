@@ -16,8 +16,8 @@
 
 #include "scene_data.hpp"
 #include "skin/color/color.hpp"
-#include "skin/io/atomic_file.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/atomic_file.hpp"
+#include "skin/util/error.hpp"
 #include "skin/render/image.hpp"
 
 namespace skin::render {

@@ -22,7 +22,7 @@
 #include <mutex>
 
 #include "scene_impl.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::render {
 namespace {

@@ -10,7 +10,7 @@
 
 #include "scene_data.hpp"
 #include "skin/model/skin_model.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::render {
 namespace {

@@ -24,8 +24,8 @@
 #include <tuple>
 
 #include "scene_data.hpp"
-#include "skin/io/atomic_file.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/atomic_file.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::render {
 namespace {

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <ostream>
 
-#include "skin/physics/diffusion.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/transport/diffusion.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::render {
 

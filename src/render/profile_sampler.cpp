@@ -4,7 +4,7 @@
 #include <cmath>
 #include <ostream>
 
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 #include "skin/render/math.hpp"
 
 namespace skin::render {

@@ -12,7 +12,7 @@
 #include <tbb/parallel_for.h>
 
 #include "scene_impl.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 namespace skin::render {
 

@@ -21,7 +21,7 @@
 
 #include "skin/fit/color_fit.hpp"
 #include "skin/model/skin_model.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 #include "test_params.hpp"
 
@@ -70,7 +70,7 @@ TEST(ColorFit, SrgbRoundTripWithinOneDeltaEMultipole) {
 
 TEST(ColorFit, SrgbRoundTripWithinOneDeltaEAccurate) {
   const auto names = solver_names();
-  if (std::find(names.begin(), names.end(), "accurate") == names.end()) GTEST_SKIP() << "no skin_accurate";
+  if (std::find(names.begin(), names.end(), "accurate") == names.end()) GTEST_SKIP() << "no skin_transport";
   srgb_round_trip("accurate", skin::Solver::accurate, {0.005, 0.05, 0.3}, {0.3, 0.8}, {0.005, 0.05});
 }
 

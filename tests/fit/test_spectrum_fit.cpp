@@ -12,7 +12,7 @@
 
 #include "skin/fit/fit.hpp"
 #include "skin/fit/report.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 #include "test_params.hpp"
 
@@ -255,7 +255,7 @@ TEST(SpectrumFit, SolversByName) {
   EXPECT_NO_THROW(forward_model("multipole"));
   const auto names = solver_names();
   if (std::find(names.begin(), names.end(), "accurate") == names.end())
-    GTEST_SKIP() << "built without skin_accurate";
+    GTEST_SKIP() << "built without skin_transport";
   SpectrumFitOptions o;
   o.model = forward_model("accurate");
   const SpectrumFitter fitter(o);

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "skin/accurate/accurate.hpp"
+#include "skin/transport/accurate.hpp"
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
 #include "skin/mc/mc.hpp"

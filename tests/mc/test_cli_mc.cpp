@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "skin/accurate/top_layer_table.hpp"
+#include "skin/transport/top_layer_table.hpp"
 
 namespace {
 

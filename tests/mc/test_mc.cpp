@@ -8,9 +8,9 @@
 #include <vector>
 
 #include "skin/mc/mc.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 #include "skin/physics/skin_parameters.hpp"
-#include "skin/physics/stack.hpp"
+#include "skin/transport/stack.hpp"
 
 namespace {
 

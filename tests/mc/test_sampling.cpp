@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "skin/mc/sampling.hpp"
-#include "skin/physics/diffusion.hpp"
+#include "skin/transport/diffusion.hpp"
 
 namespace {
 

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "skin/mc/validation.hpp"
-#include "skin/physics/stack.hpp"
+#include "skin/transport/stack.hpp"
 
 namespace {
 

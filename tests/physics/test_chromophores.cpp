@@ -5,7 +5,7 @@
 
 #include "skin/model/skin_model.hpp"
 #include "skin/physics/chromophores.hpp"
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 
 using namespace skin;
 

@@ -4,11 +4,11 @@
 #include <cmath>
 #include <limits>
 
-#include "skin/physics/error.hpp"
+#include "skin/util/error.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/physics/spectrum.hpp"
-#include "skin/physics/stack.hpp"
-#include "skin/physics/table.hpp"
+#include "skin/transport/stack.hpp"
+#include "skin/util/table.hpp"
 
 using namespace skin;
 

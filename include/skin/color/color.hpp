@@ -6,7 +6,7 @@
 #include <iosfwd>
 #include <string>
 
-#include "skin/physics/profile.hpp"
+#include "skin/transport/profile.hpp"
 #include "skin/physics/spectrum.hpp"
 
 namespace skin::color {

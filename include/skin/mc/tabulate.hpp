@@ -6,7 +6,7 @@
 #include <iosfwd>
 #include <vector>
 
-#include "skin/accurate/top_layer_table.hpp"
+#include "skin/transport/top_layer_table.hpp"
 
 namespace skin::mc {
 

@@ -5,10 +5,10 @@
 #include <vector>
 
 #include "skin/color/color.hpp"
-#include "skin/physics/profile.hpp"
+#include "skin/transport/profile.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/physics/spectrum.hpp"
-#include "skin/physics/stack.hpp"
+#include "skin/transport/stack.hpp"
 
 namespace skin {
 

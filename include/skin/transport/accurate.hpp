@@ -1,0 +1,120 @@
+#pragma once
+// Accurate transport for layered media, beyond diffusion (docs/accurate-solver.md).
+//
+// adding_doubling(): total reflectance and transmittance of a plane-parallel stack of
+// Henyey-Greenstein layers for a pencil beam at normal incidence, by the adding-doubling method
+// (van de Hulst 1980, "Multiple Light Scattering", ch. 5; Prahl 1995, "The adding-doubling
+// method", in Welch & van Gemert, "Optical-Thermal Response of Laser-Irradiated Tissue"):
+// quadrature over the polar cosine, azimuthal Fourier order 0 (all that totals need), delta-M
+// scaled Legendre redistribution (Wiscombe 1977), diamond initialisation of a thin layer,
+// doubling to the layer thickness (or to convergence for a semi-infinite layer), and adding of
+// layers and of Fresnel boundaries (air above, interfaces between layers of different index, the
+// medium below). The phase function is Henyey-Greenstein with anisotropy Layer::g and scattering
+// coefficient sigma_s = sigma_s_prime / (1 - g).
+// The definitions match the Monte Carlo solver (skin::mc::simulate): R_specular is the Fresnel
+// reflectance of the top surface at normal incidence; R_d and T_d are per power that entered
+// (divided by 1 - R_specular). T_d includes light transmitted without scattering.
+//
+// AccurateStack: a radial response (for skin::ProfileSolver) whose total is the adding-doubling
+// R_d; its shape comes from Monte Carlo transport of the top layer (TopLayerTable) coupled in the
+// frequency domain to diffusion below it, or, outside the table, from the multipole model with a
+// partial-current top surface; either way corrected per component (the top layer's own
+// reflectance, and the light that came back from below it) so that each component's total is
+// the adding-doubling one. Units: mm, 1/mm, k in rad/mm.
+#include <iosfwd>
+#include <optional>
+
+#include "skin/transport/top_layer_table.hpp"
+#include "skin/physics/layer.hpp"
+#include "skin/transport/profile_fwd.hpp"
+#include "skin/transport/diffusion.hpp"
+#include "skin/transport/stack.hpp"
+
+namespace skin::accurate {
+
+// Quadrature directions per hemisphere in each angular panel when Options says "automatic":
+// kDefaultQuadraturePoints when every layer has the same index (skin), kIndexStepQuadraturePoints
+// when layers differ in index (each internal index step adds panels whose radiance needs more
+// directions: 8 points left R_d or T_d off by up to 18 %, 16 by up to 1.1 % against 48;
+// docs/accurate-solver.md, sec. 4).
+inline constexpr int kDefaultQuadraturePoints = 8;
+inline constexpr int kIndexStepQuadraturePoints = 16;
+
+struct Options {
+  // Quadrature directions per hemisphere in each angular panel (the hemisphere is split at the
+  // critical angles of the stack's interfaces; an index-matched stack has one panel). 0 =
+  // automatic (kDefaultQuadraturePoints, or kIndexStepQuadraturePoints for stacks whose layers
+  // differ in index). Allowed: 0 or [2, 64].
+  int quadrature_points = 0;
+};
+std::ostream& operator<<(std::ostream& os, const Options& o);
+
+struct Totals {
+  double R_specular = 0;  // Fresnel reflectance of the top surface at normal incidence
+  double R_d = 0;         // diffuse reflectance per power that entered
+  double T_d = 0;         // total transmittance per power that entered (0 if semi-infinite)
+};
+std::ostream& operator<<(std::ostream& os, const Totals& t);
+
+// Validates the stack (LayerStack::validate) and the options (InputError naming the parameter).
+Totals adding_doubling(const LayerStack& stack, const Options& options = {});
+
+// An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
+// the profile integrates to it exactly. Two shapes (docs/accurate-solver.md, sec. 3):
+// - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its
+//   index and the index above it are the table's, and it is either finite with the same index
+//   below it and a reduced optical thickness in the table's range, or a half-space, which is
+//   split at the table's thickest layer over the same medium by diffusion; skin with the default
+//   g and index always is): R(r) = c_top R_e(r) + inverse transform of
+//   c_deep T_down(k) R_below(k) T_up(k) / (1 - R_up(k) R_below(k)), where R_e, T_down, T_up and
+//   R_up are the top layer's Monte Carlo transport (R_e in space, the others in the frequency
+//   domain), R_below is the multipole of the layers below it (diffusion, accurate there: they
+//   are thick and bright), c_top = R_top^AD / int R_e (the adding-doubling reflectance of the
+//   top layer alone over its index) and c_deep makes R(0) the adding-doubling R_d;
+// - otherwise, diffusion (multipole, DJ05) with two changes:
+//   1. light leaving through the top surface is the partial current of the diffuse radiance,
+//      R = C_phi phi + C_j j (fluence and flux, Kienle & Patterson 1997), with the extrapolation
+//      distance from the same exact Fresnel moments, A = (1 + 3 C2) / (1 - 2 C1);
+//   2. the totals are the adding-doubling ones, corrected per component:
+//      R(k) = c_top R_top(k) + c_deep (R_stack(k) - R_top(k)), R_top the top layer alone (over
+//      the index of what lies below it), c_top = R_top^AD / R_top(0), c_deep making R(0) the
+//      adding-doubling R_d. The singular part is c_top times the top layer's nearest image pair.
+class AccurateStack final : public RadialResponse {
+ public:
+  explicit AccurateStack(const LayerStack& stack, const Options& options = {});
+
+  double total() const override { return totals_.R_d; }
+  double singular(double r) const override;
+  double residual_k(double k) const override;
+
+  double R_d() const { return totals_.R_d; }
+  double T_d() const { return totals_.T_d; }
+  double R_specular() const { return totals_.R_specular; }
+  const Totals& totals() const { return totals_; }
+  // True when the top layer's transport comes from the built-in TopLayerTable.
+  bool transport_top() const { return table_ != nullptr; }
+  // The correction factors (1 where the shape already has the transport total).
+  double c_top() const { return c_top_; }
+  double c_deep() const { return c_deep_; }
+  // The uncorrected diffusion response with the partial-current top surface: total, and R(k).
+  double diffusion_R_k(double k) const;
+  double diffusion_top_R_k(double k) const;
+
+ private:
+  double top_dipole_k(double k) const;
+  double diffusion_R_k_given_top(double k, double R_top) const;
+  double coupling_k(double k) const;  // transport top layer: the light from below it
+  void use_dipole_only();             // diffusion shape unusable (thin top layer): dipole alone
+  Totals totals_;
+  const TopLayerTable* table_ = nullptr;  // set when the transport top layer is used
+  TopLayerTable::Sample top_sample_;
+  double sigma_t_prime_ = 1;              // of the top layer [1/mm]
+  DiffusionSlab top_, top_up_;        // top layer seen from above / from below
+  double C_phi_ = 0.25, C_j_ = 0.5;   // partial-current coefficients of the top surface
+  std::optional<DiffusionStack> rest_;  // the layers below the top one (none for one layer)
+  double c_top_ = 1, c_deep_ = 1;
+  bool dipole_only_ = false;
+};
+std::ostream& operator<<(std::ostream& os, const AccurateStack& s);
+
+}  // namespace skin::accurate

@@ -1,0 +1,333 @@
+// skin fit: the inverse model (docs/fit.md). Parameters from a measured reflectance spectrum,
+// from an sRGB colour, or per pixel from an albedo texture; and the measured-spectra report.
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "common.hpp"
+#include "skin/fit/color_fit.hpp"
+#include "skin/fit/fit.hpp"
+#include "skin/fit/report.hpp"
+#include "skin/util/atomic_file.hpp"
+#include "skin/util/error.hpp"
+#include "skin/plot/plot.hpp"
+
+namespace skin::cli {
+
+namespace {
+
+struct FitOpts {
+  ParameterOptions params;
+  OutputOptions out;
+  std::string spectrum, column, srgb, hex, texture, report_dir, spectra_dir;
+  // Default solver: the project default (accurate) when built, as skin spectrum/color use.
+  std::string free, plot, fitted, solver = fit::solver_names().back();
+  std::vector<std::string> bounds;
+  bool includes_specular = false;
+  double lambda_min = 400, lambda_max = 700;
+  double blend_prior = 0.7, blend_weight = 0.2;
+};
+
+fit::ForwardModel forward_model(const std::string& solver) { return fit::forward_model(solver); }
+
+std::vector<std::pair<fit::Parameter, fit::Bounds>> parse_bounds(const std::vector<std::string>& specs) {
+  std::vector<std::pair<fit::Parameter, fit::Bounds>> out;
+  for (const auto& s : specs) {
+    const auto eq = s.find('='), colon = s.find(':');
+    if (eq == std::string::npos || colon == std::string::npos || colon < eq)
+      throw InputError("bound = '" + s + "' must look like NAME=LO:HI (e.g. melanin=0:0.3)");
+    const fit::Parameter p = fit::parse_parameter(s.substr(0, eq));
+    fit::Bounds b;
+    try {
+      std::size_t u1 = 0, u2 = 0;
+      const std::string lo = s.substr(eq + 1, colon - eq - 1), hi = s.substr(colon + 1);
+      b.lo = std::stod(lo, &u1);
+      b.hi = std::stod(hi, &u2);
+      if (u1 != lo.size() || u2 != hi.size()) throw std::invalid_argument("trailing");
+    } catch (const std::exception&) {
+      throw InputError("bound = '" + s + "': LO and HI must be numbers");
+    }
+    if (!(b.lo < b.hi)) throw InputError("bound = '" + s + "': need LO < HI");
+    out.emplace_back(p, b);
+  }
+  return out;
+}
+
+json uncertainty_json(const fit::FitResult& r) {
+  json j = json::object();
+  for (std::size_t i = 0; i < r.free.size(); ++i) {
+    const double u = r.uncertainty[i];
+    j[std::string(fit::key(r.free[i]))] = std::isfinite(u) ? json(u) : json(nullptr);
+  }
+  return j;
+}
+
+std::string fitted_text(const fit::FitResult& r, const std::string& path) {
+  std::vector<double> resid(r.fitted.size());
+  for (std::size_t i = 0; i < resid.size(); ++i) resid[i] = r.fitted[i] - r.measured[i];
+  if (io::extension(path) == "json") {
+    json j;
+    j["wavelength_nm"] = r.wavelength_nm;
+    j["measured"] = r.measured;
+    j["R"] = r.fitted;
+    j["residual"] = resid;
+    return j.dump(2) + "\n";
+  }
+  if (io::extension(path) != "csv")
+    throw InputError("fitted = '" + path + "': the extension must be .csv or .json");
+  return format_csv({"wavelength_nm", "measured", "R", "residual"}, {r.wavelength_nm, r.measured, r.fitted, resid});
+}
+
+void run_spectrum(const FitOpts& o) {
+  // Everything that can fail on input is checked before anything is written.
+  if (!o.plot.empty() && io::extension(o.plot) != "png" && io::extension(o.plot) != "svg")
+    throw InputError("plot = '" + o.plot + "': the extension must be .png or .svg");
+  if (!o.fitted.empty() && io::extension(o.fitted) != "csv" && io::extension(o.fitted) != "json")
+    throw InputError("fitted = '" + o.fitted + "': the extension must be .csv or .json");
+  fit::SpectrumFitOptions opt;
+  opt.start = o.params.resolve();
+  if (!o.free.empty()) opt.free = fit::parse_parameter_list(o.free);
+  opt.includes_specular = o.includes_specular;
+  opt.lambda_min = o.lambda_min;
+  opt.lambda_max = o.lambda_max;
+  opt.bounds = parse_bounds(o.bounds);
+  opt.model = forward_model(o.solver);
+  const fit::MeasuredSpectrum m = fit::read_spectrum(o.spectrum, o.column);
+  const fit::FitResult r = fit::SpectrumFitter(opt).fit(m);
+
+  std::string text;
+  switch (o.out.resolve()) {
+    case Format::json: {
+      json j;
+      j["input"] = m.name;
+      j["solver"] = o.solver;
+      j["includes_specular"] = o.includes_specular;
+      json free = json::array();
+      for (auto p : r.free) free.push_back(std::string(fit::key(p)));
+      j["free"] = free;
+      j["parameters"] = to_json(r.parameters);
+      j["uncertainty"] = uncertainty_json(r);
+      json at_bound = json::object();
+      for (std::size_t i = 0; i < r.free.size(); ++i) at_bound[std::string(fit::key(r.free[i]))] = bool(r.at_bound[i]);
+      j["at_bound"] = at_bound;
+      j["rms"] = r.rms;
+      j["specular"] = r.specular;
+      j["iterations"] = r.iterations;
+      j["starts"] = r.starts;
+      j["fitted"] = {{"wavelength_nm", r.wavelength_nm}, {"measured", r.measured}, {"R", r.fitted}};
+      text = j.dump(2) + "\n";
+      break;
+    }
+    case Format::csv: {
+      std::vector<std::string> h;
+      std::vector<std::vector<double>> c;
+      for (std::size_t i = 0; i < r.free.size(); ++i) {
+        h.push_back(std::string(fit::key(r.free[i])));
+        c.push_back({fit::get(r.parameters, r.free[i])});
+        h.push_back(std::string(fit::key(r.free[i])) + "_sigma");
+        c.push_back({r.uncertainty[i]});
+      }
+      h.push_back("rms");
+      c.push_back({r.rms});
+      text = format_csv(h, c);
+      break;
+    }
+    case Format::table: {
+      std::ostringstream os;
+      os << "fit of " << m.name << " (" << r.wavelength_nm.size() << " samples, "
+         << r.wavelength_nm.front() << "-" << r.wavelength_nm.back() << " nm, solver " << o.solver << ")\n";
+      for (std::size_t i = 0; i < r.free.size(); ++i) {
+        char buf[160];
+        std::snprintf(buf, sizeof buf, "  %-22s %12.6g  +- %-10.3g%s\n", std::string(fit::key(r.free[i])).c_str(),
+                      fit::get(r.parameters, r.free[i]), r.uncertainty[i], r.at_bound[i] ? "  (at bound)" : "");
+        os << buf;
+      }
+      if (o.includes_specular) os << "  specular term rho_s F    " << r.specular << "\n";
+      os << "  RMS residual             " << r.rms << "\n";
+      text = os.str();
+      break;
+    }
+  }
+  if (!o.fitted.empty()) io::write_file_atomic(o.fitted, fitted_text(r, o.fitted));
+  if (!o.plot.empty()) {
+    plot::Figure f;
+    char rms[32];
+    std::snprintf(rms, sizeof rms, "%.4f", r.rms);
+    f.title = "Fit of " + std::filesystem::path(m.name).filename().string() + " (" + o.solver + ", RMS " + rms + ")";
+    f.x_label = "wavelength [nm]";
+    f.y_label = "reflectance";
+    f.y_min = 0.0;
+    plot::Series meas{"measured", r.wavelength_nm, r.measured, {0.1, 0.1, 0.1}};
+    meas.markers = true;
+    f.series.push_back(meas);
+    f.series.push_back({"model", r.wavelength_nm, r.fitted, {0.8, 0.25, 0.15}});
+    plot::save(f, o.plot);
+  }
+  o.out.emit(text);
+}
+
+// Options shared by the colour and the texture fits.
+fit::ColorFitOptions color_fit_options(const FitOpts& o) {
+  fit::ColorFitOptions opt;
+  opt.start = o.params.resolve();
+  if (!o.free.empty()) opt.free = fit::parse_parameter_list(o.free);
+  opt.melanin_blend_prior = o.blend_prior;
+  opt.melanin_blend_weight = o.blend_weight;
+  opt.bounds = parse_bounds(o.bounds);
+  opt.model = forward_model(o.solver);
+  return opt;
+}
+
+void run_color(const FitOpts& o) {
+  const fit::ColorFitOptions opt = color_fit_options(o);
+  const color::Rgb target = o.hex.empty() ? fit::parse_srgb8(o.srgb) : fit::parse_hex(o.hex);
+  const fit::ColorFitResult r = fit::ColorFitter(opt).fit(target);
+  const color::Colorimetry cm{WavelengthGrid{}};
+  const color::ColorSummary in = color::summarize_rgb(cm, target);
+  const color::ColorSummary out = color::summarize_rgb(cm, r.fitted_srgb_linear);
+  if (r.delta_e > 1.0)
+    std::cerr << "skin fit: warning: the closest model colour is " << r.delta_e
+              << " dE2000 away: the target is outside the colours the model reaches with the "
+                 "fixed parameters\n";
+  std::string text;
+  switch (o.out.resolve()) {
+    case Format::json: {
+      json j;
+      j["target"] = {{"hex", in.hex}, {"lab", {in.lab.L, in.lab.a, in.lab.b}}};
+      j["parameters"] = to_json(r.parameters);
+      j["fitted"] = {{"hex", out.hex}, {"lab", {r.fitted.L, r.fitted.a, r.fitted.b}},
+                     {"srgb_linear", {r.fitted_srgb_linear.r, r.fitted_srgb_linear.g, r.fitted_srgb_linear.b}}};
+      j["delta_e_2000"] = r.delta_e;
+      j["melanin_blend_prior"] = o.blend_prior;
+      j["melanin_blend_weight"] = o.blend_weight;
+      text = j.dump(2) + "\n";
+      break;
+    }
+    case Format::csv:
+      text = format_csv({"melanin", "melanin_blend", "hemoglobin", "delta_e_2000"},
+                        {{r.parameters.melanin}, {r.parameters.melanin_blend}, {r.parameters.hemoglobin}, {r.delta_e}});
+      break;
+    case Format::table: {
+      std::ostringstream os;
+      os << "target " << in.hex << "  Lab " << r.target << "\n"
+         << "  melanin        " << r.parameters.melanin << "\n"
+         << "  melanin_blend  " << r.parameters.melanin_blend << "\n"
+         << "  hemoglobin     " << r.parameters.hemoglobin << "\n"
+         << "fitted " << out.hex << "  Lab " << r.fitted << "  dE2000 " << r.delta_e << "\n";
+      text = os.str();
+      break;
+    }
+  }
+  o.out.emit(text);
+}
+
+void run_texture(const FitOpts& o) {
+  if (o.out.output.empty()) throw InputError("texture: give the output parameter maps with -o FILE.exr");
+  if (io::extension(o.out.output) != "exr")
+    throw InputError("output = '" + o.out.output + "': parameter maps are written as .exr");
+  const fit::ColorFitOptions opt = color_fit_options(o);
+  const fit::Image img = fit::read_albedo(o.texture);
+  const fit::TextureFitter fitter(opt);
+  const bool bar = stderr_is_terminal();
+  if (bar) std::cerr << "skin fit: building the colour table...\r" << std::flush;
+  fitter.prepare();
+  const fit::ParameterMaps maps = fitter.fit(img, [bar](std::size_t done, std::size_t total) {
+    if (!bar) return;
+    std::fprintf(stderr, "\rskin fit: %zu / %zu distinct colours (%3.0f %%)   ", done, total,
+                 100.0 * double(done) / double(std::max<std::size_t>(total, 1)));
+  });
+  if (bar) std::cerr << "\n";
+  fit::write_parameter_maps(maps, o.out.output);
+  json j;
+  j["texture"] = o.texture;
+  j["output"] = o.out.output;
+  j["width"] = maps.width;
+  j["height"] = maps.height;
+  j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
+  j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
+  std::cout << j.dump(2) << "\n";
+}
+
+void run_report(const FitOpts& o) {
+  namespace fs = std::filesystem;
+  std::ostringstream md;
+  fit::write_measured_report(o.spectra_dir, o.report_dir, md, forward_model(o.solver), o.solver);
+  const std::string path = (fs::path(o.report_dir) / "README.md").string();
+  io::write_file_atomic(path, md.str());
+  std::cout << "wrote " << path << " and one PNG per spectrum\n";
+}
+
+}  // namespace
+
+void register_fit(CLI::App& app) {
+  auto o = std::make_shared<FitOpts>();
+  o->spectra_dir = fit::default_spectra_dir();
+  CLI::App* sub = app.add_subcommand(
+      "fit",
+      "Inverse model: recover skin parameters from a measured reflectance spectrum (--spectrum), "
+      "an sRGB colour (--srgb/--hex) or an albedo texture (--texture); or write the "
+      "measured-spectra report (--measured-report). See docs/fit.md");
+  auto* g_in = "Input (exactly one)";
+  auto* o_spec = sub->add_option("--spectrum", o->spectrum,
+                                 "Measured reflectance CSV: wavelength [nm], reflectance 0-1; must cover 450-650 nm")
+                     ->group(g_in);
+  auto* o_srgb = sub->add_option("--srgb", o->srgb, "Target colour R,G,B (8-bit sRGB, 0-255)")->group(g_in);
+  auto* o_hex = sub->add_option("--hex", o->hex, "Target colour RRGGBB (8-bit sRGB)")->group(g_in);
+  auto* o_tex = sub->add_option("--texture", o->texture,
+                                "Albedo texture (PNG, 8 or 16 bit, sRGB-encoded) -> per-pixel maps, -o FILE.exr")
+                    ->group(g_in);
+  auto* o_rep = sub->add_option("--measured-report", o->report_dir,
+                                "Fit every spectrum under --spectra-dir and write README.md + PNGs to DIR")
+                    ->group(g_in);
+  for (auto* a : {o_spec, o_srgb, o_hex, o_tex, o_rep})
+    for (auto* b : {o_spec, o_srgb, o_hex, o_tex, o_rep})
+      if (a != b) a->excludes(b);
+  sub->add_option("--spectra-dir", o->spectra_dir, "Directory of measured spectra for --measured-report")
+      ->capture_default_str()->group(g_in);
+  auto* o_col = sub->add_option("--column", o->column, "Reflectance column of a multi-column CSV")->group(g_in);
+
+  auto* g_fit = "Fit";
+  sub->add_option("--free", o->free,
+                  "Parameters to fit, comma-separated CLI names (default melanin,melanin-blend,hemoglobin); "
+                  "extended: epidermal-hemoglobin, beta-carotene, bilirubin, epidermis-thickness, "
+                  "oxygenation, scattering-scale")
+      ->group(g_fit);
+  auto* o_specular = sub->add_flag("--includes-specular", o->includes_specular,
+                "The measurement includes the surface reflection: add rho_s F (F = Fresnel at normal "
+                "incidence, 0.028) and fit oiliness")
+      ->group(g_fit);
+  sub->add_option("--bound", o->bounds, "Search interval NAME=LO:HI (repeatable), e.g. melanin=0:0.3")->group(g_fit);
+  auto* o_lmin = sub->add_option("--fit-lambda-min", o->lambda_min, "Fit only samples at or above this wavelength [nm]")
+      ->capture_default_str()->group(g_fit);
+  auto* o_lmax = sub->add_option("--fit-lambda-max", o->lambda_max, "Fit only samples at or below this wavelength [nm]")
+      ->capture_default_str()->group(g_fit);
+  auto* o_prior = sub->add_option("--melanin-blend-prior", o->blend_prior,
+                  "Colour fits: beta_m the regulariser pulls toward, [0, 1]")->capture_default_str()->group(g_fit);
+  auto* o_weight = sub->add_option("--melanin-blend-weight", o->blend_weight,
+                  "Colour fits: regulariser weight [Lab units per unit beta_m], >= 0")->capture_default_str()->group(g_fit);
+  sub->add_option("--solver", o->solver,
+                  "Forward model for R_d: accurate (adding-doubling, the project's default, as in "
+                  "skin spectrum/color) or multipole (the paper's diffusion model, ~70x faster)")
+      ->check(CLI::IsMember(fit::solver_names()))->capture_default_str()->group(g_fit);
+
+  o->params.add_to(*sub);
+  o->out.add_to(*sub);
+  auto* o_plot = sub->add_option("--plot", o->plot, "Spectrum fit: draw measurement and model to FILE.png or FILE.svg")->group("Output");
+  auto* o_fitted = sub->add_option("--fitted", o->fitted, "Spectrum fit: write the fitted spectrum to FILE.csv or FILE.json")->group("Output");
+
+  // Options that only make sense for one kind of input are rejected elsewhere, before any work.
+  for (auto* opt : {o_col, o_specular, o_lmin, o_lmax, o_plot, o_fitted}) opt->needs(o_spec);
+  sub->callback([o, o_spec, o_srgb, o_hex, o_tex, o_rep, o_prior, o_weight] {
+    if ((o_prior->count() || o_weight->count()) && !(o_srgb->count() || o_hex->count() || o_tex->count()))
+      throw InputError("--melanin-blend-prior and --melanin-blend-weight apply to colour fits only "
+                       "(--srgb, --hex, --texture)");
+    if (o_spec->count()) run_spectrum(*o);
+    else if (o_srgb->count() || o_hex->count()) run_color(*o);
+    else if (o_tex->count()) run_texture(*o);
+    else if (o_rep->count()) run_report(*o);
+    else throw InputError("fit: give one input: --spectrum, --srgb, --hex, --texture or --measured-report");
+  });
+}
+
+}  // namespace skin::cli

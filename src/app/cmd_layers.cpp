@@ -1,0 +1,102 @@
+// skin layers: the multipole model of any layer stack given by its coefficients.
+#include <optional>
+
+#include "common.hpp"
+#include "skin/util/error.hpp"
+#include "skin/transport/profile.hpp"
+#include "skin/transport/stack.hpp"
+#include "skin/transport/accurate.hpp"
+
+namespace skin::cli {
+
+void register_layers(CLI::App& app) {
+  struct Opts {
+    std::vector<std::string> layers;
+    std::vector<double> radii;
+    double eta_above = 1.0, eta_below = 1.0;
+    SolverOption solver;
+    OutputOptions out;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "layers",
+      "Diffuse reflectance and transmittance of a stack of layers (per power that entered the "
+      "top surface; accurate = adding-doubling, multipole = DJ05 diffusion), lengths in mm, "
+      "coefficients in 1/mm");
+  sub->add_option("--layer", o->layers,
+                  "A layer, top to bottom: sigma_a=A,sigma_s_prime=S[,thickness=D][,eta=N][,g=G] "
+                  "(1/mm, mm; eta default 1.4; no thickness = semi-infinite, last layer only)")
+      ->required()->take_all()->allow_extra_args(false);
+  sub->add_option("--radius", o->radii, "Radius [mm] at which to print the profile R(r) (repeatable)")
+      ->allow_extra_args(false);
+  sub->add_option("--eta-above", o->eta_above, "Refractive index above the stack, [1, 3]")->capture_default_str();
+  sub->add_option("--eta-below", o->eta_below, "Refractive index below the stack, [1, 3]")->capture_default_str();
+  o->solver.add_to(*sub);
+  o->out.add_to(*sub);
+  sub->callback([o] {
+    LayerStack stack;
+    stack.eta_above = o->eta_above;
+    stack.eta_below = o->eta_below;
+    for (std::size_t i = 0; i < o->layers.size(); ++i) stack.layers.push_back(parse_layer(o->layers[i], i));
+    const DiffusionStack ds(stack);  // validates
+    const bool accurate = parse_solver(o->solver.name) == Solver::accurate;
+    std::optional<accurate::AccurateStack> as;
+    if (accurate) as.emplace(stack);
+    const RadialResponse& response = accurate ? static_cast<const RadialResponse&>(*as) : ds;
+    std::vector<double> r = o->radii;
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+    std::vector<double> R;
+    if (!r.empty()) {
+      ProfileSolver solver(RadialGrid::from(r));
+      R = solver.profile(response);
+    }
+    const double R_d = accurate ? as->R_d() : ds.R_d(), T_d = accurate ? as->T_d() : ds.T_d();
+    const double R_specular =
+        accurate ? as->R_specular() : fresnel_dielectric(1.0, stack.eta_above, stack.layers[0].eta);
+    warn_if_negative("R_d", {R_d}, {0.0}, "(total)");
+    warn_if_negative("T_d", {T_d}, {0.0}, "(total)");
+    if (!R.empty()) warn_if_negative("R(r)", R, r, "mm");
+    const Format fmt = o->out.resolve();
+    std::string text;
+    if (fmt == Format::json) {
+      json j;
+      j["solver"] = o->solver.name;
+      j["eta_above"] = stack.eta_above;
+      j["eta_below"] = stack.eta_below;
+      json layers = json::array();
+      for (std::size_t i = 0; i < stack.layers.size(); ++i) {
+        const auto& l = stack.layers[i];
+        const auto& s = ds.slabs()[i];
+        json jl;
+        jl["sigma_a"] = l.sigma_a;
+        jl["sigma_s_prime"] = l.sigma_s_prime;
+        jl["thickness"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
+        jl["eta"] = l.eta;
+        jl["alpha_prime"] = s.alpha_prime;
+        jl["sigma_tr"] = s.sigma_tr;
+        jl["z_r"] = s.z_r;
+        jl["z_b_top"] = s.z_b_top;
+        jl["z_b_bottom"] = s.z_b_bottom;
+        jl["A_top"] = s.A_top;
+        jl["A_bottom"] = s.A_bottom;
+        layers.push_back(jl);
+      }
+      j["layers"] = layers;
+      j["R_specular"] = R_specular;
+      j["R_d"] = R_d;
+      j["T_d"] = T_d;
+      j["profile"] = {{"r_mm", r}, {"R", R}};
+      text = j.dump(2) + "\n";
+    } else if (fmt == Format::csv) {
+      text = "# R_d=" + format_number(R_d) + " T_d=" + format_number(T_d) + "\n" +
+             format_csv({"r_mm", "R"}, {r, R});
+    } else {
+      text = "R_d  " + format_number(R_d) + "\nT_d  " + format_number(T_d) + "\n";
+      if (!r.empty()) text += "\n" + format_table({"r_mm", "R [1/mm^2]"}, {r, R});
+    }
+    o->out.emit(text);
+  });
+}
+
+}  // namespace skin::cli

@@ -1,0 +1,304 @@
+// skin mc: Monte Carlo photon transport in a layer stack (the validation reference).
+// skin validate: diffusion against Monte Carlo over the presets and generic stacks -> report.
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "common.hpp"
+#include "skin/util/atomic_file.hpp"
+#include "skin/mc/mc.hpp"
+#include "skin/mc/tabulate.hpp"
+#include "skin/mc/validation.hpp"
+#include "skin/util/error.hpp"
+#include "skin/transport/accurate.hpp"
+#include "skin/transport/profile.hpp"
+#ifdef SKIN_HAVE_FIT
+#include "skin/fit/fit.hpp"
+#include "skin/fit/report.hpp"
+#endif
+
+namespace skin::cli {
+
+namespace {
+
+struct McOptions {
+  std::uint64_t photons = 100000;
+  std::uint64_t seed = 1;
+  int threads = 0;
+  double r_max = 10.0;
+  std::size_t bins = 200;
+  void add_to(CLI::App& app, std::uint64_t default_photons, std::size_t default_bins,
+              bool with_radius) {
+    photons = default_photons;
+    bins = default_bins;
+    const char* g = "Monte Carlo";
+    app.add_option("--photons", photons, "Photon packets entering the medium (per case), >= 1")
+        ->capture_default_str()->group(g);
+    app.add_option("--seed", seed, "Seed; the same seed gives identical results for any thread count")
+        ->capture_default_str()->group(g);
+    app.add_option("--threads", threads, "Worker threads, >= 0 (0 = all cores)")
+        ->capture_default_str()->group(g);
+    if (with_radius)
+      app.add_option("--radius-max", r_max, "Outer radius of the radial profile R(r) [mm], > 0")
+          ->capture_default_str()->group(g);
+    app.add_option("--bins", bins, "Annular bins of the radial profile, >= 1")
+        ->capture_default_str()->group(g);
+  }
+  mc::Options resolve() const {
+    mc::Options o;
+    o.photons = photons;
+    o.seed = seed;
+    o.threads = threads;
+    o.r_max = r_max;
+    o.bins = bins;
+    o.progress = stderr_is_terminal();
+    return o;
+  }
+};
+
+json layers_json(const LayerStack& stack) {
+  json layers = json::array();
+  for (const auto& l : stack.layers) {
+    json jl;
+    jl["sigma_a"] = l.sigma_a;
+    jl["sigma_s_prime"] = l.sigma_s_prime;
+    jl["sigma_s"] = l.sigma_s();
+    jl["g"] = l.g;
+    jl["thickness"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
+    jl["eta"] = l.eta;
+    layers.push_back(jl);
+  }
+  return layers;
+}
+
+void register_mc_command(CLI::App& app) {
+  struct Opts {
+    std::vector<std::string> layers;
+    double eta_above = 1.0, eta_below = 1.0;
+    double wavelength = 0;
+    ParameterOptions params;
+    McOptions mc;
+    OutputOptions out;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "mc",
+      "Monte Carlo photon transport in a layer stack (MCML method: pencil beam at normal "
+      "incidence, Henyey-Greenstein scattering, exact Fresnel at every interface). Either "
+      "--layer ... or --wavelength NM with the skin model (--preset and parameter flags). "
+      "Reflectances per power that entered the medium; lengths in mm, coefficients in 1/mm");
+  CLI::Option* layer_opt =
+      sub->add_option("--layer", o->layers,
+                      "A layer, top to bottom: sigma_a=A,sigma_s_prime=S[,thickness=D][,eta=N][,g=G] "
+                      "(1/mm, mm; eta default 1.4, g default 0.9, sigma_s = sigma_s'/(1-g); no "
+                      "thickness = semi-infinite, last layer only)")
+          ->take_all()->allow_extra_args(false);
+  sub->add_option("--eta-above", o->eta_above, "Refractive index above the stack, [1, 3] (with --layer)")
+      ->capture_default_str();
+  sub->add_option("--eta-below", o->eta_below, "Refractive index below the stack, [1, 3] (with --layer)")
+      ->capture_default_str();
+  CLI::Option* wl_opt = sub->add_option(
+      "--wavelength", o->wavelength,
+      "Simulate the two-layer skin model at this wavelength [nm] (instead of --layer)");
+  wl_opt->excludes(layer_opt);
+  o->params.add_to(*sub);
+  o->mc.add_to(*sub, 100000, 200, true);
+  o->out.add_to(*sub);
+  sub->callback([o, sub, wl_opt] {
+    LayerStack stack;
+    std::string source;
+    if (!o->layers.empty()) {
+      // Skin parameters only make sense with --wavelength: reject them with --layer.
+      if (sub->get_option("--preset")->count() > 0)
+        throw InputError("--preset needs --wavelength and cannot be combined with --layer");
+      for (const auto& [opt, member] : o->params.flags)
+        if (opt->count() > 0)
+          throw InputError(opt->get_name() + " needs --wavelength and cannot be combined with --layer");
+      stack.eta_above = o->eta_above;
+      stack.eta_below = o->eta_below;
+      for (std::size_t i = 0; i < o->layers.size(); ++i)
+        stack.layers.push_back(parse_layer(o->layers[i], i));
+      source = "layers";
+    } else if (wl_opt->count() > 0) {
+      require_in_range("wavelength", o->wavelength, 250.0, 1000.0, "nm");
+      stack = skin_layer_stack(o->params.resolve(), o->wavelength);
+      source = "preset";
+    } else {
+      throw InputError("give either --layer ... or --wavelength NM (with --preset / parameters)");
+    }
+    stack.validate();
+    const mc::Options opts = o->mc.resolve();
+    const mc::Result r = mc::simulate(stack, opts);
+    const Format fmt = o->out.resolve();
+    std::string text;
+    if (fmt == Format::json) {
+      json j;
+      j["solver"] = "monte-carlo";
+      if (source == "preset") {
+        j["preset"] = o->params.preset;
+        j["parameters"] = to_json(o->params.resolve());
+        j["wavelength"] = o->wavelength;
+      }
+      j["eta_above"] = stack.eta_above;
+      j["eta_below"] = stack.eta_below;
+      j["layers"] = layers_json(stack);
+      j["R_specular"] = r.R_specular;
+      j["R_d"] = r.R_d;
+      j["R_d_se"] = r.R_d_se;
+      j["T_d"] = r.T_d;
+      j["T_d_se"] = r.T_d_se;
+      j["R_d_incident"] = r.R_d_incident;
+      j["T_d_incident"] = r.T_d_incident;
+      j["photons"] = r.photons;
+      j["seed"] = opts.seed;
+      j["seconds"] = r.seconds;
+      j["profile"] = {{"r_mm", r.r_mm}, {"R", r.R}, {"R_se", r.R_se}};
+      text = j.dump(2) + "\n";
+    } else if (fmt == Format::csv) {
+      text = "# R_specular=" + format_number(r.R_specular) + " R_d=" + format_number(r.R_d) +
+             " R_d_se=" + format_number(r.R_d_se) + " T_d=" + format_number(r.T_d) +
+             " T_d_se=" + format_number(r.T_d_se) + " photons=" + std::to_string(r.photons) +
+             " (per power that entered)\n" + format_csv({"r_mm", "R", "R_se"}, {r.r_mm, r.R, r.R_se});
+    } else {
+      char buf[512];
+      std::snprintf(buf, sizeof buf,
+                    "per power that entered:  R_d %.6f +- %.6f   T_d %.6f +- %.6f\n"
+                    "per incident power:      R_d %.6f   T_d %.6f   R_specular %.6f\n"
+                    "%llu photons in %.2f s\n",
+                    r.R_d, r.R_d_se, r.T_d, r.T_d_se, r.R_d_incident, r.T_d_incident,
+                    r.R_specular, static_cast<unsigned long long>(r.photons), r.seconds);
+      text = buf;
+      text += "\n" + format_table({"r_mm", "R [1/mm^2]", "R_se"}, {r.r_mm, r.R, r.R_se});
+    }
+    o->out.emit(text);
+  });
+}
+
+// The accurate solver as a column of the report: adding-doubling totals and the accurate radial
+// response (docs/accurate-solver.md).
+mc::SolverColumn accurate_solver() {
+  mc::SolverColumn s;
+  s.name = "accurate";
+  s.R_d = [](const LayerStack& stack) { return accurate::adding_doubling(stack).R_d; };
+  s.profile = [](const LayerStack& stack, const std::vector<double>& r_mm) {
+    ProfileSolver solver(RadialGrid::from(r_mm));
+    return solver.profile(accurate::AccurateStack(stack));
+  };
+  return s;
+}
+
+void register_validate_command(CLI::App& app) {
+  struct Opts {
+    std::string out;
+    std::string spectra_dir = "../shared/data/skin_spectra";
+    std::vector<double> wavelengths{450, 550, 650};
+    McOptions mc;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "validate",
+      "Both solvers (multipole, accurate) against Monte Carlo over the paper's presets at several "
+      "wavelengths and over generic layer stacks, and the model against measured skin spectra; "
+      "writes OUT/README.md (tables, errors), PNG profiles and OUT/measured/");
+  sub->add_option("--out", o->out, "Output directory (created if missing)")->required();
+  sub->add_option("--wavelength", o->wavelengths, "Wavelengths of the preset cases [nm] (repeatable)")
+      ->capture_default_str()->allow_extra_args(false);
+  sub->add_option("--spectra-dir", o->spectra_dir,
+                  "Measured skin spectra (CSV) for the measured-spectra part; skipped if absent")
+      ->capture_default_str();
+  o->mc.add_to(*sub, 1000000, 200, false);
+  sub->callback([o] {
+    for (double l : o->wavelengths) require_in_range("wavelength", l, 250.0, 1000.0, "nm");
+    mc::Options opts = o->mc.resolve();
+    opts.progress = false;
+    // Check the options before the long run starts (simulate() checks them again per case).
+    if (opts.photons < 1) throw InputError("photons = 0 is out of range: must be >= 1");
+    std::vector<mc::ValidationCase> cases = mc::preset_cases(o->wavelengths);
+    for (auto& c : mc::generic_cases()) cases.push_back(std::move(c));
+    std::filesystem::create_directories(o->out);
+    const bool verbose = stderr_is_terminal();
+    std::size_t done = 0;
+    const auto log = [&](const std::string& line) {
+      ++done;
+      if (verbose) std::cerr << "[" << done << "/" << cases.size() << "] " << line << '\n';
+    };
+    const mc::ValidationRun run =
+        mc::run_validation(cases, {mc::multipole_solver(), accurate_solver()}, opts, log);
+    std::ostringstream md;
+    mc::write_validation_report(md, run, o->out, "");
+    md << "\n## Measured skin spectra\n\n";
+#ifdef SKIN_HAVE_FIT
+    if (std::filesystem::is_directory(o->spectra_dir)) {
+      // The model fitted to every measured spectrum, with each solver (skin::fit).
+      for (const char* solver : {"multipole", "accurate"}) {
+        const std::string sub_dir = std::string("measured/") + (std::string(solver) == "multipole" ? "" : "accurate/");
+        std::ostringstream part;
+        fit::write_measured_report(o->spectra_dir, o->out + "/" + sub_dir, part, fit::forward_model(solver), solver);
+        io::write_file_atomic(o->out + "/" + sub_dir + "README.md", part.str());
+        md << "- with the " << solver << " solver: [" << sub_dir << "README.md](" << sub_dir
+           << "README.md)\n";
+      }
+    } else {
+      md << "Skipped: no measured spectra at " << o->spectra_dir << ".\n";
+    }
+#else
+    md << "Not built (the fitting library is needed).\n";
+#endif
+    io::write_file_atomic(o->out + "/README.md", md.str());
+    std::cout << "wrote " << o->out << "/README.md and " << run.cases.size() + 1
+              << " plots (" << run.cases.size() << " cases, " << format_number(run.seconds)
+              << " s)\n";
+  });
+}
+
+}  // namespace
+
+void register_tabulate_command(CLI::App& app) {
+  struct Opts {
+    std::string out;
+    mc::TabulateOptions t = mc::TabulateOptions::defaults();
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "tabulate-top-layer",
+      "Tabulate a thin top layer's transport (reflectance profile and transfer functions) by Monte "
+      "Carlo over its reduced albedo and optical thickness: the data file "
+      "data/top_layer_transport_g*.csv of the accurate solver's profiles (about 9 min on 2 cores)");
+  sub->add_option("-o,--output", o->out, "Output CSV file (written atomically)")->required();
+  sub->add_option("--g", o->t.g, "Henyey-Greenstein anisotropy, (-1, 1)")->capture_default_str();
+  sub->add_option("--eta", o->t.eta, "Refractive index of the layer, [1, 3]")->capture_default_str();
+  sub->add_option("--eta-above", o->t.eta_above, "Refractive index above it, [1, 3]")
+      ->capture_default_str();
+  sub->add_option("--min-photons", o->t.min_photons, "Fewest photons per node and source")
+      ->capture_default_str();
+  sub->add_option("--max-photons", o->t.max_photons, "Most photons per node (pencil beam)")
+      ->capture_default_str();
+  sub->add_option("--seed", o->t.seed, "Seed")->capture_default_str();
+  sub->add_option("--threads", o->t.threads, "Worker threads, >= 0 (0 = all cores)")
+      ->capture_default_str();
+  sub->add_option("--x", o->t.x, "Nodes in x = sqrt(1 - alpha'), increasing in [0, 1) (default 0.05 to 0.95 by 0.06)")
+      ->delimiter(',');
+  sub->add_option("--tau", o->t.tau, "Nodes in reduced optical thickness tau', increasing (default 0.35 2^(j/4), j = 0..26)")
+      ->delimiter(',');
+  sub->add_option("--target-reflected", o->t.target_reflected,
+                  "Reflected photon weight aimed at per node (sets the pencil-beam photon count)")
+      ->capture_default_str();
+  sub->callback([o] {
+    if (stderr_is_terminal())
+      o->t.on_node = [](std::size_t done, std::size_t total) {
+        std::cerr << "\rnode " << done << "/" << total << std::flush;
+        if (done == total) std::cerr << '\n';
+      };
+    const accurate::TopLayerTable table = mc::tabulate_top_layer(o->t);
+    io::write_file_atomic(o->out, table.to_csv());
+    std::cout << "wrote " << o->out << ": " << table << '\n';
+  });
+}
+
+void register_mc(CLI::App& app) {
+  register_mc_command(app);
+  register_tabulate_command(app);
+  register_validate_command(app);
+}
+
+}  // namespace skin::cli

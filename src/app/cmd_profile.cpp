@@ -1,0 +1,111 @@
+// skin profile: radial diffusion profile R(r) per wavelength or per linear sRGB channel.
+#include "common.hpp"
+#include "skin/model/skin_model.hpp"
+#include "skin/util/error.hpp"
+#include "skin/plot/plot.hpp"
+
+namespace skin::cli {
+
+void register_profile(CLI::App& app) {
+  struct Opts {
+    ParameterOptions params;
+    GridOptions grid;
+    SolverOption solver;
+    OutputOptions out;
+    bool rgb = false;
+    double radius_min = 1e-3, radius_max = 16.0;
+    std::size_t samples = 256;
+    std::string spacing = "log";
+    std::string plot;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "profile", "Radial profile R(r) [1/mm^2] of the two-layer skin (DJ06 section 4), per "
+                 "wavelength or per linear sRGB channel");
+  o->params.add_to(*sub);
+  o->grid.add_to(*sub);
+  o->solver.add_to(*sub);
+  o->out.add_to(*sub);
+  sub->add_flag("--rgb", o->rgb, "Per linear sRGB channel (r, g, b) instead of per wavelength");
+  sub->add_option("--radius-min", o->radius_min, "Smallest radius [mm] (log spacing)")->capture_default_str();
+  sub->add_option("--radius-max", o->radius_max, "Largest radius [mm]")->capture_default_str();
+  sub->add_option("--samples", o->samples, "Number of radii, [2, 1000000]")->capture_default_str();
+  sub->add_option("--spacing", o->spacing, "Radii spaced evenly in log r (from --radius-min) or linearly from 0")
+      ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();
+  sub->add_option("--plot", o->plot, "Also draw the profile per RGB channel on log axes to FILE.png or FILE.svg")
+      ->group("Output");
+  sub->callback([o] {
+    const SkinParameters p = o->params.resolve();
+    const WavelengthGrid grid = o->grid.resolve();
+    RadialGrid radii = o->spacing == "log" ? RadialGrid::logarithmic(o->radius_min, o->radius_max, o->samples)
+                                           : RadialGrid::linear(o->radius_max, o->samples);
+    ProfileSolver solver(radii);
+    const Solver transport = parse_solver(o->solver.name);
+    const Format fmt = o->out.resolve();
+    std::string text;
+    RgbProfile rgb;
+    if (o->rgb || !o->plot.empty()) rgb = skin_rgb_profile(p, grid, solver, transport);
+    if (o->rgb) {
+      const char* names[3] = {"r", "g", "b"};
+      for (int c = 0; c < 3; ++c) warn_if_negative(std::string("R(r) linear sRGB channel ") + names[c], rgb.R[c], radii.r, "mm", true);
+      if (fmt == Format::json) {
+        json j;
+        j["preset"] = o->params.preset;
+        j["parameters"] = to_json(p);
+        j["solver"] = o->solver.name;
+        j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
+        j["r_mm"] = radii.r;
+        j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
+        j["R_d"] = {{"r", rgb.R_d[0]}, {"g", rgb.R_d[1]}, {"b", rgb.R_d[2]}};
+        text = j.dump(2) + "\n";
+      } else {
+        std::vector<std::string> h = {"r_mm", "R_r", "R_g", "R_b"};
+        std::vector<std::vector<double>> cols = {radii.r, rgb.R[0], rgb.R[1], rgb.R[2]};
+        text = fmt == Format::csv ? format_csv(h, cols) : format_table(h, cols);
+      }
+    } else {
+      const SpectralProfile sp = skin_spectral_profile(p, grid, solver, transport);
+      std::vector<std::vector<double>> rows(grid.size());
+      for (std::size_t i = 0; i < grid.size(); ++i) {
+        rows[i].assign(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
+                       sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * radii.size()));
+        warn_if_negative("R(r) at " + format_number(grid[i]) + " nm", rows[i], radii.r, "mm");
+      }
+      if (fmt == Format::json) {
+        json j;
+        j["preset"] = o->params.preset;
+        j["parameters"] = to_json(p);
+        j["solver"] = o->solver.name;
+        j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
+        j["r_mm"] = radii.r;
+        j["wavelength_nm"] = grid.values();
+        j["R_d"] = sp.R_d.values;
+        j["R"] = rows;  // R[i_lambda][j_r]
+        text = j.dump(2) + "\n";
+      } else {
+        std::vector<std::string> h = {"r_mm"};
+        std::vector<std::vector<double>> cols = {radii.r};
+        for (std::size_t i = 0; i < grid.size(); ++i) {
+          h.push_back("R_" + format_number(grid[i]) + "nm");
+          cols.push_back(rows[i]);
+        }
+        text = fmt == Format::csv ? format_csv(h, cols) : format_table(h, cols);
+      }
+    }
+    if (!o->plot.empty()) {
+      plot::Figure f;
+      f.title = "Radial profile, preset " + o->params.preset + " (" + o->solver.name + ")";
+      f.x_label = "r [mm]";
+      f.y_label = "R(r) [1/mm^2]";
+      f.log_x = o->spacing == "log";
+      f.log_y = true;
+      const std::array<std::array<double, 3>, 3> col = {{{0.85, 0.1, 0.1}, {0.1, 0.6, 0.1}, {0.1, 0.2, 0.85}}};
+      const char* names[3] = {"red (linear sRGB)", "green", "blue"};
+      for (std::size_t c = 0; c < 3; ++c) f.series.push_back({names[c], radii.r, rgb.R[c], col[c]});
+      plot::save(f, o->plot);
+    }
+    o->out.emit(text);
+  });
+}
+
+}  // namespace skin::cli

@@ -1,0 +1,131 @@
+// skin render / skin figure: pictures of skin from the Monte Carlo renderer (skin::render).
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "common.hpp"
+#include "skin/util/atomic_file.hpp"
+#include "skin/util/error.hpp"
+#include "skin/render/figure.hpp"
+#include "skin/render/scene.hpp"
+
+namespace skin::cli {
+namespace {
+
+struct RenderOpts {
+  std::string scene, output, preset, resolution, mesh;
+  int spp = 0, threads = 0, max_depth = -1, figure = 0;
+  std::uint64_t seed = 1;
+  double time_budget = 0, exposure = 0;
+  bool exposure_given = false, diffuse = false;
+  SolverOption solver;
+};
+
+void parse_resolution(const std::string& s, render::RenderSettings* rs) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X') || w < 1 || h < 1 ||
+      w > 16384 || h > 16384)
+    throw InputError("resolution = '" + s + "' is out of range: must be WxH with each side in [1, 16384]");
+  rs->width = w;
+  rs->height = h;
+}
+
+void check_output(const std::string& path) {
+  const std::string ext = io::extension(path);
+  if (ext != "png" && ext != "exr")
+    throw InputError("output = '" + path + "': unknown image format, use .png or .exr");
+}
+
+// A progress bar on stderr, only when stderr is a terminal.
+render::Progress progress_bar() {
+  if (!stderr_is_terminal()) return {};
+  auto last = std::make_shared<int>(-1);
+  return [last](double f) {
+    const int pct = static_cast<int>(f * 100);
+    if (pct == *last) return;
+    *last = pct;
+    const int filled = pct * 40 / 100;
+    std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
+              << std::string(static_cast<std::size_t>(40 - filled), ' ') << "] " << pct << "%"
+              << (pct >= 100 ? "\n" : "") << std::flush;
+  };
+}
+
+void add_common(CLI::App* sub, RenderOpts* o) {
+  o->solver.add_to(*sub);
+  sub->add_option("-o,--output", o->output, "Output image: .png (sRGB 8-bit) or .exr (linear float)")->required();
+  sub->add_option("--spp", o->spp, "Samples per pixel (default: the scene's)");
+  sub->add_option("--seed", o->seed, "Random seed; same seed, same image at any thread count")->capture_default_str();
+  sub->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
+  sub->add_option("--max-depth", o->max_depth, "Path vertices after the camera (default: the scene's)");
+  sub->add_option("--time-budget", o->time_budget, "Stop after the last whole sample pass within this many seconds (0 = none)");
+  sub->add_option("--exposure", o->exposure, "PNG exposure in stops (default: the scene's)")
+      ->each([o](const std::string&) { o->exposure_given = true; });
+}
+
+void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* layout) {
+  check_output(o.output);
+  render::RenderSettings rs;
+  rs.spp = o.spp;
+  rs.seed = o.seed;
+  rs.threads = o.threads;
+  rs.max_depth = o.max_depth;
+  rs.time_budget = o.time_budget;
+  if (!o.resolution.empty()) parse_resolution(o.resolution, &rs);
+  if (o.spp < 0) throw InputError("spp = " + std::to_string(o.spp) + " is out of range: must be >= 1");
+  render::RenderStats stats;
+  render::Image img = render::render(scene, rs, &stats, progress_bar());
+  if (layout) img = render::annotate_figure(img, *layout);
+  render::write_image(o.output, img, o.exposure_given ? o.exposure : scene.exposure());
+  std::printf("wrote %s: %dx%d, %d spp, %.1f s (%.3g samples/s)\n", o.output.c_str(), img.width, img.height,
+              stats.spp_done, stats.seconds, stats.samples_per_second());
+  if (stats.invalid_samples > 0)
+    std::fprintf(stderr, "skin: warning: %llu non-finite samples dropped\n",
+                 static_cast<unsigned long long>(stats.invalid_samples));
+}
+
+}  // namespace
+
+void register_render(CLI::App& app) {
+  auto o = std::make_shared<RenderOpts>();
+  CLI::App* sub = app.add_subcommand(
+      "render",
+      "Render a scene (docs/scene-format.md) with the spectral skin BSSRDF by Monte Carlo ray tracing; "
+      "without SCENE, the built-in scene of the three Fig. 8 skin types and a back-lit ear-like fin");
+  sub->add_option("scene", o->scene, "Scene file (JSON); omit for the built-in default scene");
+  add_common(sub, o.get());
+  sub->add_option("--preset", o->preset, "Use this parameter set for every skin material of the scene");
+  sub->add_option("--resolution", o->resolution, "Image size WxH (default: the scene's)");
+  sub->add_flag("--diffuse", o->diffuse, "Replace every translucent material by a diffuse one of the same R_d (comparison)");
+  sub->callback([o, sub] {
+    check_output(o->output);
+    if (!o->resolution.empty()) {
+      render::RenderSettings tmp;
+      parse_resolution(o->resolution, &tmp);
+    }
+    std::optional<SkinParameters> preset;
+    if (!o->preset.empty()) preset = find_preset(o->preset).parameters;
+    render::Scene scene = o->scene.empty() ? render::Scene::default_scene() : render::Scene::load(o->scene);
+    if (preset) scene.set_skin_parameters(*preset);
+    if (sub->count("--solver") > 0) scene.set_solver(parse_solver(o->solver.name));  // else the scene's
+    if (o->diffuse) scene.make_translucent_diffuse();
+    run(*o, scene, nullptr);
+  });
+
+  auto f = std::make_shared<RenderOpts>();
+  CLI::App* fig = app.add_subcommand(
+      "figure", "Render a parameter sweep of the paper (Fig. 3, 4, 5, 6, 7 or 8) as a labelled grid of skin patches");
+  fig->add_option("number", f->figure, "Figure number: 3, 4, 5, 6, 7 or 8")->required();
+  add_common(fig, f.get());
+  fig->add_option("--mesh", f->mesh, "Render each patch on this mesh (OBJ, glTF, GLB) instead of a sphere");
+  fig->callback([f] {
+    check_output(f->output);
+    const render::FigureLayout layout = render::figure_layout(f->figure);
+    render::Scene scene = render::Scene::figure(f->figure, f->mesh);
+    scene.set_solver(parse_solver(f->solver.name));
+    run(*f, scene, &layout);
+  });
+}
+
+}  // namespace skin::cli

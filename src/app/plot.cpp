@@ -1,0 +1,217 @@
+#include "skin/plot/plot.hpp"
+
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "skin/util/atomic_file.hpp"
+#include "skin/util/error.hpp"
+
+namespace skin::plot {
+
+namespace {
+
+struct Axis {
+  double lo, hi;
+  bool log;
+  double map(double v, double a, double b) const {  // data -> pixel in [a, b]
+    const double t = log ? (std::log10(v) - std::log10(lo)) / (std::log10(hi) - std::log10(lo))
+                         : (v - lo) / (hi - lo);
+    return a + t * (b - a);
+  }
+  std::vector<double> ticks() const {
+    std::vector<double> t;
+    if (log) {
+      for (double e = std::floor(std::log10(lo)); e <= std::ceil(std::log10(hi)); e += 1.0) {
+        const double v = std::pow(10.0, e);
+        if (v >= lo * (1 - 1e-9) && v <= hi * (1 + 1e-9)) t.push_back(v);
+      }
+      return t;
+    }
+    const double span = hi - lo;
+    const double raw = span / 6.0;
+    const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+    double step = mag;
+    for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
+      if (m * mag >= raw) { step = m * mag; break; }
+    for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * span; v += step)
+      t.push_back(std::abs(v) < 1e-12 * span ? 0.0 : v);
+    return t;
+  }
+};
+
+std::string tick_label(double v, bool log) {
+  char buf[32];
+  if (log) {
+    const int e = static_cast<int>(std::lround(std::log10(v)));
+    if (e >= -2 && e <= 3) std::snprintf(buf, sizeof buf, "%g", v);
+    else std::snprintf(buf, sizeof buf, "1e%d", e);
+  } else {
+    std::snprintf(buf, sizeof buf, "%g", v);
+  }
+  return buf;
+}
+
+Axis make_axis(const Figure& f, bool is_x) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  const bool log = is_x ? f.log_x : f.log_y;
+  for (const auto& s : f.series)
+    for (double v : is_x ? s.x : s.y)
+      if (std::isfinite(v) && (!log || v > 0)) { lo = std::min(lo, v); hi = std::max(hi, v); }
+  if (!is_x && f.y_min) lo = *f.y_min;
+  if (!is_x && f.y_max) hi = *f.y_max;
+  if (!std::isfinite(lo) || !std::isfinite(hi)) { lo = log ? 1e-3 : 0.0; hi = 1.0; }
+  if (log) {
+    if (!is_x && !f.y_min) lo = std::max(lo, hi * 1e-8);  // keep 8 decades at most
+    lo = std::pow(10.0, std::floor(std::log10(lo)));
+    hi = std::pow(10.0, std::ceil(std::log10(hi)));
+    if (hi <= lo) hi = lo * 10;
+  } else {
+    if (hi <= lo) { hi = lo + 1.0; }
+    if (!is_x && !f.y_min && lo > 0 && lo < 0.5 * hi) lo = 0.0;
+  }
+  return {lo, hi, log};
+}
+
+void draw(cairo_t* cr, const Figure& f) {
+  const double W = f.width, H = f.height;
+  const double swatch_w = f.swatches.empty() ? 0.0 : 150.0;
+  const double left = 80, right = W - 30 - swatch_w, top = 50, bottom = H - 60;
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+
+  const Axis ax = make_axis(f, true), ay = make_axis(f, false);
+  // Grid and ticks.
+  cairo_set_font_size(cr, 12);
+  cairo_set_line_width(cr, 1.0);
+  for (double t : ax.ticks()) {
+    const double x = ax.map(t, left, right);
+    cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+    cairo_move_to(cr, x, top); cairo_line_to(cr, x, bottom); cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    const std::string s = tick_label(t, ax.log);
+    cairo_text_extents_t e; cairo_text_extents(cr, s.c_str(), &e);
+    cairo_move_to(cr, x - e.width / 2, bottom + 18); cairo_show_text(cr, s.c_str());
+  }
+  for (double t : ay.ticks()) {
+    const double y = ay.map(t, bottom, top);
+    cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+    cairo_move_to(cr, left, y); cairo_line_to(cr, right, y); cairo_stroke(cr);
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    const std::string s = tick_label(t, ay.log);
+    cairo_text_extents_t e; cairo_text_extents(cr, s.c_str(), &e);
+    cairo_move_to(cr, left - e.width - 8, y + 4); cairo_show_text(cr, s.c_str());
+  }
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  cairo_stroke(cr);
+
+  // Series, clipped to the plot area.
+  cairo_save(cr);
+  cairo_rectangle(cr, left, top, right - left, bottom - top);
+  cairo_clip(cr);
+  for (const auto& s : f.series) {
+    cairo_set_source_rgb(cr, s.rgb[0], s.rgb[1], s.rgb[2]);
+    cairo_set_line_width(cr, 2.0);
+    const double dash[] = {6.0, 4.0};
+    cairo_set_dash(cr, dash, s.dashed ? 2 : 0, 0);
+    bool pen = false;
+    for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
+      const bool ok = std::isfinite(s.x[i]) && std::isfinite(s.y[i]) &&
+                      (!ax.log || s.x[i] > 0) && (!ay.log || s.y[i] > 0);
+      if (!ok) { pen = false; continue; }
+      const double x = ax.map(s.x[i], left, right), y = ay.map(s.y[i], bottom, top);
+      if (s.markers) {
+        cairo_new_sub_path(cr);
+        cairo_arc(cr, x, y, 2.5, 0, 2 * M_PI);
+        cairo_fill(cr);
+      } else if (!pen) {
+        cairo_move_to(cr, x, y);
+        pen = true;
+      } else {
+        cairo_line_to(cr, x, y);
+      }
+    }
+    if (!s.markers) cairo_stroke(cr);
+    cairo_set_dash(cr, nullptr, 0, 0);
+  }
+  cairo_restore(cr);
+
+  // Title and labels.
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_font_size(cr, 16);
+  cairo_move_to(cr, left, 30); cairo_show_text(cr, f.title.c_str());
+  cairo_set_font_size(cr, 13);
+  cairo_text_extents_t e; cairo_text_extents(cr, f.x_label.c_str(), &e);
+  cairo_move_to(cr, (left + right) / 2 - e.width / 2, H - 20); cairo_show_text(cr, f.x_label.c_str());
+  cairo_save(cr);
+  cairo_text_extents(cr, f.y_label.c_str(), &e);
+  cairo_move_to(cr, 22, (top + bottom) / 2 + e.width / 2);
+  cairo_rotate(cr, -M_PI / 2);
+  cairo_show_text(cr, f.y_label.c_str());
+  cairo_restore(cr);
+
+  // Legend (top right inside the plot).
+  cairo_set_font_size(cr, 12);
+  double ly = top + 18;
+  for (const auto& s : f.series) {
+    if (s.label.empty()) continue;
+    cairo_text_extents(cr, s.label.c_str(), &e);
+    const double lx = right - e.width - 40;
+    cairo_set_source_rgb(cr, s.rgb[0], s.rgb[1], s.rgb[2]);
+    cairo_set_line_width(cr, 2.0);
+    const double dash[] = {6.0, 4.0};
+    cairo_set_dash(cr, dash, s.dashed ? 2 : 0, 0);
+    cairo_move_to(cr, lx, ly - 4); cairo_line_to(cr, lx + 24, ly - 4); cairo_stroke(cr);
+    cairo_set_dash(cr, nullptr, 0, 0);
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    cairo_move_to(cr, lx + 30, ly); cairo_show_text(cr, s.label.c_str());
+    ly += 17;
+  }
+
+  // Colour swatches.
+  double sy = top;
+  for (const auto& sw : f.swatches) {
+    const double sx = W - swatch_w;
+    cairo_set_source_rgb(cr, sw.rgb[0], sw.rgb[1], sw.rgb[2]);
+    cairo_rectangle(cr, sx, sy, 120, 90);
+    cairo_fill(cr);
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_rectangle(cr, sx, sy, 120, 90);
+    cairo_set_line_width(cr, 1.0);
+    cairo_stroke(cr);
+    cairo_move_to(cr, sx, sy + 106);
+    cairo_show_text(cr, sw.label.c_str());
+    sy += 125;
+  }
+}
+
+}  // namespace
+
+void save(const Figure& fig, const std::string& path) {
+  const std::string ext = io::extension(path);
+  if (ext != "png" && ext != "svg")
+    throw InputError("plot = '" + path + "' has an unsupported extension: use .png or .svg");
+  io::write_via_temporary(path, [&](const std::string& tmp) {
+    cairo_surface_t* surface =
+        ext == "png" ? cairo_image_surface_create(CAIRO_FORMAT_RGB24, fig.width, fig.height)
+                     : cairo_svg_surface_create(tmp.c_str(), fig.width, fig.height);
+    cairo_t* cr = cairo_create(surface);
+    draw(cr, fig);
+    cairo_destroy(cr);
+    cairo_status_t st = CAIRO_STATUS_SUCCESS;
+    if (ext == "png") st = cairo_surface_write_to_png(surface, tmp.c_str());
+    cairo_surface_finish(surface);
+    if (st == CAIRO_STATUS_SUCCESS) st = cairo_surface_status(surface);
+    cairo_surface_destroy(surface);
+    if (st != CAIRO_STATUS_SUCCESS)
+      throw InputError(path + ": cannot write plot: " + cairo_status_to_string(st));
+  });
+}
+
+}  // namespace skin::plot

@@ -1,0 +1,548 @@
+// Adding-doubling for layered Henyey-Greenstein media (docs/accurate-solver.md, section 2).
+//
+// Representation. Directions are quadrature streams labelled by the transverse invariant
+// s = n sin(theta), which Snell's law conserves across every interface, so one set of streams
+// serves all layers and every Fresnel boundary is diagonal. A stream with s < n propagates in a
+// medium of index n with cosine mu = sqrt(1 - (s / n)^2); one with s > n does not exist there
+// (it is totally reflected at the interface). The quadrature is built in the cosine mu_ref of
+// the layer of highest index n_ref, split into panels at every index of the stack (so each
+// medium's critical angle is a panel edge): Gauss-Radau with its fixed node at mu_ref = 1 (the
+// normally incident beam) in the first panel, Gauss-Legendre in the others.
+//
+// Matrices act on stream fluxes (power per stream crossing a horizontal plane, as a fraction of
+// the incident power): R(i, j) is the fraction of the flux in stream j that leaves in stream i.
+// With the flux weight a_i of stream i (sum_i a_i = int_0^1 2 mu dmu = 1 in each medium, and
+// a_i^(n) = (n_ref / n)^2 a_i^(ref) because d(mu^2) = d(s^2) / n^2), the layer equations are
+//   dF+/dtau = -A F+ + B F-,   -dF-/dtau = -A F- + B F+,
+//   A = diag(1 / mu) - omega C P+ M^-1,  B = omega C P- M^-1,  C = diag(a / (4 mu)),
+// where P+(i, j) = p0(mu_i, mu_j) and P-(i, j) = p0(-mu_i, mu_j) are the azimuthally averaged
+// phase function (normalised to (1/2) int_-1^1 p0 dmu = 1). With these flux matrices, a
+// homogeneous layer looks the same from above and from below, boundaries are diagonal, and the
+// adding rules are plain matrix algebra (no quadrature weights inside the products).
+#include <Eigen/Dense>
+#include <algorithm>
+#include <array>
+#include <deque>
+#include <cmath>
+#include <map>
+#include <mutex>
+#include <ostream>
+#include <vector>
+
+#include "ad_core.hpp"
+#include "skin/transport/accurate.hpp"
+#include "skin/transport/diffusion.hpp"
+#include "skin/util/error.hpp"
+
+namespace skin::accurate {
+
+std::ostream& operator<<(std::ostream& os, const Options& o) {
+  return os << "accurate::Options{quadrature_points=" << o.quadrature_points << '}';
+}
+
+std::ostream& operator<<(std::ostream& os, const Totals& t) {
+  return os << "Totals{R_specular=" << t.R_specular << ", R_d=" << t.R_d << ", T_d=" << t.T_d
+            << '}';
+}
+
+namespace detail {
+
+using Mat = Eigen::MatrixXd;
+using Vec = Eigen::VectorXd;
+
+// Gauss-Legendre (radau = false) or Gauss-Radau with the fixed node +1 (radau = true) on
+// [-1, 1], by the Golub-Welsch eigenvalue method (Golub & Welsch 1969; Golub 1973 for the
+// prescribed node: the last diagonal entry of the Jacobi matrix is changed so that +1 becomes an
+// eigenvalue). Nodes ascending. Cached: the rules depend only on (n, radau).
+const Rule& quadrature_rule(int n, bool radau) {
+  static std::mutex mutex;
+  static std::map<std::pair<int, bool>, Rule> cache;
+  std::lock_guard<std::mutex> lock(mutex);
+  auto it = cache.find({n, radau});
+  if (it != cache.end()) return it->second;
+  Rule rule;
+  if (n == 1) {
+    rule.x = {radau ? 1.0 : 0.0};
+    rule.w = {2.0};
+  } else {
+    Mat J = Mat::Zero(n, n);
+    auto beta = [](int k) {
+      const double kk = static_cast<double>(k);
+      return kk / std::sqrt(4.0 * kk * kk - 1.0);
+    };
+    for (int k = 1; k < n; ++k) J(k - 1, k) = J(k, k - 1) = beta(k);
+    if (radau) {
+      // (J_{n-1} - a I) delta = beta_{n-1}^2 e_{n-1};  alpha_n = a + delta_{n-1}, a = +1.
+      const Mat Jm = J.topLeftCorner(n - 1, n - 1) - Mat::Identity(n - 1, n - 1);
+      Vec rhs = Vec::Zero(n - 1);
+      rhs(n - 2) = beta(n - 1) * beta(n - 1);
+      const Vec delta = Jm.partialPivLu().solve(rhs);
+      J(n - 1, n - 1) = 1.0 + delta(n - 2);
+    }
+    Eigen::SelfAdjointEigenSolver<Mat> es(J);
+    rule.x.resize(static_cast<std::size_t>(n));
+    rule.w.resize(static_cast<std::size_t>(n));
+    for (int i = 0; i < n; ++i) {
+      rule.x[static_cast<std::size_t>(i)] = es.eigenvalues()(i);
+      rule.w[static_cast<std::size_t>(i)] = 2.0 * es.eigenvectors()(0, i) * es.eigenvectors()(0, i);
+    }
+    if (radau) rule.x.back() = 1.0;  // exactly, not 1 - 1e-16
+  }
+  return cache.emplace(std::pair{n, radau}, std::move(rule)).first->second;
+}
+
+Streams make_streams(const LayerStack& stack, int points) {
+  double n_ref = 0;
+  for (const auto& l : stack.layers) n_ref = std::max(n_ref, l.eta);
+  // Panel edges in s: every index of the stack below n_ref (streams with s > n_ref exist in no
+  // layer, so a higher index of the surroundings bounds nothing).
+  std::vector<double> edges;
+  auto add_edge = [&](double n) {
+    if (n < n_ref * (1 - 1e-12)) edges.push_back(n);
+  };
+  add_edge(stack.eta_above);
+  if (!stack.semi_infinite()) add_edge(stack.eta_below);
+  for (const auto& l : stack.layers) add_edge(l.eta);
+  std::sort(edges.begin(), edges.end());
+  edges.erase(std::unique(edges.begin(), edges.end(),
+                          [](double a, double b) { return std::abs(a - b) <= 1e-12 * b; }),
+              edges.end());
+  edges.push_back(n_ref);
+
+  Streams st;
+  st.n_ref = n_ref;
+  st.edges = edges;
+  double s_lo = 0;
+  for (std::size_t p = 0; p < edges.size(); ++p) {
+    const double s_hi = edges[p];
+    // The panel's streams propagate in the layers of index >= s_hi; in the lowest of them, of
+    // index n_low, their cosine mu_low runs from sqrt(1 - (s_hi / n_low)^2) (0 if n_low = s_hi:
+    // grazing at that layer's critical angle) to sqrt(1 - (s_lo / n_low)^2). The rule is laid
+    // out in mu_low: the radiance in that layer is a smooth function of it, and so is the cosine
+    // in every layer of higher index (mu = sqrt(1 - (n_low / n)^2 (1 - mu_low^2)) is smooth for
+    // n > n_low), whereas a rule in the cosine of the highest-index layer would meet a
+    // square-root edge in every lower one (with 8 points, R_d and T_d of stacks with internal
+    // index steps were then off by up to 13 %). The media around the stack do not count: light
+    // does not scatter there. Flux weights: n^2 mu dmu is the same in every medium, so
+    // a_ref = (n_low / n_ref)^2 2 mu_low dmu_low.
+    double n_low = n_ref;
+    for (const auto& l : stack.layers)
+      if (l.eta >= s_hi * (1 - 1e-12)) n_low = std::min(n_low, l.eta);
+    const double top = std::sqrt(std::max(0.0, 1.0 - (s_lo / n_low) * (s_lo / n_low)));
+    const double bottom = std::sqrt(std::max(0.0, 1.0 - (s_hi / n_low) * (s_hi / n_low)));
+    const Rule& rule = quadrature_rule(points, p == 0);
+    const double half = 0.5 * (top - bottom), mid = 0.5 * (top + bottom);
+    if (p == 0) {
+      // Quadrature points per unit of the reference cosine in the panel around the normal.
+      const double mu_lo = std::sqrt(std::max(0.0, 1.0 - (s_hi / n_ref) * (s_hi / n_ref)));
+      st.escape_density = points / (1.0 - mu_lo);
+    }
+    const double ratio2 = (n_low / n_ref) * (n_low / n_ref);
+    // Descending x (ascending s) within the panel: the propagating streams of every medium are
+    // then the leading ones.
+    for (int i = points - 1; i >= 0; --i) {
+      const double mu = mid + half * rule.x[static_cast<std::size_t>(i)];
+      const double w = half * rule.w[static_cast<std::size_t>(i)];
+      st.s2.push_back(n_low * n_low * (1.0 - mu * mu));
+      st.a_ref.push_back(ratio2 * 2.0 * mu * w);
+    }
+    s_lo = s_hi;
+  }
+  st.N = static_cast<int>(st.s2.size());
+  return st;
+}
+
+int propagating(const Streams& st, double n) {
+  int m = 0;
+  while (m < st.N && st.s2[static_cast<std::size_t>(m)] < n * n) ++m;
+  return m;
+}
+
+namespace {
+
+// Semi-infinite reflection matrices at the nodes x_j = j / kNodes, x = sqrt(1 - omega), filled on
+// demand (see table_at below).
+struct SemiInfiniteTable {
+  static constexpr int kNodes = 256;
+  std::vector<Mat> R = std::vector<Mat>(kNodes + 1);
+};
+
+// Finite-layer reflection and transmission on the nodes (x_i, tau_j): x_i = i / kX (x = sqrt(1 -
+// omega)), tau_j = kTauMin 2^(j / kPerOctave) (delta-M scaled optical depth), filled on demand
+// (see slab_table_at below).
+struct SlabTable {
+  static constexpr int kX = 128;
+  static constexpr int kPerOctave = 8;
+  static constexpr double kTauMin = 1.0 / 8;
+  // Up to tau = 2^9 kTauMin = 64: beyond, the diffusive decay exp(-kappa tau), kappa ~ x, varies
+  // too fast across an x cell for cubic interpolation (the caller then doubles directly).
+  static constexpr int kTau = 9 * kPerOctave;
+  std::vector<LayerRT> nodes = std::vector<LayerRT>((kX + 1) * (kTau + 1));
+};
+
+// Angular data of one medium (index n, anisotropy g) on a stream set: cosines, weights and the
+// delta-M redistribution matrices. Cached per thread (a spectrum repeats the same geometry).
+struct Geometry {
+  int m = 0;
+  Vec mu;       // cosines of the propagating streams
+  Vec c;        // a / (4 mu)
+  Mat Pplus, Pminus;  // p0(mu_i, mu_j), p0(-mu_i, mu_j), renormalised
+  double f = 0;       // delta-M forward fraction g^(2m)
+  mutable SemiInfiniteTable table;
+  mutable SlabTable slab_table;
+};
+
+struct GeometryKey {
+  double n, g, n_ref;
+  int points;
+  std::vector<double> edges;
+  bool operator==(const GeometryKey&) const = default;
+};
+
+Geometry build_geometry(const Streams& st, double n, double g) {
+  Geometry geo;
+  const int m = propagating(st, n);
+  geo.m = m;
+  geo.mu.resize(m);
+  geo.c.resize(m);
+  const double scale = (st.n_ref / n) * (st.n_ref / n);
+  for (int i = 0; i < m; ++i) {
+    const auto si = static_cast<std::size_t>(i);
+    geo.mu(i) = std::sqrt(std::max(0.0, 1.0 - st.s2[si] / (n * n)));
+    geo.c(i) = scale * st.a_ref[si] / (4.0 * geo.mu(i));
+  }
+  // Delta-M (Wiscombe 1977): the HG moments g^l are kept for l < 2m; the forward peak beyond
+  // them, f = g^(2m), is treated as unscattered. chi_l = (g^l - f) / (1 - f).
+  // Number of moments: 2 per stream, but no more than the panel around the normal (where the
+  // beam enters and the light leaves) resolves: 2 per quadrature point per unit of cosine there.
+  // Without this cap a wide escape panel next to a narrow one (an index step of a few per cent)
+  // under-resolves the kept forward peak and R_d goes wrong by up to 10 %
+  // (docs/accurate-solver.md, section 2).
+  const int L = std::max(2, std::min(2 * m, static_cast<int>(std::floor(2 * st.escape_density))));
+  geo.f = std::pow(g, L);
+  if (std::abs(g) < 1e-300) geo.f = 0;
+  // Legendre polynomials at the cosines: Pl(i, l).
+  Mat Pl(m, L);
+  for (int i = 0; i < m; ++i) {
+    const double x = geo.mu(i);
+    double p0 = 1, p1 = x;
+    Pl(i, 0) = 1;
+    if (L > 1) Pl(i, 1) = x;
+    for (int l = 2; l < L; ++l) {
+      const double dl = static_cast<double>(l);
+      const double p2 = ((2 * dl - 1) * x * p1 - (dl - 1) * p0) / dl;
+      Pl(i, l) = p2;
+      p0 = p1;
+      p1 = p2;
+    }
+  }
+  Vec wplus(L), wminus(L);
+  double gl = 1;
+  for (int l = 0; l < L; ++l) {
+    const double chi = (gl - geo.f) / (1 - geo.f);
+    wplus(l) = (2 * l + 1) * chi;
+    wminus(l) = (l % 2 == 0 ? 1.0 : -1.0) * wplus(l);  // P_l(-x) = (-1)^l P_l(x)
+    gl *= g;
+  }
+  geo.Pplus = Pl * wplus.asDiagonal() * Pl.transpose();
+  geo.Pminus = Pl * wminus.asDiagonal() * Pl.transpose();
+  // Renormalise each incident direction so that the quadrature conserves energy exactly
+  // (Wiscombe 1976): sum_i c_i (P+ + P-)(i, j) = 1.
+  for (int j = 0; j < m; ++j) {
+    const double sum = geo.c.dot(geo.Pplus.col(j) + geo.Pminus.col(j));
+    if (sum > 0) {
+      geo.Pplus.col(j) /= sum;
+      geo.Pminus.col(j) /= sum;
+    }
+  }
+  return geo;
+}
+
+const Geometry& geometry(const Streams& st, double n, double g, int points) {
+  // A deque: references stay valid while entries are added.
+  thread_local std::deque<std::pair<GeometryKey, Geometry>> cache;
+  GeometryKey key{n, g, st.n_ref, points, st.edges};
+  for (const auto& e : cache)
+    if (e.first == key) return e.second;
+  if (cache.size() >= 16) cache.pop_front();
+  cache.emplace_back(std::move(key), build_geometry(st, n, g));
+  return cache.back().second;
+}
+
+}  // namespace
+
+namespace {
+
+// The diamond-initialised thin layer of optical thickness dtau (Wiscombe 1976; Prahl 1995,
+// section 3): derivatives at the layer's midplane, solved with the sum and difference of the
+// two flux directions, X = (P - C)^-1 (Q + C), Y = (P + C)^-1 (Q - C), R = (X - Y) / 2,
+// T = (X + Y) / 2 with P = I + h A, Q = I - h A, C = h B, h = dtau / 2. It conserves energy
+// exactly; its error is second order in dtau (the direct beam, for instance, is attenuated by
+// the Pade approximant (1 - h / mu) / (1 + h / mu) of exp(-dtau / mu)).
+LayerRT diamond(const Mat& A, const Mat& B, double dtau) {
+  const auto m = A.rows();
+  const double h = 0.5 * dtau;
+  const Mat I = Mat::Identity(m, m);
+  const Mat P = I + h * A, Q = I - h * A, C = h * B;
+  const Mat X = (P - C).partialPivLu().solve(Q + C);
+  const Mat Y = (P + C).partialPivLu().solve(Q - C);
+  return {0.5 * (X - Y), 0.5 * (X + Y)};
+}
+
+// One doubling of a homogeneous layer (it is the same seen from above and from below):
+// R2 = R + T R (I - R R)^-1 T,  T2 = T (I - R R)^-1 T.
+void double_once(LayerRT& rt) {
+  const auto m = rt.R.rows();
+  const Mat Xs = (Mat::Identity(m, m) - rt.R * rt.R).partialPivLu().solve(rt.T);
+  rt.R.noalias() += rt.T * (rt.R * Xs);
+  rt.T = rt.T * Xs;
+}
+
+void scattering_matrices(const Geometry& geo, double omega, Mat& A, Mat& B) {
+  const Vec inv_mu = geo.mu.cwiseInverse();
+  A = -omega * geo.c.asDiagonal() * geo.Pplus * inv_mu.asDiagonal();
+  A.diagonal() += inv_mu;
+  B = omega * geo.c.asDiagonal() * geo.Pminus * inv_mu.asDiagonal();
+}
+
+// Semi-infinite reflection by doubling until the transmitted flux is negligible: what lies deeper
+// then changes R by at most T^2 (kSemiInfiniteT^2). The cap covers omega = 1 (no absorption),
+// where transmission falls only like 1 / tau; 2^60 times the initial depth leaves ~1e-17 there.
+Mat semi_infinite_direct(const Geometry& geo, double omega) {
+  Mat A, B;
+  scattering_matrices(geo, omega, A, B);
+  LayerRT rt = diamond(A, B, kThinnest);
+  for (int i = 0; i < 60; ++i) {
+    if (rt.T.colwise().sum().maxCoeff() < kSemiInfiniteT) break;
+    double_once(rt);
+  }
+  return rt.R;
+}
+
+// The semi-infinite reflection depends on the single-scattering albedo alone (for a given
+// geometry), smoothly in x = sqrt(1 - omega) (as the closed forms do: the semi-infinite albedo
+// is 1 - H(1) sqrt(1 - omega) for isotropic scattering). Tabulated lazily on a uniform grid in x
+// and interpolated with 4-point Lagrange polynomials: a spectrum then pays for ~20 doublings at
+// a few table nodes instead of at every wavelength.
+Mat table_at(const Geometry& geo, double omega) {
+  constexpr int K = SemiInfiniteTable::kNodes;
+  auto node = [&](int j) -> const Mat& {
+    Mat& r = geo.table.R[static_cast<std::size_t>(j)];
+    if (r.size() == 0) {
+      const double x = static_cast<double>(j) / K;
+      r = semi_infinite_direct(geo, 1.0 - x * x);
+    }
+    return r;
+  };
+  const double x = std::sqrt(std::max(0.0, 1.0 - omega)) * K;
+  const int j0 = std::clamp(static_cast<int>(std::floor(x)) - 1, 0, K - 3);
+  const double t = x - j0;  // position from node j0 in node units, in [0, 3]
+  Mat out = Mat::Zero(geo.m, geo.m);
+  for (int a = 0; a < 4; ++a) {
+    double w = 1;
+    for (int b = 0; b < 4; ++b)
+      if (b != a) w *= (t - b) / static_cast<double>(a - b);
+    out += w * node(j0 + a);
+  }
+  return out;
+}
+
+// A finite homogeneous layer by diamond initialisation (tau / 2^k <= kThinnest) and k doublings.
+LayerRT finite_direct(const Geometry& geo, double omega, double tau) {
+  int k = 0;
+  double dtau = tau;
+  while (dtau > kThinnest) {
+    dtau *= 0.5;
+    ++k;
+  }
+  Mat A, B;
+  scattering_matrices(geo, omega, A, B);
+  LayerRT rt = diamond(A, B, dtau);
+  for (int i = 0; i < k; ++i) {
+    double_once(rt);
+    if (rt.T.colwise().sum().maxCoeff() < 1e-30) break;  // thicker than infinite
+  }
+  return rt;
+}
+
+// Finite layers depend on (omega, tau) alone for a given geometry, smoothly in x = sqrt(1 -
+// omega) and in log tau. Bicubic (4 x 4 point Lagrange) interpolation on the lazily filled
+// SlabTable; false when tau is outside the table (the caller then doubles directly). A spectrum
+// of one parameter set touches a few hundred nodes; later spectra of nearby parameters reuse
+// them, so a warm table costs two 4 x 4 weighted sums of matrices instead of ~10 doublings.
+bool slab_table_at(const Geometry& geo, double omega, double tau, LayerRT& out) {
+  using Tab = SlabTable;
+  const double u = std::log2(tau / Tab::kTauMin) * Tab::kPerOctave;
+  if (!(u >= 1.0 && u <= Tab::kTau - 1.0)) return false;
+  const double x = std::sqrt(std::max(0.0, 1.0 - omega)) * Tab::kX;
+  const int i0 = std::clamp(static_cast<int>(std::floor(x)) - 1, 0, Tab::kX - 3);
+  const int j0 = std::clamp(static_cast<int>(std::floor(u)) - 1, 0, Tab::kTau - 3);
+  auto lagrange = [](double t, double* w) {
+    for (int a = 0; a < 4; ++a) {
+      w[a] = 1;
+      for (int b = 0; b < 4; ++b)
+        if (b != a) w[a] *= (t - b) / static_cast<double>(a - b);
+    }
+  };
+  double wx[4], wt[4];
+  lagrange(x - i0, wx);
+  lagrange(u - j0, wt);
+  out.R = Mat::Zero(geo.m, geo.m);
+  out.T = Mat::Zero(geo.m, geo.m);
+  for (int a = 0; a < 4; ++a) {
+    for (int b = 0; b < 4; ++b) {
+      const int i = i0 + a, j = j0 + b;
+      LayerRT& node = geo.slab_table.nodes[static_cast<std::size_t>(i * (Tab::kTau + 1) + j)];
+      if (node.R.size() == 0) {
+        const double xi = static_cast<double>(i) / Tab::kX;
+        node = finite_direct(geo, 1.0 - xi * xi,
+                             Tab::kTauMin * std::exp2(static_cast<double>(j) / Tab::kPerOctave));
+      }
+      const double w = wx[a] * wt[b];
+      out.R += w * node.R;
+      out.T += w * node.T;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+// Reflection and transmission (flux form, m x m) of one homogeneous layer of optical thickness
+// tau (delta-M scaled) and single-scattering albedo omega: diamond initialisation and doubling.
+// A semi-infinite layer comes from the table (or by direct doubling when `tabulate` is false).
+LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulate) {
+  const Geometry& geo = geometry(st, layer.eta, layer.g, points);
+  const double sigma_s = layer.sigma_s() * (1 - geo.f);  // delta-M scaled [1/mm]
+  const double sigma_t = layer.sigma_a + sigma_s;
+  const double omega = sigma_s / sigma_t;
+  if (layer.semi_infinite()) {
+    LayerRT rt;
+    if (tabulate) {
+      rt.R = table_at(geo, omega);
+    } else {
+      rt.R = semi_infinite_direct(geo, omega);
+    }
+    rt.T = Mat::Zero(geo.m, geo.m);
+    return rt;
+  }
+  const double tau = sigma_t * layer.thickness;
+  if (tabulate) {
+    LayerRT rt;
+    if (slab_table_at(geo, omega, tau, rt)) return rt;
+  }
+  return finite_direct(geo, omega, tau);
+}
+
+// Diagonal boundary between media of index n_a (above) and n_b (below) on the stream set.
+Boundary boundary(const Streams& st, double n_a, double n_b) {
+  Boundary b;
+  b.r = Vec::Zero(st.N);
+  b.t = Vec::Zero(st.N);
+  for (int i = 0; i < st.N; ++i) {
+    const double s2 = st.s2[static_cast<std::size_t>(i)];
+    const bool in_a = s2 < n_a * n_a, in_b = s2 < n_b * n_b;
+    if (in_a && in_b) {
+      const double mu_a = std::sqrt(std::max(0.0, 1.0 - s2 / (n_a * n_a)));
+      const double F = fresnel_dielectric(mu_a, n_a, n_b);
+      b.r(i) = F;
+      b.t(i) = 1 - F;
+    } else if (in_a || in_b) {
+      b.r(i) = 1;  // total internal reflection on the side where the stream exists
+    }
+  }
+  return b;
+}
+
+}  // namespace detail
+
+namespace {
+using detail::Mat;
+using detail::Vec;
+
+void validate_options(const Options& o) {
+  if (o.quadrature_points != 0 && (o.quadrature_points < 2 || o.quadrature_points > 64))
+    throw InputError("quadrature-points = " + std::to_string(o.quadrature_points) +
+                     " is out of range: must be 0 (automatic) or in [2, 64]");
+}
+
+// Everything below a plane, seen from above: R (and T unless semi-infinite), N x N.
+struct Below {
+  Mat R, T;
+};
+
+// Puts a symmetric element (R_e, T_e) on top of `b` (van de Hulst's adding equations):
+//   X = (I - R_e R_b)^-1 T_e,  R = R_e + T_e R_b X,  T = T_b X.
+void add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T) {
+  const auto N = b.R.rows();
+  const Mat X = (Mat::Identity(N, N) - Re * b.R).partialPivLu().solve(Te);
+  Mat R = Re + Te * b.R * X;
+  if (need_T) b.T = b.T * X;
+  b.R = std::move(R);
+}
+
+}  // namespace
+
+Totals detail::solve(const LayerStack& stack, const Options& options, bool options_tabulate) {
+  stack.validate();
+  validate_options(options);
+  bool index_steps = false;
+  for (const auto& l : stack.layers) index_steps = index_steps || l.eta != stack.layers.front().eta;
+  const int points = options.quadrature_points != 0 ? options.quadrature_points
+                     : index_steps                  ? kIndexStepQuadraturePoints
+                                                    : kDefaultQuadraturePoints;
+  const detail::Streams st = detail::make_streams(stack, points);
+  const int N = st.N;
+  const auto& ls = stack.layers;
+  const bool semi = stack.semi_infinite();
+
+  Below below;
+  below.R = Mat::Zero(N, N);
+  below.T = Mat::Zero(N, N);
+  std::size_t i = ls.size();
+  auto embed = [N](const Mat& small) {
+    Mat big = Mat::Zero(N, N);
+    big.topLeftCorner(small.rows(), small.cols()) = small;
+    return big;
+  };
+  if (semi) {
+    --i;
+    below.R = embed(detail::layer_rt(st, ls[i], points, options_tabulate).R);
+    if (i > 0 && ls[i - 1].eta != ls[i].eta) {  // the interface above the half-space
+      const auto b = detail::boundary(st, ls[i - 1].eta, ls[i].eta);
+      add_on_top(below, Mat(b.r.asDiagonal()), Mat(b.t.asDiagonal()), false);
+    }
+  } else {
+    const auto b = detail::boundary(st, ls.back().eta, stack.eta_below);
+    below.R = b.r.asDiagonal();
+    below.T = b.t.asDiagonal();
+  }
+  while (i > 0) {
+    --i;
+    const auto rt = detail::layer_rt(st, ls[i], points, options_tabulate);
+    add_on_top(below, embed(rt.R), embed(rt.T), !semi);
+    if (i > 0 && ls[i - 1].eta != ls[i].eta) {
+      const auto b = detail::boundary(st, ls[i - 1].eta, ls[i].eta);
+      add_on_top(below, Mat(b.r.asDiagonal()), Mat(b.t.asDiagonal()), !semi);
+    }
+  }
+  // The top surface: the beam enters stream 0 (mu = 1) with unit flux; light reflected back up
+  // is partly reflected down again by the surface (diagonal r), the rest escapes (t):
+  //   D = (I - r R_below)^-1 e_0,  R_d = t . (R_below D),  T_d = sum(T_below D).
+  const auto top = detail::boundary(st, stack.eta_above, ls.front().eta);
+  Totals out;
+  out.R_specular = fresnel_dielectric(1.0, stack.eta_above, ls.front().eta);
+  Vec e0 = Vec::Zero(N);
+  e0(0) = 1;
+  const Mat M = Mat::Identity(N, N) - top.r.asDiagonal() * below.R;
+  const Vec D = M.partialPivLu().solve(e0);
+  out.R_d = top.t.dot(below.R * D);
+  out.T_d = semi ? 0.0 : (below.T * D).sum();
+  return out;
+}
+
+Totals adding_doubling(const LayerStack& stack, const Options& options) {
+  return detail::solve(stack, options, true);
+}
+
+}  // namespace skin::accurate

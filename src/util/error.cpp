@@ -1,0 +1,61 @@
+#include "skin/util/error.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+
+namespace skin {
+
+std::string format_number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[64];
+  auto res = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, res.ptr);
+}
+
+namespace {
+std::string with_unit(double v, std::string_view unit) {
+  std::string s = format_number(v);
+  if (!unit.empty()) {
+    s += ' ';
+    s += unit;
+  }
+  return s;
+}
+[[noreturn]] void fail(std::string_view name, double value, std::string_view unit,
+                       const std::string& allowed) {
+  throw InputError(std::string(name) + " = " + with_unit(value, unit) +
+                   " is out of range: " + allowed);
+}
+}  // namespace
+
+void require_finite(std::string_view name, double value) {
+  if (!std::isfinite(value)) fail(name, value, "", "must be a finite number");
+}
+
+void require_in_range(std::string_view name, double value, double lo, double hi,
+                      std::string_view unit) {
+  if (!(value >= lo && value <= hi))
+    fail(name, value, unit, "allowed range is [" + with_unit(lo, unit) + ", " +
+                                with_unit(hi, unit) + "]");
+}
+
+void require_positive(std::string_view name, double value, std::string_view unit) {
+  if (!(value > 0) || !std::isfinite(value))
+    fail(name, value, unit, "must be a finite number > 0");
+}
+
+void require_non_negative(std::string_view name, double value, std::string_view unit) {
+  if (!(value >= 0) || !std::isfinite(value))
+    fail(name, value, unit, "must be a finite number >= 0");
+}
+
+void assertion_failed(const char* expr, const char* file, int line, const std::string& detail) {
+  std::fprintf(stderr, "skin: internal error: %s failed at %s:%d: %s\n", expr, file, line,
+               detail.c_str());
+  std::abort();
+}
+
+}  // namespace skin
