@@ -330,4 +330,6 @@ void register_fit(CLI::App& app) {
   });
 }
 
+SKIN_REGISTER_COMMAND(80, register_fit);
+
 }  // namespace skin::cli

@@ -99,4 +99,6 @@ void register_layers(CLI::App& app) {
   });
 }
 
+SKIN_REGISTER_COMMAND(30, register_layers);
+
 }  // namespace skin::cli

@@ -109,9 +109,11 @@ void register_mc_command(CLI::App& app) {
     std::string source;
     if (!o->layers.empty()) {
       // Skin parameters only make sense with --wavelength: reject them with --layer.
-      if (sub->get_option("--preset")->count() > 0)
+      if (o->params.preset_option->count() > 0)
         throw InputError("--preset needs --wavelength and cannot be combined with --layer");
-      for (const auto& [opt, member] : o->params.flags)
+      if (o->params.params_option->count() > 0)
+        throw InputError("--params needs --wavelength and cannot be combined with --layer");
+      for (const auto& [opt, info] : o->params.flags)
         if (opt->count() > 0)
           throw InputError(opt->get_name() + " needs --wavelength and cannot be combined with --layer");
       stack.eta_above = o->eta_above;
@@ -300,5 +302,7 @@ void register_mc(CLI::App& app) {
   register_tabulate_command(app);
   register_validate_command(app);
 }
+
+SKIN_REGISTER_COMMAND(60, register_mc);
 
 }  // namespace skin::cli

@@ -108,4 +108,6 @@ void register_profile(CLI::App& app) {
   });
 }
 
+SKIN_REGISTER_COMMAND(20, register_profile);
+
 }  // namespace skin::cli

@@ -128,4 +128,6 @@ void register_render(CLI::App& app) {
   });
 }
 
+SKIN_REGISTER_COMMAND(70, register_render);
+
 }  // namespace skin::cli

@@ -137,4 +137,8 @@ void register_presets(CLI::App& app) {
   });
 }
 
+SKIN_REGISTER_COMMAND(10, register_spectrum);
+SKIN_REGISTER_COMMAND(40, register_color);
+SKIN_REGISTER_COMMAND(50, register_presets);
+
 }  // namespace skin::cli

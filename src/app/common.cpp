@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <algorithm>
 #include <iostream>
 #include <sstream>
 
@@ -12,49 +14,128 @@
 
 namespace skin::cli {
 
+namespace {
+std::vector<std::pair<int, Registrar>>& registrations() {
+  static std::vector<std::pair<int, Registrar>> list;
+  return list;
+}
+}  // namespace
+
+CommandRegistration::CommandRegistration(int order, Registrar registrar) {
+  registrations().emplace_back(order, registrar);
+}
+
+void register_commands(CLI::App& app) {
+  auto list = registrations();
+  std::stable_sort(list.begin(), list.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (const auto& r : list) r.second(app);
+}
+
 bool stdout_is_terminal() { return ::isatty(STDOUT_FILENO) != 0; }
 bool stderr_is_terminal() { return ::isatty(STDERR_FILENO) != 0; }
 
-void ParameterOptions::add_to(CLI::App& app) {
+void ParameterOptions::add_to(CLI::App& a) {
+  app = &a;
   std::string names;
   for (const auto& p : presets()) names += (names.empty() ? "" : ", ") + p.name;
-  app.add_option("--preset", preset,
-                 "Parameter set of the paper: " + names + " (several-lights = ear)")
-      ->capture_default_str();
-  struct Flag {
-    const char* name;
-    double SkinParameters::*member;
-    const char* help;
-  };
-  static const Flag table[] = {
-      {"--melanin", &SkinParameters::melanin, "C_m: melanin volume fraction of the epidermis, [0, 1]"},
-      {"--melanin-blend", &SkinParameters::melanin_blend, "beta_m: eumelanin share of the melanin, [0, 1]"},
-      {"--hemoglobin", &SkinParameters::hemoglobin, "C_h: blood volume fraction of the dermis, [0, 1]"},
-      {"--oiliness", &SkinParameters::oiliness, "rho_s: scale of the specular lobe, [0, 1]"},
-      {"--oxygenation", &SkinParameters::oxygenation, "gamma: oxygenated share of hemoglobin, [0, 1]; default 0.75"},
-      {"--epidermis-thickness", &SkinParameters::epidermis_thickness, "Epidermis thickness [mm], > 0; default 0.25"},
-      {"--dermis-scattering-scale", &SkinParameters::dermis_scattering_scale, "Dermis sigma_s' relative to the epidermis', > 0; default 0.5"},
-      {"--eta", &SkinParameters::eta, "Refractive index of both layers, [1, 3]; default 1.4"},
-      {"--roughness", &SkinParameters::roughness, "Beckmann RMS slope of the surface, > 0; default 0.35"},
-      {"--g", &SkinParameters::g, "Henyey-Greenstein anisotropy for transport solvers, (-1, 1); default 0.9"},
-      {"--epidermal-hemoglobin", &SkinParameters::epidermal_hemoglobin, "Extended model: blood volume fraction of the epidermis, [0, 1]; default 0"},
-      {"--beta-carotene", &SkinParameters::beta_carotene, "Extended model: beta-carotene in the epidermis [umol/L], [0, 1000]; default 0"},
-      {"--bilirubin", &SkinParameters::bilirubin, "Extended model: bilirubin in the dermis [umol/L], [0, 1000]; default 0"},
-      {"--scattering-scale", &SkinParameters::scattering_scale, "Extended model: factor on sigma_s' of both layers, (0, 10]; default 1"},
-  };
-  for (const auto& f : table) {
-    CLI::Option* o = app.add_option(f.name, values.*(f.member), f.help);
+  preset_option = a.add_option("--preset", preset,
+                               "Parameter set of the paper: " + names + " (several-lights = ear)")
+                      ->capture_default_str()
+                      ->group("Skin parameters");
+  params_option =
+      a.add_option("--params", params_file,
+                   "Parameters from FILE.json: the JSON skin fit or skin spectrum writes, or an "
+                   "object of parameter keys (skin parameters lists them); flags given after it "
+                   "override it")
+          ->group("Skin parameters");
+  for (const ParameterInfo& info : parameter_table()) {
+    std::string name = "--" + info.flag();
+    if (!info.symbol.empty()) name += ",--" + std::string(info.symbol);
+    const std::string unit = info.unit == "1" ? "" : " [" + std::string(info.unit) + "]";
+    CLI::Option* o = a.add_option(name, values.*(info.member),
+                                  std::string(info.help) + unit + ", " + info.range_text() +
+                                      "; default " + format_number(info.default_value()));
     o->group("Skin parameters (override the preset)");
-    flags.emplace_back(o, f.member);
+    flags.emplace_back(o, &info);
   }
 }
 
+bool ParameterOptions::given() const {
+  if (preset_option->count() > 0 || params_option->count() > 0) return true;
+  for (const auto& f : flags)
+    if (f.first->count() > 0) return true;
+  return false;
+}
+
+namespace {
+// Position of the last occurrence of `o` in the command line's parse order (-1 if absent).
+long last_position(const CLI::App& app, const CLI::Option* o) {
+  const auto& order = app.parse_order();
+  for (std::size_t i = order.size(); i-- > 0;)
+    if (order[i] == o) return static_cast<long>(i);
+  return -1;
+}
+}  // namespace
+
 SkinParameters ParameterOptions::resolve() const {
   SkinParameters p = find_preset(preset).parameters;
-  for (const auto& [opt, member] : flags)
-    if (opt->count() > 0) p.*member = values.*member;
+  std::vector<const ParameterInfo*> from_file;
+  if (params_option->count() > 0) from_file = read_parameter_file(params_file, p);
+  const long file_at = last_position(*app, params_option);
+  for (const auto& [opt, info] : flags) {
+    if (opt->count() == 0) continue;
+    const bool in_file =
+        std::find(from_file.begin(), from_file.end(), info) != from_file.end();
+    if (!in_file || last_position(*app, opt) > file_at) p.*(info->member) = values.*(info->member);
+  }
   p.validate();
   return p;
+}
+
+std::vector<const ParameterInfo*> read_parameter_file(const std::string& path, SkinParameters& p) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError("params = '" + path + "': cannot read the file");
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const std::exception& e) {
+    throw InputError("params = '" + path + "': not valid JSON (" + e.what() + ")");
+  }
+  const std::string where = "params = '" + path + "': ";
+  const json* obj = &doc;
+  if (doc.is_object() && doc.contains("parameters")) obj = &doc["parameters"];
+  if (!obj->is_object())
+    throw InputError(where + "expected an object of parameter keys (or a \"parameters\" object)");
+  if (obj == &doc && doc.contains("preset")) {
+    if (!doc["preset"].is_string()) throw InputError(where + "\"preset\" must be a string");
+    p = find_preset(doc["preset"].get<std::string>()).parameters;
+  }
+  std::vector<const ParameterInfo*> set;
+  for (auto it = obj->begin(); it != obj->end(); ++it) {
+    if (obj == &doc && it.key() == "preset") continue;
+    const ParameterInfo* info = find_parameter(it.key());
+    if (!info) {
+      try {
+        parameter_info(it.key(), "key");
+      } catch (const InputError& e) {
+        throw InputError(where + e.what());
+      }
+    }
+    if (it->is_null()) continue;
+    if (!it->is_number() || it->is_boolean())
+      throw InputError(where + std::string(info->key) + " must be a number, not " +
+                       it->dump());
+    const double v = it->get<double>();
+    try {
+      info->check(v);
+    } catch (const InputError& e) {
+      throw InputError(where + e.what());
+    }
+    p.*(info->member) = v;
+    set.push_back(info);
+  }
+  return set;
 }
 
 void SolverOption::add_to(CLI::App& app) {
@@ -128,6 +209,23 @@ std::string format_table(const std::vector<std::string>& header,
   return os.str();
 }
 
+std::string format_text_table(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> width;
+  for (const auto& row : rows)
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      if (width.size() <= c) width.push_back(0);
+      width[c] = std::max(width[c], row[c].size());
+    }
+  std::string out;
+  for (const auto& row : rows) {
+    std::string line;
+    for (std::size_t c = 0; c < row.size(); ++c)
+      line += row[c] + (c + 1 < row.size() ? std::string(width[c] - row[c].size() + 2, ' ') : "");
+    out += line + "\n";
+  }
+  return out;
+}
+
 std::string format_csv(const std::vector<std::string>& header,
                        const std::vector<std::vector<double>>& columns) {
   std::ostringstream os;
@@ -142,21 +240,8 @@ std::string format_csv(const std::vector<std::string>& header,
 }
 
 json to_json(const SkinParameters& p) {
-  json j;
-  j["melanin"] = p.melanin;
-  j["melanin_blend"] = p.melanin_blend;
-  j["hemoglobin"] = p.hemoglobin;
-  j["oiliness"] = p.oiliness;
-  j["oxygenation"] = p.oxygenation;
-  j["epidermis_thickness"] = p.epidermis_thickness;
-  j["dermis_scattering_scale"] = p.dermis_scattering_scale;
-  j["eta"] = p.eta;
-  j["roughness"] = p.roughness;
-  j["g"] = p.g;
-  j["epidermal_hemoglobin"] = p.epidermal_hemoglobin;
-  j["beta_carotene"] = p.beta_carotene;
-  j["bilirubin"] = p.bilirubin;
-  j["scattering_scale"] = p.scattering_scale;
+  json j = json::object();
+  for (const ParameterInfo& info : parameter_table()) j[std::string(info.key)] = p.*(info.member);
   return j;
 }
 

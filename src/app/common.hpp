@@ -21,14 +21,28 @@ using json = nlohmann::ordered_json;  // NOLINT
 bool stdout_is_terminal();
 bool stderr_is_terminal();
 
-// --preset and one flag per model parameter; flags given override the preset.
+// --preset, --params FILE.json and one flag per row of the parameter table (the key with dashes,
+// and the paper's symbol as an alias): the preset, then the file, then the flags given after it
+// (a flag given before --params is overridden by the file when the file sets that parameter).
 struct ParameterOptions {
   std::string preset = "caucasian";
+  std::string params_file;
   SkinParameters values;  // targets of the flags
-  std::vector<std::pair<CLI::Option*, double SkinParameters::*>> flags;
+  std::vector<std::pair<CLI::Option*, const ParameterInfo*>> flags;
+  CLI::App* app = nullptr;
+  CLI::Option* preset_option = nullptr;
+  CLI::Option* params_option = nullptr;
   void add_to(CLI::App& app);
-  SkinParameters resolve() const;  // preset + overrides, validated
+  // Whether --preset, --params or any parameter flag was given.
+  bool given() const;
+  SkinParameters resolve() const;  // preset + file + overrides, validated
 };
+
+// Reads a parameter file: the JSON `skin fit` or `skin spectrum` writes (its "parameters"
+// object), or a bare object of parameter keys (paper symbols accepted; null = not set; an
+// optional "preset" naming the base set). Sets the values it holds on `p`, returns their keys.
+// Throws InputError naming the file and the key.
+std::vector<const ParameterInfo*> read_parameter_file(const std::string& path, SkinParameters& p);
 
 struct GridOptions {
   double lambda_min = 400, lambda_max = 700, lambda_step = 2;
@@ -60,6 +74,8 @@ struct OutputOptions {
 // Fixed-width table for terminals: header row, then rows of numbers.
 std::string format_table(const std::vector<std::string>& header,
                          const std::vector<std::vector<double>>& columns);
+// Left-aligned text columns (first row: header), two spaces apart.
+std::string format_text_table(const std::vector<std::vector<std::string>>& rows);
 std::string format_csv(const std::vector<std::string>& header,
                        const std::vector<std::vector<double>>& columns);
 
@@ -80,12 +96,15 @@ void warn_if_negative(const std::string& what, const std::vector<double>& values
                       const std::vector<double>& where, const std::string& where_unit,
                       bool colour = false);
 
-// Each subcommand registers itself: adds a sub-App with its options and a callback.
+// Each subcommand registers itself from its own file (adding one touches that file only):
+// SKIN_REGISTER_COMMAND(order, function) at namespace scope; main() adds them in `order` (the
+// order of `skin --help`). The function adds a sub-App with its options and callback.
 using Registrar = void (*)(CLI::App& app);
-void register_spectrum(CLI::App& app);
-void register_profile(CLI::App& app);
-void register_layers(CLI::App& app);
-void register_color(CLI::App& app);
-void register_presets(CLI::App& app);
+struct CommandRegistration {
+  CommandRegistration(int order, Registrar registrar);
+};
+void register_commands(CLI::App& app);
+#define SKIN_REGISTER_COMMAND(order, function) \
+  static const ::skin::cli::CommandRegistration skin_command_##function{order, function}
 
 }  // namespace skin::cli

@@ -12,12 +12,6 @@ extern "C" const char* __lsan_default_suppressions();
 extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfig\n"; }
 #endif
 
-namespace skin::cli {
-// Subcommands living in other targets register through these weak hooks (renderer, Monte Carlo,
-// fitting), so that the CLI builds with whichever parts are enabled.
-void register_extra_commands(CLI::App& app);
-}  // namespace skin::cli
-
 int main(int argc, char** argv) {
   using namespace skin::cli;
   CLI::App app{
@@ -26,12 +20,7 @@ int main(int argc, char** argv) {
       "in nm."};
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("skin 0.1.0"));
-  register_spectrum(app);
-  register_profile(app);
-  register_layers(app);
-  register_color(app);
-  register_presets(app);
-  register_extra_commands(app);
+  register_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -1,5 +1,6 @@
 #include "skin/physics/skin_parameters.hpp"
 
+#include <cmath>
 #include <ostream>
 
 #include "skin/physics/chromophores.hpp"
@@ -7,37 +8,123 @@
 
 namespace skin {
 
+namespace {
+constexpr double kInf = kInfinity;
+// Ranges: the physical domain of each quantity (a fraction within [0, 1]; a length or a scale
+// above 0), except beta-carotene and bilirubin, bounded at 1000 umol/L (far beyond physiology)
+// to catch unit mistakes, and eta, bounded by the media the Fresnel terms are meant for.
+const ParameterInfo kParameters[] = {
+    {"melanin", "C_m", "1", 0, 1, false, false,
+     "melanin volume fraction of the epidermis", &SkinParameters::melanin},
+    {"melanin_blend", "beta_m", "1", 0, 1, false, false,
+     "eumelanin share of the melanin (the rest is pheomelanin)", &SkinParameters::melanin_blend},
+    {"hemoglobin", "C_h", "1", 0, 1, false, false, "blood volume fraction of the dermis",
+     &SkinParameters::hemoglobin},
+    {"oiliness", "rho_s", "1", 0, 1, false, false, "scale of the specular (oily) surface lobe",
+     &SkinParameters::oiliness},
+    {"oxygenation", "gamma", "1", 0, 1, false, false, "oxygenated share of the hemoglobin",
+     &SkinParameters::oxygenation},
+    {"epidermis_thickness", "", "mm", 0, kInf, true, true, "thickness of the epidermis",
+     &SkinParameters::epidermis_thickness},
+    {"dermis_scattering_scale", "", "1", 0, kInf, true, true,
+     "dermis sigma_s_prime relative to the epidermis'", &SkinParameters::dermis_scattering_scale},
+    {"eta", "", "1", 1, 3, false, false, "refractive index of both layers", &SkinParameters::eta},
+    {"roughness", "", "1", 0, kInf, true, true, "Beckmann RMS slope of the surface",
+     &SkinParameters::roughness},
+    {"g", "", "1", -1, 1, true, true,
+     "Henyey-Greenstein anisotropy (transport models; the paper gives sigma_s_prime only)",
+     &SkinParameters::g},
+    {"epidermal_hemoglobin", "", "1", 0, 1, false, false,
+     "extended model: blood volume fraction of the epidermis", &SkinParameters::epidermal_hemoglobin},
+    {"beta_carotene", "", "umol/L", 0, 1000, false, false,
+     "extended model: beta-carotene in the epidermis", &SkinParameters::beta_carotene},
+    {"bilirubin", "", "umol/L", 0, 1000, false, false, "extended model: bilirubin in the dermis",
+     &SkinParameters::bilirubin},
+    {"scattering_scale", "", "1", 1e-6, 10, false, false,
+     "extended model: factor on sigma_s_prime of both layers", &SkinParameters::scattering_scale},
+};
+
+std::string unit_suffix(std::string_view unit) {
+  return unit.empty() || unit == "1" ? std::string() : std::string(unit);
+}
+}  // namespace
+
+std::span<const ParameterInfo> parameter_table() { return kParameters; }
+
+std::string ParameterInfo::flag() const {
+  std::string s(key);
+  for (char& c : s)
+    if (c == '_') c = '-';
+  return s;
+}
+
+std::string ParameterInfo::label() const {
+  return symbol.empty() ? flag() : flag() + " (" + std::string(symbol) + ")";
+}
+
+std::string ParameterInfo::range_text() const {
+  return std::string(min_open ? "(" : "[") + format_number(min) + ", " + format_number(max) +
+         (max_open ? ")" : "]");
+}
+
+double ParameterInfo::default_value() const { return SkinParameters{}.*member; }
+
+bool ParameterInfo::in_range(double v) const {
+  if (std::isnan(v)) return false;
+  const bool lo_ok = min_open ? v > min : v >= min;
+  const bool hi_ok = max_open ? v < max : v <= max;
+  return lo_ok && hi_ok;
+}
+
+void ParameterInfo::check(double v) const {
+  const std::string name = label(), u = unit_suffix(unit);
+  if (!min_open && !max_open) {
+    require_in_range(name, v, min, max, u);
+  } else if (min == 0 && min_open && std::isinf(max)) {
+    require_positive(name, v, u);
+  } else if (!in_range(v)) {
+    throw InputError(name + " = " + format_number(v) + (u.empty() ? "" : " " + u) +
+                     " is out of range: allowed range is " + range_text());
+  }
+}
+
+const ParameterInfo* find_parameter(std::string_view name) {
+  std::string s(name);
+  for (char& c : s)
+    if (c == '-') c = '_';
+  for (const auto& p : kParameters)
+    if (p.key == s || (!p.symbol.empty() && p.symbol == name)) return &p;
+  return nullptr;
+}
+
+const ParameterInfo& parameter_info(std::string_view name, std::string_view what) {
+  if (const ParameterInfo* p = find_parameter(name)) return *p;
+  std::string known;
+  for (const auto& p : kParameters) known += (known.empty() ? "" : ", ") + std::string(p.key);
+  throw InputError(std::string(what) + " '" + std::string(name) +
+                   "' is unknown: known parameters are " + known +
+                   " (or the paper's symbols C_m, beta_m, C_h, rho_s, gamma)");
+}
+
 void SkinParameters::validate() const {
-  require_in_range("melanin (C_m)", melanin, 0.0, 1.0);
-  require_in_range("melanin-blend (beta_m)", melanin_blend, 0.0, 1.0);
-  require_in_range("hemoglobin (C_h)", hemoglobin, 0.0, 1.0);
-  require_in_range("oiliness (rho_s)", oiliness, 0.0, 1.0);
-  require_in_range("oxygenation (gamma)", oxygenation, 0.0, 1.0);
-  require_positive("epidermis-thickness", epidermis_thickness, "mm");
-  require_positive("dermis-scattering-scale", dermis_scattering_scale);
-  require_in_range("eta", eta, 1.0, 3.0);
-  require_positive("roughness", roughness);
-  if (!(g > -1.0 && g < 1.0))
-    throw InputError("g = " + format_number(g) + " is out of range: allowed range is (-1, 1)");
-  require_in_range("epidermal-hemoglobin", epidermal_hemoglobin, 0.0, 1.0);
+  for (const auto& p : kParameters) p.check(this->*(p.member));
   if (melanin + epidermal_hemoglobin > 1.0)
     throw InputError("melanin + epidermal-hemoglobin = " +
                      format_number(melanin + epidermal_hemoglobin) +
                      " is out of range: volume fractions must add up to at most 1");
-  require_in_range("beta-carotene", beta_carotene, 0.0, 1000.0, "umol/L");
-  require_in_range("bilirubin", bilirubin, 0.0, 1000.0, "umol/L");
-  require_in_range("scattering-scale", scattering_scale, 1e-6, 10.0);
 }
 
 std::ostream& operator<<(std::ostream& os, const SkinParameters& p) {
-  os << "SkinParameters{C_m=" << p.melanin << ", beta_m=" << p.melanin_blend
-     << ", C_h=" << p.hemoglobin << ", rho_s=" << p.oiliness << ", gamma=" << p.oxygenation
-     << ", d_epi=" << p.epidermis_thickness << "mm, dermis_scale=" << p.dermis_scattering_scale
-     << ", eta=" << p.eta << ", roughness=" << p.roughness << ", g=" << p.g;
-  if (p.epidermal_hemoglobin != 0) os << ", C_he=" << p.epidermal_hemoglobin;
-  if (p.beta_carotene != 0) os << ", beta_carotene=" << p.beta_carotene << "uM";
-  if (p.bilirubin != 0) os << ", bilirubin=" << p.bilirubin << "uM";
-  if (p.scattering_scale != 1) os << ", scattering_scale=" << p.scattering_scale;
+  os << "SkinParameters{";
+  bool first = true;
+  for (const auto& info : kParameters) {
+    const double v = p.*(info.member);
+    // The paper's four and its fixed choices always; extended terms only when they are set.
+    const bool extended = info.help.starts_with("extended");
+    if (extended && v == info.default_value()) continue;
+    os << (first ? "" : ", ") << info.key << '=' << v << unit_suffix(info.unit);
+    first = false;
+  }
   return os << '}';
 }
 

@@ -10,53 +10,15 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "cli_fixture.hpp"
+
 namespace fs = std::filesystem;
 using json = nlohmann::json;
+using skin_test::Cli;
+using skin_test::CmdResult;
+using skin_test::slurp;
 
 namespace {
-
-struct CmdResult {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-class Cli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("skin_cli_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  CmdResult run(const std::string& args) {
-    const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
-    const std::string cmd = std::string("cd '") + dir_.string() + "' && '" + SKIN_BINARY + "' " + args +
-                            " > '" + out.string() + "' 2> '" + err.string() + "' < /dev/null";
-    const int status = std::system(cmd.c_str());
-    CmdResult r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
-  }
-  // Files in the work dir other than those named.
-  std::size_t file_count() const {
-    std::size_t n = 0;
-    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
-    return n;
-  }
-  fs::path dir_;
-};
 
 void expect_close(const json& a, const json& b, const std::string& path) {
   if (a.is_number() && b.is_number()) {

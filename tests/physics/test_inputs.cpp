@@ -75,3 +75,30 @@ TEST(Inputs, CsvParsing) {
   EXPECT_EQ(message_of([] { read_csv_file("/nonexistent/file.csv"); }),
             "/nonexistent/file.csv: cannot open file for reading");
 }
+
+// The parameter table is complete (one row per member of SkinParameters, each member once),
+// its defaults are those of SkinParameters and inside their ranges, and every spelling finds
+// its row.
+TEST(ParameterTable, CoversEveryMemberOnceWithValidDefaults) {
+  const auto table = skin::parameter_table();
+  // SkinParameters holds only doubles (and functions): its size counts the members.
+  EXPECT_EQ(table.size() * sizeof(double), sizeof(skin::SkinParameters));
+  for (std::size_t i = 0; i < table.size(); ++i) {
+    for (std::size_t j = i + 1; j < table.size(); ++j) {
+      EXPECT_NE(table[i].member, table[j].member) << table[i].key << " and " << table[j].key;
+      EXPECT_NE(table[i].key, table[j].key);
+    }
+    const auto& p = table[i];
+    EXPECT_TRUE(p.in_range(p.default_value())) << p.key;
+    EXPECT_EQ(skin::find_parameter(p.key), &p);
+    EXPECT_EQ(skin::find_parameter(p.flag()), &p);
+    if (!p.symbol.empty()) {
+      EXPECT_EQ(skin::find_parameter(p.symbol), &p);
+    }
+    EXPECT_FALSE(p.in_range(std::nan(""))) << p.key;
+    EXPECT_THROW(p.check(p.min_open ? p.min : p.min - 1.0), skin::InputError) << p.key;
+  }
+  EXPECT_EQ(skin::find_parameter("beta_m")->key, "melanin_blend");
+  EXPECT_EQ(skin::find_parameter("colour"), nullptr);
+  EXPECT_THROW(skin::parameter_info("colour"), skin::InputError);
+}

@@ -2,6 +2,7 @@
 // The biophysical parameters of the two-layer skin model (DJ06 section 3, Table 1) and the
 // fixed choices of the paper as named, documented defaults.
 #include <iosfwd>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -38,6 +39,34 @@ struct SkinParameters {
 };
 
 std::ostream& operator<<(std::ostream& os, const SkinParameters& p);
+
+// The parameter table: the one home of every model parameter's name, symbol, unit, range,
+// default and help. Every surface iterates it: validation, printing, CLI flags (the key with
+// dashes), JSON keys, scene material keys, EXR channel names, Python keywords, the fit's free
+// parameters and `skin parameters`.
+struct ParameterInfo {
+  std::string_view key;     // canonical name: JSON/scene key, EXR channel, Python keyword
+  std::string_view symbol;  // the paper's symbol (accepted as an alias on input), "" if none
+  std::string_view unit;    // "1" for dimensionless quantities, "mm", "umol/L"
+  double min, max;          // allowed range; max may be infinite
+  bool min_open, max_open;  // whether the bound itself is excluded
+  std::string_view help;    // one line
+  double SkinParameters::*member;
+
+  std::string flag() const;        // the CLI spelling: key with dashes ("melanin-blend")
+  std::string label() const;       // for messages: "melanin-blend (beta_m)"
+  std::string range_text() const;  // "[0, 1]", "(0, inf)"
+  double default_value() const;    // the value in a default-constructed SkinParameters
+  bool in_range(double v) const;   // false for NaN
+  // Throws InputError "<label> = <v> [unit] is out of range: ..." unless in_range(v).
+  void check(double v) const;
+};
+// All parameters, in the order of SkinParameters' members.
+std::span<const ParameterInfo> parameter_table();
+// By key, key with dashes, or paper symbol; nullptr if unknown.
+const ParameterInfo* find_parameter(std::string_view name);
+// The same; throws InputError "<what> '<name>' is unknown: known parameters are ..." otherwise.
+const ParameterInfo& parameter_info(std::string_view name, std::string_view what = "parameter");
 
 // Absorption and reduced scattering of the two layers at one wavelength [1/mm] (eqs 3-8).
 struct LayerCoefficients {
