@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <algorithm>
+#include <optional>
 #include <iostream>
 #include <sstream>
 
@@ -152,25 +153,42 @@ void GridOptions::add_to(CLI::App& app) {
   app.add_option("--lambda-step", lambda_step, "Wavelength step [nm]; (max - min) / step must be whole")->capture_default_str()->group("Wavelengths");
 }
 
-void OutputOptions::add_to(CLI::App& app, bool with_table) {
+void OutputOptions::add_to(CLI::App& app, bool table_allowed) {
+  with_table = table_allowed;
   app.add_option("--format", format,
-                 with_table ? "Output format: table (default on a terminal), csv, json (default when piped)"
-                            : "Output format: csv, json (default)")
+                 with_table ? "Output format: table (default on a terminal), csv, json (default "
+                              "when piped); with -o, inferred from its extension (.txt, .csv, .json)"
+                            : "Output format: csv, json (default); with -o, inferred from its "
+                              "extension (.csv, .json)")
       ->check(with_table ? CLI::IsMember({"table", "csv", "json"}) : CLI::IsMember({"csv", "json"}))
       ->group("Output");
-  app.add_option("-o,--output", output, "Write to FILE (atomically: complete or not at all) instead of stdout")
+  app.add_option("-o,--output", output,
+                 "Write to FILE instead of standard output ('-'): a regular file is replaced "
+                 "atomically (complete or not at all), a symbolic link's target likewise, a FIFO "
+                 "or device is written in place")
       ->group("Output");
 }
 
 Format OutputOptions::resolve() const {
-  if (format == "table") return Format::table;
-  if (format == "csv") return Format::csv;
-  if (format == "json") return Format::json;
-  return (output.empty() && stdout_is_terminal()) ? Format::table : Format::json;
+  const bool to_stdout = output.empty() || output == "-";
+  std::optional<Format> from_extension;
+  const std::string ext = to_stdout ? "" : io::extension(output);
+  if (ext == "json") from_extension = Format::json;
+  if (ext == "csv") from_extension = Format::csv;
+  if (ext == "txt" && with_table) from_extension = Format::table;
+  if (!format.empty()) {
+    const Format f = format == "table" ? Format::table : format == "csv" ? Format::csv : Format::json;
+    if (from_extension && *from_extension != f)
+      throw InputError("--format " + format + " contradicts the extension of -o '" + output +
+                       "' (." + ext + "): give one or make them agree");
+    return f;
+  }
+  if (from_extension) return *from_extension;
+  return (to_stdout && stdout_is_terminal() && with_table) ? Format::table : Format::json;
 }
 
 void OutputOptions::emit(const std::string& text) const {
-  if (output.empty()) {
+  if (output.empty() || output == "-") {
     std::cout << text;
     std::cout.flush();
   } else {

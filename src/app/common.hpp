@@ -64,8 +64,9 @@ enum class Format { table, csv, json };
 #pragma GCC diagnostic pop
 struct OutputOptions {
   std::string format;  // empty: table on a terminal, json otherwise
-  std::string output;  // -o FILE; empty: stdout
-  void add_to(CLI::App& app, bool with_table = true);
+  std::string output;  // -o FILE; empty or "-": stdout
+  bool with_table = true;
+  void add_to(CLI::App& app, bool table_allowed = true);
   Format resolve() const;
   // Writes the text to the file (atomically) or stdout.
   void emit(const std::string& text) const;

@@ -1,17 +1,24 @@
 #pragma once
-// Writing output files without ever leaving a half-written one: the data go to a temporary file
-// next to the target, which is renamed over it only once it is complete. On failure the target is
-// untouched (a file the user already had stays as it was) and the temporary file is removed.
+// Writing output files without ever leaving a half-written one or damaging what the path names:
+// - a regular file (or a new name): the data go to a temporary file beside it, renamed over it
+//   only once complete (the replaced file's permission bits are kept);
+// - a symbolic link: the same, for the file the link points to (the link stays a link);
+// - a FIFO, character or block device (/dev/null, /dev/stdout, a pipe): written in place, never
+//   replaced;
+// - "-": standard output.
+// On failure (a full disk, an unwritable directory, an exception of the writer) the temporary
+// file is removed and nothing that existed is touched; an InputError names the file.
 #include <functional>
 #include <string>
 
 namespace skin::io {
 
-// Writes `content` to `path` atomically. Throws InputError naming the file on failure.
+// Writes `content` to `path` as above. Throws InputError naming the file on failure.
 void write_file_atomic(const std::string& path, const std::string& content);
 
-// Calls write(tmp_path) to produce the file under a temporary name, then renames it to `path`.
-// For libraries that insist on writing to a path themselves (PNG, EXR, Cairo).
+// Calls write(tmp_path) to produce the file under a temporary name (beside the target, with the
+// target's extension, since some writers choose the format from it), then puts it in place as
+// above. For libraries that insist on writing to a path themselves (PNG, EXR, Cairo).
 void write_via_temporary(const std::string& path, const std::function<void(const std::string&)>& write);
 
 // Lower-case extension of a path without the dot ("png"), or "" if none.

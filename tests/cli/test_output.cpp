@@ -1,0 +1,86 @@
+// Output safety of -o (every command writes through skin::io): a regular file is replaced
+// atomically, a symbolic link's target is written and the link stays a link, a FIFO or device
+// is written in place and never replaced, "-" is standard output; a failing write (bad input,
+// a full device) touches nothing that existed. The format follows -o's extension; a
+// contradicting --format is refused.
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "cli_fixture.hpp"
+
+namespace {
+using json = nlohmann::json;
+using skin_test::Cli;
+using skin_test::CmdResult;
+using skin_test::slurp;
+namespace fs = std::filesystem;
+
+TEST_F(Cli, OutputThroughSymlinkWritesTargetAndKeepsLink) {
+  std::ofstream(dir_ / "real.json") << "precious";
+  fs::create_symlink("real.json", dir_ / "link.json");
+  // A failing command leaves the target as it was.
+  EXPECT_EQ(run("color --melanin 2 -o link.json").code, 2);
+  EXPECT_EQ(slurp(dir_ / "real.json"), "precious");
+  // A succeeding one writes the target; the link is still a link to it.
+  ASSERT_EQ(run("color -o link.json").code, 0);
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.json"));
+  EXPECT_EQ(fs::read_symlink(dir_ / "link.json"), "real.json");
+  EXPECT_TRUE(json::parse(slurp(dir_ / "real.json")).contains("color"));
+  EXPECT_EQ(file_count(), 2u);  // no temporary file left
+}
+
+TEST_F(Cli, OutputToFifoIsWrittenInPlace) {
+  const fs::path fifo = dir_ / "fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  std::string received;
+  std::thread reader([&] { received = slurp(fifo); });
+  const CmdResult r = run("color --format csv -o fifo");
+  reader.join();
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(received.find("X,Y,Z"), 0u) << received;
+  EXPECT_TRUE(fs::is_fifo(fifo));
+  EXPECT_EQ(file_count(), 1u);
+}
+
+TEST_F(Cli, OutputToDeviceIsWrittenInPlace) {
+  ASSERT_EQ(run("spectrum --format csv -o /dev/null").code, 0);
+  EXPECT_TRUE(fs::is_character_file("/dev/null"));
+  // A full device fails with one line and exit 2.
+  const CmdResult full = run("spectrum --format csv -o /dev/full");
+  EXPECT_EQ(full.code, 2);
+  EXPECT_NE(full.err.find("/dev/full: write failed"), std::string::npos) << full.err;
+  EXPECT_TRUE(fs::is_character_file("/dev/full"));
+  EXPECT_EQ(file_count(), 0u);
+}
+
+TEST_F(Cli, DashIsStandardOutput) {
+  const CmdResult r = run("color --format csv -o -");
+  EXPECT_EQ(r.code, 0);
+  EXPECT_EQ(r.out.find("X,Y,Z"), 0u) << r.out;
+  EXPECT_FALSE(fs::exists(dir_ / "-"));
+}
+
+TEST_F(Cli, RegularFileReplacedKeepsItsPermissions) {
+  std::ofstream(dir_ / "out.csv") << "old";
+  fs::permissions(dir_ / "out.csv", fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+  ASSERT_EQ(run("color -o out.csv").code, 0);
+  EXPECT_EQ(slurp(dir_ / "out.csv").find("X,Y,Z"), 0u);  // csv from the extension
+  EXPECT_EQ(fs::status(dir_ / "out.csv").permissions() & fs::perms::all,
+            fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+}
+
+TEST_F(Cli, FormatFollowsExtensionAndContradictionIsRefused) {
+  ASSERT_EQ(run("color -o c.json").code, 0);
+  EXPECT_TRUE(json::parse(slurp(dir_ / "c.json")).contains("color"));
+  ASSERT_EQ(run("color -o c.txt").code, 0);
+  EXPECT_NE(slurp(dir_ / "c.txt").find("CIELAB"), std::string::npos);
+  const CmdResult r = run("color --format csv -o c2.json");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--format csv contradicts the extension of -o 'c2.json'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir_ / "c2.json"));
+}
+
+}  // namespace
