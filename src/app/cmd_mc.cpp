@@ -32,17 +32,17 @@ struct McOptions {
     photons = default_photons;
     bins = default_bins;
     const char* g = "Monte Carlo";
-    app.add_option("--photons", photons, "Photon packets entering the medium (per case), >= 1")
-        ->capture_default_str()->group(g);
+    app.add_option("--photons", photons, "Photon packets entering the medium (per case)")
+        ->check(whole_number(1))->capture_default_str()->group(g);
     app.add_option("--seed", seed, "Seed; the same seed gives identical results for any thread count")
-        ->capture_default_str()->group(g);
-    app.add_option("--threads", threads, "Worker threads, >= 0 (0 = all cores)")
-        ->capture_default_str()->group(g);
+        ->check(whole_number(0))->capture_default_str()->group(g);
+    app.add_option("--threads", threads, "Worker threads (0 = all cores)")
+        ->check(whole_number(0, 4096))->capture_default_str()->group(g);
     if (with_radius)
       app.add_option("--radius-max", r_max, "Outer radius of the radial profile R(r) [mm], > 0")
           ->capture_default_str()->group(g);
-    app.add_option("--bins", bins, "Annular bins of the radial profile, >= 1")
-        ->capture_default_str()->group(g);
+    app.add_option("--bins", bins, "Annular bins of the radial profile")
+        ->check(whole_number(1, 100000000))->capture_default_str()->group(g);
   }
   mc::Options resolve() const {
     mc::Options o;
@@ -272,12 +272,12 @@ void register_tabulate_command(CLI::App& app) {
   sub->add_option("--eta-above", o->t.eta_above, "Refractive index above it, [1, 3]")
       ->capture_default_str();
   sub->add_option("--min-photons", o->t.min_photons, "Fewest photons per node and source")
-      ->capture_default_str();
+      ->check(whole_number(1))->capture_default_str();
   sub->add_option("--max-photons", o->t.max_photons, "Most photons per node (pencil beam)")
-      ->capture_default_str();
-  sub->add_option("--seed", o->t.seed, "Seed")->capture_default_str();
-  sub->add_option("--threads", o->t.threads, "Worker threads, >= 0 (0 = all cores)")
-      ->capture_default_str();
+      ->check(whole_number(1))->capture_default_str();
+  sub->add_option("--seed", o->t.seed, "Seed")->check(whole_number(0))->capture_default_str();
+  sub->add_option("--threads", o->t.threads, "Worker threads (0 = all cores)")
+      ->check(whole_number(0, 4096))->capture_default_str();
   sub->add_option("--x", o->t.x, "Nodes in x = sqrt(1 - alpha'), increasing in [0, 1) (default 0.05 to 0.95 by 0.06)")
       ->delimiter(',');
   sub->add_option("--tau", o->t.tau, "Nodes in reduced optical thickness tau', increasing (default 0.35 2^(j/4), j = 0..26)")

@@ -29,7 +29,7 @@ void register_profile(CLI::App& app) {
   sub->add_flag("--rgb", o->rgb, "Per linear sRGB channel (r, g, b) instead of per wavelength");
   sub->add_option("--radius-min", o->radius_min, "Smallest radius [mm] (log spacing)")->capture_default_str();
   sub->add_option("--radius-max", o->radius_max, "Largest radius [mm]")->capture_default_str();
-  sub->add_option("--samples", o->samples, "Number of radii, [2, 1000000]")->capture_default_str();
+  sub->add_option("--samples", o->samples, "Number of radii")->check(whole_number(2, 1000000))->capture_default_str();
   sub->add_option("--spacing", o->spacing, "Radii spaced evenly in log r (from --radius-min) or linearly from 0")
       ->check(CLI::IsMember({"log", "linear"}))->capture_default_str();
   sub->add_option("--plot", o->plot, "Also draw the profile per RGB channel on log axes to FILE.png or FILE.svg")

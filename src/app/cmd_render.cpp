@@ -55,10 +55,10 @@ render::Progress progress_bar() {
 void add_common(CLI::App* sub, RenderOpts* o) {
   o->solver.add_to(*sub);
   sub->add_option("-o,--output", o->output, "Output image: .png (sRGB 8-bit) or .exr (linear float)")->required();
-  sub->add_option("--spp", o->spp, "Samples per pixel (default: the scene's)");
-  sub->add_option("--seed", o->seed, "Random seed; same seed, same image at any thread count")->capture_default_str();
-  sub->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->capture_default_str();
-  sub->add_option("--max-depth", o->max_depth, "Path vertices after the camera (default: the scene's)");
+  sub->add_option("--spp", o->spp, "Samples per pixel (default: the scene's)")->check(whole_number(1, 1 << 20));
+  sub->add_option("--seed", o->seed, "Random seed; same seed, same image at any thread count")->check(whole_number(0))->capture_default_str();
+  sub->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(whole_number(0, 4096))->capture_default_str();
+  sub->add_option("--max-depth", o->max_depth, "Path vertices after the camera (default: the scene's)")->check(whole_number(0, 1000));
   sub->add_option("--time-budget", o->time_budget, "Stop after the last whole sample pass within this many seconds (0 = none)");
   sub->add_option("--exposure", o->exposure, "PNG exposure in stops (default: the scene's)")
       ->each([o](const std::string&) { o->exposure_given = true; });
@@ -116,7 +116,7 @@ void register_render(CLI::App& app) {
   auto f = std::make_shared<RenderOpts>();
   CLI::App* fig = app.add_subcommand(
       "figure", "Render a parameter sweep of the paper (Fig. 3, 4, 5, 6, 7 or 8) as a labelled grid of skin patches");
-  fig->add_option("number", f->figure, "Figure number: 3, 4, 5, 6, 7 or 8")->required();
+  fig->add_option("number", f->figure, "Figure number: 3, 4, 5, 6, 7 or 8")->check(whole_number(3, 8))->required();
   add_common(fig, f.get());
   fig->add_option("--mesh", f->mesh, "Render each patch on this mesh (OBJ, glTF, GLB) instead of a sphere");
   fig->callback([f] {

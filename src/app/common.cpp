@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <fstream>
 #include <algorithm>
+#include <charconv>
 #include <optional>
 #include <iostream>
 #include <sstream>
@@ -137,6 +138,23 @@ std::vector<const ParameterInfo*> read_parameter_file(const std::string& path, S
     set.push_back(info);
   }
   return set;
+}
+
+CLI::Validator whole_number(long long lo, long long hi) {
+  const std::string allowed =
+      hi == std::numeric_limits<long long>::max()
+          ? ">= " + std::to_string(lo)
+          : "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, allowed](std::string& text) -> std::string {
+        long long v = 0;
+        const char* end = text.data() + text.size();
+        const auto res = std::from_chars(text.data(), end, v);
+        if (res.ec != std::errc() || res.ptr != end || v < lo || v > hi)
+          return text + " is out of range: must be a whole number " + allowed;
+        return {};
+      },
+      "INT " + allowed);
 }
 
 void SolverOption::add_to(CLI::App& app) {

@@ -3,6 +3,7 @@
 // grid, output), output formats, and the registry of subcommands.
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -43,6 +44,11 @@ struct ParameterOptions {
 // optional "preset" naming the base set). Sets the values it holds on `p`, returns their keys.
 // Throws InputError naming the file and the key.
 std::vector<const ParameterInfo*> read_parameter_file(const std::string& path, SkinParameters& p);
+
+// Check of a whole-number option (counts, seeds, threads): anything but a whole number within
+// [lo, hi] is refused with "<value> is out of range: must be a whole number ..." (CLI11 alone
+// would wrap "-1" around in an unsigned option).
+CLI::Validator whole_number(long long lo, long long hi = std::numeric_limits<long long>::max());
 
 struct GridOptions {
   double lambda_min = 400, lambda_max = 700, lambda_step = 2;

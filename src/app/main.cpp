@@ -30,7 +30,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "skin: error: " << e.what() << "\n(run with --help for the options)\n";
+    std::cerr << "skin: error: " << e.what() << " (run with --help for the options)\n";
     return 2;
   } catch (const skin::InputError& e) {
     std::cerr << "skin: error: " << e.what() << '\n';

@@ -84,3 +84,36 @@ TEST_F(Cli, FormatFollowsExtensionAndContradictionIsRefused) {
 }
 
 }  // namespace
+
+namespace {
+// Counts refuse negative, fractional and zero-where-meaningless input (CLI11 alone wraps -1
+// around in an unsigned option: --photons -1 once ran 2^64 - 1 photons).
+struct BadCount {
+  const char* args;
+  const char* message;
+};
+class CliBadCount : public skin_test::Cli, public ::testing::WithParamInterface<BadCount> {};
+TEST_P(CliBadCount, OneLineExitTwo) {
+  const skin_test::CmdResult r = run(GetParam().args);
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find(GetParam().message), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(file_count(), 0u);
+}
+INSTANTIATE_TEST_SUITE_P(
+    Cases, CliBadCount,
+    ::testing::Values(
+        BadCount{"mc --photons -1 --layer sigma_a=1,sigma_s_prime=1",
+                 "--photons: -1 is out of range: must be a whole number >= 1"},
+        BadCount{"mc --photons -1000 --layer sigma_a=1,sigma_s_prime=1", "--photons: -1000 is out of range"},
+        BadCount{"mc --photons 1.5 --layer sigma_a=1,sigma_s_prime=1", "--photons: 1.5 is out of range"},
+        BadCount{"mc --bins 0 --layer sigma_a=1,sigma_s_prime=1", "--bins: 0 is out of range"},
+        BadCount{"mc --seed -3 --layer sigma_a=1,sigma_s_prime=1", "--seed: -3 is out of range"},
+        BadCount{"mc --threads -2 --layer sigma_a=1,sigma_s_prime=1", "--threads: -2 is out of range"},
+        BadCount{"profile --samples -5", "--samples: -5 is out of range: must be a whole number in [2, 1000000]"},
+        BadCount{"render --spp 0 -o x.png", "--spp: 0 is out of range"},
+        BadCount{"render --spp -4 -o x.png", "--spp: -4 is out of range"},
+        BadCount{"render --max-depth -1 -o x.png", "--max-depth: -1 is out of range"},
+        BadCount{"figure 9 -o x.png", "9 is out of range: must be a whole number in [3, 8]"},
+        BadCount{"tabulate-top-layer --min-photons -1 -o t.csv", "--min-photons: -1 is out of range"}));
+}  // namespace
