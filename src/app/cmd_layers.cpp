@@ -43,13 +43,19 @@ void register_layers(CLI::App& app) {
     std::optional<accurate::AccurateStack> as;
     if (accurate) as.emplace(stack);
     const RadialResponse& response = accurate ? static_cast<const RadialResponse&>(*as) : ds;
-    std::vector<double> r = o->radii;
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
+    // The profile is computed on the sorted distinct radii and reported in the order asked.
+    const std::vector<double> r = o->radii;
+    for (double x : r) require_non_negative("radius", x, "mm");
+    std::vector<double> sorted = r;
+    std::sort(sorted.begin(), sorted.end());
+    sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
     std::vector<double> R;
     if (!r.empty()) {
-      ProfileSolver solver(RadialGrid::from(r));
-      R = solver.profile(response);
+      ProfileSolver solver(RadialGrid::from(sorted));
+      const std::vector<double> on_sorted = solver.profile(response);
+      for (double x : r)
+        R.push_back(on_sorted[static_cast<std::size_t>(
+            std::lower_bound(sorted.begin(), sorted.end(), x) - sorted.begin())]);
     }
     const double R_d = accurate ? as->R_d() : ds.R_d(), T_d = accurate ? as->T_d() : ds.T_d();
     const double R_specular =
@@ -71,7 +77,7 @@ void register_layers(CLI::App& app) {
         json jl;
         jl["sigma_a"] = l.sigma_a;
         jl["sigma_s_prime"] = l.sigma_s_prime;
-        jl["thickness"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
+        jl["thickness_mm"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
         jl["eta"] = l.eta;
         jl["alpha_prime"] = s.alpha_prime;
         jl["sigma_tr"] = s.sigma_tr;
@@ -89,8 +95,12 @@ void register_layers(CLI::App& app) {
       j["profile"] = {{"r_mm", r}, {"R", R}};
       text = j.dump(2) + "\n";
     } else if (fmt == Format::csv) {
-      text = "# R_d=" + format_number(R_d) + " T_d=" + format_number(T_d) + "\n" +
-             format_csv({"r_mm", "R"}, {r, R});
+      std::vector<Column> cols;
+      if (!r.empty()) cols = {{"r_mm", r, {}}, {"R [1/mm^2]", R, {}}};
+      cols.push_back(constant_column("R_d", R_d, r.size()));
+      cols.push_back(constant_column("T_d", T_d, r.size()));
+      cols.push_back(constant_column("R_specular", R_specular, r.size()));
+      text = to_csv(cols);
     } else {
       text = "R_d  " + format_number(R_d) + "\nT_d  " + format_number(T_d) + "\n";
       if (!r.empty()) text += "\n" + format_table({"r_mm", "R [1/mm^2]"}, {r, R});

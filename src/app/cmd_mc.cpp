@@ -64,7 +64,7 @@ json layers_json(const LayerStack& stack) {
     jl["sigma_s_prime"] = l.sigma_s_prime;
     jl["sigma_s"] = l.sigma_s();
     jl["g"] = l.g;
-    jl["thickness"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
+    jl["thickness_mm"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
     jl["eta"] = l.eta;
     layers.push_back(jl);
   }
@@ -139,7 +139,7 @@ void register_mc_command(CLI::App& app) {
       if (source == "preset") {
         j["preset"] = o->params.preset;
         j["parameters"] = to_json(o->params.resolve());
-        j["wavelength"] = o->wavelength;
+        j["wavelength_nm"] = o->wavelength;
       }
       j["eta_above"] = stack.eta_above;
       j["eta_below"] = stack.eta_below;
@@ -157,10 +157,17 @@ void register_mc_command(CLI::App& app) {
       j["profile"] = {{"r_mm", r.r_mm}, {"R", r.R}, {"R_se", r.R_se}};
       text = j.dump(2) + "\n";
     } else if (fmt == Format::csv) {
-      text = "# R_specular=" + format_number(r.R_specular) + " R_d=" + format_number(r.R_d) +
-             " R_d_se=" + format_number(r.R_d_se) + " T_d=" + format_number(r.T_d) +
-             " T_d_se=" + format_number(r.T_d_se) + " photons=" + std::to_string(r.photons) +
-             " (per power that entered)\n" + format_csv({"r_mm", "R", "R_se"}, {r.r_mm, r.R, r.R_se});
+      // Totals per power that entered, as columns beside the profile.
+      const std::size_t n = r.r_mm.size();
+      text = to_csv({{"r_mm", r.r_mm, {}},
+                     {"R [1/mm^2]", r.R, {}},
+                     {"R_se [1/mm^2]", r.R_se, {}},
+                     constant_column("R_d", r.R_d, n),
+                     constant_column("R_d_se", r.R_d_se, n),
+                     constant_column("T_d", r.T_d, n),
+                     constant_column("T_d_se", r.T_d_se, n),
+                     constant_column("R_specular", r.R_specular, n),
+                     constant_column("photons", static_cast<double>(r.photons), n)});
     } else {
       char buf[512];
       std::snprintf(buf, sizeof buf,

@@ -58,10 +58,13 @@ void register_profile(CLI::App& app) {
         j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
         j["R_d"] = {{"r", rgb.R_d[0]}, {"g", rgb.R_d[1]}, {"b", rgb.R_d[2]}};
         text = j.dump(2) + "\n";
+      } else if (fmt == Format::csv) {
+        std::vector<Column> cols = {{"r_mm", radii.r, {}}};
+        for (int c = 0; c < 3; ++c) cols.push_back({std::string("R.") + names[c] + " [1/mm^2]", rgb.R[c], {}});
+        for (int c = 0; c < 3; ++c) cols.push_back(constant_column(std::string("R_d.") + names[c], rgb.R_d[c], radii.size()));
+        text = to_csv(cols);
       } else {
-        std::vector<std::string> h = {"r_mm", "R_r", "R_g", "R_b"};
-        std::vector<std::vector<double>> cols = {radii.r, rgb.R[0], rgb.R[1], rgb.R[2]};
-        text = fmt == Format::csv ? format_csv(h, cols) : format_table(h, cols);
+        text = format_table({"r_mm", "R_r", "R_g", "R_b"}, {radii.r, rgb.R[0], rgb.R[1], rgb.R[2]});
       }
     } else {
       const SpectralProfile sp = skin_spectral_profile(p, grid, solver, transport);
@@ -86,7 +89,7 @@ void register_profile(CLI::App& app) {
         std::vector<std::string> h = {"r_mm"};
         std::vector<std::vector<double>> cols = {radii.r};
         for (std::size_t i = 0; i < grid.size(); ++i) {
-          h.push_back("R_" + format_number(grid[i]) + "nm");
+          h.push_back("R_" + format_number(grid[i]) + "nm" + (fmt == Format::csv ? " [1/mm^2]" : ""));
           cols.push_back(rows[i]);
         }
         text = fmt == Format::csv ? format_csv(h, cols) : format_table(h, cols);

@@ -48,7 +48,6 @@ void register_spectrum(CLI::App& app) {
     const WavelengthGrid grid = o->grid.resolve();
     const SkinSpectrum s = skin_spectrum(p, grid, parse_solver(o->solver.name));
     warn_if_negative("R_d", s.R_d.values, grid.values(), "nm");
-    std::string text;
     const std::vector<std::string> header = {"wavelength_nm", "R_d", "epidermis.sigma_a",
                                              "epidermis.sigma_s_prime", "dermis.sigma_a",
                                              "dermis.sigma_s_prime"};
@@ -57,11 +56,11 @@ void register_spectrum(CLI::App& app) {
                                                    s.epidermis_sigma_s_prime.values,
                                                    s.dermis_sigma_a.values,
                                                    s.dermis_sigma_s_prime.values};
-    switch (o->out.resolve()) {
-      case Format::json: text = spectrum_json(s, o->params.preset).dump(2) + "\n"; break;
-      case Format::csv: text = format_csv(header, cols); break;
-      case Format::table: text = format_table(header, cols) + "\n" + color_table(s.color); break;
-    }
+    Result result;
+    result.document = spectrum_json(s, o->params.preset);
+    for (std::size_t c = 0; c < header.size(); ++c)
+      result.columns.push_back({header[c] + (c >= 2 ? " [1/mm]" : ""), cols[c], {}});
+    result.table = format_table(header, cols) + "\n" + color_table(s.color);
     if (!o->plot.empty()) {
       plot::Figure f;
       f.title = "Total diffuse reflectance, preset " + o->params.preset + " (" + o->solver.name + ")";
@@ -73,7 +72,7 @@ void register_spectrum(CLI::App& app) {
                             "sRGB " + s.color.hex});
       plot::save(f, o->plot);
     }
-    o->out.emit(text);
+    o->out.write(result);
   });
 }
 
@@ -95,27 +94,14 @@ void register_color(CLI::App& app) {
   sub->callback([o] {
     const SkinSpectrum s =
         skin_spectrum(o->params.resolve(), o->grid.resolve(), parse_solver(o->solver.name));
-    std::string text;
-    switch (o->out.resolve()) {
-      case Format::json: {
-        json j;
-        j["preset"] = o->params.preset;
-        j["parameters"] = to_json(s.parameters);
-        j["solver"] = std::string(to_string(s.solver));
-        j["color"] = to_json(s.color);
-        text = j.dump(2) + "\n";
-        break;
-      }
-      case Format::csv:
-        text = format_csv({"X", "Y", "Z", "r_linear", "g_linear", "b_linear", "r8", "g8", "b8", "L", "a", "b"},
-                          {{s.color.XYZ.X}, {s.color.XYZ.Y}, {s.color.XYZ.Z}, {s.color.srgb_linear.r},
-                           {s.color.srgb_linear.g}, {s.color.srgb_linear.b}, {double(s.color.srgb8[0])},
-                           {double(s.color.srgb8[1])}, {double(s.color.srgb8[2])}, {s.color.lab.L},
-                           {s.color.lab.a}, {s.color.lab.b}});
-        break;
-      case Format::table: text = color_table(s.color); break;
-    }
-    o->out.emit(text);
+    Result result;
+    result.document["preset"] = o->params.preset;
+    result.document["parameters"] = to_json(s.parameters);
+    result.document["solver"] = std::string(to_string(s.solver));
+    result.document["color"] = to_json(s.color);
+    result.columns = color_columns(s.color);
+    result.table = color_table(s.color);
+    o->out.write(result);
   });
 }
 
@@ -124,16 +110,23 @@ void register_presets(CLI::App& app) {
   CLI::App* sub = app.add_subcommand("presets", "List the named parameter sets of the paper");
   fmt->add_to(*sub);
   sub->callback([fmt] {
-    std::string text;
-    if (fmt->resolve() == Format::json) {
-      json j = json::array();
-      for (const auto& p : presets())
-        j.push_back({{"name", p.name}, {"description", p.description}, {"parameters", to_json(p.parameters)}});
-      text = j.dump(2) + "\n";
-    } else {
-      for (const auto& p : presets()) text += p.name + std::string(12 - p.name.size(), ' ') + p.description + "\n";
+    Result result;
+    result.document = json::array();
+    Column name{"name", {}, {}}, description{"description", {}, {}};
+    std::vector<Column> values;
+    for (const ParameterInfo& info : parameter_table()) values.push_back({std::string(info.key), {}, {}});
+    for (const auto& p : presets()) {
+      result.document.push_back(
+          {{"name", p.name}, {"description", p.description}, {"parameters", to_json(p.parameters)}});
+      result.table += p.name + std::string(12 - p.name.size(), ' ') + p.description + "\n";
+      name.text.push_back(p.name);
+      description.text.push_back(p.description);
+      for (std::size_t i = 0; i < values.size(); ++i)
+        values[i].numbers.push_back(p.parameters.*(parameter_table()[i].member));
     }
-    fmt->emit(text);
+    result.columns = {name, description};
+    result.columns.insert(result.columns.end(), values.begin(), values.end());
+    fmt->write(result);
   });
 }
 

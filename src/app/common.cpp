@@ -214,7 +214,75 @@ void OutputOptions::emit(const std::string& text) const {
   }
 }
 
+Column constant_column(std::string name, double value, std::size_t rows) {
+  return Column{std::move(name), std::vector<double>(std::max<std::size_t>(rows, 1), value), {}};
+}
+
 namespace {
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+std::string number_text(double v);
+}  // namespace
+
+std::string to_csv(const std::vector<Column>& columns) {
+  std::string out;
+  std::size_t rows = 0;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    out += (c ? "," : "") + csv_field(columns[c].name);
+    rows = std::max(rows, columns[c].rows());
+  }
+  out += '\n';
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      const Column& col = columns[c];
+      if (c) out += ',';
+      if (r < col.numbers.size()) out += number_text(col.numbers[r]);
+      else if (r < col.text.size()) out += csv_field(col.text[r]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+void OutputOptions::write(const Result& result) const {
+  switch (resolve()) {
+    case Format::json: emit(result.document.dump(2) + "\n"); break;
+    case Format::csv: emit(to_csv(result.columns)); break;
+    case Format::table: {
+      if (!result.table.empty()) {
+        emit(result.table);
+        break;
+      }
+      std::vector<std::vector<std::string>> rows(1);
+      std::size_t n = 0;
+      for (const auto& c : result.columns) {
+        rows[0].push_back(c.name);
+        n = std::max(n, c.rows());
+      }
+      for (std::size_t r = 0; r < n; ++r) {
+        rows.emplace_back();
+        for (const auto& c : result.columns) {
+          char buf[32];
+          std::snprintf(buf, sizeof buf, "%.6g", r < c.numbers.size() ? c.numbers[r] : 0.0);
+          rows.back().push_back(r < c.numbers.size() ? buf : r < c.text.size() ? c.text[r] : "");
+        }
+      }
+      emit(format_text_table(rows));
+      break;
+    }
+  }
+}
+
+namespace {
+std::string number_text(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
 std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.10g", v);
@@ -289,6 +357,22 @@ json to_json(const color::ColorSummary& c) {
   j["hex"] = c.hex;
   j["lab"] = {c.lab.L, c.lab.a, c.lab.b};
   return j;
+}
+
+std::vector<Column> color_columns(const color::ColorSummary& c) {
+  return {{"XYZ.X", {c.XYZ.X}, {}},
+          {"XYZ.Y", {c.XYZ.Y}, {}},
+          {"XYZ.Z", {c.XYZ.Z}, {}},
+          {"srgb_linear.r", {c.srgb_linear.r}, {}},
+          {"srgb_linear.g", {c.srgb_linear.g}, {}},
+          {"srgb_linear.b", {c.srgb_linear.b}, {}},
+          {"srgb8.r", {double(c.srgb8[0])}, {}},
+          {"srgb8.g", {double(c.srgb8[1])}, {}},
+          {"srgb8.b", {double(c.srgb8[2])}, {}},
+          {"hex", {}, {c.hex}},
+          {"lab.L", {c.lab.L}, {}},
+          {"lab.a", {c.lab.a}, {}},
+          {"lab.b", {c.lab.b}, {}}};
 }
 
 std::string color_table(const color::ColorSummary& c) {

@@ -68,14 +68,35 @@ struct SolverOption {
 #pragma GCC diagnostic ignored "-Wshadow"
 enum class Format { table, csv, json };
 #pragma GCC diagnostic pop
+// What a command computed, ready for each format: the JSON document, the columns of CSV (one
+// header per column: the JSON key, with its unit in brackets when it has one, e.g.
+// "sigma_a [1/mm]"; scalar results are columns too, repeated on every row, never comment lines
+// that CSV readers drop), and for the table format the text a person reads (empty: the columns).
+struct Column {
+  std::string name;
+  std::vector<double> numbers;    // a numeric column, or
+  std::vector<std::string> text;  // a text column
+  std::size_t rows() const { return numbers.empty() ? text.size() : numbers.size(); }
+};
+// A scalar result as a column of `rows` equal values.
+Column constant_column(std::string name, double value, std::size_t rows);
+struct Result {
+  json document;
+  std::vector<Column> columns;
+  std::string table;
+};
+std::string to_csv(const std::vector<Column>& columns);
+
 struct OutputOptions {
   std::string format;  // empty: table on a terminal, json otherwise
   std::string output;  // -o FILE; empty or "-": stdout
   bool with_table = true;
   void add_to(CLI::App& app, bool table_allowed = true);
   Format resolve() const;
-  // Writes the text to the file (atomically) or stdout.
+  // Writes the text to the file (see skin::io) or stdout.
   void emit(const std::string& text) const;
+  // The one result writer: the result in the resolved format, to the file or stdout.
+  void write(const Result& result) const;
 };
 
 // Fixed-width table for terminals: header row, then rows of numbers.
@@ -89,6 +110,8 @@ std::string format_csv(const std::vector<std::string>& header,
 json to_json(const SkinParameters& p);
 json to_json(const color::ColorSummary& c);
 std::string color_table(const color::ColorSummary& c);
+// The colour as CSV columns named like the JSON keys (XYZ.X, srgb_linear.r, srgb8.r, hex, lab.L).
+std::vector<Column> color_columns(const color::ColorSummary& c);
 std::vector<double> to_vector(const Spectrum& s);
 
 // Parses "--layer sigma_a=A,sigma_s_prime=S,thickness=D,eta=N,g=G" (thickness missing or "inf"

@@ -104,7 +104,7 @@ TEST_F(Cli, LayersSlabHasTransmittance) {
 TEST_F(Cli, ProfileFormats) {
   const CmdResult csv = run("profile --rgb --samples 8 --format csv");
   ASSERT_EQ(csv.code, 0) << csv.err;
-  EXPECT_EQ(csv.out.substr(0, csv.out.find('\n')), "r_mm,R_r,R_g,R_b");
+  EXPECT_EQ(csv.out.substr(0, csv.out.find('\n')), "r_mm,R.r [1/mm^2],R.g [1/mm^2],R.b [1/mm^2],R_d.r,R_d.g,R_d.b");
   EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 9);
   const json j = json::parse(run("profile --samples 4 --lambda-step 100 --format json").out);
   EXPECT_EQ(j["R"].size(), 4u);      // 400, 500, 600, 700 nm

@@ -40,7 +40,7 @@ TEST_F(Cli, OutputToFifoIsWrittenInPlace) {
   const CmdResult r = run("color --format csv -o fifo");
   reader.join();
   EXPECT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(received.find("X,Y,Z"), 0u) << received;
+  EXPECT_EQ(received.find("XYZ.X,XYZ.Y,XYZ.Z"), 0u) << received;
   EXPECT_TRUE(fs::is_fifo(fifo));
   EXPECT_EQ(file_count(), 1u);
 }
@@ -59,7 +59,7 @@ TEST_F(Cli, OutputToDeviceIsWrittenInPlace) {
 TEST_F(Cli, DashIsStandardOutput) {
   const CmdResult r = run("color --format csv -o -");
   EXPECT_EQ(r.code, 0);
-  EXPECT_EQ(r.out.find("X,Y,Z"), 0u) << r.out;
+  EXPECT_EQ(r.out.find("XYZ.X,XYZ.Y,XYZ.Z"), 0u) << r.out;
   EXPECT_FALSE(fs::exists(dir_ / "-"));
 }
 
@@ -67,7 +67,7 @@ TEST_F(Cli, RegularFileReplacedKeepsItsPermissions) {
   std::ofstream(dir_ / "out.csv") << "old";
   fs::permissions(dir_ / "out.csv", fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
   ASSERT_EQ(run("color -o out.csv").code, 0);
-  EXPECT_EQ(slurp(dir_ / "out.csv").find("X,Y,Z"), 0u);  // csv from the extension
+  EXPECT_EQ(slurp(dir_ / "out.csv").find("XYZ.X,XYZ.Y,XYZ.Z"), 0u);  // csv from the extension
   EXPECT_EQ(fs::status(dir_ / "out.csv").permissions() & fs::perms::all,
             fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
 }

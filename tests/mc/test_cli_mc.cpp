@@ -60,7 +60,7 @@ TEST(CliMc, PresetAtOneWavelength) {
   ASSERT_EQ(a.status, 0);
   const auto j = nlohmann::json::parse(a.out);
   EXPECT_EQ(j["layers"].size(), 2u);
-  EXPECT_EQ(j["wavelength"].get<double>(), 650.0);
+  EXPECT_EQ(j["wavelength_nm"].get<double>(), 650.0);
   EXPECT_GT(j["R_d"].get<double>(), 0.3);
   EXPECT_NEAR(j["R_d_incident"].get<double>(),
               j["R_d"].get<double>() * (1 - j["R_specular"].get<double>()), 1e-12);
