@@ -13,7 +13,7 @@
 
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
-#include "skin/fit/report.hpp"
+#include "skin/fit/measured.hpp"
 #include "skin/model/skin_model.hpp"
 
 using namespace skin;

@@ -6,9 +6,10 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "progress.hpp"
+#include "report_measured.hpp"
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
-#include "skin/fit/report.hpp"
 #include "skin/util/atomic_file.hpp"
 #include "skin/util/error.hpp"
 #include "skin/plot/plot.hpp"
@@ -229,15 +230,10 @@ void run_texture(const FitOpts& o) {
   const fit::ColorFitOptions opt = color_fit_options(o);
   const fit::Image img = fit::read_albedo(o.texture);
   const fit::TextureFitter fitter(opt);
-  const bool bar = stderr_is_terminal();
+  const ProgressCallback bar = progress_bar("distinct colours");  // empty unless on a terminal
   if (bar) std::cerr << "skin fit: building the colour table...\r" << std::flush;
   fitter.prepare();
-  const fit::ParameterMaps maps = fitter.fit(img, [bar](std::size_t done, std::size_t total) {
-    if (!bar) return;
-    std::fprintf(stderr, "\rskin fit: %zu / %zu distinct colours (%3.0f %%)   ", done, total,
-                 100.0 * double(done) / double(std::max<std::size_t>(total, 1)));
-  });
-  if (bar) std::cerr << "\n";
+  const fit::ParameterMaps maps = fitter.fit(img, bar);
   fit::write_parameter_maps(maps, o.out.output);
   json j;
   j["texture"] = o.texture;
@@ -251,18 +247,21 @@ void run_texture(const FitOpts& o) {
 
 void run_report(const FitOpts& o) {
   namespace fs = std::filesystem;
-  std::ostringstream md;
-  fit::write_measured_report(o.spectra_dir, o.report_dir, md, forward_model(o.solver), o.solver);
-  const std::string path = (fs::path(o.report_dir) / "README.md").string();
-  io::write_file_atomic(path, md.str());
-  std::cout << "wrote " << path << " and one PNG per spectrum\n";
+  std::error_code ec;
+  if (!fs::is_directory(o.spectra_dir, ec))
+    throw InputError("spectra-dir = '" + o.spectra_dir +
+                     "' is not a directory: give the measured skin spectra with --spectra-dir DIR "
+                     "or SKIN_SPECTRA_DIR");
+  write_measured_report(o.spectra_dir, o.report_dir, o.solver);
+  std::cout << "wrote " << (fs::path(o.report_dir) / "README.md").string()
+            << " and one PNG per spectrum\n";
 }
 
 }  // namespace
 
 void register_fit(CLI::App& app) {
   auto o = std::make_shared<FitOpts>();
-  o->spectra_dir = fit::default_spectra_dir();
+  o->spectra_dir = default_spectra_dir();
   CLI::App* sub = app.add_subcommand(
       "fit",
       "Inverse model: recover skin parameters from a measured reflectance spectrum (--spectrum), "
@@ -283,7 +282,9 @@ void register_fit(CLI::App& app) {
   for (auto* a : {o_spec, o_srgb, o_hex, o_tex, o_rep})
     for (auto* b : {o_spec, o_srgb, o_hex, o_tex, o_rep})
       if (a != b) a->excludes(b);
-  sub->add_option("--spectra-dir", o->spectra_dir, "Directory of measured spectra for --measured-report")
+  sub->add_option("--spectra-dir", o->spectra_dir,
+                  "Directory of measured spectra for --measured-report (default: $SKIN_SPECTRA_DIR, "
+                  "else ../shared/data/skin_spectra from the current directory)")
       ->capture_default_str()->group(g_in);
   auto* o_col = sub->add_option("--column", o->column, "Reflectance column of a multi-column CSV")->group(g_in);
 

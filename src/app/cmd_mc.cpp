@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "progress.hpp"
+#include "report_validation.hpp"
 #include "skin/util/atomic_file.hpp"
 #include "skin/mc/mc.hpp"
 #include "skin/mc/tabulate.hpp"
@@ -13,8 +15,7 @@
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/profile.hpp"
 #ifdef SKIN_HAVE_FIT
-#include "skin/fit/fit.hpp"
-#include "skin/fit/report.hpp"
+#include "report_measured.hpp"
 #endif
 
 namespace skin::cli {
@@ -51,7 +52,7 @@ struct McOptions {
     o.threads = threads;
     o.r_max = r_max;
     o.bins = bins;
-    o.progress = stderr_is_terminal();
+    o.progress = progress_bar("photons");  // drawn on a terminal only
     return o;
   }
 };
@@ -199,11 +200,16 @@ mc::SolverColumn accurate_solver() {
 void register_validate_command(CLI::App& app) {
   struct Opts {
     std::string out;
-    std::string spectra_dir = "../shared/data/skin_spectra";
+    std::string spectra_dir;
     std::vector<double> wavelengths{450, 550, 650};
     McOptions mc;
   };
   auto o = std::make_shared<Opts>();
+#ifdef SKIN_HAVE_FIT
+  o->spectra_dir = default_spectra_dir();
+#else
+  o->spectra_dir = "../shared/data/skin_spectra";
+#endif
   CLI::App* sub = app.add_subcommand(
       "validate",
       "Both solvers (multipole, accurate) against Monte Carlo over the paper's presets at several "
@@ -213,37 +219,38 @@ void register_validate_command(CLI::App& app) {
   sub->add_option("--wavelength", o->wavelengths, "Wavelengths of the preset cases [nm] (repeatable)")
       ->capture_default_str()->allow_extra_args(false);
   sub->add_option("--spectra-dir", o->spectra_dir,
-                  "Measured skin spectra (CSV) for the measured-spectra part; skipped if absent")
+                  "Measured skin spectra (CSV) for the measured-spectra part; skipped if absent "
+                  "(default: $SKIN_SPECTRA_DIR, else ../shared/data/skin_spectra from the current "
+                  "directory)")
       ->capture_default_str();
   o->mc.add_to(*sub, 1000000, 200, false);
   sub->callback([o] {
     for (double l : o->wavelengths) require_in_range("wavelength", l, 250.0, 1000.0, "nm");
     mc::Options opts = o->mc.resolve();
-    opts.progress = false;
+    opts.progress = {};  // one line per case instead (below)
     // Check the options before the long run starts (simulate() checks them again per case).
     if (opts.photons < 1) throw InputError("photons = 0 is out of range: must be >= 1");
     std::vector<mc::ValidationCase> cases = mc::preset_cases(o->wavelengths);
     for (auto& c : mc::generic_cases()) cases.push_back(std::move(c));
     std::filesystem::create_directories(o->out);
-    const bool verbose = stderr_is_terminal();
-    std::size_t done = 0;
-    const auto log = [&](const std::string& line) {
-      ++done;
-      if (verbose) std::cerr << "[" << done << "/" << cases.size() << "] " << line << '\n';
-    };
-    const mc::ValidationRun run =
-        mc::run_validation(cases, {mc::multipole_solver(), accurate_solver()}, opts, log);
+    const std::vector<mc::SolverColumn> solvers{mc::multipole_solver(), accurate_solver()};
+    mc::CaseDone log;
+    if (stderr_is_terminal())
+      log = [&solvers](std::size_t done, std::size_t total, const mc::CaseResult& c) {
+        std::vector<std::string> names;
+        for (const auto& s : solvers) names.push_back(s.name);
+        std::cerr << "[" << done << "/" << total << "] " << validation_case_line(c, names) << '\n';
+      };
+    const mc::ValidationRun run = mc::run_validation(cases, solvers, opts, log);
     std::ostringstream md;
-    mc::write_validation_report(md, run, o->out, "");
+    write_validation_report(md, run, o->out, "");
     md << "\n## Measured skin spectra\n\n";
 #ifdef SKIN_HAVE_FIT
     if (std::filesystem::is_directory(o->spectra_dir)) {
       // The model fitted to every measured spectrum, with each solver (skin::fit).
       for (const char* solver : {"multipole", "accurate"}) {
         const std::string sub_dir = std::string("measured/") + (std::string(solver) == "multipole" ? "" : "accurate/");
-        std::ostringstream part;
-        fit::write_measured_report(o->spectra_dir, o->out + "/" + sub_dir, part, fit::forward_model(solver), solver);
-        io::write_file_atomic(o->out + "/" + sub_dir + "README.md", part.str());
+        write_measured_report(o->spectra_dir, o->out + "/" + sub_dir, solver);
         md << "- with the " << solver << " solver: [" << sub_dir << "README.md](" << sub_dir
            << "README.md)\n";
       }
@@ -293,11 +300,7 @@ void register_tabulate_command(CLI::App& app) {
                   "Reflected photon weight aimed at per node (sets the pencil-beam photon count)")
       ->capture_default_str();
   sub->callback([o] {
-    if (stderr_is_terminal())
-      o->t.on_node = [](std::size_t done, std::size_t total) {
-        std::cerr << "\rnode " << done << "/" << total << std::flush;
-        if (done == total) std::cerr << '\n';
-      };
+    o->t.progress = progress_bar("nodes");  // drawn on a terminal only
     const accurate::TopLayerTable table = mc::tabulate_top_layer(o->t);
     io::write_file_atomic(o->out, table.to_csv());
     std::cout << "wrote " << o->out << ": " << table << '\n';

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "progress.hpp"
 #include "skin/util/atomic_file.hpp"
 #include "skin/util/error.hpp"
 #include "skin/render/figure.hpp"
@@ -37,21 +38,6 @@ void check_output(const std::string& path) {
     throw InputError("output = '" + path + "': unknown image format, use .png or .exr");
 }
 
-// A progress bar on stderr, only when stderr is a terminal.
-render::Progress progress_bar() {
-  if (!stderr_is_terminal()) return {};
-  auto last = std::make_shared<int>(-1);
-  return [last](double f) {
-    const int pct = static_cast<int>(f * 100);
-    if (pct == *last) return;
-    *last = pct;
-    const int filled = pct * 40 / 100;
-    std::cerr << "\r[" << std::string(static_cast<std::size_t>(filled), '#')
-              << std::string(static_cast<std::size_t>(40 - filled), ' ') << "] " << pct << "%"
-              << (pct >= 100 ? "\n" : "") << std::flush;
-  };
-}
-
 void add_common(CLI::App* sub, RenderOpts* o) {
   o->solver.add_to(*sub);
   sub->add_option("-o,--output", o->output, "Output image: .png (sRGB 8-bit) or .exr (linear float)")->required();
@@ -75,7 +61,7 @@ void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* 
   if (!o.resolution.empty()) parse_resolution(o.resolution, &rs);
   if (o.spp < 0) throw InputError("spp = " + std::to_string(o.spp) + " is out of range: must be >= 1");
   render::RenderStats stats;
-  render::Image img = render::render(scene, rs, &stats, progress_bar());
+  render::Image img = render::render(scene, rs, &stats, progress_fraction_bar());
   if (layout) img = render::annotate_figure(img, *layout);
   render::write_image(o.output, img, o.exposure_given ? o.exposure : scene.exposure());
   std::printf("wrote %s: %dx%d, %d spp, %.1f s (%.3g samples/s)\n", o.output.c_str(), img.width, img.height,

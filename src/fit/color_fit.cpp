@@ -455,8 +455,7 @@ ColorFitResult TextureFitter::fit_color(const color::Rgb& rgb) const {
   return r;
 }
 
-ParameterMaps TextureFitter::fit(const Image& img,
-                                 const std::function<void(std::size_t, std::size_t)>& progress) const {
+ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progress) const {
   if (img.channels < 3 || img.width <= 0 || img.height <= 0)
     throw InputError("texture: expected an RGB image, got " + std::to_string(img.width) + "x" +
                      std::to_string(img.height) + " with " + std::to_string(img.channels) + " channels");

@@ -9,7 +9,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <ostream>
@@ -259,23 +258,12 @@ void validate(const Options& o) {
   }
 }
 
-void draw_progress(std::uint64_t done, std::uint64_t total, double seconds) {
-  const int width = 40;
-  const double f = total ? static_cast<double>(done) / static_cast<double>(total) : 1.0;
-  const int fill = static_cast<int>(f * width);
-  std::fprintf(stderr, "\r[%-*s] %3d%%  %llu/%llu photons  %.1f s", width,
-               std::string(static_cast<std::size_t>(fill), '#').c_str(), static_cast<int>(f * 100),
-               static_cast<unsigned long long>(done), static_cast<unsigned long long>(total),
-               seconds);
-  std::fflush(stderr);
-}
-
 }  // namespace
 
 std::ostream& operator<<(std::ostream& os, const Options& o) {
   return os << "mc::Options{photons=" << o.photons << ", seed=" << o.seed
             << ", threads=" << o.threads << ", r_max=" << o.r_max << "mm, bins=" << o.bins
-            << ", progress=" << o.progress << ", source="
+            << ", progress=" << (o.progress ? "on" : "off") << ", source="
             << (o.source == Source::pencil ? "pencil" : "diffuse_bottom")
             << ", exit_bins=" << o.exit_bins << " [" << o.exit_r_min << ", " << o.exit_r_max
             << "]mm}";
@@ -332,13 +320,10 @@ Result simulate(const LayerStack& stack, const Options& options) {
                         });
     });
     for (std::uint64_t k = 0; k < count; ++k) total.add(slots[static_cast<std::size_t>(k)]);
-    if (options.progress) {
-      const std::uint64_t done = std::min(N, (first + count) * kBatchPhotons);
-      draw_progress(done, N,
-                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    }
+    if (options.progress)
+      options.progress(static_cast<std::size_t>(std::min(N, (first + count) * kBatchPhotons)),
+                       static_cast<std::size_t>(N));
   }
-  if (options.progress) std::fprintf(stderr, "\n");
 
   Result r;
   const double eta0 = stack.layers.front().eta;

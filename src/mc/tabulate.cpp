@@ -145,7 +145,7 @@ accurate::TopLayerTable tabulate_top_layer(const TabulateOptions& o) {
         n.R_up_k.push_back(k == 0 ? up.T_d : hankel_transform(fine_edges, up.bottom_exit, k));
       }
       t.nodes.push_back(std::move(n));
-      if (o.on_node) o.on_node(node + 1, total);
+      if (o.progress) o.progress(node + 1, total);
     }
   }
   t.derive();

@@ -1,20 +1,17 @@
-// Diffusion vs Monte Carlo: cases, runs and the markdown report (see validation.hpp).
+// Diffusion vs Monte Carlo: the cases and their runs (see validation.hpp); the report is the
+// application's (src/app/report_validation.cpp).
 #include "skin/mc/validation.hpp"
 
-#include <algorithm>
-#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <ostream>
-#include <sstream>
 
 #include "skin/util/error.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/transport/stack.hpp"
-#include "skin/plot/plot.hpp"
 
 namespace skin::mc {
 
@@ -25,34 +22,6 @@ std::string fmt(const char* f, double v) {
   std::snprintf(buf, sizeof buf, f, v);
   return buf;
 }
-
-std::string percent(double v) { return std::isfinite(v) ? fmt("%+.2f %%", 100.0 * v) : "n/a"; }
-
-// Transport mean free path of a layer [mm].
-double mfp(const Layer& l) { return 1.0 / (l.sigma_a + l.sigma_s_prime); }
-
-std::string stack_summary(const LayerStack& s) {
-  std::ostringstream os;
-  os << "n_above " << s.eta_above;
-  for (const auto& l : s.layers) {
-    os << " | sigma_a " << fmt("%.4g", l.sigma_a) << ", sigma_s' " << fmt("%.4g", l.sigma_s_prime)
-       << ", d " << (l.semi_infinite() ? std::string("inf") : fmt("%.4g", l.thickness))
-       << ", n " << l.eta << ", g " << l.g;
-  }
-  if (!s.semi_infinite()) os << " | n_below " << s.eta_below;
-  return os.str();
-}
-
-// "12.3 % (0.45 mm)", "-" without a profile, "n/a" where Monte Carlo is too noisy.
-std::string profile_error_text(const CaseResult& c, std::size_t k, double r_min) {
-  if (c.R[k].empty()) return "-";
-  const auto [e, r] = c.max_profile_error(k, r_min);
-  if (std::isnan(e)) return "n/a";
-  return fmt("%.1f %%", 100 * e) + " (" + fmt("%.3g mm", r) + ")";
-}
-
-const std::array<double, 3> kColours[] = {
-    {0.80, 0.15, 0.10}, {0.10, 0.35, 0.80}, {0.10, 0.60, 0.25}, {0.60, 0.20, 0.70}};
 
 }  // namespace
 
@@ -221,7 +190,7 @@ std::vector<double> annulus_means(const SolverColumn& s, const LayerStack& stack
 
 ValidationRun run_validation(const std::vector<ValidationCase>& cases,
                              const std::vector<SolverColumn>& solvers, const Options& options,
-                             const std::function<void(const std::string&)>& log) {
+                             const CaseDone& on_case) {
   const auto t0 = std::chrono::steady_clock::now();
   ValidationRun run;
   run.mc = options;
@@ -246,316 +215,11 @@ ValidationRun run_validation(const std::vector<ValidationCase>& cases,
         cr.R_fine.emplace_back();
       }
     }
-    if (log) {
-      std::string line = c.id + ": MC R_d " + fmt("%.5f", cr.mc.R_d) + " +- " +
-                         fmt("%.5f", cr.mc.R_d_se);
-      for (std::size_t k = 0; k < solvers.size(); ++k)
-        line += ", " + solvers[k].name + " " + fmt("%.5f", cr.R_d[k]) + " (" +
-                percent(cr.relative_error(k)) + ")";
-      log(line + ", " + fmt("%.1f s", cr.mc.seconds));
-    }
     run.cases.push_back(std::move(cr));
+    if (on_case) on_case(run.cases.size(), cases.size(), run.cases.back());
   }
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;
-}
-
-namespace {
-
-void plot_case(const CaseResult& cr, const std::vector<std::string>& names,
-               const std::string& path) {
-  plot::Figure fig;
-  fig.title = cr.c.title;
-  fig.x_label = "r [mm]";
-  fig.y_label = "R(r) [1/mm^2]";
-  fig.log_x = fig.log_y = true;
-  plot::Series mc;
-  mc.label = "Monte Carlo (" + fmt("%.0e", static_cast<double>(cr.mc.photons)) + " photons)";
-  mc.markers = true;
-  mc.rgb = {0.1, 0.1, 0.1};
-  double y_max = 0;
-  for (std::size_t i = 0; i < cr.mc.R.size(); ++i) {
-    // Only bins with a meaningful estimate (relative standard error below 30 %).
-    if (cr.mc.R[i] > 0 && cr.mc.R_se[i] < 0.3 * cr.mc.R[i]) {
-      mc.x.push_back(cr.mc.r_mm[i]);
-      mc.y.push_back(cr.mc.R[i]);
-      y_max = std::max(y_max, cr.mc.R[i]);
-    }
-  }
-  if (mc.x.empty()) return;
-  const double y_min = *std::min_element(mc.y.begin(), mc.y.end());
-  fig.series.push_back(mc);
-  for (std::size_t k = 0; k < names.size(); ++k) {
-    if (cr.R_fine[k].empty()) continue;
-    plot::Series s;
-    s.label = names[k];
-    s.rgb = kColours[k % 4];
-    s.dashed = k > 0;
-    for (std::size_t i = 0; i < cr.R_fine[k].size(); ++i) {
-      if (cr.R_fine[k][i] > 0.1 * y_min) {  // log axis: drop values <= 0 and far below the data
-        s.x.push_back(cr.r_fine[i]);
-        s.y.push_back(cr.R_fine[k][i]);
-      }
-    }
-    fig.series.push_back(s);
-  }
-  fig.y_min = 0.5 * y_min;
-  fig.y_max = 2.0 * y_max;
-  plot::save(fig, path);
-}
-
-void plot_overview(const ValidationRun& run, const std::string& path) {
-  plot::Figure fig;
-  fig.title = "Total diffuse reflectance: relative error against Monte Carlo";
-  fig.x_label = "case number (as in the tables)";
-  fig.y_label = "(R_d - R_d MC) / R_d MC [%]";
-  plot::Series zero;
-  zero.label = "0";
-  zero.x = {0.0, static_cast<double>(run.cases.size() + 1)};
-  zero.y = {0.0, 0.0};
-  zero.rgb = {0.6, 0.6, 0.6};
-  zero.dashed = true;
-  fig.series.push_back(zero);
-  double lo = 0, hi = 0;
-  for (std::size_t k = 0; k < run.solver_names.size(); ++k) {
-    plot::Series s;
-    s.label = run.solver_names[k];
-    s.markers = true;
-    s.rgb = kColours[k % 4];
-    for (std::size_t i = 0; i < run.cases.size(); ++i) {
-      s.x.push_back(static_cast<double>(i + 1));
-      s.y.push_back(100.0 * run.cases[i].relative_error(k));
-    }
-    fig.series.push_back(s);
-    for (double y : s.y) {
-      lo = std::min(lo, y);
-      hi = std::max(hi, y);
-    }
-  }
-  const double pad = 0.06 * (hi - lo);
-  fig.y_min = lo - pad;
-  fig.y_max = hi + pad;
-  plot::save(fig, path);
-}
-
-}  // namespace
-
-void write_validation_report(std::ostream& md, const ValidationRun& run,
-                             const std::string& plot_dir, const std::string& link_prefix) {
-  const auto& names = run.solver_names;
-  const std::size_t ns = names.size();
-  md << "# Validation: diffusion against a Monte Carlo reference\n\n";
-  md << "Generated by `skin validate` (library: `skin::mc::write_validation_report`). Every case "
-        "is one Monte Carlo run of " << run.mc.photons << " photon packets (seed " << run.mc.seed
-     << ") and the same stack through each model; total time " << fmt("%.0f", run.seconds)
-     << " s.\n\n";
-  md << "The Monte Carlo solver (`skin mc`) follows MCML (Wang, Jacques & Zheng 1995): pencil "
-        "beam at normal incidence, Henyey-Greenstein scattering with the layer's g (sigma_s = "
-        "sigma_s' / (1 - g)), exact Fresnel reflection and refraction at every interface, Russian "
-        "roulette. It reproduces the published benchmark values (tests/mc). All reflectances are "
-        "per power that entered the medium (specular reflection excluded), as the diffusion "
-        "models define them. R(r) from Monte Carlo is the mean over an annulus, plotted at its "
-        "centre; +- is one standard error. Lengths in mm, coefficients in 1/mm.\n\n";
-
-  // Summary by regime.
-  md << "## Summary\n\n";
-  for (std::size_t k = 0; k < ns; ++k) {
-    double worst_in = 0, worst_out = 0;
-    std::string case_in, case_out;
-    int n_in = 0;
-    for (const auto& c : run.cases) {
-      const double e = std::abs(c.relative_error(k));
-      if (c.c.diffusion_regime) {
-        ++n_in;
-        if (e >= worst_in) { worst_in = e; case_in = c.c.id; }
-      } else if (e >= worst_out) {
-        worst_out = e;
-        case_out = c.c.id;
-      }
-    }
-    md << "- **" << names[k] << "**: ";
-    if (n_in > 0)
-      md << "in the diffusion regime (thick, alpha' >= 0.99; " << n_in << " cases) the largest "
-         << "|R_d error| is " << fmt("%.2f %%", 100 * worst_in) << " (" << case_in << "); ";
-    md << "elsewhere it reaches " << fmt("%.2f %%", 100 * worst_out) << " (" << case_out
-       << ").";
-    // Profiles in the regime, away from the entry point.
-    double worst_profile = 0;
-    std::string case_profile;
-    for (const auto& c : run.cases) {
-      if (!c.c.diffusion_regime || c.R[k].empty()) continue;
-      const double e = c.max_profile_error(k, c.top_mfp()).first;
-      if (e >= worst_profile) {
-        worst_profile = e;
-        case_profile = c.c.id;
-      }
-    }
-    if (!case_profile.empty())
-      md << " Its R(r) in the diffusion regime, beyond one transport mean free path of the entry "
-            "point, is within " << fmt("%.1f %%", 100 * worst_profile) << " (" << case_profile
-         << ").";
-    // Skin presets: bright and dark.
-    double skin_lo = 1e300, skin_hi = 0;
-    for (const auto& c : run.cases) {
-      if (c.c.group.rfind("Skin", 0) != 0) continue;
-      const double e = std::abs(c.relative_error(k));
-      skin_lo = std::min(skin_lo, e);
-      skin_hi = std::max(skin_hi, e);
-    }
-    if (skin_hi > 0)
-      md << " Over the skin presets |R_d error| ranges from " << fmt("%.1f %%", 100 * skin_lo)
-         << " to " << fmt("%.0f %%", 100 * skin_hi) << ".";
-    md << "\n";
-  }
-  md << "\n";
-  md << "How to read these numbers:\n\n"
-        "- *Thick, high-albedo media* (alpha' >= 0.99, several transport mean free paths) are "
-        "where diffusion is derived to hold; the agreement there checks both codes.\n"
-        "- *Strong absorption* (alpha' well below 0.95: dark epidermis, blue light) breaks "
-        "diffusion: light returns after few scattering events, and with forward scattering "
-        "(g = 0.9) it returns less than the isotropic, similarity-scaled picture of diffusion "
-        "predicts, so diffusion overestimates R_d, by a factor of 2-4 for the darkest cases. "
-        "In that regime R_d also depends on g itself, not only on sigma_s' = sigma_s (1 - g), "
-        "which diffusion cannot express.\n"
-        "- *Thin layers* (thickness below ~1 transport mean free path, so that the multipole's "
-        "source depth z_r = 1 / sigma_t' lies near or beyond the bottom of the layer): the "
-        "multipole transmittance of such a layer can be badly wrong, even negative (`skin "
-        "layers` warns), and the stack's reflectance with it (case thin-top-over-bright). The "
-        "DJ06 epidermis (0.25 mm) is about 1-3 transport mean free paths thick at 400-700 nm.\n"
-        "- *Near the entry point* (r below about one transport mean free path) diffusion "
-        "misses single and low-order scattering; both errors columns below show it.\n";
-  // The profile shape under a matched and a mismatched boundary, when both cases were run.
-  const CaseResult* matched = nullptr;
-  const CaseResult* mismatched = nullptr;
-  for (const auto& c : run.cases) {
-    if (c.c.id == "semi-matched-a0.99") matched = &c;
-    if (c.c.id == "semi-n1.4-a0.99") mismatched = &c;
-  }
-  if (matched && mismatched && ns > 0 && !matched->R[0].empty()) {
-    md << "- *Profile shape at a mismatched boundary*: the DJ05 R(r) is the diffusive flux "
-          "-D dphi/dz at the surface alone; the light that escapes through a mismatched boundary "
-          "also carries a part proportional to the fluence there (Kienle & Patterson 1997). "
-          "Where R_d agrees to about 1 %, the "
-       << names[0] << " R(r) beyond one transport mean free path is off by up to "
-       << profile_error_text(*matched, 0, matched->top_mfp()) << " with a matched boundary "
-       << "(semi-matched-a0.99) and " << profile_error_text(*mismatched, 0, mismatched->top_mfp())
-       << " under air with n = 1.4 (semi-n1.4-a0.99): total reflectance is right, its radial "
-          "distribution less so.\n";
-  }
-  md << "\n";
-
-  // Largest errors.
-  // The profile check over the skin presets.
-  {
-    md << "## Radial profiles of the skin presets, 0.1-5 mm\n\n"
-          "Annuli (0.05 mm wide) with centre in 0.1-5 mm whose Monte Carlo estimate has a relative "
-          "standard error below 5 %: how many, how many are off by more than 10 % + 3 standard "
-          "errors (the goal: none), and the largest excess over 3 standard errors.\n\n";
-    md << "| case | annuli |";
-    for (std::size_t k = 0; k < ns; ++k) md << ' ' << names[k] << ": beyond 10 % | largest excess (at r) |";
-    md << "\n|---|---|";
-    for (std::size_t k = 0; k < ns; ++k) md << "---|---|";
-    md << '\n';
-    for (const auto& c : run.cases) {
-      if (c.c.group.rfind("Skin presets", 0) != 0) continue;
-      md << "| " << c.c.id << " | " << c.check_profile(0, 0.1, 5.0, 0.1).checked << " |";
-      for (std::size_t k = 0; k < ns; ++k) {
-        if (c.R[k].empty()) {
-          md << " n/a | n/a |";
-          continue;
-        }
-        const auto pc = c.check_profile(k, 0.1, 5.0, 0.1);
-        md << ' ' << pc.beyond << " | "
-           << (pc.worst > 0 ? fmt("%.1f %%", 100.0 * pc.worst) + " (" + fmt("%.3g", pc.worst_r) + " mm)"
-                            : std::string("within 3 SE"))
-           << " |";
-      }
-      md << '\n';
-    }
-    md << '\n';
-  }
-
-  md << "## Where the errors are largest\n\n";
-  for (std::size_t k = 0; k < ns; ++k) {
-    std::vector<const CaseResult*> sorted;
-    for (const auto& c : run.cases) sorted.push_back(&c);
-    std::sort(sorted.begin(), sorted.end(), [k](const CaseResult* a, const CaseResult* b) {
-      return std::abs(a->relative_error(k)) > std::abs(b->relative_error(k));
-    });
-    md << "**" << names[k] << "**, cases by |R_d error| (largest first):\n\n";
-    md << "| case | R_d error | max R(r) error at r >= 1 mfp (at r) | max R(r) error, all r | "
-          "top layer alpha' | top layer thickness / mfp |\n";
-    md << "|---|---|---|---|---|---|\n";
-    for (std::size_t i = 0; i < std::min<std::size_t>(10, sorted.size()); ++i) {
-      const CaseResult& c = *sorted[i];
-      const Layer& top = c.c.stack.layers.front();
-      md << "| " << c.c.id << " | " << percent(c.relative_error(k)) << " | "
-         << profile_error_text(c, k, c.top_mfp()) << " | " << profile_error_text(c, k, 0.0)
-         << " | " << fmt("%.3f", top.sigma_s_prime / (top.sigma_a + top.sigma_s_prime)) << " | "
-         << (top.semi_infinite() ? std::string("inf") : fmt("%.2f", top.thickness / mfp(top)))
-         << " |\n";
-    }
-    md << "\n";
-  }
-  md << "Profile errors are over the annuli where the Monte Carlo estimate has a relative "
-        "standard error below 5 %. Diffusion is least accurate within about one transport mean "
-        "free path of the entry point (single and low-order scattering, not modelled by a "
-        "point source at depth z_r), and in thin or strongly absorbing top layers (dark skin, blue "
-        "light: sigma_a comparable to sigma_s'). \"n/a\": no annulus has a Monte Carlo estimate "
-        "precise to 5 % (low reflectance).\n\n";
-
-  if (!plot_dir.empty()) {
-    plot_overview(run, plot_dir + "/rd_relative_error.png");
-    md << "![R_d errors](" << link_prefix << "rd_relative_error.png)\n\n";
-  }
-
-  // Tables by group, in order of first appearance.
-  std::vector<std::string> groups;
-  for (const auto& c : run.cases)
-    if (std::find(groups.begin(), groups.end(), c.c.group) == groups.end())
-      groups.push_back(c.c.group);
-  md << "## Total diffuse reflectance\n\n";
-  for (const auto& g : groups) {
-    md << "### " << g << "\n\n| # | case | Monte Carlo R_d | T_d (MC) |";
-    for (const auto& n : names) md << " " << n << " R_d | error |";
-    md << " diffusion regime |\n|---|---|---|---|";
-    for (std::size_t k = 0; k < ns; ++k) md << "---|---|";
-    md << "---|\n";
-    for (std::size_t i = 0; i < run.cases.size(); ++i) {
-      const CaseResult& c = run.cases[i];
-      if (c.c.group != g) continue;
-      md << "| " << i + 1 << " | " << c.c.id << " | " << fmt("%.5f", c.mc.R_d) << " +- "
-         << fmt("%.5f", c.mc.R_d_se) << " | "
-         << (c.c.stack.semi_infinite() ? std::string("-") : fmt("%.5f", c.mc.T_d)) << " |";
-      for (std::size_t k = 0; k < ns; ++k)
-        md << " " << fmt("%.5f", c.R_d[k]) << " | " << percent(c.relative_error(k)) << " |";
-      md << " " << (c.c.diffusion_regime ? "yes" : "") << " |\n";
-    }
-    md << "\n";
-  }
-  md << "Monte Carlo T_d includes the unscattered (ballistic) transmission.\n\n";
-
-  md << "## Radial profiles\n\n";
-  for (const auto& g : groups) {
-    md << "### " << g << "\n\n";
-    for (const auto& c : run.cases) {
-      if (c.c.group != g) continue;
-      md << "**" << c.c.id << "**: " << c.c.title << "  \n`" << stack_summary(c.c.stack) << "`";
-      for (std::size_t k = 0; k < ns; ++k) {
-        if (c.R[k].empty()) continue;
-        md << "  \n" << names[k] << ": R_d error " << percent(c.relative_error(k))
-           << "; max |R(r) error| at r >= 1 mfp (" << fmt("%.3g mm", c.top_mfp())
-           << "): " << profile_error_text(c, k, c.top_mfp())
-           << "; over all r: " << profile_error_text(c, k, 0.0);
-      }
-      md << "\n\n";
-      if (!plot_dir.empty()) {
-        const std::string file = "profile_" + c.c.id + ".png";
-        plot_case(c, names, plot_dir + "/" + file);
-        md << "![" << c.c.id << "](" << link_prefix << file << ")\n\n";
-      }
-    }
-  }
 }
 
 }  // namespace skin::mc

@@ -1,6 +1,7 @@
 // `skin fit` end to end: JSON keys of the issue, exit code 2 and no output on bad input.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -8,6 +9,7 @@
 #include <sstream>
 #include <sys/wait.h>
 
+#include "../temp_dir.hpp"
 #include "skin/fit/fit.hpp"
 
 namespace fs = std::filesystem;
@@ -22,11 +24,14 @@ struct CliRun {
   int code;
   std::string out;
 };
-CliRun run(const std::string& args) {
+// `prefix` goes before the command (a `cd`, environment variables); `redirect` after it.
+CliRun run(const std::string& args, const std::string& prefix = "",
+           const std::string& redirect = "2>/dev/null") {
   // Under -DSKIN_SANITIZE=ON the child's LeakSanitizer would report fontconfig's process-lifetime
   // cache (allocated by Cairo for plot text) and exit 1: suppress that library only.
-  const std::string cmd = "LSAN_OPTIONS=suppressions=" + std::string(SKIN_SOURCE_DIR) +
-                          "/tests/fit/lsan.supp " + std::string(SKIN_BINARY) + " fit " + args + " 2>/dev/null";
+  const std::string cmd = prefix + " LSAN_OPTIONS=suppressions=" + std::string(SKIN_SOURCE_DIR) +
+                          "/tests/fit/lsan.supp " + std::string(SKIN_BINARY) + " fit " + args + " " +
+                          redirect;
   FILE* p = popen(cmd.c_str(), "r");
   std::string out;
   char buf[4096];
@@ -107,4 +112,37 @@ TEST(CliFit, HexJson) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["parameters"].contains("melanin"));
   EXPECT_TRUE(j.contains("delta_e_2000"));
+}
+
+// The measured spectra are found through --spectra-dir, else SKIN_SPECTRA_DIR, else
+// ../shared/data/skin_spectra from the current directory (no path is compiled in); a missing
+// directory is one line naming it, exit 2, and nothing written.
+TEST(CliFit, MeasuredReportSpectraDir) {
+  const skin::test::TempDir tmp("skin_fit_cli_spectra");
+  const std::string cd = "cd '" + tmp.path().string() + "' &&";
+  const std::string missing = (tmp.path() / "no-such-dir").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"env -u SKIN_SPECTRA_DIR", "../shared/data/skin_spectra"},
+      {"SKIN_SPECTRA_DIR='" + missing + "'", missing}};
+  for (const auto& [env, named] : cases) {
+    const CliRun r = run("--measured-report out", cd + " " + env, "2>&1 >/dev/null");
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("'" + named + "' is not a directory"), std::string::npos) << r.out;
+    EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+    EXPECT_FALSE(fs::exists(tmp.path() / "out"));
+  }
+  // The default is shown in --help.
+  EXPECT_NE(run("--help", "SKIN_SPECTRA_DIR='" + missing + "'")
+                .out.find("--spectra-dir TEXT=" + missing),
+            std::string::npos);
+  // A directory from the environment is used: one synthetic spectrum, the report is written.
+  skin::SkinParameters p;
+  p.melanin = 0.05;
+  fs::create_directories(tmp.path() / "spectra");
+  fs::copy_file(write_spectrum("measured.csv", p), tmp.path() / "spectra" / "measured.csv");
+  const CliRun ok = run("--measured-report out --solver multipole",
+                        cd + " SKIN_SPECTRA_DIR='" + (tmp.path() / "spectra").string() + "'");
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  EXPECT_TRUE(fs::exists(tmp.path() / "out" / "README.md"));
+  EXPECT_TRUE(fs::exists(tmp.path() / "out" / "R.png"));
 }

@@ -10,8 +10,10 @@
 #include <random>
 #include <sstream>
 
+#include "../temp_dir.hpp"
+#include "report_measured.hpp"
 #include "skin/fit/fit.hpp"
-#include "skin/fit/report.hpp"
+#include "skin/fit/measured.hpp"
 #include "skin/util/error.hpp"
 
 #include "test_params.hpp"
@@ -216,14 +218,12 @@ TEST(MeasuredSpectra, PaperSpectraFitWithExtendedModel) {
   }
 }
 
-// The report on a directory with one synthetic spectrum (known parameters) and its metadata:
-// markdown names it, flags it, and the plot exists.
+// The fits of a directory with one synthetic spectrum (known parameters) and its metadata
+// (skin::fit), and their report (src/app): markdown names it, flags it, and the plot exists.
 TEST(MeasuredReport, WritesMarkdownAndPlots) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::temp_directory_path() / "skin_fit_report_in";
-  const fs::path out = fs::temp_directory_path() / "skin_fit_report_out";
-  fs::remove_all(dir);
-  fs::remove_all(out);
+  const skin::test::TempDir tmp("skin_fit_report");
+  const fs::path dir = tmp.path() / "in", out = tmp.path() / "out";
   fs::create_directories(dir);
   const auto truth = params(0.05, 0.5, 0.02);
   std::vector<double> l;
@@ -236,16 +236,19 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
     std::ofstream(dir / "spectra_metadata.csv") << "Column,original_label,used_in_donner_jensen_2006\n"
                                                    "synth_a,\"synthetic, known answer\",yes\n";
   }
+  const auto entries = fit_measured_spectra(dir.string());
   std::ostringstream md;
-  const auto entries = write_measured_report(dir.string(), out.string(), md);
+  skin::cli::write_measured_report(md, entries, dir.string(), out.string(), "multipole");
   ASSERT_EQ(entries.size(), 1u);
   EXPECT_TRUE(entries[0].used_in_paper);
   EXPECT_EQ(entries[0].description, "synthetic, known answer");
   EXPECT_LT(entries[0].paper.rms, 1e-4);
   EXPECT_LE(entries[0].extended.rms, entries[0].paper.rms + 1e-9);
   EXPECT_NE(md.str().find("synth_a*"), std::string::npos);
+  EXPECT_NE(md.str().find("with the multipole R_d"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "synth_a.png"));
   EXPECT_THROW(fit_measured_spectra((dir / "missing").string()), skin::InputError);
+  EXPECT_THROW(fit_measured_spectra(out.string()), skin::InputError);  // a directory, no *.csv
 }
 
 // Forward models by name; where the adding-doubling solver is built, a spectrum made with it is

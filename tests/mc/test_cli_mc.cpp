@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../temp_dir.hpp"
 #include "skin/transport/top_layer_table.hpp"
 
 namespace {
@@ -90,12 +91,11 @@ TEST(CliMc, UserErrorsExitTwoAndLeaveNoFile) {
 
 TEST(CliValidate, RejectsBadInputBeforeWork) {
   EXPECT_EQ(run_skin("validate").status, 2);  // --out is required
-  const auto dir = std::filesystem::temp_directory_path() / "skin_validate_cli_test";
-  std::filesystem::remove_all(dir);
+  const skin::test::TempDir tmp("skin_validate_cli");
+  const auto dir = tmp.path() / "out";
   EXPECT_EQ(run_skin("validate --out " + dir.string() + " --photons 0").status, 2);
   EXPECT_EQ(run_skin("validate --out " + dir.string() + " --wavelength 5").status, 2);
   EXPECT_FALSE(std::filesystem::exists(dir / "README.md"));
-  std::filesystem::remove_all(dir);
 }
 
 TEST(CliTabulate, SmallTableParsesBackAndBadInputLeavesNoFile) {

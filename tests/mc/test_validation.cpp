@@ -1,11 +1,15 @@
-// The validation report: cases are valid, extra solver columns appear everywhere, plots are
-// written, and the numbers in the report are the ones computed.
+// The validation cases and runs (skin::mc) and their report (src/app): cases are valid, extra
+// solver columns appear everywhere, plots are written, and the numbers in the report are the
+// ones computed.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <set>
 #include <sstream>
 
+#include "../temp_dir.hpp"
+#include "report_validation.hpp"
 #include "skin/mc/validation.hpp"
 #include "skin/transport/stack.hpp"
 
@@ -42,10 +46,17 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
   mc::Options o;
   o.photons = 3000;
   o.bins = 40;
-  int lines = 0;
-  const auto run = mc::run_validation(two, {mc::multipole_solver(), scaled}, o,
-                                      [&](const std::string&) { ++lines; });
-  EXPECT_EQ(lines, 2);
+  std::vector<std::pair<std::size_t, std::size_t>> calls;
+  std::vector<std::string> ids;
+  const auto run = mc::run_validation(
+      two, {mc::multipole_solver(), scaled}, o,
+      [&](std::size_t done, std::size_t total, const mc::CaseResult& c) {
+        calls.emplace_back(done, total);
+        ids.push_back(c.c.id);
+      });
+  // Progress: once per case, in order, from the calling thread.
+  EXPECT_EQ(calls, (std::vector<std::pair<std::size_t, std::size_t>>{{1, 2}, {2, 2}}));
+  EXPECT_EQ(ids, (std::vector<std::string>{two[0].id, two[1].id}));
   ASSERT_EQ(run.cases.size(), 2u);
   for (const auto& c : run.cases) {
     EXPECT_NEAR(c.R_d[1], 1.1 * c.R_d[0], 1e-12);
@@ -53,11 +64,10 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
     EXPECT_EQ(c.R[0].size(), c.mc.r_mm.size());
     EXPECT_TRUE(c.R[1].empty());
   }
-  const auto dir = std::filesystem::temp_directory_path() / "skin_mc_validation_test";
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
+  const skin::test::TempDir tmp("skin_validation_report");
+  const std::filesystem::path& dir = tmp.path();
   std::ostringstream md;
-  mc::write_validation_report(md, run, dir.string(), "plots/");
+  skin::cli::write_validation_report(md, run, dir.string(), "plots/");
   const std::string text = md.str();
   EXPECT_NE(text.find("| multipole R_d | error | scaled-by-1.1 R_d | error |"), std::string::npos)
       << text;
@@ -65,7 +75,17 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
   EXPECT_NE(text.find("(plots/profile_" + two[0].id + ".png)"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir / ("profile_" + two[0].id + ".png")));
   EXPECT_TRUE(std::filesystem::exists(dir / "rd_relative_error.png"));
-  std::filesystem::remove_all(dir);
+  // The numbers in the tables and the terminal line are the run's.
+  for (const auto& c : run.cases) {
+    char rd[64], err[32];
+    std::snprintf(rd, sizeof rd, "%.5f +- %.5f", c.mc.R_d, c.mc.R_d_se);
+    std::snprintf(err, sizeof err, "%+.2f %%", 100.0 * c.relative_error(1));
+    EXPECT_NE(text.find(std::string("| ") + c.c.id + " | " + rd + " |"), std::string::npos) << rd;
+    const std::string line = skin::cli::validation_case_line(c, run.solver_names);
+    EXPECT_EQ(line.rfind(c.c.id + ": MC R_d " + rd + ", multipole ", 0), 0u) << line;
+    EXPECT_NE(line.find(", scaled-by-1.1 "), std::string::npos) << line;
+    EXPECT_NE(line.find(std::string("(") + err + ")"), std::string::npos) << line;
+  }
 }
 
 }  // namespace

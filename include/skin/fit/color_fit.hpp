@@ -21,6 +21,7 @@
 #include "skin/color/color.hpp"
 #include "skin/fit/fit.hpp"
 #include "skin/physics/spectrum.hpp"
+#include "skin/util/progress.hpp"
 
 namespace skin::fit {
 
@@ -110,9 +111,8 @@ class TextureFitter {
   TextureFitter(TextureFitter&&) noexcept;
   TextureFitter& operator=(TextureFitter&&) noexcept;
   void prepare() const;  // builds the table (otherwise the first fit does)
-  // progress(done, total) is called from the calling thread now and then (may be empty).
-  ParameterMaps fit(const Image& linear_srgb,
-                    const std::function<void(std::size_t, std::size_t)>& progress = {}) const;
+  // progress(distinct colours done, distinct colours) after each batch (may be empty).
+  ParameterMaps fit(const Image& linear_srgb, const ProgressCallback& progress = {}) const;
   // One colour through the texture path (interpolated table), for tests.
   ColorFitResult fit_color(const color::Rgb& srgb_linear) const;
   // The interpolated model colour for a parameter set (for tests against ColorFitter::lab).

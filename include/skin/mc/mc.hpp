@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "skin/physics/layer.hpp"
+#include "skin/util/progress.hpp"
 
 namespace skin::mc {
 
@@ -36,7 +37,8 @@ struct Options {
   int threads = 0;       // 0 = all cores
   double r_max = 10.0;   // outer radius of the radial profile [mm], > 0
   std::size_t bins = 200;  // annular bins of width r_max / bins, >= 1
-  bool progress = false;   // progress bar on stderr
+  // Photons finished of options.photons, after each round of batches (may be empty).
+  ProgressCallback progress;
   Source source = Source::pencil;
   // Exit-radius histograms of both surfaces on logarithmic bins (0 = none): bin 0 is
   // [0, exit_r_min), then exit_bins - 1 bins evenly in log r up to exit_r_max [mm]; exits beyond

@@ -2,11 +2,11 @@
 // Generation of skin::accurate::TopLayerTable by Monte Carlo (the data file
 // data/top_layer_transport_g*.csv are made by `skin tabulate-top-layer`, which calls this).
 #include <cstdint>
-#include <functional>
 #include <iosfwd>
 #include <vector>
 
 #include "skin/transport/top_layer_table.hpp"
+#include "skin/util/progress.hpp"
 
 namespace skin::mc {
 
@@ -21,8 +21,8 @@ struct TabulateOptions {
   double target_reflected = 60000;
   std::uint64_t seed = 1;
   int threads = 0;  // 0 = all cores
-  // Called after each node with (done, total).
-  std::function<void(std::size_t, std::size_t)> on_node;
+  // Nodes done of the x.size() * tau.size() in the table, after each node (may be empty).
+  ProgressCallback progress;
   // The default grid: x = 0.05, 0.11, ..., 0.95 (16 nodes; alpha' from 0.9975 to 0.0975) and
   // tau' = 0.35 2^(j / 4), j = 0..26 (0.35 to 32).
   static TabulateOptions defaults();

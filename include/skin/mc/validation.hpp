@@ -1,10 +1,12 @@
 #pragma once
 // Diffusion (and any other solver) against the Monte Carlo reference, over the paper's skin
-// presets and generic layer stacks; writes a markdown report with radial-profile plots.
+// presets and generic layer stacks: the cases, their runs and the error measures. The library
+// computes and returns them; the application writes the report (Markdown, plots:
+// src/app/report_validation.cpp).
 //
 // Solvers are columns: each is a name and two callables (LayerStack -> R_d, and
 // LayerStack, radii -> R(r)), so another model (for example a more accurate transport solver)
-// is compared by appending a SolverColumn; the table, the plots and the error summary grow a
+// is compared by appending a SolverColumn; the report's tables, plots and error summary grow a
 // column, a curve and a line for it.
 #include <functional>
 #include <iosfwd>
@@ -81,15 +83,15 @@ struct ValidationRun {
   double seconds = 0;
 };
 
-// Runs every case through the Monte Carlo solver (options.photons per case, options.seed) and
-// every solver. `log` (may be empty) receives one line per finished case.
+// Progress of run_validation: called after each case, from the calling thread, with the cases
+// done, the cases in total and the result of the case just finished.
+using CaseDone =
+    std::function<void(std::size_t done, std::size_t total, const CaseResult& result)>;
+
+// Runs every case through the Monte Carlo solver (options.photons per case, options.seed; its
+// r_max replaced by the case's) and every solver. `on_case` may be empty.
 ValidationRun run_validation(const std::vector<ValidationCase>& cases,
                              const std::vector<SolverColumn>& solvers, const Options& options,
-                             const std::function<void(const std::string&)>& log = {});
-
-// Writes the markdown report to `md` and one PNG per case (plus an overview of R_d errors) into
-// `plot_dir` (must exist; "" = no plots); images are linked as `link_prefix + file name`.
-void write_validation_report(std::ostream& md, const ValidationRun& run,
-                             const std::string& plot_dir, const std::string& link_prefix = "");
+                             const CaseDone& on_case = {});
 
 }  // namespace skin::mc

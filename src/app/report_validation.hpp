@@ -1,0 +1,23 @@
+#pragma once
+// The validation report of `skin validate` (docs/validation/README.md): Markdown tables, error
+// summaries and radial-profile plots of a skin::mc::ValidationRun. The Monte Carlo library
+// computes the run; the application presents it.
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "skin/mc/validation.hpp"
+
+namespace skin::cli {
+
+// Writes the Markdown report to `md` and one PNG per case (plus an overview of R_d errors) into
+// `plot_dir` (must exist; "" = no plots); images are linked as `link_prefix + file name`.
+void write_validation_report(std::ostream& md, const mc::ValidationRun& run,
+                             const std::string& plot_dir, const std::string& link_prefix = "");
+
+// One line per finished case, for the terminal: "pale-650nm: MC R_d 0.53521 +- 0.00050,
+// multipole 0.54012 (+0.92 %), ..., 1.2 s".
+std::string validation_case_line(const mc::CaseResult& c,
+                                 const std::vector<std::string>& solver_names);
+
+}  // namespace skin::cli
