@@ -15,6 +15,7 @@
 #include <ostream>
 
 #include "skin/mc/sampling.hpp"
+#include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::mc {
