@@ -85,10 +85,7 @@ static void BM_Texture(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   ColorFitOptions o;
   o.model = forward_model(solver_name(static_cast<int>(state.range(1))));
-  Image img;
-  img.width = img.height = n;
-  img.channels = 3;
-  img.pixels.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n) * 3);
+  Image img(n, n);
   // Colours from a coarse 64 x 64 grid of parameters, bilinearly blended and quantised to 8 bits.
   const color::Colorimetry cm{WavelengthGrid{}};
   std::vector<color::Rgb> grid(64 * 64);
@@ -110,7 +107,7 @@ static void BM_Texture(benchmark::State& state) {
         const double v = (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x0 + 1, y0)) +
                          fy * ((1 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
         const double q = std::round(color::srgb_encode(v) * 255.0) / 255.0;
-        img.pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(x)) * 3 +
+        img.rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(x)) * 3 +
                    static_cast<std::size_t>(c)] = static_cast<float>(color::srgb_decode(q));
       }
     }

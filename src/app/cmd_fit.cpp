@@ -228,7 +228,7 @@ void run_texture(const FitOpts& o) {
   if (io::extension(o.out.output) != "exr")
     throw InputError("output = '" + o.out.output + "': parameter maps are written as .exr");
   const fit::ColorFitOptions opt = color_fit_options(o);
-  const fit::Image img = fit::read_albedo(o.texture);
+  const image::Image img = image::read_image(o.texture);
   const fit::TextureFitter fitter(opt);
   const ProgressCallback bar = progress_bar("distinct colours");  // empty unless on a terminal
   if (bar) std::cerr << "skin fit: building the colour table...\r" << std::flush;

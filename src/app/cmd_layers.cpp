@@ -5,6 +5,7 @@
 #include "skin/util/error.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/transport/stack.hpp"
+#include "skin/physics/fresnel.hpp"
 #include "skin/transport/accurate.hpp"
 
 namespace skin::cli {

@@ -14,9 +14,6 @@ namespace skin::color {
 std::ostream& operator<<(std::ostream& os, const Xyz& c) {
   return os << "XYZ(" << c.X << ", " << c.Y << ", " << c.Z << ')';
 }
-std::ostream& operator<<(std::ostream& os, const Rgb& c) {
-  return os << "RGB(" << c.r << ", " << c.g << ", " << c.b << ')';
-}
 std::ostream& operator<<(std::ostream& os, const Lab& c) {
   return os << "Lab(" << c.L << ", " << c.a << ", " << c.b << ')';
 }

@@ -456,9 +456,9 @@ ColorFitResult TextureFitter::fit_color(const color::Rgb& rgb) const {
 }
 
 ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progress) const {
-  if (img.channels < 3 || img.width <= 0 || img.height <= 0)
+  if (img.width <= 0 || img.height <= 0 || img.rgb.size() != static_cast<std::size_t>(img.width) * img.height * 3)
     throw InputError("texture: expected an RGB image, got " + std::to_string(img.width) + "x" +
-                     std::to_string(img.height) + " with " + std::to_string(img.channels) + " channels");
+                     std::to_string(img.height) + " with " + std::to_string(img.rgb.size()) + " values");
   prepare();
   const std::size_t npix = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
   // Distinct colours (16 bits per linear channel: distinct 8- and 16-bit sRGB inputs stay
@@ -467,7 +467,7 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
     std::uint64_t k = 0;
     for (int c = 0; c < 3; ++c) {
-      const double v = std::clamp(static_cast<double>(img.pixels[i * static_cast<std::size_t>(img.channels) + static_cast<std::size_t>(c)]), 0.0, 1.0);
+      const double v = std::clamp(static_cast<double>(img.rgb[i * 3 + static_cast<std::size_t>(c)]), 0.0, 1.0);
       k = (k << 16) | static_cast<std::uint64_t>(std::lround(v * 65535.0));
     }
     key[i] = k;

@@ -12,6 +12,7 @@
 #include "lm.hpp"
 #include "skin/fit/fit.hpp"
 #include "skin/transport/diffusion.hpp"
+#include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
 #include "skin/transport/stack.hpp"
 #ifdef SKIN_FIT_HAVE_ACCURATE

@@ -14,6 +14,7 @@
 #include <ostream>
 
 #include "skin/mc/sampling.hpp"
+#include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::mc {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <ostream>
 
-#include "skin/transport/diffusion.hpp"
+#include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::render {

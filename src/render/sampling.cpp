@@ -11,36 +11,6 @@ namespace skin::render {
 std::ostream& operator<<(std::ostream& os, const Vec3& v) {
   return os << '(' << v.x << ", " << v.y << ", " << v.z << ')';
 }
-std::ostream& operator<<(std::ostream& os, const Rgb3& c) {
-  return os << "rgb(" << c.r << ", " << c.g << ", " << c.b << ')';
-}
-
-std::uint64_t mix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
-
-Rng::Rng(std::uint64_t seed, std::uint64_t stream) : inc_((stream << 1u) | 1u) {
-  next_u32();
-  state_ += seed;
-  next_u32();
-}
-
-Rng Rng::for_sample(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample) {
-  return Rng(mix64(seed ^ mix64(pixel)), mix64(sample + 0x632be59bd9b4e019ULL * (pixel + 1)));
-}
-
-std::uint32_t Rng::next_u32() {
-  const std::uint64_t old = state_;
-  state_ = old * 6364136223846793005ULL + inc_;
-  const auto xorshifted = static_cast<std::uint32_t>(((old >> 18u) ^ old) >> 27u);
-  const auto rot = static_cast<std::uint32_t>(old >> 59u);
-  return (xorshifted >> rot) | (xorshifted << ((-rot) & 31u));
-}
-
-double Rng::uniform() { return static_cast<double>(next_u32()) * 0x1p-32; }
 
 Vec2 sample_concentric_disk(Vec2 u) {
   const double a = 2 * u.x - 1, b = 2 * u.y - 1;

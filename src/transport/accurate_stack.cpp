@@ -4,6 +4,7 @@
 #include <numbers>
 #include <ostream>
 
+#include "skin/physics/fresnel.hpp"
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/diffusion.hpp"
 

@@ -15,12 +15,6 @@ namespace skin::accurate::detail {
 inline constexpr double kThinnest = 0.125;
 inline constexpr double kSemiInfiniteT = 1e-8;
 
-// A quadrature rule on [-1, 1], nodes ascending.
-struct Rule {
-  std::vector<double> x, w;
-};
-const Rule& quadrature_rule(int n, bool radau);
-
 // The streams of a stack: s2[i] = (n sin theta)^2, invariant across interfaces; stream 0 is the
 // normal direction (s = 0). a_ref[i]: flux weight in the medium of highest index n_ref.
 struct Streams {

@@ -32,7 +32,10 @@
 #include "ad_core.hpp"
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/diffusion.hpp"
+#include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/interpolation.hpp"
+#include "skin/util/quadrature.hpp"
 
 namespace skin::accurate {
 
@@ -49,47 +52,6 @@ namespace detail {
 
 using Mat = Eigen::MatrixXd;
 using Vec = Eigen::VectorXd;
-
-// Gauss-Legendre (radau = false) or Gauss-Radau with the fixed node +1 (radau = true) on
-// [-1, 1], by the Golub-Welsch eigenvalue method (Golub & Welsch 1969; Golub 1973 for the
-// prescribed node: the last diagonal entry of the Jacobi matrix is changed so that +1 becomes an
-// eigenvalue). Nodes ascending. Cached: the rules depend only on (n, radau).
-const Rule& quadrature_rule(int n, bool radau) {
-  static std::mutex mutex;
-  static std::map<std::pair<int, bool>, Rule> cache;
-  std::lock_guard<std::mutex> lock(mutex);
-  auto it = cache.find({n, radau});
-  if (it != cache.end()) return it->second;
-  Rule rule;
-  if (n == 1) {
-    rule.x = {radau ? 1.0 : 0.0};
-    rule.w = {2.0};
-  } else {
-    Mat J = Mat::Zero(n, n);
-    auto beta = [](int k) {
-      const double kk = static_cast<double>(k);
-      return kk / std::sqrt(4.0 * kk * kk - 1.0);
-    };
-    for (int k = 1; k < n; ++k) J(k - 1, k) = J(k, k - 1) = beta(k);
-    if (radau) {
-      // (J_{n-1} - a I) delta = beta_{n-1}^2 e_{n-1};  alpha_n = a + delta_{n-1}, a = +1.
-      const Mat Jm = J.topLeftCorner(n - 1, n - 1) - Mat::Identity(n - 1, n - 1);
-      Vec rhs = Vec::Zero(n - 1);
-      rhs(n - 2) = beta(n - 1) * beta(n - 1);
-      const Vec delta = Jm.partialPivLu().solve(rhs);
-      J(n - 1, n - 1) = 1.0 + delta(n - 2);
-    }
-    Eigen::SelfAdjointEigenSolver<Mat> es(J);
-    rule.x.resize(static_cast<std::size_t>(n));
-    rule.w.resize(static_cast<std::size_t>(n));
-    for (int i = 0; i < n; ++i) {
-      rule.x[static_cast<std::size_t>(i)] = es.eigenvalues()(i);
-      rule.w[static_cast<std::size_t>(i)] = 2.0 * es.eigenvectors()(0, i) * es.eigenvectors()(0, i);
-    }
-    if (radau) rule.x.back() = 1.0;  // exactly, not 1 - 1e-16
-  }
-  return cache.emplace(std::pair{n, radau}, std::move(rule)).first->second;
-}
 
 Streams make_streams(const LayerStack& stack, int points) {
   double n_ref = 0;
@@ -130,7 +92,7 @@ Streams make_streams(const LayerStack& stack, int points) {
       if (l.eta >= s_hi * (1 - 1e-12)) n_low = std::min(n_low, l.eta);
     const double top = std::sqrt(std::max(0.0, 1.0 - (s_lo / n_low) * (s_lo / n_low)));
     const double bottom = std::sqrt(std::max(0.0, 1.0 - (s_hi / n_low) * (s_hi / n_low)));
-    const Rule& rule = quadrature_rule(points, p == 0);
+    const QuadratureRule& rule = p == 0 ? gauss_radau(points) : gauss_legendre(points);
     const double half = 0.5 * (top - bottom), mid = 0.5 * (top + bottom);
     if (p == 0) {
       // Quadrature points per unit of the reference cosine in the panel around the normal.
@@ -337,13 +299,9 @@ Mat table_at(const Geometry& geo, double omega) {
   const double x = std::sqrt(std::max(0.0, 1.0 - omega)) * K;
   const int j0 = std::clamp(static_cast<int>(std::floor(x)) - 1, 0, K - 3);
   const double t = x - j0;  // position from node j0 in node units, in [0, 3]
+  const std::array<double, 4> w = lagrange4_weights(t);
   Mat out = Mat::Zero(geo.m, geo.m);
-  for (int a = 0; a < 4; ++a) {
-    double w = 1;
-    for (int b = 0; b < 4; ++b)
-      if (b != a) w *= (t - b) / static_cast<double>(a - b);
-    out += w * node(j0 + a);
-  }
+  for (int a = 0; a < 4; ++a) out += w[a] * node(j0 + a);
   return out;
 }
 
@@ -377,16 +335,7 @@ bool slab_table_at(const Geometry& geo, double omega, double tau, LayerRT& out) 
   const double x = std::sqrt(std::max(0.0, 1.0 - omega)) * Tab::kX;
   const int i0 = std::clamp(static_cast<int>(std::floor(x)) - 1, 0, Tab::kX - 3);
   const int j0 = std::clamp(static_cast<int>(std::floor(u)) - 1, 0, Tab::kTau - 3);
-  auto lagrange = [](double t, double* w) {
-    for (int a = 0; a < 4; ++a) {
-      w[a] = 1;
-      for (int b = 0; b < 4; ++b)
-        if (b != a) w[a] *= (t - b) / static_cast<double>(a - b);
-    }
-  };
-  double wx[4], wt[4];
-  lagrange(x - i0, wx);
-  lagrange(u - j0, wt);
+  const std::array<double, 4> wx = lagrange4_weights(x - i0), wt = lagrange4_weights(u - j0);
   out.R = Mat::Zero(geo.m, geo.m);
   out.T = Mat::Zero(geo.m, geo.m);
   for (int a = 0; a < 4; ++a) {

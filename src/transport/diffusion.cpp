@@ -5,6 +5,7 @@
 #include <numbers>
 #include <ostream>
 
+#include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin {
@@ -13,16 +14,6 @@ double F_dr(double eta) {
   if (std::abs(eta - 1.0) < 1e-12) return 0.0;  // matched boundary: no internal reflection
   if (eta >= 1.0) return -1.440 / (eta * eta) + 0.710 / eta + 0.668 + 0.0636 * eta;
   return -0.4399 + 0.7099 / eta - 0.3319 / (eta * eta) + 0.0636 / (eta * eta * eta);
-}
-
-double fresnel_dielectric(double cos_i, double n1, double n2) {
-  const double eta = n1 / n2;
-  const double sin2_t = eta * eta * std::max(0.0, 1.0 - cos_i * cos_i);
-  if (sin2_t >= 1.0) return 1.0;  // total internal reflection
-  const double cos_t = std::sqrt(1.0 - sin2_t);
-  const double rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
-  const double rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
-  return 0.5 * (rs * rs + rp * rp);
 }
 
 double F_dr_exact(double eta) {

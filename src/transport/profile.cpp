@@ -1,6 +1,7 @@
 #include "skin/transport/profile.hpp"
 
 #include <Eigen/Dense>
+#include <array>
 #include <boost/math/quadrature/gauss.hpp>
 #include <cmath>
 #include <cstdlib>
@@ -8,6 +9,7 @@
 #include <ostream>
 
 #include "skin/util/error.hpp"
+#include "skin/util/interpolation.hpp"
 
 namespace skin {
 
@@ -130,12 +132,10 @@ const ProfileSolver::Quadrature& ProfileSolver::quadrature_for(double k_max) {
         long m0 = static_cast<long>(std::floor(u)) - 1;
         m0 = std::min(m0, last - 3);
         const double t = u - static_cast<double>(m0);  // position within points m0..m0+3
+        const std::array<double, 4> l = lagrange4_weights(t);
         for (int a = 0; a < 4; ++a) {
-          double l = 1.0;
-          for (int b = 0; b < 4; ++b)
-            if (b != a) l *= (t - b) / static_cast<double>(a - b);
           const long m = std::labs(m0 + a);  // mirror: G(-u) = G(u)
-          q->M.col(m) += l * column;
+          q->M.col(m) += l[a] * column;
         }
       }
     }

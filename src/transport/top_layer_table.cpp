@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "skin/util/error.hpp"
+#include "skin/util/interpolation.hpp"
 #include "skin/util/table.hpp"
 
 namespace skin::accurate {
@@ -227,7 +228,7 @@ double TopLayerTable::transform_at(const std::vector<double>& values, double k) 
   const double p0 = i == 0 ? values[1] : values[i - 1];
   const double p1 = values[i], p2 = values[i + 1];
   const double p3 = i + 2 < n ? values[i + 2] : 2.0 * p2 - p1;
-  return p1 + 0.5 * t * (p2 - p0 + t * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + t * (3.0 * (p1 - p2) + p3 - p0)));
+  return catmull_rom(p0, p1, p2, p3, t);
 }
 
 double TopLayerTable::R_e_integral(const Sample& s) const {

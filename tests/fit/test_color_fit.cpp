@@ -138,7 +138,7 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
   const std::string png = (dir / "skin_fit_test_albedo.png").string();
   const std::string exr = (dir / "skin_fit_test_maps.exr").string();
   ASSERT_NE(stbi_write_png(png.c_str(), w, h, 3, px.data(), w * 3), 0);
-  const Image img = read_albedo(png);
+  const Image img = skin::image::read_image(png);
   ASSERT_EQ(img.width, w);
   ASSERT_EQ(img.height, h);
   const ParameterMaps maps = TextureFitter().fit(img);
@@ -156,5 +156,5 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
     EXPECT_EQ(back.hemoglobin[i], maps.hemoglobin[i]);
     EXPECT_EQ(back.error[i], maps.error[i]);
   }
-  EXPECT_THROW(read_albedo((dir / "no_such_texture.png").string()), skin::InputError);
+  EXPECT_THROW(skin::image::read_image((dir / "no_such_texture.png").string()), skin::InputError);
 }

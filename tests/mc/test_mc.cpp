@@ -3,12 +3,15 @@
 // in seconds); tolerances are multiples of the reported standard errors.
 #include <gtest/gtest.h>
 
+#include <boost/math/special_functions/expint.hpp>
+
 #include <cmath>
 #include <numeric>
 #include <vector>
 
 #include "skin/mc/mc.hpp"
 #include "skin/util/error.hpp"
+#include "test_support.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/transport/stack.hpp"
 
@@ -36,49 +39,6 @@ mc::Options opts(std::uint64_t photons, std::uint64_t seed = 1, int threads = 0)
   return o;
 }
 
-// Gauss-Legendre nodes and weights on [0, 1] (Newton on the Legendre recurrence).
-void gauss_legendre_01(int n, std::vector<double>& x, std::vector<double>& w) {
-  x.assign(n, 0);
-  w.assign(n, 0);
-  for (int i = 0; i < n; ++i) {
-    double z = std::cos(M_PI * (i + 0.75) / (n + 0.5)), dp = 0;
-    for (int it = 0; it < 100; ++it) {
-      double p0 = 1, p1 = z;
-      for (int k = 2; k <= n; ++k) {
-        const double p2 = ((2 * k - 1) * z * p1 - (k - 1) * p0) / k;
-        p0 = p1;
-        p1 = p2;
-      }
-      dp = n * (z * p1 - p0) / (z * z - 1);
-      const double dz = p1 / dp;
-      z -= dz;
-      if (std::abs(dz) < 1e-15) break;
-    }
-    x[i] = 0.5 * (1 - z);
-    w[i] = 1.0 / ((1 - z * z) * dp * dp);  // 2 / ((1 - z^2) P'^2), halved for [0, 1]
-  }
-}
-
-// Chandrasekhar's H function for isotropic scattering with single-scattering albedo omega, from
-// 1/H(mu) = sqrt(1 - omega) + (omega/2) int_0^1 mu' H(mu') / (mu + mu') dmu'
-// (Chandrasekhar 1960, Radiative Transfer, ch. V), iterated to convergence on Gauss nodes.
-double chandrasekhar_H(double omega, double mu) {
-  std::vector<double> x, w;
-  gauss_legendre_01(96, x, w);
-  std::vector<double> H(x.size(), 1.0);
-  auto rhs = [&](double m) {
-    double s = 0;
-    for (std::size_t j = 0; j < x.size(); ++j) s += w[j] * x[j] * H[j] / (m + x[j]);
-    return 1.0 / (std::sqrt(1 - omega) + 0.5 * omega * s);
-  };
-  for (int it = 0; it < 2000; ++it) {
-    std::vector<double> Hn(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) Hn[i] = rhs(x[i]);
-    H = Hn;
-  }
-  return rhs(mu);
-}
-
 // --- Published benchmarks ----------------------------------------------------------------
 
 TEST(MonteCarloBenchmark, MatchedSlabVanDeHulst) {
@@ -97,9 +57,9 @@ TEST(MonteCarloBenchmark, MatchedSlabVanDeHulst) {
 TEST(MonteCarloBenchmark, SemiInfiniteIsotropicMatchedChandrasekhar) {
   // Semi-infinite medium, matched boundary, isotropic scattering, albedo 0.9 (mu_a = 10/cm,
   // mu_s = 90/cm, g = 0). Exact: the plane albedo at normal incidence, 1 - H(1) sqrt(1 - omega)
-  // (Chandrasekhar 1960, Radiative Transfer, ch. V), with H computed here from its integral
-  // equation (0.41495).
-  const double exact = 1.0 - chandrasekhar_H(0.9, 1.0) * std::sqrt(0.1);
+  // (Chandrasekhar 1960, Radiative Transfer, ch. V), with H computed from its integral equation
+  // (tests/common/test_support.hpp; 0.41495).
+  const double exact = 1.0 - skin::test::chandrasekhar_H(0.9, 1.0) * std::sqrt(0.1);
   EXPECT_NEAR(exact, 0.41495, 1e-5);  // regression guard of the H computation itself
   const auto r = mc::simulate(one_layer(1.0, 9.0, kInfinity, 1.0, 0.0), opts(200000));
   EXPECT_NEAR(r.R_d, exact, 4 * r.R_d_se) << r << " exact " << exact;
@@ -254,16 +214,6 @@ TEST(MonteCarloVsDiffusion, ThickHighAlbedoAgreesWithinAFewPercent) {
 
 // --- The diffuse source from below and the exit histograms (for TopLayerTable) -------------
 
-// Exponential integral E3(x) = int_1^inf e^{-x t} / t^3 dt, by Gauss-Legendre in u = 1 / t:
-// E3(x) = int_0^1 u e^{-x / u} du.
-double E3(double x) {
-  std::vector<double> u, w;
-  gauss_legendre_01(200, u, w);
-  double s = 0;
-  for (std::size_t i = 0; i < u.size(); ++i) s += w[i] * u[i] * std::exp(-x / u[i]);
-  return s;
-}
-
 TEST(MonteCarloDiffuseSource, NonScatteringSlabTransmitsTwoE3) {
   // A Lambertian source under a purely absorbing, index-matched slab of optical depth tau: the
   // light crossing it is int_0^1 2 mu e^{-tau / mu} dmu = 2 E3(tau); none comes back.
@@ -271,7 +221,7 @@ TEST(MonteCarloDiffuseSource, NonScatteringSlabTransmitsTwoE3) {
   auto o = opts(100000);
   o.source = mc::Source::diffuse_bottom;
   const auto r = mc::simulate(one_layer(tau, 1e-12, 1.0, 1.0, 0.0), o);
-  EXPECT_NEAR(r.R_d, 2 * E3(tau), 4 * r.R_d_se + 1e-6) << r;
+  EXPECT_NEAR(r.R_d, 2 * boost::math::expint(3, tau), 4 * r.R_d_se + 1e-6) << r;
   EXPECT_NEAR(r.T_d, 0.0, 1e-9);
   EXPECT_EQ(r.R_specular, 0.0);
 }

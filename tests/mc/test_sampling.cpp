@@ -6,26 +6,14 @@
 #include <vector>
 
 #include "skin/mc/sampling.hpp"
-#include "skin/transport/diffusion.hpp"
+#include "test_support.hpp"
 
 namespace {
 
 using namespace skin::mc;
 
-// Chi-square statistic of `n` samples in `bins` equiprobable bins (bins chosen by the CDF).
-template <class CdfOfSample>
-double chi_square_equiprobable(std::size_t n, std::size_t bins, CdfOfSample next_u) {
-  std::vector<double> count(bins, 0.0);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double u = next_u();
-    const auto b = std::min(bins - 1, static_cast<std::size_t>(u * static_cast<double>(bins)));
-    count[b] += 1;
-  }
-  const double expected = static_cast<double>(n) / static_cast<double>(bins);
-  double chi2 = 0;
-  for (double c : count) chi2 += (c - expected) * (c - expected) / expected;
-  return chi2;
-}
+using skin::test::chi_square_equiprobable;
+
 // Upper 0.1 % point of chi-square with 49 degrees of freedom (standard tables): a correct sampler
 // fails once in a thousand seeds; the seeds are fixed, so the test is deterministic.
 constexpr double kChi2_49_p001 = 85.35;
@@ -125,25 +113,6 @@ TEST(Rng, UniformRangesAndStreamsDiffer) {
   Rng d(2, 0);
   EXPECT_NE(Rng(1, 0).next_u64(), d.next_u64());
   EXPECT_NE(Rng(1, 0).next_u64(), Rng(1, 1).next_u64());
-}
-
-TEST(Fresnel, AgreesWithCoreFresnelAndSnell) {
-  for (double n1 : {1.0, 1.33, 1.4, 1.5}) {
-    for (double n2 : {1.0, 1.4, 1.55}) {
-      for (double c : {1.0, 0.9, 0.5, 0.2, 0.05}) {
-        const FresnelResult f = fresnel(c, n1, n2);
-        EXPECT_NEAR(f.R, skin::fresnel_dielectric(c, n1, n2), 1e-14);
-        if (f.R < 1.0) {
-          // Snell's law: n1 sin_i = n2 sin_t.
-          EXPECT_NEAR(n1 * std::sqrt(1 - c * c), n2 * std::sqrt(1 - f.cos_t * f.cos_t), 1e-12);
-        }
-      }
-    }
-  }
-  // Normal incidence: ((n1 - n2) / (n1 + n2))^2.
-  EXPECT_NEAR(fresnel(1.0, 1.0, 1.4).R, (0.4 / 2.4) * (0.4 / 2.4), 1e-15);
-  // Beyond the critical angle from 1.4 into air (cos_c = sqrt(1 - 1/1.96) = 0.700).
-  EXPECT_EQ(fresnel(0.6, 1.4, 1.0).R, 1.0);
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 // seeds), pdfs integrating to one, inversions round-tripping.
 #include <gtest/gtest.h>
 
-#include <boost/math/distributions/chi_squared.hpp>
 #include <cmath>
 #include <functional>
 
@@ -11,35 +10,12 @@
 #include "skin/render/microfacet.hpp"
 #include "skin/render/profile_sampler.hpp"
 #include "skin/render/sampling.hpp"
+#include "test_support.hpp"
 
 namespace skin::render {
 namespace {
 
-// Pearson's chi-square test of observed counts against expected probabilities. Bins expected to
-// hold fewer than 5 samples are pooled (the chi-square approximation needs that). Returns the
-// p-value; tests reject below 1e-3 (with fixed seeds, so never flaky).
-double chi_square_p(const std::vector<double>& observed, const std::vector<double>& probability, double n) {
-  double stat = 0, pooled_o = 0, pooled_e = 0;
-  int dof = -1;
-  for (std::size_t i = 0; i < observed.size(); ++i) {
-    const double e = probability[i] * n;
-    if (e < 5) {
-      pooled_o += observed[i];
-      pooled_e += e;
-      continue;
-    }
-    stat += (observed[i] - e) * (observed[i] - e) / e;
-    ++dof;
-  }
-  if (pooled_e >= 5) {
-    stat += (pooled_o - pooled_e) * (pooled_o - pooled_e) / pooled_e;
-    ++dof;
-  } else if (pooled_o > 10) {
-    return 0.0;  // samples where the pdf says there should be (almost) none
-  }
-  if (dof < 1) return 1.0;
-  return boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), stat));
-}
+using skin::test::chi_square_p;
 
 // Integral of f over [a, b] by composite Simpson (n even).
 double simpson(const std::function<double(double)>& f, double a, double b, int n = 200) {

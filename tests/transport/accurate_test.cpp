@@ -13,6 +13,7 @@
 #include "skin/util/error.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/physics/skin_parameters.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -31,30 +32,6 @@ LayerStack slab(double sigma_a, double sigma_s, double g, double d, double n, do
 
 // ---------------------------------------------------------------------------------------------
 // Quadrature.
-
-TEST(Quadrature, GaussIsExactToDegree2nMinus1AndRadauTo2nMinus2) {
-  for (int n : {2, 3, 5, 8, 16}) {
-    const auto& gauss = skin::accurate::detail::quadrature_rule(n, false);
-    const auto& radau = skin::accurate::detail::quadrature_rule(n, true);
-    EXPECT_DOUBLE_EQ(radau.x.back(), 1.0);
-    // Fixed-node weight of Gauss-Radau: 2 / n^2 (Abramowitz & Stegun 25.4.31).
-    EXPECT_NEAR(radau.w.back(), 2.0 / (n * n), 1e-13) << n;
-    auto integrate = [](const skin::accurate::detail::Rule& r, int k) {
-      double s = 0;
-      for (std::size_t i = 0; i < r.x.size(); ++i) s += r.w[i] * std::pow(r.x[i], k);
-      return s;
-    };
-    for (int k = 0; k <= 2 * n - 1; ++k) {
-      const double exact = k % 2 == 1 ? 0.0 : 2.0 / (k + 1);
-      EXPECT_NEAR(integrate(gauss, k), exact, 1e-13) << "gauss n=" << n << " k=" << k;
-      if (k <= 2 * n - 2) {
-        EXPECT_NEAR(integrate(radau, k), exact, 1e-13) << "radau n=" << n << " k=" << k;
-      }
-    }
-    // ... and not beyond: the test can fail.
-    EXPECT_GT(std::abs(integrate(gauss, 2 * n) - 2.0 / (2 * n + 1)), 1e-12);
-  }
-}
 
 TEST(Quadrature, StreamsSplitAtCriticalAnglesAndWeightsSumToOneInEveryMedium) {
   LayerStack s;
@@ -90,36 +67,13 @@ TEST(Published, VanDeHulstMatchedSlab) {
 
 // Chandrasekhar's H-function: a semi-infinite, isotropically scattering (g = 0), index-matched
 // medium lit by a normal beam reflects 1 - H(1) sqrt(1 - omega) (the plane albedo; Chandrasekhar
-// 1950, "Radiative Transfer", ch. V). H is computed here by brute force, iterating
-// 1/H(mu) = sqrt(1 - omega) + (omega / 2) int_0^1 mu' H(mu') / (mu + mu') dmu' on a fine
-// Gauss-Legendre grid (the form that converges also for omega -> 1).
-double H_at_1(double omega) {
-  const auto& rule = skin::accurate::detail::quadrature_rule(200, false);
-  std::vector<double> mu(200), w(200), H(200, 1.0);
-  for (int i = 0; i < 200; ++i) {
-    mu[i] = 0.5 * (rule.x[i] + 1);
-    w[i] = 0.5 * rule.w[i];
-  }
-  auto integral = [&](double x) {
-    double s = 0;
-    for (int j = 0; j < 200; ++j) s += w[j] * mu[j] * H[j] / (x + mu[j]);
-    return s;
-  };
-  for (int it = 0; it < 2000; ++it) {
-    std::vector<double> next(200);
-    for (int i = 0; i < 200; ++i)
-      next[i] = 1.0 / (std::sqrt(1 - omega) + 0.5 * omega * integral(mu[i]));
-    H = next;
-  }
-  return 1.0 / (std::sqrt(1 - omega) + 0.5 * omega * integral(1.0));
-}
-
+// 1950, "Radiative Transfer", ch. V); H by brute force (tests/common/test_support.hpp).
 TEST(Published, ChandrasekharPlaneAlbedoOfIsotropicHalfSpace) {
   for (double omega : {0.3, 0.8, 0.95, 0.99}) {
     LayerStack s;
     s.layers = {Layer{1 - omega, omega, skin::kInfinity, 1.0, 0.0}};
     s.eta_above = 1.0;
-    const double expected = 1 - H_at_1(omega) * std::sqrt(1 - omega);
+    const double expected = 1 - skin::test::chandrasekhar_H(omega, 1.0) * std::sqrt(1 - omega);
     const auto t = adding_doubling(s);
     // Isotropic scattering needs no delta-M; 8 Radau points leave ~1e-4 relative.
     EXPECT_NEAR(t.R_d, expected, 5e-4 * expected) << "omega=" << omega << " " << t;

@@ -8,21 +8,18 @@
 
 #include "skin/transport/profile.hpp"
 #include "skin/physics/spectrum.hpp"
+#include "skin/util/rgb.hpp"
 
 namespace skin::color {
 
 struct Xyz {
   double X = 0, Y = 0, Z = 0;
 };
-struct Rgb {
-  double r = 0, g = 0, b = 0;
-  double operator[](int c) const { return c == 0 ? r : (c == 1 ? g : b); }
-};
+using Rgb = skin::Rgb;  // linear sRGB unless a name says otherwise
 struct Lab {
   double L = 0, a = 0, b = 0;
 };
 std::ostream& operator<<(std::ostream& os, const Xyz& c);
-std::ostream& operator<<(std::ostream& os, const Rgb& c);
 std::ostream& operator<<(std::ostream& os, const Lab& c);
 
 // Colour-matching weights for one wavelength grid. Sums over the grid's samples (equal weights:

@@ -20,6 +20,7 @@
 
 #include "skin/color/color.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/image/image.hpp"
 #include "skin/physics/spectrum.hpp"
 #include "skin/util/progress.hpp"
 
@@ -72,20 +73,9 @@ class ColorFitter {
   friend class TextureFitter;
 };
 
-// An image of 32-bit floats, channels interleaved (row-major, top row first).
-struct Image {
-  int width = 0, height = 0, channels = 0;
-  std::vector<float> pixels;
-  float at(int x, int y, int c) const {
-    return pixels[(static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
-                   static_cast<std::size_t>(x)) * static_cast<std::size_t>(channels) +
-                  static_cast<std::size_t>(c)];
-  }
-};
-
-// Reads an 8- or 16-bit PNG (or JPEG/TGA/BMP via stb_image): returns linear sRGB in 0-1 (the
-// sRGB transfer curve decoded), 3 channels (grey is expanded, alpha dropped). Throws InputError.
-Image read_albedo(const std::string& path);
+// Albedo textures are read by skin::image::read_image (8- or 16-bit PNG, JPEG, ...: linear sRGB
+// in 0-1, the transfer curve decoded).
+using image::Image;
 
 // Per-pixel parameter maps. Channels, in this order: melanin, melanin_blend, hemoglobin, error
 // (CIEDE2000 between the pixel and the fitted colour). Layout: docs/parameter-maps.md.

@@ -8,6 +8,8 @@
 #include <iosfwd>
 #include <numbers>
 
+#include "skin/util/rgb.hpp"
+
 namespace skin::render {
 
 inline constexpr double kPi = std::numbers::pi;
@@ -49,25 +51,8 @@ struct Frame {
   Vec3 to_world(const Vec3& v) const { return s * v.x + t * v.y + n * v.z; }
 };
 
-// Linear RGB (linear sRGB primaries, D65 white): radiance, throughput, reflectance.
-struct Rgb3 {
-  double r = 0, g = 0, b = 0;
-  constexpr double operator[](int i) const { return i == 0 ? r : (i == 1 ? g : b); }
-  constexpr double& operator[](int i) { return i == 0 ? r : (i == 1 ? g : b); }
-  constexpr Rgb3 operator+(const Rgb3& o) const { return {r + o.r, g + o.g, b + o.b}; }
-  constexpr Rgb3 operator-(const Rgb3& o) const { return {r - o.r, g - o.g, b - o.b}; }
-  constexpr Rgb3 operator*(const Rgb3& o) const { return {r * o.r, g * o.g, b * o.b}; }
-  constexpr Rgb3 operator*(double s) const { return {r * s, g * s, b * s}; }
-  constexpr Rgb3 operator/(double s) const { return {r / s, g / s, b / s}; }
-  constexpr Rgb3& operator+=(const Rgb3& o) { r += o.r; g += o.g; b += o.b; return *this; }
-  constexpr Rgb3& operator*=(const Rgb3& o) { r *= o.r; g *= o.g; b *= o.b; return *this; }
-  constexpr Rgb3& operator*=(double s) { r *= s; g *= s; b *= s; return *this; }
-  constexpr double max() const { return std::max({r, g, b}); }
-  constexpr double average() const { return (r + g + b) / 3.0; }
-  constexpr bool is_black() const { return r == 0 && g == 0 && b == 0; }
-  bool operator==(const Rgb3&) const = default;
-};
-constexpr Rgb3 operator*(double s, const Rgb3& c) { return c * s; }
-std::ostream& operator<<(std::ostream& os, const Rgb3& c);
+// Linear RGB (linear sRGB primaries, D65 white): radiance, throughput, reflectance; the
+// project's one RGB type (skin/util/rgb.hpp).
+using Rgb3 = skin::Rgb;
 
 }  // namespace skin::render

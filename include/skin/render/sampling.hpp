@@ -1,5 +1,5 @@
 #pragma once
-// Random numbers and the sampling warps of the renderer, each as a matched set
+// The sampling warps of the renderer, each as a matched set
 // (sample / pdf / invert where it exists), tested together in tests/render/sampling_test.cpp.
 #include <cstddef>
 #include <cstdint>
@@ -7,25 +7,12 @@
 #include <vector>
 
 #include "skin/render/math.hpp"
+#include "skin/util/random.hpp"
 
 namespace skin::render {
 
-// PCG32 (O'Neill 2014, "PCG: a family of simple fast space-efficient statistically good
-// algorithms for random number generation", the XSH-RR output function). The renderer seeds
-// one per pixel sample from (seed, pixel, sample), so an image does not depend on how pixels are
-// spread over threads.
-class Rng {
- public:
-  Rng(std::uint64_t seed, std::uint64_t stream);
-  static Rng for_sample(std::uint64_t seed, std::uint64_t pixel, std::uint64_t sample);
-  std::uint32_t next_u32();
-  double uniform();  // [0, 1), 32 random bits
- private:
-  std::uint64_t state_ = 0, inc_ = 1;
-};
-
-// Mixes 64 bits (SplitMix64 finaliser, Steele et al. 2014).
-std::uint64_t mix64(std::uint64_t x);
+// The renderer's generator (skin/util/random.hpp): PCG32, one per pixel sample.
+using Rng = Pcg32;
 
 struct Vec2 {
   double x = 0, y = 0;

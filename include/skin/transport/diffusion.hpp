@@ -20,9 +20,6 @@ double F_dr(double eta);
 double F_dr_exact(double eta);
 // Boundary mismatch A = (1 + F_dr) / (1 - F_dr); 1 for a matched boundary.
 double A_boundary(double eta);
-// Unpolarised Fresnel reflectance for a ray hitting an interface from a medium of index n1 into
-// n2 with cosine cos_i (> 0) to the normal; 1 beyond the critical angle.
-double fresnel_dielectric(double cos_i, double n1, double n2);
 
 // One layer's diffusion constants with its two boundaries. Built by make(); `flipped()` is the
 // same layer seen from below (top and bottom boundary swapped).

@@ -1,0 +1,28 @@
+#pragma once
+// Interpolation stencils on uniformly spaced nodes, in node units (node i at t = i). One home for
+// every stencil of the project, each tested in tests/util/test_numerics.cpp.
+#include <array>
+
+namespace skin {
+
+// Weights of 4-point Lagrange interpolation through nodes 0, 1, 2, 3 evaluated at t:
+// f(t) ~ sum_a w[a] f(a), w[a] = prod_{b != a} (t - b) / (a - b). Exact for cubics; the weights
+// sum to 1. Intended for t in [0, 3] (the middle interval [1, 2] is the most accurate).
+inline std::array<double, 4> lagrange4_weights(double t) {
+  std::array<double, 4> w;
+  for (int a = 0; a < 4; ++a) {
+    w[a] = 1;
+    for (int b = 0; b < 4; ++b)
+      if (b != a) w[a] *= (t - b) / static_cast<double>(a - b);
+  }
+  return w;
+}
+
+// Catmull-Rom spline between p1 (t = 0) and p2 (t = 1), with neighbours p0 (t = -1) and p3
+// (t = 2): the cubic Hermite interpolant with central-difference tangents (C1 across nodes;
+// exact for quadratics, whose central differences are their derivatives; Catmull & Rom 1974).
+inline double catmull_rom(double p0, double p1, double p2, double p3, double t) {
+  return p1 + 0.5 * t * (p2 - p0 + t * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + t * (3.0 * (p1 - p2) + p3 - p0)));
+}
+
+}  // namespace skin

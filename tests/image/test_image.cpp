@@ -1,0 +1,122 @@
+// Image files (include/skin/image/image.hpp): EXR round trips are exact, PNG round trips are
+// within the 8-bit quantisation of the sRGB curve, planes keep their names and values, bad input
+// is an InputError naming the file, and a failed write leaves the target untouched.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "skin/image/image.hpp"
+#include "skin/util/error.hpp"
+
+namespace skin::image {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ImageFiles : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("skin_image_test_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+Image gradient(int w, int h) {
+  Image img(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) img.set(x, y, {x / (w - 1.0), y / (h - 1.0), 0.25 + 0.01 * x});
+  return img;
+}
+
+// Writes img to `file` and reads it back (same size, or the test stops).
+Image round_trip(const std::string& file, const Image& img) {
+  write_image(file, img);
+  Image back = read_image(file);
+  EXPECT_EQ(back.width, img.width);
+  EXPECT_EQ(back.height, img.height);
+  if (back.rgb.size() != img.rgb.size()) throw std::runtime_error("round trip changed the size");
+  return back;
+}
+
+TEST_F(ImageFiles, ExrRoundTripIsExact) {
+  const Image img = gradient(7, 5);
+  EXPECT_EQ(round_trip(path("a.exr"), img).rgb, img.rgb);
+}
+
+TEST_F(ImageFiles, PngRoundTripWithinEightBitQuantisation) {
+  const Image img = gradient(9, 4);
+  const Image back = round_trip(path("a.png"), img);
+  // Half a code value of the sRGB curve: its slope is at most 12.92, so a linear error of at
+  // most 0.5 / 255 / 12.92 near black, and 0.5 / 255 times the inverse curve's slope (< 2.4)
+  // elsewhere.
+  for (std::size_t i = 0; i < img.rgb.size(); ++i) EXPECT_NEAR(back.rgb[i], img.rgb[i], 2.4 * 0.5 / 255) << i;
+  // Exposure: +1 stop doubles the linear value before encoding.
+  Image dark(1, 1);
+  dark.set(0, 0, {0.1, 0.2, 0.3});
+  write_image(path("b.png"), dark, 1.0);
+  const Rgb c = read_image(path("b.png")).at(0, 0);
+  EXPECT_NEAR(c.r, 0.2, 2e-3);
+  EXPECT_NEAR(c.b, 0.6, 4e-3);
+  // Without the sRGB decode, the stored code values come back as they are (0-1).
+  EXPECT_NEAR(read_image(path("b.png"), false).at(0, 0).r, std::round(255 * 0.4845) / 255, 1.5e-3);
+}
+
+TEST_F(ImageFiles, PlanesKeepNamesAndValues) {
+  Planes p{3, 2, {"melanin", "error"}, {{1, 2, 3, 4, 5, 6}, {0.5f, 0, 0, 0, 0, 1e-7f}}};
+  write_exr_planes(path("p.exr"), p, {{"skin_layout", "test"}}, "test maps");
+  const Planes back = read_exr_planes(path("p.exr"), {"error", "melanin"}, "test maps");
+  ASSERT_EQ(back.width, 3);
+  ASSERT_EQ(back.height, 2);
+  EXPECT_EQ(back.values[0], p.values[1]);
+  EXPECT_EQ(back.values[1], p.values[0]);
+  try {
+    read_exr_planes(path("p.exr"), {"hemoglobin"}, "test maps");
+    FAIL() << "a missing channel must throw";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("channel 'hemoglobin' is missing"), std::string::npos) << e.what();
+  }
+  Planes bad = p;
+  bad.values[1].pop_back();
+  EXPECT_THROW(write_exr_planes(path("q.exr"), bad, {}, "test maps"), InputError);
+  EXPECT_FALSE(fs::exists(path("q.exr")));
+}
+
+TEST_F(ImageFiles, BadInputNamesTheFileAndLeavesTargetsUntouched) {
+  try {
+    read_image(path("missing.png"));
+    FAIL() << "a missing file must throw";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("missing.png"), std::string::npos) << e.what();
+  }
+  { std::ofstream(path("junk.png")) << "not a png"; }
+  EXPECT_THROW(read_image(path("junk.png")), InputError);
+  EXPECT_THROW(write_image(path("a.tiff"), gradient(2, 2)), InputError);
+  { std::ofstream(path("keep.png")) << "old"; }
+  EXPECT_THROW(write_image(path("keep.png"), gradient(2, 2), std::nan("")), InputError);
+  std::ifstream in(path("keep.png"));
+  std::stringstream s;
+  s << in.rdbuf();
+  EXPECT_EQ(s.str(), "old");
+}
+
+TEST(Image, MeanAndPrinting) {
+  Image img(2, 2);
+  img.set(0, 0, {1, 0, 0});
+  img.set(1, 1, {0, 0, 1});
+  EXPECT_EQ(img.mean(0, 0, 2, 2), (Rgb{0.25, 0, 0.25}));
+  EXPECT_EQ(img.mean(0, 0, 0, 0), Rgb{});
+  std::ostringstream os;
+  os << img;
+  EXPECT_EQ(os.str(), "Image{2x2}");
+}
+
+}  // namespace
+}  // namespace skin::image
