@@ -128,7 +128,8 @@ json compute() {
   return out;
 }
 
-// Compares numbers recursively; reports the first few mismatches with their path.
+// Compares recursively (numbers to 1e-12 relative, anything else exactly); reports the first few
+// mismatches with their path.
 void compare(const json& want, const json& got, const std::string& path, int& failures) {
   if (failures > 20) return;
   if (want.is_number()) {
@@ -150,6 +151,9 @@ void compare(const json& want, const json& got, const std::string& path, int& fa
       ASSERT_TRUE(got.contains(it.key())) << path << "." << it.key();
       compare(it.value(), got[it.key()], path + "." + it.key(), failures);
     }
+  } else if (want != got) {  // strings (hex colours, names), booleans, null: exactly
+    ++failures;
+    ADD_FAILURE() << path << ": golden " << want.dump() << " now " << got.dump();
   }
 }
 

@@ -1,8 +1,10 @@
 // The adding-doubling solver and the accurate radial response against the project's Monte Carlo
-// reference (skin::mc::simulate, MCML's method). Few photons, fixed seeds: every comparison
-// allows 2 % (the accuracy goal for totals; 10 % for profiles) plus three standard errors
-// of the Monte Carlo estimate, and the diffusion (multipole) model is shown to fail the same
-// check where it is known to be poor, so the tests can fail.
+// reference (skin::mc::simulate, MCML's method), fixed seeds. Totals: 2 % (the accuracy
+// goal) plus three standard errors of the Monte Carlo estimate, with photons enough that three
+// standard errors are at most 2 % (checked), so no total passes more than 4 % off. Profiles:
+// 10 % plus three standard errors where the standard error is at most 5 % (so at most 25 % off
+// at one annulus), and an r-weighted L1 error below 10 %. The diffusion (multipole) model is
+// shown to fail the same checks where it is known to be poor, so the tests can fail.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -35,6 +37,25 @@ bool within(double model, double mc, double se, double rel) {
   return std::abs(model - mc) <= rel * mc + 3 * se;
 }
 
+// The largest relative standard error of the totals (R_d, and T_d for a slab): 3 SE <= 2 %.
+constexpr double kMaxRelSe = 0.02 / 3;
+double rel_se(const LayerStack& s, const skin::mc::Result& r) {
+  double x = r.R_d_se / r.R_d;
+  if (!s.semi_infinite()) x = std::max(x, r.T_d_se / r.T_d);
+  return x;
+}
+
+// Monte Carlo totals with a relative standard error of at most kMaxRelSe: a pilot run of 20 000
+// photons, then as many as the pilot's error says are needed (SE ~ 1 / sqrt(photons)), plus 20 %.
+// Dark skin needs millions (R_d ~ 0.005), but its photons are absorbed within a few steps.
+skin::mc::Result run_mc_precise(const LayerStack& s, std::uint64_t seed) {
+  constexpr double pilot = 20000;
+  auto mc = run_mc(s, static_cast<std::uint64_t>(pilot), seed);
+  const double ratio = rel_se(s, mc) / kMaxRelSe;
+  if (ratio > 1) mc = run_mc(s, static_cast<std::uint64_t>(1.2 * pilot * ratio * ratio), seed);
+  return mc;
+}
+
 struct PresetCase {
   const char* preset;
   double lambda;
@@ -53,10 +74,11 @@ std::string preset_case_name(const ::testing::TestParamInfo<PresetCase>& info) {
 
 class PresetTotals : public ::testing::TestWithParam<PresetCase> {};
 
-TEST_P(PresetTotals, RdWithinTwoPercentOfMonteCarlo) {
+TEST_P(PresetTotals, RdWithinTwoPercentAndThreeSEOfMonteCarlo) {
   const auto [name, lambda] = GetParam();
   const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
-  const auto mc = run_mc(st, 20000, 42);
+  const auto mc = run_mc_precise(st, 42);
+  ASSERT_LE(rel_se(st, mc), kMaxRelSe) << name << " " << lambda << " nm: MC " << mc.R_d << " +- " << mc.R_d_se;
   const auto ad = skin::accurate::adding_doubling(st);
   EXPECT_NEAR(ad.R_specular, mc.R_specular, 1e-12);
   EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
@@ -70,7 +92,7 @@ INSTANTIATE_TEST_SUITE_P(
 // The same check fails for diffusion in dark skin (it overstates R_d about 3.5 times at 450 nm).
 TEST(PresetTotals, MultipoleFailsTheSameCheckInDarkSkin) {
   const auto st = skin::skin_layer_stack(skin::find_preset("african").parameters, 450);
-  const auto mc = run_mc(st, 20000, 42);
+  const auto mc = run_mc_precise(st, 42);
   EXPECT_FALSE(within(skin::DiffusionStack(st).R_d(), mc.R_d, mc.R_d_se, 0.02));
   EXPECT_GT(skin::DiffusionStack(st).R_d() / mc.R_d, 2.0);
 }
@@ -138,9 +160,11 @@ std::vector<GenericCase> generic_cases() {
 
 class GenericTotals : public ::testing::TestWithParam<GenericCase> {};
 
-TEST_P(GenericTotals, RdAndTdWithinTwoPercentOfMonteCarlo) {
+TEST_P(GenericTotals, RdAndTdWithinTwoPercentAndThreeSEOfMonteCarlo) {
   const auto& [label, stack] = GetParam();
-  const auto mc = run_mc(stack, 20000, 7);
+  const auto mc = run_mc_precise(stack, 7);
+  ASSERT_LE(rel_se(stack, mc), kMaxRelSe) << label << ": MC R_d " << mc.R_d << " +- " << mc.R_d_se
+                                          << ", T_d " << mc.T_d << " +- " << mc.T_d_se;
   const auto ad = skin::accurate::adding_doubling(stack);
   EXPECT_NEAR(ad.R_specular, mc.R_specular, 1e-12);
   EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
@@ -165,7 +189,8 @@ TEST(Anisotropy, SolverFollowsMonteCarloForBothG) {
   for (double g : {0.0, 0.9}) {
     auto st = skin::skin_layer_stack(skin::find_preset("asian").parameters, 500);
     for (auto& l : st.layers) l.g = g;
-    const auto mc = run_mc(st, 20000, 3);
+    const auto mc = run_mc_precise(st, 3);
+    ASSERT_LE(rel_se(st, mc), kMaxRelSe) << "g=" << g;
     const auto ad = skin::accurate::adding_doubling(st);
     EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
         << "g=" << g << " AD " << ad << " MC " << mc.R_d << " +- " << mc.R_d_se;
@@ -175,7 +200,8 @@ TEST(Anisotropy, SolverFollowsMonteCarloForBothG) {
 // Profiles against the Monte Carlo annulus averages over 0.1 - 5 mm (200 annuli of 25 um; the
 // model is averaged over each annulus like the tally: 8 sub-radii, area weights). Two measures:
 // - pointwise: every annulus whose Monte Carlo estimate has a relative standard error below 5 %
-//   must be within 10 % + 3 standard errors (the goal);
+//   must be within 10 % + 3 standard errors (the goal plus the noise: at most 25 % where
+//   the standard error is 5 %, 13 % where it is 1 %);
 // - r-weighted L1 beyond the noise, sum max(0, |model - MC| - 2 SE) r / sum MC r, below 0.10
 //   (in dark skin the Monte Carlo tail beyond 0.3 mm is mostly noise, 10^-5 of the peak).
 // Measured with 10^6 photons at 400-700 nm (docs/accurate-solver.md, section 3): the accurate
@@ -244,7 +270,7 @@ ProfileErrors profile_errors(const char* name, double lambda, double g = 0.9) {
 
 class PresetProfiles : public ::testing::TestWithParam<PresetCase> {};
 
-TEST_P(PresetProfiles, WithinTenPercentOfMonteCarloFrom0_1To5mm) {
+TEST_P(PresetProfiles, WithinTenPercentAndThreeSEOfMonteCarloFrom0_1To5mm) {
   const auto [name, lambda] = GetParam();
   const auto e = profile_errors(name, lambda);
   EXPECT_GT(e.checked, 0);
@@ -260,7 +286,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 // Half-spaces of skin's index and g under air (the transport table, split at 32 transport mean
 // free paths): the same pointwise check, over 0.1-5 transport mean free paths (sigma_t' = 1/mm).
-TEST(HalfSpaceProfiles, WithinTenPercentOfMonteCarlo) {
+TEST(HalfSpaceProfiles, WithinTenPercentAndThreeSEOfMonteCarlo) {
   for (double alpha : {0.5, 0.9, 0.99}) {
     LayerStack s;
     s.layers = {Layer{1 - alpha, alpha, skin::kInfinity, 1.4, 0.9}};
@@ -293,7 +319,7 @@ TEST(HalfSpaceProfiles, WithinTenPercentOfMonteCarlo) {
 }
 
 // Another anisotropy: the tables for g = 0.8 and 0.95, and g = 0.85 between two tables (blended).
-TEST(PresetProfilesOtherG, WithinTenPercentOfMonteCarlo) {
+TEST(PresetProfilesOtherG, WithinTenPercentAndThreeSEOfMonteCarlo) {
   for (double g : {0.8, 0.85, 0.95})
     for (const auto& [name, lambda] : {PresetCase{"caucasian", 550}, PresetCase{"african", 550}}) {
       const auto e = profile_errors(name, lambda, g);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "integrated_profile.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/transport/stack.hpp"
@@ -116,15 +117,6 @@ TEST(Profile, SemiInfiniteProfileIsExactlyTheDipole) {
     EXPECT_NEAR(R[j], ds.slabs()[0].R(solver.radii().r[j]), 1e-14 * R[0]);
 }
 
-namespace {
-// 2 pi int R(r) r dr on a log grid, plus the disc r < r_min where R is flat (R(0) pi r_min^2).
-double integrate_log_grid(const RadialGrid& g, const std::vector<double>& R) {
-  double sum = integrate_profile(g, R);
-  sum += std::numbers::pi * g.r.front() * g.r.front() * R.front();
-  return sum;
-}
-}  // namespace
-
 TEST(Profile, SkinProfilesIntegrateBackToTotal) {
   // The check: 2 pi int R(r) r dr = R_d within 0.5 %, per wavelength and per channel, for
   // every preset. The grid reaches 60 mm so that the red tail (sigma_tr ~ 0.4/mm) is inside it,
@@ -138,12 +130,12 @@ TEST(Profile, SkinProfilesIntegrateBackToTotal) {
     for (std::size_t i = 0; i < grid.size(); ++i) {
       std::vector<double> row(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
                               sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * radii.size()));
-      EXPECT_NEAR(integrate_log_grid(radii, row), sp.R_d[i], 0.005 * sp.R_d[i])
+      EXPECT_NEAR(skin::test::integrate_with_disc(radii, row), sp.R_d[i], 0.005 * sp.R_d[i])
           << preset.name << " at " << grid[i] << " nm";
     }
     const RgbProfile rgb = skin_rgb_profile(preset.parameters, grid, solver);
     for (std::size_t c = 0; c < 3; ++c)
-      EXPECT_NEAR(integrate_log_grid(radii, rgb.R[c]), rgb.R_d[c], 0.005 * rgb.R_d[c])
+      EXPECT_NEAR(skin::test::integrate_with_disc(radii, rgb.R[c]), rgb.R_d[c], 0.005 * rgb.R_d[c])
           << preset.name << " channel " << c << ' ' << rgb;
   }
 }
