@@ -174,19 +174,6 @@ void register_mc_command(CLI::App& app) {
   });
 }
 
-// The accurate solver as a column of the report: adding-doubling totals and the accurate radial
-// response (docs/accurate-solver.md).
-mc::SolverColumn accurate_solver() {
-  mc::SolverColumn s;
-  s.name = "accurate";
-  s.R_d = [](const LayerStack& stack) { return accurate::adding_doubling(stack).R_d; };
-  s.profile = [](const LayerStack& stack, const std::vector<double>& r_mm) {
-    ProfileSolver solver(RadialGrid::from(r_mm));
-    return solver.profile(accurate::AccurateStack(stack));
-  };
-  return s;
-}
-
 void register_validate_command(CLI::App& app) {
   struct Opts {
     std::string out;
@@ -223,7 +210,10 @@ void register_validate_command(CLI::App& app) {
       if (verbose) std::cerr << "[" << done << "/" << cases.size() << "] " << line << '\n';
     };
     const mc::ValidationRun run =
-        mc::run_validation(cases, {mc::multipole_solver(), accurate_solver()}, opts, log);
+        mc::run_validation(cases,
+                           {mc::solver_column(transport::find_model("multipole")),
+                            mc::solver_column(transport::find_model("accurate"))},
+                           opts, log);
     std::ostringstream md;
     mc::write_validation_report(md, run, o->out, "");
     md << "\n## Measured skin spectra\n\n";
@@ -233,7 +223,8 @@ void register_validate_command(CLI::App& app) {
       for (const char* solver : {"multipole", "accurate"}) {
         const std::string sub_dir = std::string("measured/") + (std::string(solver) == "multipole" ? "" : "accurate/");
         std::ostringstream part;
-        fit::write_measured_report(o->spectra_dir, o->out + "/" + sub_dir, part, fit::forward_model(solver), solver);
+        fit::write_measured_report(o->spectra_dir, o->out + "/" + sub_dir, part,
+                                   fit::forward_model(transport::find_model(solver)), solver);
         io::write_file_atomic(o->out + "/" + sub_dir + "README.md", part.str());
         md << "- with the " << solver << " solver: [" << sub_dir << "README.md](" << sub_dir
            << "README.md)\n";

@@ -40,10 +40,6 @@ std::ostream& operator<<(std::ostream& os, const Options& o) {
   return os << "accurate::Options{quadrature_points=" << o.quadrature_points << '}';
 }
 
-std::ostream& operator<<(std::ostream& os, const Totals& t) {
-  return os << "Totals{R_specular=" << t.R_specular << ", R_d=" << t.R_d << ", T_d=" << t.T_d
-            << '}';
-}
 
 namespace detail {
 

@@ -35,7 +35,7 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
   // its error is known: (1.1 R_diff - R_mc) / R_mc.
   auto cases = mc::generic_cases();
   std::vector<mc::ValidationCase> two{cases[3], cases[4]};  // absorbing semi-infinite: fast
-  mc::SolverColumn scaled = mc::multipole_solver();
+  mc::SolverColumn scaled = mc::solver_column(skin::transport::find_model("multipole"));
   scaled.name = "scaled-by-1.1";
   scaled.R_d = [](const skin::LayerStack& s) { return 1.1 * skin::DiffusionStack(s).R_d(); };
   scaled.profile = {};  // no profile: the report must cope
@@ -43,7 +43,7 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
   o.photons = 3000;
   o.bins = 40;
   int lines = 0;
-  const auto run = mc::run_validation(two, {mc::multipole_solver(), scaled}, o,
+  const auto run = mc::run_validation(two, {mc::solver_column(skin::transport::find_model("multipole")), scaled}, o,
                                       [&](const std::string&) { ++lines; });
   EXPECT_EQ(lines, 2);
   ASSERT_EQ(run.cases.size(), 2u);

@@ -29,7 +29,8 @@ const std::vector<Parameter>& extended_parameters();
 
 // Reads every *.csv under `spectra_dir` (recursively, sorted; files named *metadata* are read as
 // metadata: columns `column`, `original_label`, `used_in_donner_jensen_2006`, header case-insensitive) and fits each
-// spectrum. `model` empty: multipole. Throws InputError if the directory has no spectra.
+// spectrum. `model` empty: the registry's default (transport::default_model()). Throws
+// InputError if the directory has no spectra.
 std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir,
                                                 const ForwardModel& model = {});
 

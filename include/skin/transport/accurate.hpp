@@ -23,11 +23,13 @@
 // the adding-doubling one. Units: mm, 1/mm, k in rad/mm.
 #include <iosfwd>
 #include <optional>
+#include <string>
 
 #include "skin/transport/top_layer_table.hpp"
 #include "skin/physics/layer.hpp"
 #include "skin/transport/profile_fwd.hpp"
 #include "skin/transport/diffusion.hpp"
+#include "skin/transport/model.hpp"
 #include "skin/transport/stack.hpp"
 
 namespace skin::accurate {
@@ -49,12 +51,7 @@ struct Options {
 };
 std::ostream& operator<<(std::ostream& os, const Options& o);
 
-struct Totals {
-  double R_specular = 0;  // Fresnel reflectance of the top surface at normal incidence
-  double R_d = 0;         // diffuse reflectance per power that entered
-  double T_d = 0;         // total transmittance per power that entered (0 if semi-infinite)
-};
-std::ostream& operator<<(std::ostream& os, const Totals& t);
+using Totals = transport::Totals;
 
 // Validates the stack (LayerStack::validate) and the options (InputError naming the parameter).
 Totals adding_doubling(const LayerStack& stack, const Options& options = {});
@@ -79,9 +76,27 @@ Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 //      R(k) = c_top R_top(k) + c_deep (R_stack(k) - R_top(k)), R_top the top layer alone (over
 //      the index of what lies below it), c_top = R_top^AD / R_top(0), c_deep making R(0) the
 //      adding-doubling R_d. The singular part is c_top times the top layer's nearest image pair.
+//
+// The stack is outside the shapes' validated range (the table does not describe its top layer,
+// or its top layer is darker than the table's darkest node, alpha' < 0.0975, where the clamped
+// shape is up to 3x the transport one) when transport_table_gap() says why; the totals stay
+// exact. The model "accurate" of the registry (skin/transport/model.hpp) reports it.
+std::string transport_table_gap(const LayerStack& stack);
+
+// Fresnel moments of a boundary seen from inside a medium of relative index eta = n_in / n_out:
+// C1 = int_0^1 F(mu) mu dmu, C2 = int_0^1 F(mu) mu^2 dmu (midpoint rule on 4000 cells; the
+// integrand has only a square-root kink at the critical angle: error < 1e-6).
+struct FresnelMoments {
+  double C1 = 0, C2 = 0;
+  static FresnelMoments of(double eta);
+};
+
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const LayerStack& stack, const Options& options = {});
+  // With the Fresnel moments of the top surface (eta = top layer's index / index above) known:
+  // the model of the registry keeps them per index (a spectrum has the same one throughout).
+  AccurateStack(const LayerStack& stack, const Options& options, const FresnelMoments& top);
 
   double total() const override { return totals_.R_d; }
   double singular(double r) const override;
