@@ -160,11 +160,11 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     : AccurateStack(stack, options, [&] {
         stack.validate();
         return FresnelMoments::of(stack.layers.front().eta / stack.eta_above);
-      }()) {}
+      }(), Cache()) {}
 
 AccurateStack::AccurateStack(const LayerStack& stack, const Options& options,
-                             const FresnelMoments& fm)
-    : totals_(adding_doubling(stack, options)) {
+                             const FresnelMoments& fm, const Cache& cache)
+    : totals_(adding_doubling(stack, options, cache)) {
   const auto& ls = stack.layers;
   const Layer& l0 = ls.front();
   const double eta_top = l0.eta / stack.eta_above;
@@ -205,7 +205,7 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options,
     if (choice.hi != choice.lo)
       top_sample_ = TopLayerTable::blend(top_sample_, choice.hi->sample(alpha_prime, tau_prime),
                                          choice.w);
-    const double R_top_ad = rest_ ? adding_doubling(top, options).R_d : totals_.R_d;
+    const double R_top_ad = rest_ ? adding_doubling(top, options, cache).R_d : totals_.R_d;
     const double R_e = table_->R_e_integral(top_sample_);
     const double deep = coupling_k(0.0);
     c_top_ = R_e > 0 ? R_top_ad / R_e : 1.0;
@@ -236,7 +236,7 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options,
     if (!(c_top_ > 0 && std::isfinite(c_top_))) use_dipole_only();
     return;
   }
-  const double R_top_ad = adding_doubling(top_layer(stack), options).R_d;
+  const double R_top_ad = adding_doubling(top_layer(stack), options, cache).R_d;
   const double deep_mp = R_mp - R_top_mp;
   c_top_ = R_top_ad / R_top_mp;
   // The light that came back from below the top layer: its adding-doubling share is the rest of

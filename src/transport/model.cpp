@@ -69,9 +69,10 @@ class Multipole final : public Model {
   }
 };
 
-// Adding-doubling totals, transport-table profiles (include/skin/transport/accurate.hpp). The
-// Fresnel moments of the top surface (4000 Fresnel evaluations) depend on its index alone and a
-// spectrum asks for the same one at every wavelength: kept here, per index, for every caller.
+// Adding-doubling totals, transport-table profiles (include/skin/transport/accurate.hpp). Its
+// caches: the solver's (accurate::Cache), and the Fresnel moments of the top surface (4000
+// Fresnel evaluations), which depend on its index alone; a spectrum asks for the same ones at
+// every wavelength. Both are shared by every caller and thread.
 class Accurate final : public Model {
  public:
   std::string_view name() const override { return "accurate"; }
@@ -79,12 +80,12 @@ class Accurate final : public Model {
     return "adding-doubling radiative transfer, within Monte Carlo noise";
   }
   Totals totals(const LayerStack& stack) const override {
-    return accurate::adding_doubling(stack);
+    return accurate::adding_doubling(stack, {}, cache_);
   }
   std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
     stack.validate();  // before the index of its top layer is used
     return std::make_unique<accurate::AccurateStack>(
-        stack, accurate::Options{}, moments(stack.layers.front().eta / stack.eta_above));
+        stack, accurate::Options{}, moments(stack.layers.front().eta / stack.eta_above), cache_);
   }
   Validity validity(const LayerStack& stack) const override {
     Validity v;
@@ -106,6 +107,7 @@ class Accurate final : public Model {
     moments_.emplace_back(eta, m);
     return m;
   }
+  accurate::Cache cache_;
   mutable std::mutex mutex_;
   mutable std::vector<std::pair<double, accurate::FresnelMoments>> moments_;
 };

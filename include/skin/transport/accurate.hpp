@@ -22,6 +22,7 @@
 // reflectance, and the light that came back from below it) so that each component's total is
 // the adding-doubling one. Units: mm, 1/mm, k in rad/mm.
 #include <iosfwd>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -53,7 +54,29 @@ std::ostream& operator<<(std::ostream& os, const Options& o);
 
 using Totals = transport::Totals;
 
+// What the adding-doubling solver keeps between stacks: per geometry (stream set, index, g) the
+// angular data and the tables of semi-infinite and finite layers over albedo and optical depth,
+// filled node by node on demand (a spectrum touches a few hundred nodes; later spectra of
+// nearby parameters reuse them: a warm table costs two 4 x 4 weighted sums of matrices instead
+// of ~10 doublings). Shared by every thread that uses it (thread-safe). The results do not
+// depend on what it already holds (each node is the same whoever fills it). The registry's
+// accurate model (skin/transport/model.hpp) holds one.
+class Cache {
+ public:
+  Cache();
+  ~Cache();
+  Cache(const Cache&) = delete;
+  Cache& operator=(const Cache&) = delete;
+  struct Impl;  // opaque (src/transport/adding_doubling.cpp)
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
 // Validates the stack (LayerStack::validate) and the options (InputError naming the parameter).
+Totals adding_doubling(const LayerStack& stack, const Options& options, const Cache& cache);
+// With a cache of its own (the same numbers; each call fills the table nodes it needs).
 Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
@@ -94,9 +117,11 @@ struct FresnelMoments {
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const LayerStack& stack, const Options& options = {});
-  // With the Fresnel moments of the top surface (eta = top layer's index / index above) known:
-  // the model of the registry keeps them per index (a spectrum has the same one throughout).
-  AccurateStack(const LayerStack& stack, const Options& options, const FresnelMoments& top);
+  // With the Fresnel moments of the top surface (eta = top layer's index / index above) known
+  // and the solver's cache: the model of the registry keeps both (a spectrum has the same index
+  // and geometry throughout).
+  AccurateStack(const LayerStack& stack, const Options& options, const FresnelMoments& top,
+                const Cache& cache);
 
   double total() const override { return totals_.R_d; }
   double singular(double r) const override;
