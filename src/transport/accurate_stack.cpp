@@ -143,7 +143,7 @@ std::string transport_table_gap(const LayerStack& stack) {
     return c.gap + "; the profile's shape falls back to corrected diffusion, not validated "
                    "against Monte Carlo (it can be several times off)";
   // Darker than the darkest node: the table is clamped there (its R_e then exceeds the
-  // adding-doubling reflectance of the layer up to 3x, and c_top carries the difference).
+  // adding-doubling reflectance of the layer, 3x at alpha' = 0.04: c_top carries the difference).
   const Layer& l0 = stack.layers.front();
   const double alpha_prime = l0.sigma_s_prime / (l0.sigma_a + l0.sigma_s_prime);
   const double x_max = c.lo->x.back();

@@ -102,8 +102,8 @@ Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 //
 // The stack is outside the shapes' validated range (the table does not describe its top layer,
 // or its top layer is darker than the table's darkest node, alpha' < 0.0975, where the clamped
-// shape is up to 3x the transport one) when transport_table_gap() says why; the totals stay
-// exact. The model "accurate" of the registry (skin/transport/model.hpp) reports it.
+// shape's total is already 3x the adding-doubling one at alpha' = 0.04) when
+// transport_table_gap() says why; the totals stay exact. The model "accurate" of the registry (skin/transport/model.hpp) reports it.
 std::string transport_table_gap(const LayerStack& stack);
 
 // Fresnel moments of a boundary seen from inside a medium of relative index eta = n_in / n_out:
