@@ -2,10 +2,11 @@
 //   build/bin/accurate_bench
 #include <benchmark/benchmark.h>
 
-#include <thread>
+#include <memory>
 
 #include "skin/transport/accurate.hpp"
 #include "skin/model/skin_model.hpp"
+#include "skin/transport/model.hpp"
 
 using namespace skin;
 
@@ -24,10 +25,11 @@ static void BM_AccurateRdSpectrum(benchmark::State& state) {
   const WavelengthGrid grid;
   const auto& p = params(static_cast<int>(state.range(0)));
   const accurate::Options o{static_cast<int>(state.range(1))};
+  const accurate::Cache cache;  // warm after the first iteration, as in the registry's model
   for (auto _ : state) {
     double sum = 0;
     for (std::size_t i = 0; i < grid.size(); ++i)
-      sum += accurate::adding_doubling(skin_layer_stack(p, grid[i]), o).R_d;
+      sum += accurate::adding_doubling(skin_layer_stack(p, grid[i]), o, cache).R_d;
     benchmark::DoNotOptimize(sum);
   }
   state.SetLabel(label(static_cast<int>(state.range(0))));
@@ -40,18 +42,16 @@ BENCHMARK(BM_AccurateRdSpectrum)
     ->Args({0, 16})
     ->Unit(benchmark::kMillisecond);
 
-// The same on a fresh thread each iteration: the solver's per-thread tables (semi-infinite
-// layers, finite layers over (omega, tau)) start empty, so this is the cost of a first spectrum.
+// The same with a fresh cache each iteration: the solver's tables (semi-infinite layers, finite
+// layers over (omega, tau)) start empty, so this is the cost of a first spectrum.
 static void BM_AccurateRdSpectrumColdTables(benchmark::State& state) {
   const WavelengthGrid grid;
   const auto& p = params(static_cast<int>(state.range(0)));
   for (auto _ : state) {
+    const accurate::Cache cache;
     double sum = 0;
-    std::thread worker([&] {
-      for (std::size_t i = 0; i < grid.size(); ++i)
-        sum += accurate::adding_doubling(skin_layer_stack(p, grid[i])).R_d;
-    });
-    worker.join();
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      sum += accurate::adding_doubling(skin_layer_stack(p, grid[i]), {}, cache).R_d;
     benchmark::DoNotOptimize(sum);
   }
   state.SetLabel(label(static_cast<int>(state.range(0))));
@@ -75,33 +75,31 @@ static void BM_MultipoleRdSpectrum(benchmark::State& state) {
 BENCHMARK(BM_MultipoleRdSpectrum)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // 151 wavelengths -> 3 linear sRGB channels, 512 radii (log-spaced 1 um - 16 mm), as
-// skin_bench's BM_RgbProfile does for the multipole: AccurateStack per wavelength, then the
-// profile solver (which keeps its quadrature between calls).
+// skin_bench's BM_RgbProfile does for the multipole: the registry's accurate model's response
+// (AccurateStack) per wavelength, then the profile solver (which keeps its quadrature between
+// calls).
 static void BM_AccurateRgbProfile(benchmark::State& state) {
   const WavelengthGrid grid;
   const auto& p = params(static_cast<int>(state.range(0)));
   ProfileSolver solver(RadialGrid::logarithmic(1e-3, 16.0, 512));
   const auto weights = color::Colorimetry(grid).srgb_weights();
+  const transport::Model& model = transport::find_model("accurate");
   auto build = [&] {
-    std::vector<accurate::AccurateStack> stacks;
-    stacks.reserve(grid.size());
-    for (std::size_t i = 0; i < grid.size(); ++i) stacks.emplace_back(skin_layer_stack(p, grid[i]));
-    return stacks;
-  };
-  {  // warm-up outside the timing: the solver's J0 table for these radii is built once
-    const auto stacks = build();
-    std::vector<const RadialResponse*> ptrs;
-    for (const auto& s : stacks) ptrs.push_back(&s);
-    solver.rgb(ptrs, weights);
-  }
-  for (auto _ : state) {
-    std::vector<accurate::AccurateStack> stacks;
+    std::vector<std::unique_ptr<RadialResponse>> stacks;
     stacks.reserve(grid.size());
     for (std::size_t i = 0; i < grid.size(); ++i)
-      stacks.emplace_back(skin_layer_stack(p, grid[i]));
+      stacks.push_back(model.response(skin_layer_stack(p, grid[i])));
+    return stacks;
+  };
+  auto pointers = [](const std::vector<std::unique_ptr<RadialResponse>>& stacks) {
     std::vector<const RadialResponse*> ptrs;
-    for (const auto& s : stacks) ptrs.push_back(&s);
-    benchmark::DoNotOptimize(solver.rgb(ptrs, weights));
+    for (const auto& s : stacks) ptrs.push_back(s.get());
+    return ptrs;
+  };
+  solver.rgb(pointers(build()), weights);  // warm-up outside the timing: the J0 table, once
+  for (auto _ : state) {
+    const auto stacks = build();
+    benchmark::DoNotOptimize(solver.rgb(pointers(stacks), weights));
   }
   state.SetLabel(label(static_cast<int>(state.range(0))));
   state.counters["nodes"] = static_cast<double>(solver.nodes_used());

@@ -95,7 +95,7 @@ static void BM_Texture(benchmark::State& state) {
       p.melanin = 0.002 * std::pow(150.0, x / 63.0);
       p.melanin_blend = 0.7;
       p.hemoglobin = 0.002 * std::pow(50.0, y / 63.0);
-      grid[static_cast<std::size_t>(y * 64 + x)] = skin_spectrum(p, {}, Solver::multipole).color.srgb_linear;
+      grid[static_cast<std::size_t>(y * 64 + x)] = skin_spectrum(p, {}, transport::find_model("multipole")).color.srgb_linear;
     }
   for (int y = 0; y < n; ++y)
     for (int x = 0; x < n; ++x) {

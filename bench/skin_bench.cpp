@@ -31,12 +31,12 @@ BENCHMARK(BM_RdSpectrum)->Unit(benchmark::kMicrosecond);
 // with the default accurate (adding-doubling) solver.
 static void BM_RdSpectrumWithColor(benchmark::State& state) {
   const WavelengthGrid grid;
-  for (auto _ : state) benchmark::DoNotOptimize(skin_spectrum(params(), grid, Solver::multipole));
+  for (auto _ : state) benchmark::DoNotOptimize(skin_spectrum(params(), grid, transport::find_model("multipole")));
 }
 BENCHMARK(BM_RdSpectrumWithColor)->Unit(benchmark::kMicrosecond);
 static void BM_RdSpectrumWithColorAccurate(benchmark::State& state) {
   const WavelengthGrid grid;
-  for (auto _ : state) benchmark::DoNotOptimize(skin_spectrum(params(), grid, Solver::accurate));
+  for (auto _ : state) benchmark::DoNotOptimize(skin_spectrum(params(), grid, transport::find_model("accurate")));
 }
 BENCHMARK(BM_RdSpectrumWithColorAccurate)->Unit(benchmark::kMicrosecond);
 

@@ -3,8 +3,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include "skin/transport/accurate.hpp"
 #include "skin/model/skin_model.hpp"
+#include "skin/transport/model.hpp"
 #include "skin/util/error.hpp"
 
 namespace py = pybind11;
@@ -55,6 +55,21 @@ py::dict color_dict(const color::ColorSummary& c) {
   return d;
 }
 
+// {"totals": bool, "profile": bool, "reason": str}; a RuntimeWarning names the reason when the
+// stack is outside the model's validated range (as the CLI's one warning line does).
+py::dict validity_dict(const transport::Validity& v, const transport::Model& model,
+                       bool warn = true) {
+  if (warn && !v.ok()) {
+    std::string text = "solver " + std::string(model.name()) + ": " +
+                       (v.totals ? "profile" : v.profile ? "totals" : "totals and profile") +
+                       " outside its validated range: " + v.reason;
+    if (!v.exact.empty()) text += "; still exact: " + v.exact;
+    if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+  }
+  return py::dict(py::arg("totals") = v.totals, py::arg("profile") = v.profile,
+                  py::arg("reason") = v.reason);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(spectral_skin, m) {
@@ -74,9 +89,9 @@ PYBIND11_MODULE(spectral_skin, m) {
          const std::string& solver, const py::kwargs& kw) {
         const SkinSpectrum s = skin_spectrum(parameters(preset, kw),
                                              WavelengthGrid(lambda_min, lambda_max, lambda_step),
-                                             parse_solver(solver));
+                                             transport::find_model(solver));
         py::dict d;
-        d["solver"] = std::string(to_string(s.solver));
+        d["solver"] = s.solver;
         d["wavelength_nm"] = s.grid.values();
         d["R_d"] = s.R_d.values;
         d["epidermis"] = py::dict(py::arg("sigma_a") = s.epidermis_sigma_a.values,
@@ -88,7 +103,7 @@ PYBIND11_MODULE(spectral_skin, m) {
       },
       py::arg("preset") = "caucasian", py::arg("lambda_min") = 400.0,
       py::arg("lambda_max") = 700.0, py::arg("lambda_step") = 2.0,
-      py::arg("solver") = "accurate",
+      py::arg("solver") = std::string(transport::kDefaultModel),
       "R_d(lambda), the layers' sigma_a and sigma_s_prime [1/mm] and the colour; any "
       "SkinParameters field (melanin, melanin_blend, hemoglobin, ...) as a keyword.");
 
@@ -97,15 +112,17 @@ PYBIND11_MODULE(spectral_skin, m) {
       [](const std::string& preset, std::vector<double> r_mm, const std::string& solver,
          const py::kwargs& kw) {
         ProfileSolver ps(RadialGrid::from(std::move(r_mm)));
-        const RgbProfile p = skin_rgb_profile(parameters(preset, kw), WavelengthGrid(), ps,
-                                              parse_solver(solver));
+        const transport::Model& model = transport::find_model(solver);
+        const SkinParameters p_skin = parameters(preset, kw);
+        const RgbProfile p = skin_rgb_profile(p_skin, WavelengthGrid(), ps, model);
         py::dict d;
+        d["validity"] = validity_dict(skin_validity(p_skin, WavelengthGrid(), model), model);
         d["r_mm"] = p.radii.r;
         d["R"] = py::dict(py::arg("r") = p.R[0], py::arg("g") = p.R[1], py::arg("b") = p.R[2]);
         d["R_d"] = std::vector<double>(p.R_d.begin(), p.R_d.end());
         return d;
       },
-      py::arg("preset") = "caucasian", py::arg("r_mm"), py::arg("solver") = "accurate",
+      py::arg("preset") = "caucasian", py::arg("r_mm"), py::arg("solver") = std::string(transport::kDefaultModel),
       "Radial profile R(r) [1/mm^2] per linear sRGB channel at the radii r_mm [mm].");
 
   m.def(
@@ -127,25 +144,22 @@ PYBIND11_MODULE(spectral_skin, m) {
           }
           st.layers.push_back(x);
         }
-        const DiffusionStack ds(st);
+        const transport::Model& model = transport::find_model(solver);
+        const transport::Totals t = model.totals(st);
         py::dict d;
+        d["R_d"] = t.R_d;
+        d["T_d"] = t.T_d;
+        d["R_specular"] = t.R_specular;
         std::vector<double> R;
-        if (parse_solver(solver) == Solver::accurate) {
-          const accurate::AccurateStack as(st);
-          d["R_d"] = as.R_d();
-          d["T_d"] = as.T_d();
-          d["R_specular"] = as.R_specular();
-          if (!r_mm.empty()) R = ProfileSolver(RadialGrid::from(r_mm)).profile(as);
-        } else {
-          d["R_d"] = ds.R_d();
-          d["T_d"] = ds.T_d();
-          if (!r_mm.empty()) R = ProfileSolver(RadialGrid::from(r_mm)).profile(ds);
-        }
+        if (!r_mm.empty()) R = ProfileSolver(RadialGrid::from(r_mm)).profile(*model.response(st));
+        const transport::Validity v = model.validity(st);
+        // The profile's validity matters only where one is computed; the totals' always.
+        d["validity"] = validity_dict(v, model, !v.totals || !r_mm.empty());
         d["profile"] = py::dict(py::arg("r_mm") = r_mm, py::arg("R") = R);
         return d;
       },
       py::arg("layers"), py::arg("r_mm") = std::vector<double>{}, py::arg("eta_above") = 1.0,
-      py::arg("eta_below") = 1.0, py::arg("solver") = "accurate",
+      py::arg("eta_below") = 1.0, py::arg("solver") = std::string(transport::kDefaultModel),
       "R_d, T_d (per power that entered) and R(r) of a layer stack given as a list of dicts with "
       "sigma_a, sigma_s_prime [1/mm], thickness [mm] (absent = semi-infinite), eta, g.");
 }

@@ -34,6 +34,20 @@ class Bindings(unittest.TestCase):
                 math.pi * (R[i] * r[i] + R[i + 1] * r[i + 1]) * (r[i + 1] - r[i]) for i in range(n - 1))
             self.assertAlmostEqual(total / p["R_d"]["rgb".index(c)], 1.0, delta=0.005)
 
+    def test_validity_outside_the_accurate_tables(self):
+        # A dark top layer (alpha' = 0.038, below the transport tables' 0.0975) over a bright
+        # half-space: the profile is flagged (with a RuntimeWarning), R_d stays exact.
+        layers = [{"sigma_a": 50.0, "sigma_s_prime": 2.0, "thickness": 0.05},
+                  {"sigma_a": 0.001, "sigma_s_prime": 10.0}]
+        with self.assertWarnsRegex(RuntimeWarning, "solver accurate: profile outside"):
+            r = ss.layers(layers, r_mm=[0.3, 3.0])
+        self.assertEqual(r["validity"]["profile"], False)
+        self.assertEqual(r["validity"]["totals"], True)
+        with self.assertWarnsRegex(RuntimeWarning, "g = 0.7"):
+            p = ss.rgb_profile("caucasian", r_mm=[0.3, 3.0], g=0.7)
+        self.assertEqual(p["validity"]["profile"], False)
+        self.assertEqual(ss.rgb_profile("caucasian", r_mm=[0.3])["validity"]["profile"], True)
+
     def test_bad_input_raises_value_error_naming_the_parameter(self):
         with self.assertRaisesRegex(ValueError, r"melanin \(C_m\) = 1.5 is out of range"):
             ss.spectrum(melanin=1.5)

@@ -22,15 +22,15 @@ struct FitOpts {
   ParameterOptions params;
   OutputOptions out;
   std::string spectrum, column, srgb, hex, texture, report_dir, spectra_dir;
-  // Default solver: the project default (accurate) when built, as skin spectrum/color use.
-  std::string free, plot, fitted, solver = fit::solver_names().back();
+  std::string free, plot, fitted;
+  SolverOption solver;
   std::vector<std::string> bounds;
   bool includes_specular = false;
   double lambda_min = 400, lambda_max = 700;
   double blend_prior = 0.7, blend_weight = 0.2;
 };
 
-fit::ForwardModel forward_model(const std::string& solver) { return fit::forward_model(solver); }
+fit::ForwardModel forward_model(const SolverOption& solver) { return fit::forward_model(solver.model()); }
 
 std::vector<std::pair<fit::Parameter, fit::Bounds>> parse_bounds(const std::vector<std::string>& specs) {
   std::vector<std::pair<fit::Parameter, fit::Bounds>> out;
@@ -102,7 +102,7 @@ void run_spectrum(const FitOpts& o) {
     case Format::json: {
       json j;
       j["input"] = m.name;
-      j["solver"] = o.solver;
+      j["solver"] = o.solver.name;
       j["includes_specular"] = o.includes_specular;
       json free = json::array();
       for (auto p : r.free) free.push_back(std::string(fit::key(p)));
@@ -137,7 +137,7 @@ void run_spectrum(const FitOpts& o) {
     case Format::table: {
       std::ostringstream os;
       os << "fit of " << m.name << " (" << r.wavelength_nm.size() << " samples, "
-         << r.wavelength_nm.front() << "-" << r.wavelength_nm.back() << " nm, solver " << o.solver << ")\n";
+         << r.wavelength_nm.front() << "-" << r.wavelength_nm.back() << " nm, solver " << o.solver.name << ")\n";
       for (std::size_t i = 0; i < r.free.size(); ++i) {
         char buf[160];
         std::snprintf(buf, sizeof buf, "  %-22s %12.6g  +- %-10.3g%s\n", std::string(fit::key(r.free[i])).c_str(),
@@ -155,7 +155,7 @@ void run_spectrum(const FitOpts& o) {
     plot::Figure f;
     char rms[32];
     std::snprintf(rms, sizeof rms, "%.4f", r.rms);
-    f.title = "Fit of " + std::filesystem::path(m.name).filename().string() + " (" + o.solver + ", RMS " + rms + ")";
+    f.title = "Fit of " + std::filesystem::path(m.name).filename().string() + " (" + o.solver.name + ", RMS " + rms + ")";
     f.x_label = "wavelength [nm]";
     f.y_label = "reflectance";
     f.y_min = 0.0;
@@ -252,7 +252,7 @@ void run_report(const FitOpts& o) {
     throw InputError("spectra-dir = '" + o.spectra_dir +
                      "' is not a directory: give the measured skin spectra with --spectra-dir DIR "
                      "or SKIN_SPECTRA_DIR");
-  write_measured_report(o.spectra_dir, o.report_dir, o.solver);
+  write_measured_report(o.spectra_dir, o.report_dir, o.solver.name);
   std::cout << "wrote " << (fs::path(o.report_dir) / "README.md").string()
             << " and one PNG per spectrum\n";
 }
@@ -307,10 +307,7 @@ void register_fit(CLI::App& app) {
                   "Colour fits: beta_m the regulariser pulls toward, [0, 1]")->capture_default_str()->group(g_fit);
   auto* o_weight = sub->add_option("--melanin-blend-weight", o->blend_weight,
                   "Colour fits: regulariser weight [Lab units per unit beta_m], >= 0")->capture_default_str()->group(g_fit);
-  sub->add_option("--solver", o->solver,
-                  "Forward model for R_d: accurate (adding-doubling, the project's default, as in "
-                  "skin spectrum/color) or multipole (the paper's diffusion model, ~70x faster)")
-      ->check(CLI::IsMember(fit::solver_names()))->capture_default_str()->group(g_fit);
+  o->solver.add_to(*sub)->group(g_fit);
 
   o->params.add_to(*sub);
   o->out.add_to(*sub);

@@ -1,12 +1,12 @@
-// skin layers: the multipole model of any layer stack given by its coefficients.
-#include <optional>
+// skin layers: a transport model (--solver) of any layer stack given by its coefficients.
+#include <algorithm>
 
 #include "common.hpp"
 #include "skin/util/error.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/transport/stack.hpp"
 #include "skin/physics/fresnel.hpp"
-#include "skin/transport/accurate.hpp"
+#include "skin/transport/model.hpp"
 
 namespace skin::cli {
 
@@ -39,11 +39,9 @@ void register_layers(CLI::App& app) {
     stack.eta_above = o->eta_above;
     stack.eta_below = o->eta_below;
     for (std::size_t i = 0; i < o->layers.size(); ++i) stack.layers.push_back(parse_layer(o->layers[i], i));
-    const DiffusionStack ds(stack);  // validates
-    const bool accurate = parse_solver(o->solver.name) == Solver::accurate;
-    std::optional<accurate::AccurateStack> as;
-    if (accurate) as.emplace(stack);
-    const RadialResponse& response = accurate ? static_cast<const RadialResponse&>(*as) : ds;
+    const DiffusionStack ds(stack);  // validates; its slabs describe the layers in the JSON
+    const transport::Model& model = o->solver.model();
+    const transport::Totals totals = model.totals(stack);
     // The profile is computed on the sorted distinct radii and reported in the order asked.
     const std::vector<double> r = o->radii;
     for (double x : r) require_non_negative("radius", x, "mm");
@@ -53,14 +51,15 @@ void register_layers(CLI::App& app) {
     std::vector<double> R;
     if (!r.empty()) {
       ProfileSolver solver(RadialGrid::from(sorted));
-      const std::vector<double> on_sorted = solver.profile(response);
+      const std::vector<double> on_sorted = solver.profile(*model.response(stack));
       for (double x : r)
         R.push_back(on_sorted[static_cast<std::size_t>(
             std::lower_bound(sorted.begin(), sorted.end(), x) - sorted.begin())]);
     }
-    const double R_d = accurate ? as->R_d() : ds.R_d(), T_d = accurate ? as->T_d() : ds.T_d();
-    const double R_specular =
-        accurate ? as->R_specular() : fresnel_dielectric(1.0, stack.eta_above, stack.layers[0].eta);
+    const transport::Validity validity = model.validity(stack);
+    // The profile's validity matters only where one is computed; the totals' always.
+    if (!validity.totals || (!r.empty() && !validity.profile)) warn_validity(model, validity);
+    const double R_d = totals.R_d, T_d = totals.T_d, R_specular = totals.R_specular;
     warn_if_negative("R_d", {R_d}, {0.0}, "(total)");
     warn_if_negative("T_d", {T_d}, {0.0}, "(total)");
     if (!R.empty()) warn_if_negative("R(r)", R, r, "mm");
@@ -94,6 +93,7 @@ void register_layers(CLI::App& app) {
       j["R_d"] = R_d;
       j["T_d"] = T_d;
       j["profile"] = {{"r_mm", r}, {"R", R}};
+      j["validity"] = to_json(validity);
       text = j.dump(2) + "\n";
     } else if (fmt == Format::csv) {
       std::vector<Column> cols;

@@ -184,19 +184,6 @@ void register_mc_command(CLI::App& app) {
   });
 }
 
-// The accurate solver as a column of the report: adding-doubling totals and the accurate radial
-// response (docs/accurate-solver.md).
-mc::SolverColumn accurate_solver() {
-  mc::SolverColumn s;
-  s.name = "accurate";
-  s.R_d = [](const LayerStack& stack) { return accurate::adding_doubling(stack).R_d; };
-  s.profile = [](const LayerStack& stack, const std::vector<double>& r_mm) {
-    ProfileSolver solver(RadialGrid::from(r_mm));
-    return solver.profile(accurate::AccurateStack(stack));
-  };
-  return s;
-}
-
 void register_validate_command(CLI::App& app) {
   struct Opts {
     std::string out;
@@ -233,7 +220,9 @@ void register_validate_command(CLI::App& app) {
     std::vector<mc::ValidationCase> cases = mc::preset_cases(o->wavelengths);
     for (auto& c : mc::generic_cases()) cases.push_back(std::move(c));
     std::filesystem::create_directories(o->out);
-    const std::vector<mc::SolverColumn> solvers{mc::multipole_solver(), accurate_solver()};
+    const std::vector<mc::SolverColumn> solvers{
+        mc::solver_column(transport::find_model("multipole")),
+        mc::solver_column(transport::find_model("accurate"))};
     mc::CaseDone log;
     if (stderr_is_terminal())
       log = [&solvers](std::size_t done, std::size_t total, const mc::CaseResult& c) {

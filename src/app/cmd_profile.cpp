@@ -40,11 +40,13 @@ void register_profile(CLI::App& app) {
     RadialGrid radii = o->spacing == "log" ? RadialGrid::logarithmic(o->radius_min, o->radius_max, o->samples)
                                            : RadialGrid::linear(o->radius_max, o->samples);
     ProfileSolver solver(radii);
-    const Solver transport = parse_solver(o->solver.name);
+    const transport::Model& model = o->solver.model();
+    const transport::Validity validity = skin_validity(p, grid, model);
+    warn_validity(model, validity);
     const Format fmt = o->out.resolve();
     std::string text;
     RgbProfile rgb;
-    if (o->rgb || !o->plot.empty()) rgb = skin_rgb_profile(p, grid, solver, transport);
+    if (o->rgb || !o->plot.empty()) rgb = skin_rgb_profile(p, grid, solver, model);
     if (o->rgb) {
       const char* names[3] = {"r", "g", "b"};
       for (int c = 0; c < 3; ++c) warn_if_negative(std::string("R(r) linear sRGB channel ") + names[c], rgb.R[c], radii.r, "mm", true);
@@ -53,6 +55,7 @@ void register_profile(CLI::App& app) {
         j["preset"] = o->params.preset;
         j["parameters"] = to_json(p);
         j["solver"] = o->solver.name;
+        j["validity"] = to_json(validity);
         j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
         j["r_mm"] = radii.r;
         j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
@@ -67,7 +70,7 @@ void register_profile(CLI::App& app) {
         text = format_table({"r_mm", "R_r", "R_g", "R_b"}, {radii.r, rgb.R[0], rgb.R[1], rgb.R[2]});
       }
     } else {
-      const SpectralProfile sp = skin_spectral_profile(p, grid, solver, transport);
+      const SpectralProfile sp = skin_spectral_profile(p, grid, solver, model);
       std::vector<std::vector<double>> rows(grid.size());
       for (std::size_t i = 0; i < grid.size(); ++i) {
         rows[i].assign(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
@@ -79,6 +82,7 @@ void register_profile(CLI::App& app) {
         j["preset"] = o->params.preset;
         j["parameters"] = to_json(p);
         j["solver"] = o->solver.name;
+        j["validity"] = to_json(validity);
         j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
         j["r_mm"] = radii.r;
         j["wavelength_nm"] = grid.values();

@@ -60,6 +60,8 @@ void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* 
   rs.time_budget = o.time_budget;
   if (!o.resolution.empty()) parse_resolution(o.resolution, &rs);
   if (o.spp < 0) throw InputError("spp = " + std::to_string(o.spp) + " is out of range: must be >= 1");
+  for (const auto& v : scene.validity())
+    warn_validity(transport::find_model(v.solver), v.validity, "material '" + v.material + "'");
   render::RenderStats stats;
   render::Image img = render::render(scene, rs, &stats, progress_fraction_bar());
   if (layout) img = render::annotate_figure(img, *layout);
@@ -94,7 +96,7 @@ void register_render(CLI::App& app) {
     if (!o->preset.empty()) preset = find_preset(o->preset).parameters;
     render::Scene scene = o->scene.empty() ? render::Scene::default_scene() : render::Scene::load(o->scene);
     if (preset) scene.set_skin_parameters(*preset);
-    if (sub->count("--solver") > 0) scene.set_solver(parse_solver(o->solver.name));  // else the scene's
+    if (sub->count("--solver") > 0) scene.set_solver(o->solver.model());  // else the scene's
     if (o->diffuse) scene.make_translucent_diffuse();
     run(*o, scene, nullptr);
   });
@@ -109,7 +111,7 @@ void register_render(CLI::App& app) {
     check_output(f->output);
     const render::FigureLayout layout = render::figure_layout(f->figure);
     render::Scene scene = render::Scene::figure(f->figure, f->mesh);
-    scene.set_solver(parse_solver(f->solver.name));
+    scene.set_solver(f->solver.model());
     run(*f, scene, &layout);
   });
 }

@@ -10,7 +10,7 @@ json spectrum_json(const SkinSpectrum& s, const std::string& preset) {
   json j;
   j["preset"] = preset;
   j["parameters"] = to_json(s.parameters);
-  j["solver"] = std::string(to_string(s.solver));
+  j["solver"] = s.solver;
   j["units"] = {{"wavelength_nm", "nm"}, {"sigma_a", "1/mm"}, {"sigma_s_prime", "1/mm"}, {"R_d", "1"}};
   j["wavelength_nm"] = s.grid.values();
   j["R_d"] = s.R_d.values;
@@ -21,6 +21,12 @@ json spectrum_json(const SkinSpectrum& s, const std::string& preset) {
                  {"sigma_s_prime", s.dermis_sigma_s_prime.values}};
   j["color"] = to_json(s.color);
   return j;
+}
+// Totals only: the model's validity for them (the multipole in a layer thinner than z_r).
+void warn_if_totals_invalid(const SkinParameters& p, const WavelengthGrid& grid,
+                            const transport::Model& model) {
+  const transport::Validity v = skin_validity(p, grid, model);
+  if (!v.totals) warn_validity(model, v);
 }
 }  // namespace
 
@@ -46,7 +52,8 @@ void register_spectrum(CLI::App& app) {
   sub->callback([o] {
     const SkinParameters p = o->params.resolve();
     const WavelengthGrid grid = o->grid.resolve();
-    const SkinSpectrum s = skin_spectrum(p, grid, parse_solver(o->solver.name));
+    const SkinSpectrum s = skin_spectrum(p, grid, o->solver.model());
+    warn_if_totals_invalid(p, grid, o->solver.model());
     warn_if_negative("R_d", s.R_d.values, grid.values(), "nm");
     const std::vector<std::string> header = {"wavelength_nm", "R_d", "epidermis.sigma_a",
                                              "epidermis.sigma_s_prime", "dermis.sigma_a",
@@ -92,12 +99,13 @@ void register_color(CLI::App& app) {
   o->solver.add_to(*sub);
   o->out.add_to(*sub);
   sub->callback([o] {
-    const SkinSpectrum s =
-        skin_spectrum(o->params.resolve(), o->grid.resolve(), parse_solver(o->solver.name));
+    const SkinParameters p = o->params.resolve();
+    const SkinSpectrum s = skin_spectrum(p, o->grid.resolve(), o->solver.model());
+    warn_if_totals_invalid(p, o->grid.resolve(), o->solver.model());
     Result result;
     result.document["preset"] = o->params.preset;
     result.document["parameters"] = to_json(s.parameters);
-    result.document["solver"] = std::string(to_string(s.solver));
+    result.document["solver"] = s.solver;
     result.document["color"] = to_json(s.color);
     result.columns = color_columns(s.color);
     result.table = color_table(s.color);

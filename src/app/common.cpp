@@ -157,12 +157,33 @@ CLI::Validator whole_number(long long lo, long long hi) {
       "INT " + allowed);
 }
 
-void SolverOption::add_to(CLI::App& app) {
-  app.add_option("--solver", name,
-                 "Light transport in the layers: accurate (adding-doubling radiative transfer, "
-                 "within Monte Carlo noise) or multipole (the paper's diffusion model)")
-      ->check(CLI::IsMember({"accurate", "multipole"}))
+CLI::Option* SolverOption::add_to(CLI::App& app) {
+  std::string help = "Light transport in the layers:";
+  for (const auto& n : transport::model_names())
+    help += (n == transport::model_names().front() ? " " : ", ") + n + " (" +
+            std::string(transport::find_model(n).description()) + ")";
+  return app.add_option("--solver", name, help)
+      ->check(CLI::IsMember(transport::model_names()))
       ->capture_default_str();
+}
+
+void warn_validity(const transport::Model& model, const transport::Validity& v,
+                   const std::string& what) {
+  if (v.ok()) return;
+  std::cerr << "skin: warning: solver " << model.name() << (what.empty() ? "" : " for " + what)
+            << ": "
+            << (v.totals ? "profile" : v.profile ? "totals" : "totals and profile")
+            << " outside its validated range: " << v.reason;
+  if (!v.exact.empty()) std::cerr << "; still exact: " << v.exact;
+  std::cerr << '\n';
+}
+
+json to_json(const transport::Validity& v) {
+  json j;
+  j["totals"] = v.totals;
+  j["profile"] = v.profile;
+  if (!v.ok()) j["reason"] = v.reason;
+  return j;
 }
 
 void GridOptions::add_to(CLI::App& app) {

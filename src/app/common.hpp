@@ -11,6 +11,7 @@
 
 #include "skin/color/color.hpp"
 #include "skin/model/skin_model.hpp"
+#include "skin/transport/model.hpp"
 #include "skin/physics/layer.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/physics/spectrum.hpp"
@@ -56,11 +57,19 @@ struct GridOptions {
   WavelengthGrid resolve() const { return WavelengthGrid(lambda_min, lambda_max, lambda_step); }
 };
 
-// --solver accurate|multipole (default accurate; see skin::Solver).
+// --solver NAME: a transport model of the registry (skin/transport/model.hpp, which holds the
+// default).
 struct SolverOption {
-  std::string name = "accurate";
-  void add_to(CLI::App& app);
+  std::string name{transport::kDefaultModel};
+  CLI::Option* add_to(CLI::App& app);
+  const transport::Model& model() const { return transport::find_model(name); }
 };
+// When `v` is not ok: one line on stderr naming the solver (and `what` it was for, if given),
+// the reason and what stays exact.
+void warn_validity(const transport::Model& model, const transport::Validity& v,
+                   const std::string& what = "");
+// {"totals": bool, "profile": bool, "reason": "..."} (reason only when one is false).
+json to_json(const transport::Validity& v);
 
 // The enumerator `json` names the format, the alias above the library: both read naturally at
 // their use (Format::json, json j), so the shadowing warning is silenced here only.

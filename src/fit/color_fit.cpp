@@ -155,7 +155,7 @@ ColorFitter::ColorFitter(ColorFitOptions options) {
       throw InputError("free parameter '" + flag(p) +
                        "' cannot be fitted from a colour: choose among melanin, melanin-blend, hemoglobin");
   impl_ = std::make_unique<Impl>(std::move(options));
-  impl_->model = impl_->opt.model ? impl_->opt.model : multipole_model();
+  impl_->model = impl_->opt.model ? impl_->opt.model : forward_model(transport::default_model());
   impl_->fit_blend = std::find(impl_->opt.free.begin(), impl_->opt.free.end(), Parameter::melanin_blend) !=
                      impl_->opt.free.end();
   for (Parameter p : impl_->opt.free) {

@@ -14,51 +14,25 @@
 #include "skin/transport/diffusion.hpp"
 #include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
+#include "skin/transport/model.hpp"
 #include "skin/transport/stack.hpp"
-#ifdef SKIN_FIT_HAVE_ACCURATE
-#include "skin/transport/accurate.hpp"
-#endif
+#include "skin/util/error.hpp"
 
 namespace skin::fit {
 
-ForwardModel multipole_model() {
-  return [](const SkinParameters& p, double lambda) {
+ForwardModel forward_model(const transport::Model& model) {
+  return [&model](const SkinParameters& p, double lambda) {
     const LayerStack stack = skin_layer_stack(p, lambda);
-    // The multipole puts the real source at z_r = 1 / sigma_t' (DJ05 eq 7). In an epidermis
-    // thinner than that the source lies below the slab, its transmittance changes sign
-    // discontinuously and R_d jumps (docs/fit.md, "Validity"): outside the model's domain, so
-    // the fit sees NaN there and treats it as a barrier.
-    const Layer& e = stack.layers.front();
-    if (e.thickness * (e.sigma_a + e.sigma_s_prime) <= 1.0)
-      return std::numeric_limits<double>::quiet_NaN();
-    return DiffusionStack(stack).R_d();
+    // Outside the model's range for totals (the multipole in an epidermis thinner than z_r,
+    // where its transmittance changes sign discontinuously and R_d jumps; docs/fit.md,
+    // "Validity") the fit sees NaN and treats it as a barrier.
+    if (!model.validity(stack).totals) return std::numeric_limits<double>::quiet_NaN();
+    return model.R_d(stack);
   };
-}
-
-ForwardModel accurate_model() {
-#ifdef SKIN_FIT_HAVE_ACCURATE
-  return [](const SkinParameters& p, double lambda) {
-    return accurate::adding_doubling(skin_layer_stack(p, lambda)).R_d;
-  };
-#else
-  throw InputError("solver = 'accurate' is not available: this build has no skin_transport library");
-#endif
-}
-
-std::vector<std::string> solver_names() {
-#ifdef SKIN_FIT_HAVE_ACCURATE
-  return {"multipole", "accurate"};
-#else
-  return {"multipole"};
-#endif
 }
 
 ForwardModel forward_model(std::string_view solver) {
-  if (solver == "multipole") return multipole_model();
-  if (solver == "accurate") return accurate_model();
-  std::string known;
-  for (const auto& n : solver_names()) known += (known.empty() ? "" : ", ") + n;
-  throw InputError("solver = '" + std::string(solver) + "' is unknown: known solvers are " + known);
+  return forward_model(transport::find_model(solver));
 }
 
 double FitResult::uncertainty_of(Parameter p) const {
@@ -198,7 +172,7 @@ SpectrumFitter::SpectrumFitter(SpectrumFitOptions options) : impl_(std::make_uni
   Impl& m = *impl_;
   options.start.validate();
   m.opt = std::move(options);
-  m.model = m.opt.model ? m.opt.model : multipole_model();
+  m.model = m.opt.model ? m.opt.model : forward_model(transport::default_model());
   m.F = specular_albedo(m.opt);
   require_in_range("specular-albedo", m.F, 0.0, 1.0);
   if (m.opt.free.empty()) throw InputError("free parameters: the list is empty");
@@ -424,7 +398,7 @@ FitResult fit_spectrum(const MeasuredSpectrum& m, const SpectrumFitOptions& opti
 
 std::vector<double> model_reflectance(const SkinParameters& p, const std::vector<double>& lambda,
                                       const SpectrumFitOptions& options) {
-  const ForwardModel model = options.model ? options.model : multipole_model();
+  const ForwardModel model = options.model ? options.model : forward_model(transport::default_model());
   const double s = options.includes_specular ? p.oiliness * specular_albedo(options) : 0.0;
   std::vector<double> out;
   for (double l : lambda) out.push_back(s + (1.0 - s) * model(p, l));

@@ -30,13 +30,13 @@ std::ostream& operator<<(std::ostream& os, const ValidationCase& c) {
             << ", diffusion_regime=" << c.diffusion_regime << ", r_max=" << c.r_max << "mm}";
 }
 
-SolverColumn multipole_solver() {
+SolverColumn solver_column(const transport::Model& model) {
   SolverColumn s;
-  s.name = "multipole";
-  s.R_d = [](const LayerStack& stack) { return DiffusionStack(stack).R_d(); };
-  s.profile = [](const LayerStack& stack, const std::vector<double>& r) {
+  s.name = std::string(model.name());
+  s.R_d = [&model](const LayerStack& stack) { return model.R_d(stack); };
+  s.profile = [&model](const LayerStack& stack, const std::vector<double>& r) {
     ProfileSolver solver(RadialGrid::from(r));
-    return solver.profile(DiffusionStack(stack));
+    return solver.profile(*model.response(stack));
   };
   return s;
 }

@@ -1,20 +1,11 @@
 #include "skin/model/skin_model.hpp"
 
 #include <memory>
+#include <sstream>
 
-#include "skin/transport/accurate.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin {
-
-std::string_view to_string(Solver s) { return s == Solver::accurate ? "accurate" : "multipole"; }
-
-Solver parse_solver(std::string_view name) {
-  if (name == "accurate") return Solver::accurate;
-  if (name == "multipole") return Solver::multipole;
-  throw InputError("solver = '" + std::string(name) +
-                   "' is unknown: allowed values are accurate, multipole");
-}
 
 std::vector<LayerStack> skin_layer_stacks(const SkinParameters& p, const WavelengthGrid& grid) {
   p.validate();
@@ -32,14 +23,9 @@ std::vector<DiffusionStack> skin_diffusion_stacks(const SkinParameters& p,
   return out;
 }
 
-double stack_R_d(const LayerStack& stack, Solver solver) {
-  return solver == Solver::accurate ? accurate::adding_doubling(stack).R_d
-                                    : DiffusionStack(stack).R_d();
-}
-
-SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid, Solver solver) {
+SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid, const Model& model) {
   p.validate();
-  SkinSpectrum s{p,           solver,         grid,           Spectrum(grid), Spectrum(grid),
+  SkinSpectrum s{p,           std::string(model.name()), grid,           Spectrum(grid), Spectrum(grid),
                  Spectrum(grid), Spectrum(grid), Spectrum(grid), {}};
   for (std::size_t i = 0; i < grid.size(); ++i) {
     // The stack carries the layer coefficients (eqs 6-8); report them from it.
@@ -48,44 +34,49 @@ SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid, 
     s.epidermis_sigma_s_prime[i] = stack.layers[0].sigma_s_prime;
     s.dermis_sigma_a[i] = stack.layers[1].sigma_a;
     s.dermis_sigma_s_prime[i] = stack.layers[1].sigma_s_prime;
-    s.R_d[i] = stack_R_d(stack, solver);
+    s.R_d[i] = model.R_d(stack);
   }
   s.color = color::summarize(color::Colorimetry(grid), s.R_d);
   return s;
 }
 
 namespace {
-// The per-wavelength radial responses of either solver, kept alive for the profile solver.
+// The per-wavelength radial responses of the model, kept alive for the profile solver.
 struct Responses {
-  std::vector<DiffusionStack> multipole;
-  std::vector<accurate::AccurateStack> accurate;
+  std::vector<std::unique_ptr<RadialResponse>> owned;
   std::vector<const RadialResponse*> pointers;
 };
-std::unique_ptr<Responses> responses(const SkinParameters& p, const WavelengthGrid& grid,
-                                     Solver solver) {
-  auto r = std::make_unique<Responses>();
+Responses responses(const SkinParameters& p, const WavelengthGrid& grid, const Model& model) {
+  Responses r;
   const auto stacks = skin_layer_stacks(p, grid);
-  if (solver == Solver::accurate) {
-    r->accurate.reserve(stacks.size());
-    for (const auto& s : stacks) r->pointers.push_back(&r->accurate.emplace_back(s));
-  } else {
-    r->multipole.reserve(stacks.size());
-    for (const auto& s : stacks) r->pointers.push_back(&r->multipole.emplace_back(s));
-  }
+  r.owned.reserve(stacks.size());
+  for (const auto& s : stacks) r.pointers.push_back(r.owned.emplace_back(model.response(s)).get());
   return r;
 }
 }  // namespace
 
 SpectralProfile skin_spectral_profile(const SkinParameters& p, const WavelengthGrid& grid,
-                                      ProfileSolver& profiles, Solver solver) {
-  const auto r = responses(p, grid, solver);
-  return profiles.spectral(r->pointers, grid);
+                                      ProfileSolver& profiles, const Model& model) {
+  const auto r = responses(p, grid, model);
+  return profiles.spectral(r.pointers, grid);
 }
 
 RgbProfile skin_rgb_profile(const SkinParameters& p, const WavelengthGrid& grid,
-                            ProfileSolver& profiles, Solver solver) {
-  const auto r = responses(p, grid, solver);
-  return profiles.rgb(r->pointers, color::Colorimetry(grid).srgb_weights());
+                            ProfileSolver& profiles, const Model& model) {
+  const auto r = responses(p, grid, model);
+  return profiles.rgb(r.pointers, color::Colorimetry(grid).srgb_weights());
+}
+
+transport::Validity skin_validity(const SkinParameters& p, const WavelengthGrid& grid,
+                                  const Model& model) {
+  std::vector<std::string> labels;
+  labels.reserve(grid.size());
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    std::ostringstream os;
+    os << grid[i] << " nm";
+    labels.push_back(os.str());
+  }
+  return transport::combined_validity(model, skin_layer_stacks(p, grid), labels);
 }
 
 }  // namespace skin

@@ -49,8 +49,10 @@ void prepare_skin_material(Material& m, const SkinParameters& p) {
   // The shape of each channel's profile from a 10 nm grid (the spectra are smooth at that scale
   // and the transform costs in proportion to the number of wavelengths), its total from the
   // paper's 2 nm grid (exact at k = 0 and cheap), so that R_d matches `skin color` exactly.
-  const RgbProfile prof = skin_rgb_profile(p, WavelengthGrid(400.0, 700.0, 10.0), solver, m.solver);
-  const auto total = skin_spectrum(p, WavelengthGrid(), m.solver).color.srgb_linear;
+  const WavelengthGrid shape_grid(400.0, 700.0, 10.0);
+  const RgbProfile prof = skin_rgb_profile(p, shape_grid, solver, *m.solver);
+  const auto total = skin_spectrum(p, WavelengthGrid(), *m.solver).color.srgb_linear;
+  m.validity = skin_validity(p, shape_grid, *m.solver);
   for (int c = 0; c < 3; ++c) {
     const auto ci = static_cast<std::size_t>(c);
     m.R_d[c] = total[c];
@@ -122,15 +124,18 @@ const Material& Material::node_at(double u, double v, double xi) const {
 
 void prepare_layered_material(Material& m, const std::array<LayerStack, 3>& stacks) {
   m.kind = MaterialKind::layered;
+  m.stacks = stacks;
   const RadialGrid radii = profile_radii();
   ProfileSolver solver(radii);
   for (int c = 0; c < 3; ++c) {
     const auto ci = static_cast<std::size_t>(c);
-    const DiffusionStack ds(stacks[ci]);  // validates (InputError names the layer)
-    const std::vector<double> R = solver.profile(ds);
-    m.R_d[c] = ds.R_d();
-    m.profile[ci] = TabulatedProfile(radii.r, R, ds.R_d());
+    const auto response = m.solver->response(stacks[ci]);  // validates (InputError names the layer)
+    const std::vector<double> R = solver.profile(*response);
+    m.R_d[c] = response->total();
+    m.profile[ci] = TabulatedProfile(radii.r, R, m.R_d[c]);
   }
+  m.validity = transport::combined_validity(*m.solver, {stacks.begin(), stacks.end()},
+                                            {"red", "green", "blue"});
   for (int c = 0; c < 3; ++c) m.texture_normalisation[c] = m.R_d[c] > 1e-6 ? 1.0 / m.R_d[c] : 0.0;
   m.specular_albedo = specular_albedo(m.roughness, m.eta);
 }

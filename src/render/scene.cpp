@@ -120,6 +120,11 @@ auto with_context(const std::string& file, const std::string& where, F&& f) {
   }
 }
 
+// The material's `solver`: a transport model of the registry by name.
+const transport::Model* read_solver(const Reader& r) {
+  return with_context(r.file(), r.path("solver"), [&] { return &transport::find_model(r.string("solver")); });
+}
+
 Material parse_material(const Reader& r, const std::string& name, const std::string& base) {
   Material m;
   m.name = name;
@@ -145,7 +150,7 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
     p.dermis_scattering_scale = r.number("dermis_scattering_scale", p.dermis_scattering_scale);
     p.eta = r.number("eta", p.eta);
     p.roughness = r.number("roughness", p.roughness);
-    if (r.has("solver")) m.solver = with_context(r.file(), r.path("solver"), [&] { return parse_solver(r.string("solver")); });
+    if (r.has("solver")) m.solver = read_solver(r);
     with_context(r.file(), "materials." + name, [&] { prepare_skin_material(m, p); return 0; });
     if (r.has("albedo_texture")) {
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
@@ -185,7 +190,9 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
       with_context(r.file(), r.path("parameter_maps"), [&] { prepare_parameter_maps(m, p); return 0; });
     }
   } else if (type == "layered") {
-    r.allow({"type", "layers", "eta_above", "eta_below", "rho_s", "roughness", "eta", "albedo_texture"});
+    r.allow({"type", "layers", "eta_above", "eta_below", "rho_s", "roughness", "eta", "albedo_texture",
+             "solver"});
+    if (r.has("solver")) m.solver = read_solver(r);
     m.rho_s = r.number("rho_s", 0.0);
     m.roughness = r.number("roughness", 0.35);
     m.eta = r.number("eta", 1.4);
@@ -448,7 +455,7 @@ Scene Scene::default_scene() {
 
 void Scene::set_skin_parameters(const SkinParameters& p) {
   // The profiles depend only on the parameters and the solver: compute them once per solver.
-  std::map<Solver, Material> computed;
+  std::map<const transport::Model*, Material> computed;
   for (auto& m : impl_->data.materials)
     if (m.kind == MaterialKind::skin) {
       auto it = computed.find(m.solver);
@@ -466,6 +473,7 @@ void Scene::set_skin_parameters(const SkinParameters& p) {
       m.roughness = fresh.roughness;
       m.eta = fresh.eta;
       m.specular_albedo = fresh.specular_albedo;
+      m.validity = fresh.validity;
       if (!m.texture_reference_fixed) m.texture_normalisation = fresh.texture_normalisation;
       prepare_parameter_maps(m, p);  // mapped parameters keep their maps
     }
@@ -482,13 +490,25 @@ void Scene::make_translucent_diffuse() {
     }
 }
 
-void Scene::set_solver(Solver solver) {
-  for (auto& m : impl_->data.materials)
-    if (m.kind == MaterialKind::skin && m.solver != solver) {
-      m.solver = solver;
+void Scene::set_solver(const transport::Model& solver) {
+  for (auto& m : impl_->data.materials) {
+    if (!m.translucent() || m.solver == &solver) continue;
+    m.solver = &solver;
+    if (m.kind == MaterialKind::skin) {
       prepare_skin_material(m, m.parameters);
       prepare_parameter_maps(m, m.parameters);
+    } else {
+      prepare_layered_material(m, m.stacks);
     }
+  }
+}
+
+std::vector<Scene::MaterialValidity> Scene::validity() const {
+  std::vector<MaterialValidity> out;
+  for (const auto& m : impl_->data.materials)
+    if (m.translucent() && !m.validity.ok())
+      out.push_back({m.name, std::string(m.solver->name()), m.validity});
+  return out;
 }
 
 int Scene::width() const { return impl_->data.camera.width; }

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "skin/model/skin_model.hpp"
+#include "skin/transport/model.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/render/math.hpp"
 #include "skin/render/microfacet.hpp"
@@ -36,7 +37,10 @@ struct Material {
   std::shared_ptr<const Texture> albedo_map; // diffuse: reflectance; skin: colour to reproduce
   // Translucent materials (skin, layered):
   SkinParameters parameters;                  // skin only (for reports)
-  Solver solver = Solver::accurate;           // skin only: the model's transport solver
+  // Translucent materials: the transport model of the profiles (the scene key `solver`).
+  const transport::Model* solver = &transport::default_model();
+  std::array<LayerStack, 3> stacks;           // layered only: the stack per channel
+  transport::Validity validity;               // of the profiles (skin: over wavelength)
   std::array<TabulatedProfile, 3> profile;    // R(r) per linear sRGB channel [1/mm^2]
   Rgb3 R_d;                                   // totals per channel
   Rgb3 texture_normalisation{1, 1, 1};        // 1 / R_d colour of the assumed chromophores

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 #include <ostream>
+#include <sstream>
+#include <string>
 
 #include "skin/physics/fresnel.hpp"
 #include "skin/transport/accurate.hpp"
@@ -20,31 +22,6 @@ LayerStack top_layer(const LayerStack& stack) {
   top.eta_above = stack.eta_above;
   top.eta_below = stack.layers.size() > 1 ? stack.layers[1].eta : stack.eta_below;
   return top;
-}
-
-// Fresnel moments of a boundary seen from inside a medium of relative index eta = n_in / n_out:
-// C1 = int_0^1 F(mu) mu dmu, C2 = int_0^1 F(mu) mu^2 dmu (midpoint rule on 4000 cells; the
-// integrand has only a square-root kink at the critical angle: error < 1e-6).
-struct FresnelMoments {
-  double C1 = 0, C2 = 0;
-};
-FresnelMoments fresnel_moments(double eta) {
-  // They depend on eta alone, and a spectrum asks for the same eta at every wavelength: the last
-  // one is kept per thread (4000 Fresnel evaluations each).
-  thread_local double last_eta = -1;
-  thread_local FresnelMoments last;
-  if (eta == last_eta) return last;
-  FresnelMoments m;
-  last_eta = eta;
-  if (eta == 1.0) return last = m;
-  constexpr int n = 4000;
-  for (int i = 0; i < n; ++i) {
-    const double mu = (i + 0.5) / n;
-    const double F = fresnel_dielectric(mu, eta, 1.0);
-    m.C1 += F * mu / n;
-    m.C2 += F * mu * mu / n;
-  }
-  return last = m;
 }
 
 // Sums over the pole family c + i P (all integers i) of exp(-|c + i P| s), with and without the
@@ -84,11 +61,19 @@ double partial_current_k(const DiffusionSlab& sl, double z_s, double C_phi, doub
 // The built-in tables that describe the top layer of `stack`: its index and the index above it
 // are theirs, its g is a table's or lies between two tables' (then blended, weight w on the
 // upper one), and, for a finite layer, the index below it is matched and its thickness in range.
+// `gap` says why not (empty when they do).
 struct TableChoice {
   const TopLayerTable* lo = nullptr;
   const TopLayerTable* hi = nullptr;
   double w = 0;
+  std::string gap;
 };
+std::string number(double v) {
+  std::ostringstream os;
+  os.precision(3);
+  os << v;
+  return os.str();
+}
 TableChoice tables_for(const LayerStack& stack) {
   const Layer& l0 = stack.layers.front();
   std::vector<const TopLayerTable*> same;
@@ -96,6 +81,13 @@ TableChoice tables_for(const LayerStack& stack) {
     if (std::abs(l0.eta - t.eta) < 1e-9 && std::abs(stack.eta_above - t.eta_above) < 1e-9)
       same.push_back(&t);
   TableChoice c;
+  const auto& all = TopLayerTable::builtin_set();
+  if (same.empty()) {
+    c.gap = "top layer eta = " + number(l0.eta) + " under eta_above = " +
+            number(stack.eta_above) + " has no transport table (tables: eta = " +
+            number(all.front().eta) + " under " + number(all.front().eta_above) + ")";
+    return c;
+  }
   for (std::size_t i = 0; i < same.size(); ++i) {
     if (std::abs(l0.g - same[i]->g) < 1e-9) {
       c.lo = c.hi = same[i];
@@ -109,22 +101,74 @@ TableChoice tables_for(const LayerStack& stack) {
       break;
     }
   }
-  if (!c.lo || l0.semi_infinite()) return c;  // a half-space is split (constructor)
+  if (!c.lo) {
+    c.gap = "top layer g = " + number(l0.g) + " is outside the transport tables' [" +
+            number(same.front()->g) + ", " + number(same.back()->g) + "]";
+    return c;
+  }
+  if (l0.semi_infinite()) return c;  // a half-space is split (constructor)
   const double sigma_t_prime = l0.sigma_a + l0.sigma_s_prime;
   const double n_below = stack.layers.size() > 1 ? stack.layers[1].eta : stack.eta_below;
-  if (std::abs(n_below - l0.eta) >= 1e-9 ||
-      !c.lo->covers(l0.sigma_s_prime / sigma_t_prime, l0.thickness * sigma_t_prime))
-    return {};
+  const double tau_prime = l0.thickness * sigma_t_prime;
+  if (std::abs(n_below - l0.eta) >= 1e-9) {
+    c = {};
+    c.gap = "index step below the top layer (" + number(l0.eta) + " over " + number(n_below) +
+            "): the transport tables assume a matched one";
+  } else if (!c.lo->covers(l0.sigma_s_prime / sigma_t_prime, tau_prime)) {
+    c = {};
+    c.gap = "top layer is " + number(tau_prime) +
+            " transport mean free paths thick, outside the transport tables' " +
+            number(all.front().tau.front()) + "-" + number(all.front().tau.back());
+  }
   return c;
 }
 }  // namespace
 
+FresnelMoments FresnelMoments::of(double eta) {
+  FresnelMoments m;
+  if (eta == 1.0) return m;
+  constexpr int n = 4000;
+  for (int i = 0; i < n; ++i) {
+    const double mu = (i + 0.5) / n;
+    const double F = fresnel_dielectric(mu, eta, 1.0);
+    m.C1 += F * mu / n;
+    m.C2 += F * mu * mu / n;
+  }
+  return m;
+}
+
+std::string transport_table_gap(const LayerStack& stack) {
+  stack.validate();
+  const TableChoice c = tables_for(stack);
+  if (!c.gap.empty())
+    return c.gap + "; the profile's shape falls back to corrected diffusion, not validated "
+                   "against Monte Carlo (it can be several times off)";
+  // Darker than the darkest node: the table is clamped there (its R_e then exceeds the
+  // adding-doubling reflectance of the layer, 3x at alpha' = 0.04: c_top carries the difference).
+  const Layer& l0 = stack.layers.front();
+  const double alpha_prime = l0.sigma_s_prime / (l0.sigma_a + l0.sigma_s_prime);
+  const double x_max = c.lo->x.back();
+  const double alpha_min = 1.0 - x_max * x_max;
+  if (alpha_prime < alpha_min)
+    return "top layer's reduced albedo alpha' = " + number(alpha_prime) +
+           " is below the transport tables' " + number(alpha_min) +
+           "; the profile's shape is their darkest node's, scaled to the total, not validated "
+           "against Monte Carlo";
+  return {};
+}
+
 AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
-    : totals_(adding_doubling(stack, options)) {
+    : AccurateStack(stack, options, [&] {
+        stack.validate();
+        return FresnelMoments::of(stack.layers.front().eta / stack.eta_above);
+      }(), Cache()) {}
+
+AccurateStack::AccurateStack(const LayerStack& stack, const Options& options,
+                             const FresnelMoments& fm, const Cache& cache)
+    : totals_(adding_doubling(stack, options, cache)) {
   const auto& ls = stack.layers;
   const Layer& l0 = ls.front();
   const double eta_top = l0.eta / stack.eta_above;
-  const FresnelMoments fm = fresnel_moments(eta_top);
   // Partial current through the top surface (Kienle & Patterson 1997): the diffuse radiance
   // phi / 4 pi + 3 j mu / 4 pi, times 1 - F(mu), integrated over the outgoing hemisphere.
   C_phi_ = 0.25 * (1.0 - 2.0 * fm.C1);
@@ -162,7 +206,7 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     if (choice.hi != choice.lo)
       top_sample_ = TopLayerTable::blend(top_sample_, choice.hi->sample(alpha_prime, tau_prime),
                                          choice.w);
-    const double R_top_ad = rest_ ? adding_doubling(top, options).R_d : totals_.R_d;
+    const double R_top_ad = rest_ ? adding_doubling(top, options, cache).R_d : totals_.R_d;
     const double R_e = table_->R_e_integral(top_sample_);
     const double deep = coupling_k(0.0);
     c_top_ = R_e > 0 ? R_top_ad / R_e : 1.0;
@@ -193,7 +237,7 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     if (!(c_top_ > 0 && std::isfinite(c_top_))) use_dipole_only();
     return;
   }
-  const double R_top_ad = adding_doubling(top_layer(stack), options).R_d;
+  const double R_top_ad = adding_doubling(top_layer(stack), options, cache).R_d;
   const double deep_mp = R_mp - R_top_mp;
   c_top_ = R_top_ad / R_top_mp;
   // The light that came back from below the top layer: its adding-doubling share is the rest of

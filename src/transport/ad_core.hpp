@@ -31,15 +31,16 @@ int propagating(const Streams& st, double n);
 struct LayerRT {
   Eigen::MatrixXd R, T;  // m x m, m = propagating(st, layer.eta)
 };
-// tabulate: semi-infinite layers from the interpolated table (true) or by direct doubling.
-LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulate = true);
+// tabulate: layers from the interpolated tables of `cache` (true) or by direct doubling.
+LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulate,
+                 const Cache& cache);
 
 struct Boundary {
   Eigen::VectorXd r, t;  // diagonal reflection and transmission per stream (flux)
 };
 Boundary boundary(const Streams& st, double n_a, double n_b);
 
-// adding_doubling() with the choice of how semi-infinite layers are computed.
-Totals solve(const LayerStack& stack, const Options& options, bool tabulate);
+// adding_doubling() with the choice of how layers are computed (tables or direct doubling).
+Totals solve(const LayerStack& stack, const Options& options, bool tabulate, const Cache& cache);
 
 }  // namespace skin::accurate::detail

@@ -25,6 +25,7 @@
 #include <deque>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <ostream>
 #include <vector>
@@ -43,10 +44,6 @@ std::ostream& operator<<(std::ostream& os, const Options& o) {
   return os << "accurate::Options{quadrature_points=" << o.quadrature_points << '}';
 }
 
-std::ostream& operator<<(std::ostream& os, const Totals& t) {
-  return os << "Totals{R_specular=" << t.R_specular << ", R_d=" << t.R_d << ", T_d=" << t.T_d
-            << '}';
-}
 
 namespace detail {
 
@@ -127,6 +124,8 @@ namespace {
 struct SemiInfiniteTable {
   static constexpr int kNodes = 256;
   std::vector<Mat> R = std::vector<Mat>(kNodes + 1);
+  // Each node is filled once, by whichever thread needs it first.
+  std::unique_ptr<std::once_flag[]> filled = std::make_unique<std::once_flag[]>(kNodes + 1);
 };
 
 // Finite-layer reflection and transmission on the nodes (x_i, tau_j): x_i = i / kX (x = sqrt(1 -
@@ -140,10 +139,12 @@ struct SlabTable {
   // too fast across an x cell for cubic interpolation (the caller then doubles directly).
   static constexpr int kTau = 9 * kPerOctave;
   std::vector<LayerRT> nodes = std::vector<LayerRT>((kX + 1) * (kTau + 1));
+  std::unique_ptr<std::once_flag[]> filled = std::make_unique<std::once_flag[]>((kX + 1) * (kTau + 1));
 };
 
 // Angular data of one medium (index n, anisotropy g) on a stream set: cosines, weights and the
-// delta-M redistribution matrices. Cached per thread (a spectrum repeats the same geometry).
+// delta-M redistribution matrices, and the layer tables on them. Kept in a Cache (a spectrum
+// repeats the same geometry).
 struct Geometry {
   int m = 0;
   Vec mu;       // cosines of the propagating streams
@@ -220,15 +221,39 @@ Geometry build_geometry(const Streams& st, double n, double g) {
   return geo;
 }
 
-const Geometry& geometry(const Streams& st, double n, double g, int points) {
-  // A deque: references stay valid while entries are added.
-  thread_local std::deque<std::pair<GeometryKey, Geometry>> cache;
+}  // namespace
+
+}  // namespace detail
+
+struct Cache::Impl {
+  std::mutex mutex;
+  // The last 16 geometries used (a spectrum needs one or two); entries are shared, so that an
+  // evicted one stays valid for the solve that holds it.
+  std::deque<std::pair<detail::GeometryKey, std::shared_ptr<const detail::Geometry>>> entries;
+};
+
+Cache::Cache() : impl_(std::make_unique<Impl>()) {}
+Cache::~Cache() = default;
+
+namespace detail {
+namespace {
+
+std::shared_ptr<const Geometry> geometry(const Cache& cache, const Streams& st, double n, double g,
+                                         int points) {
   GeometryKey key{n, g, st.n_ref, points, st.edges};
-  for (const auto& e : cache)
-    if (e.first == key) return e.second;
-  if (cache.size() >= 16) cache.pop_front();
-  cache.emplace_back(std::move(key), build_geometry(st, n, g));
-  return cache.back().second;
+  Cache::Impl& c = cache.impl();
+  {
+    const std::lock_guard lock(c.mutex);
+    for (const auto& e : c.entries)
+      if (e.first == key) return e.second;
+  }
+  auto geo = std::make_shared<const Geometry>(build_geometry(st, n, g));  // outside the lock
+  const std::lock_guard lock(c.mutex);
+  for (const auto& e : c.entries)
+    if (e.first == key) return e.second;  // another thread built it meanwhile
+  if (c.entries.size() >= 16) c.entries.pop_front();
+  c.entries.emplace_back(std::move(key), geo);
+  return geo;
 }
 
 }  // namespace
@@ -289,12 +314,12 @@ Mat semi_infinite_direct(const Geometry& geo, double omega) {
 Mat table_at(const Geometry& geo, double omega) {
   constexpr int K = SemiInfiniteTable::kNodes;
   auto node = [&](int j) -> const Mat& {
-    Mat& r = geo.table.R[static_cast<std::size_t>(j)];
-    if (r.size() == 0) {
+    const auto jj = static_cast<std::size_t>(j);
+    std::call_once(geo.table.filled[jj], [&] {
       const double x = static_cast<double>(j) / K;
-      r = semi_infinite_direct(geo, 1.0 - x * x);
-    }
-    return r;
+      geo.table.R[jj] = semi_infinite_direct(geo, 1.0 - x * x);
+    });
+    return geo.table.R[jj];
   };
   const double x = std::sqrt(std::max(0.0, 1.0 - omega)) * K;
   const int j0 = std::clamp(static_cast<int>(std::floor(x)) - 1, 0, K - 3);
@@ -341,12 +366,13 @@ bool slab_table_at(const Geometry& geo, double omega, double tau, LayerRT& out) 
   for (int a = 0; a < 4; ++a) {
     for (int b = 0; b < 4; ++b) {
       const int i = i0 + a, j = j0 + b;
-      LayerRT& node = geo.slab_table.nodes[static_cast<std::size_t>(i * (Tab::kTau + 1) + j)];
-      if (node.R.size() == 0) {
+      const auto k = static_cast<std::size_t>(i * (Tab::kTau + 1) + j);
+      LayerRT& node = geo.slab_table.nodes[k];
+      std::call_once(geo.slab_table.filled[k], [&] {
         const double xi = static_cast<double>(i) / Tab::kX;
         node = finite_direct(geo, 1.0 - xi * xi,
                              Tab::kTauMin * std::exp2(static_cast<double>(j) / Tab::kPerOctave));
-      }
+      });
       const double w = wx[a] * wt[b];
       out.R += w * node.R;
       out.T += w * node.T;
@@ -360,8 +386,10 @@ bool slab_table_at(const Geometry& geo, double omega, double tau, LayerRT& out) 
 // Reflection and transmission (flux form, m x m) of one homogeneous layer of optical thickness
 // tau (delta-M scaled) and single-scattering albedo omega: diamond initialisation and doubling.
 // A semi-infinite layer comes from the table (or by direct doubling when `tabulate` is false).
-LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulate) {
-  const Geometry& geo = geometry(st, layer.eta, layer.g, points);
+LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulate,
+                 const Cache& cache) {
+  const auto held = geometry(cache, st, layer.eta, layer.g, points);
+  const Geometry& geo = *held;
   const double sigma_s = layer.sigma_s() * (1 - geo.f);  // delta-M scaled [1/mm]
   const double sigma_t = layer.sigma_a + sigma_s;
   const double omega = sigma_s / sigma_t;
@@ -432,7 +460,8 @@ void add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T) {
 
 }  // namespace
 
-Totals detail::solve(const LayerStack& stack, const Options& options, bool options_tabulate) {
+Totals detail::solve(const LayerStack& stack, const Options& options, bool options_tabulate,
+                     const Cache& cache) {
   stack.validate();
   validate_options(options);
   bool index_steps = false;
@@ -456,7 +485,7 @@ Totals detail::solve(const LayerStack& stack, const Options& options, bool optio
   };
   if (semi) {
     --i;
-    below.R = embed(detail::layer_rt(st, ls[i], points, options_tabulate).R);
+    below.R = embed(detail::layer_rt(st, ls[i], points, options_tabulate, cache).R);
     if (i > 0 && ls[i - 1].eta != ls[i].eta) {  // the interface above the half-space
       const auto b = detail::boundary(st, ls[i - 1].eta, ls[i].eta);
       add_on_top(below, Mat(b.r.asDiagonal()), Mat(b.t.asDiagonal()), false);
@@ -468,7 +497,7 @@ Totals detail::solve(const LayerStack& stack, const Options& options, bool optio
   }
   while (i > 0) {
     --i;
-    const auto rt = detail::layer_rt(st, ls[i], points, options_tabulate);
+    const auto rt = detail::layer_rt(st, ls[i], points, options_tabulate, cache);
     add_on_top(below, embed(rt.R), embed(rt.T), !semi);
     if (i > 0 && ls[i - 1].eta != ls[i].eta) {
       const auto b = detail::boundary(st, ls[i - 1].eta, ls[i].eta);
@@ -490,8 +519,12 @@ Totals detail::solve(const LayerStack& stack, const Options& options, bool optio
   return out;
 }
 
+Totals adding_doubling(const LayerStack& stack, const Options& options, const Cache& cache) {
+  return detail::solve(stack, options, true, cache);
+}
+
 Totals adding_doubling(const LayerStack& stack, const Options& options) {
-  return detail::solve(stack, options, true);
+  return adding_doubling(stack, options, Cache());
 }
 
 }  // namespace skin::accurate

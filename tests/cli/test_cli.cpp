@@ -2,6 +2,7 @@
 // (one clear line naming the parameter, exit code 2, no output file, existing files untouched).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -90,6 +91,66 @@ TEST_F(Cli, AccurateSpectrumMatchesGoldenAndIsTheDefault) {
   // Dark skin in the blue: the multipole overstates R_d (docs/accurate-solver.md).
   const json mp = json::parse(run("spectrum --preset african --lambda-step 10 --solver multipole --format json").out);
   EXPECT_GT(mp["R_d"][5].get<double>(), 1.5 * got["R_d"][5].get<double>());  // 450 nm
+}
+
+// Outside its transport tables the accurate profile falls back to corrected diffusion: one
+// warning line naming the solver, the reason and what stays exact, and the JSON says so. A dark
+// top layer (alpha' = 0.038, below the tables' 0.0975) over a bright half-space.
+TEST_F(Cli, LayersWarnWhereTheAccurateProfileLeavesItsTables) {
+  const std::string dark_over_bright =
+      "layers --layer sigma_a=50,sigma_s_prime=2,thickness=0.05 --layer sigma_a=0.001,sigma_s_prime=10 ";
+  const CmdResult r = run(dark_over_bright + "--radius 0.3 --radius 3 --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(r.err.rfind("skin: warning: solver accurate: profile outside its validated range: top layer's reduced albedo", 0), 0u) << r.err;
+  EXPECT_NE(r.err.find("still exact: R_d and T_d (adding-doubling)"), std::string::npos) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["validity"]["totals"], true);
+  EXPECT_EQ(j["validity"]["profile"], false);
+  EXPECT_NE(j["validity"]["reason"].get<std::string>().find("alpha' = 0.0385"), std::string::npos);
+  // Without radii no profile is computed: nothing to warn about, the JSON still tells.
+  const CmdResult totals = run(dark_over_bright + "--format json");
+  EXPECT_EQ(totals.err, "");
+  EXPECT_EQ(json::parse(totals.out)["validity"]["profile"], false);
+  // Skin-like layers are inside the tables: no warning.
+  const CmdResult skin = run("layers --layer sigma_a=0.5,sigma_s_prime=5,thickness=0.25 "
+                             "--layer sigma_a=0.05,sigma_s_prime=2.5 --radius 1 --format json");
+  EXPECT_EQ(skin.err, "");
+  EXPECT_EQ(json::parse(skin.out)["validity"], json::parse(R"({"totals": true, "profile": true})"));
+}
+
+// The multipole's own bad regime (a layer thinner than z_r) through the same check.
+TEST_F(Cli, LayersWarnWhereTheMultipoleLayerIsThinnerThanZr) {
+  const CmdResult r = run("layers --solver multipole --layer sigma_a=0.5,sigma_s_prime=4.5,thickness=0.1 "
+                          "--layer sigma_a=0.05,sigma_s_prime=2.5 --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("skin: warning: solver multipole: totals and profile outside its validated range: "
+                       "layer 1 is thinner than z_r"), std::string::npos) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["validity"]["totals"], false);
+  EXPECT_EQ(j["validity"]["profile"], false);
+  // The same for skin: an epidermis of 0.1 mm is thinner than z_r in the red.
+  const CmdResult s = run("spectrum --solver multipole --epidermis-thickness 0.1 --lambda-step 100 --format json");
+  ASSERT_EQ(s.code, 0) << s.err;
+  EXPECT_NE(s.err.find("skin: warning: solver multipole: totals and profile outside its validated range: "
+                       "at 500 nm .. 700 nm (3 of 4): layer 1 is thinner than z_r"), std::string::npos) << s.err;
+  EXPECT_EQ(run("spectrum --epidermis-thickness 0.1 --lambda-step 100 --format json").err, "");
+}
+
+// Skin with another anisotropy: the tables cover g in [0.8, 0.95].
+TEST_F(Cli, ProfileWarnsForAnotherG) {
+  const CmdResult r = run("profile --g 0.7 --lambda-step 100 --samples 4 --format json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("skin: warning: solver accurate: profile outside its validated range: at 400 nm .. 700 nm "
+                       "(4 of 4): top layer g = 0.7 is outside the transport tables' [0.8, 0.95]"),
+            std::string::npos) << r.err;
+  const json j = json::parse(r.out);
+  EXPECT_EQ(j["validity"]["profile"], false);
+  EXPECT_EQ(j["validity"]["totals"], true);
+  // The default g is inside: silent, and so is the multipole, which does not depend on g.
+  EXPECT_EQ(run("profile --lambda-step 100 --samples 4 --format json").err, "");
+  EXPECT_EQ(run("profile --g 0.7 --solver multipole --lambda-step 100 --samples 4 --format json").err, "");
 }
 
 TEST_F(Cli, LayersSlabHasTransmittance) {

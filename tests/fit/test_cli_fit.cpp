@@ -11,6 +11,7 @@
 
 #include "../temp_dir.hpp"
 #include "skin/fit/fit.hpp"
+#include "test_params.hpp"
 
 namespace fs = std::filesystem;
 
@@ -46,7 +47,7 @@ std::string write_spectrum(const std::string& name, const skin::SkinParameters& 
   f << "# synthetic\nlambda_nm,R\n";
   std::vector<double> l;
   for (double x = 400; x <= 700; x += 5) l.push_back(x);
-  const auto R = skin::fit::model_reflectance(p, l, {});
+  const auto R = skin::fit::model_reflectance(p, l, skin_test::multipole_spectrum_options());
   for (std::size_t i = 0; i < l.size(); ++i) f << l[i] << "," << R[i] << "\n";
   return path;
 }

@@ -38,10 +38,11 @@ using skin_test::params;
 // 8-bit input. Multipole over a 5 x 3 x 3 grid; adding-doubling (`skin color`'s default) on a
 // smaller one (each of its evaluations costs ~70 multipole ones).
 namespace {
-void srgb_round_trip(const char* solver_name, skin::Solver solver, const std::vector<double>& cms,
+void srgb_round_trip(const char* solver_name, const std::vector<double>& cms,
                      const std::vector<double>& bms, const std::vector<double>& chs) {
-  ColorFitOptions o;
+  ColorFitOptions o = skin_test::multipole_color_options();
   o.model = forward_model(solver_name);
+  const skin::transport::Model& solver = skin::transport::find_model(solver_name);
   const ColorFitter fitter(o);
   const color::Colorimetry cm{skin::WavelengthGrid{}};
   for (double c_m : cms)
@@ -64,28 +65,24 @@ void srgb_round_trip(const char* solver_name, skin::Solver solver, const std::ve
 }  // namespace
 
 TEST(ColorFit, SrgbRoundTripWithinOneDeltaEMultipole) {
-  srgb_round_trip("multipole", skin::Solver::multipole, {0.002, 0.01, 0.05, 0.2, 0.45}, {0.0, 0.5, 1.0},
+  srgb_round_trip("multipole", {0.002, 0.01, 0.05, 0.2, 0.45}, {0.0, 0.5, 1.0},
                   {0.002, 0.02, 0.12});
 }
 
 TEST(ColorFit, SrgbRoundTripWithinOneDeltaEAccurate) {
-  const auto names = solver_names();
-  // skin_transport is a required layer: a fit without the accurate solver is a broken build, not
-  // a reason to skip.
-  ASSERT_NE(std::find(names.begin(), names.end(), "accurate"), names.end()) << "fit::solver_names() lacks accurate";
-  srgb_round_trip("accurate", skin::Solver::accurate, {0.005, 0.05, 0.3}, {0.3, 0.8}, {0.005, 0.05});
+  srgb_round_trip("accurate", {0.005, 0.05, 0.3}, {0.3, 0.8}, {0.005, 0.05});
 }
 
 // With beta_m free but regularised, flat directions go to the prior: a fit of the colour of a
 // beta_m = 0.7 skin returns close to 0.7; fixing beta_m (not free) keeps it exactly.
 TEST(ColorFit, MelaninBlendResolvedByPriorOrFixed) {
-  const auto truth = skin::skin_spectrum(params(0.01, 0.7, 0.01), {}, skin::Solver::multipole);
-  ColorFitOptions o;
+  const auto truth = skin::skin_spectrum(params(0.01, 0.7, 0.01), {}, skin::transport::find_model("multipole"));
+  ColorFitOptions o = skin_test::multipole_color_options();
   o.free = {Parameter::melanin, Parameter::hemoglobin};
   o.start.melanin_blend = 0.3;
   const ColorFitResult fixed = ColorFitter(o).fit(truth.color.srgb_linear);
   EXPECT_DOUBLE_EQ(fixed.parameters.melanin_blend, 0.3);
-  const ColorFitResult reg = ColorFitter().fit(truth.color.srgb_linear);
+  const ColorFitResult reg = ColorFitter(skin_test::multipole_color_options()).fit(truth.color.srgb_linear);
   EXPECT_NEAR(reg.parameters.melanin_blend, 0.7, 0.1);
   EXPECT_LT(reg.delta_e, 0.2);
 }
@@ -100,7 +97,7 @@ TEST(ColorFit, Parsing) {
   EXPECT_THROW(parse_srgb8("a,2,3"), skin::InputError);
   EXPECT_THROW(parse_hex("d8a89"), skin::InputError);
   EXPECT_THROW(parse_hex("g8a890"), skin::InputError);
-  ColorFitOptions o;
+  ColorFitOptions o = skin_test::multipole_color_options();
   o.free = {Parameter::oxygenation};
   EXPECT_THROW(ColorFitter{o}, skin::InputError);
 }
@@ -110,8 +107,8 @@ TEST(ColorFit, Parsing) {
 // exact model anywhere in the box (random points, fixed seed), so that the error map measures
 // the fit, not the table.
 TEST(TextureFit, TableInterpolationMatchesExactModel) {
-  const TextureFitter tex;
-  const ColorFitter exact;
+  const TextureFitter tex(skin_test::multipole_color_options());
+  const ColorFitter exact(skin_test::multipole_color_options());
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   double worst = 0;
@@ -132,7 +129,7 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
     for (int x = 0; x < w; ++x) {
       const auto p = params(0.002 * std::pow(1.6, x), 0.7, 0.002 * std::pow(2.5, y));
       truth.push_back(p);
-      const auto s8 = skin::skin_spectrum(p, {}, skin::Solver::multipole).color.srgb8;
+      const auto s8 = skin::skin_spectrum(p, {}, skin::transport::find_model("multipole")).color.srgb8;
       for (int c = 0; c < 3; ++c) px[static_cast<std::size_t>((y * w + x) * 3 + c)] = static_cast<unsigned char>(s8[static_cast<std::size_t>(c)]);
     }
   px[0] = 0, px[1] = 0, px[2] = 255;
@@ -143,7 +140,7 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
   const Image img = skin::image::read_image(png);
   ASSERT_EQ(img.width, w);
   ASSERT_EQ(img.height, h);
-  const ParameterMaps maps = TextureFitter().fit(img);
+  const ParameterMaps maps = TextureFitter(skin_test::multipole_color_options()).fit(img);
   for (std::size_t i = 1; i < truth.size(); ++i) EXPECT_LT(maps.error[i], 1.0) << i;
   EXPECT_GT(maps.error[0], 10.0);  // pure blue is no skin colour
   // Light skin: C_m is well determined by colour (within 15 %).

@@ -1,5 +1,8 @@
 #pragma once
-// Shared by the fit tests: the paper's three fitted parameters, the rest at their defaults.
+// Shared by the fit tests: the paper's three fitted parameters, the rest at their defaults, and
+// the paper's forward model (the multipole; the library's default is the registry's).
+#include "skin/fit/color_fit.hpp"
+#include "skin/fit/fit.hpp"
 #include "skin/physics/skin_parameters.hpp"
 
 namespace skin_test {
@@ -9,5 +12,16 @@ inline skin::SkinParameters params(double cm, double bm, double ch) {
   p.melanin_blend = bm;
   p.hemoglobin = ch;
   return p;
+}
+inline skin::fit::ForwardModel multipole() { return skin::fit::forward_model("multipole"); }
+inline skin::fit::SpectrumFitOptions multipole_spectrum_options() {
+  skin::fit::SpectrumFitOptions o;
+  o.model = multipole();
+  return o;
+}
+inline skin::fit::ColorFitOptions multipole_color_options() {
+  skin::fit::ColorFitOptions o;
+  o.model = multipole();
+  return o;
 }
 }  // namespace skin_test

@@ -41,7 +41,7 @@ using skin_test::params;
 // parameters to 2 % (relative) or 0.02 (beta_m, absolute); where melanin hides the dermis
 // (C_m >= 0.3) C_h is only weakly identifiable and its tolerance is 15 %.
 TEST(SpectrumFit, RoundTripNoiseFree) {
-  const SpectrumFitter fitter;
+  const SpectrumFitter fitter(skin_test::multipole_spectrum_options());
   int n = 0;
   for (double cm : {0.002, 0.02, 0.1, 0.4})
     for (double bm : {0.1, 0.5, 0.9})
@@ -62,7 +62,7 @@ TEST(SpectrumFit, RoundTripNoiseFree) {
 // parameter must be consistent with the reported one-sigma uncertainty: within 4 sigma always
 // (a Gaussian exceeds that with probability 6e-5), and the reported sigma must be finite.
 TEST(SpectrumFit, RoundTripNoisyWithinReportedUncertainty) {
-  const SpectrumFitter fitter;
+  const SpectrumFitter fitter(skin_test::multipole_spectrum_options());
   unsigned seed = 11;
   int within2 = 0, total = 0;
   for (double cm : {0.005, 0.05, 0.2})
@@ -86,7 +86,7 @@ TEST(SpectrumFit, RoundTripNoisyWithinReportedUncertainty) {
 }
 
 TEST(SpectrumFit, SpecularTermRecoversOiliness) {
-  SpectrumFitOptions o;
+  SpectrumFitOptions o = skin_test::multipole_spectrum_options();
   o.includes_specular = true;
   const SpectrumFitter fitter(o);
   auto truth = params(0.03, 0.6, 0.01);
@@ -100,7 +100,7 @@ TEST(SpectrumFit, SpecularTermRecoversOiliness) {
 }
 
 TEST(SpectrumFit, ExtendedTermsRoundTrip) {
-  SpectrumFitOptions o;
+  SpectrumFitOptions o = skin_test::multipole_spectrum_options();
   o.free = parse_parameter_list("melanin,melanin-blend,hemoglobin,oxygenation,scattering-scale,beta-carotene");
   const SpectrumFitter fitter(o);
   auto truth = params(0.02, 0.5, 0.02);
@@ -116,7 +116,7 @@ TEST(SpectrumFit, ExtendedTermsRoundTrip) {
 }
 
 TEST(SpectrumFit, BoundsAreRespected) {
-  SpectrumFitOptions o;
+  SpectrumFitOptions o = skin_test::multipole_spectrum_options();
   o.bounds = {{Parameter::melanin, {0.0, 0.01}}};
   const SpectrumFitter fitter(o);
   const FitResult r = fitter.fit(synthetic(params(0.05, 0.5, 0.01), fitter.options()));
@@ -127,7 +127,7 @@ TEST(SpectrumFit, BoundsAreRespected) {
 
 TEST(SpectrumFit, ArbitrarySamplingAndRange) {
   // 5 nm steps over 450-650 nm only (the minimum coverage): still recovered.
-  const SpectrumFitter fitter;
+  const SpectrumFitter fitter(skin_test::multipole_spectrum_options());
   MeasuredSpectrum m;
   for (double l = 450; l <= 650; l += 5) m.wavelength_nm.push_back(l);
   const auto truth = params(0.05, 0.3, 0.03);
@@ -179,7 +179,7 @@ TEST(SpectrumInput, WavelengthsMustIncrease) {
   EXPECT_NE(error_of(write_temp("order.csv", "lambda_nm,R\n400,0.1\n390,0.1\n")).find("increase"), std::string::npos);
 }
 TEST(SpectrumInput, OiilinessNeedsTheSpecularTerm) {
-  SpectrumFitOptions o;
+  SpectrumFitOptions o = skin_test::multipole_spectrum_options();
   o.free = {Parameter::melanin, Parameter::oiliness};
   EXPECT_THROW(SpectrumFitter{o}, skin::InputError);
   EXPECT_THROW(parse_parameter_list("melanin,melanin"), skin::InputError);
@@ -192,7 +192,7 @@ TEST(SpectrumInput, OiilinessNeedsTheSpecularTerm) {
 // it the model is undefined for the fit (NaN), which keeps the search out of the region where
 // the slab transmittance changes sign.
 TEST(SpectrumFit, MultipoleDomainBarrier) {
-  const auto model = multipole_model();
+  const auto model = skin_test::multipole();
   auto p = params(0.01, 0.5, 0.01);
   EXPECT_TRUE(std::isfinite(model(p, 650)));
   p.epidermis_thickness = 0.1;  // sigma_t' at 650 nm is ~5/mm: z_r = 0.2 mm > d
@@ -204,7 +204,7 @@ TEST(SpectrumFit, MultipoleDomainBarrier) {
 TEST(MeasuredSpectra, PaperSpectraFitWithExtendedModel) {
   const std::string path = std::string(SKIN_SHARED_DATA_DIR) + "/skin_spectra/vrhel_ncsu/vrhel_skin_reflectance.csv";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "measured spectra not available: " << path;
-  SpectrumFitOptions paper, ext;
+  SpectrumFitOptions paper = skin_test::multipole_spectrum_options(), ext = paper;
   ext.includes_specular = true;
   for (Parameter p : extended_parameters()) ext.free.push_back(p);
   const SpectrumFitter f_paper(paper), f_ext(ext);
@@ -228,7 +228,7 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
   const auto truth = params(0.05, 0.5, 0.02);
   std::vector<double> l;
   for (double x = 400; x <= 700; x += 10) l.push_back(x);
-  const auto R = model_reflectance(truth, l, {});
+  const auto R = model_reflectance(truth, l, skin_test::multipole_spectrum_options());
   {
     std::ofstream f(dir / "spectra.csv");
     f << "lambda_nm,synth_a\n";
@@ -236,7 +236,7 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
     std::ofstream(dir / "spectra_metadata.csv") << "Column,original_label,used_in_donner_jensen_2006\n"
                                                    "synth_a,\"synthetic, known answer\",yes\n";
   }
-  const auto entries = fit_measured_spectra(dir.string());
+  const auto entries = fit_measured_spectra(dir.string(), skin_test::multipole());
   std::ostringstream md;
   skin::cli::write_measured_report(md, entries, dir.string(), out.string(), "multipole");
   ASSERT_EQ(entries.size(), 1u);
@@ -256,9 +256,6 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
 TEST(SpectrumFit, SolversByName) {
   EXPECT_THROW(forward_model("diffusion-ish"), skin::InputError);
   EXPECT_NO_THROW(forward_model("multipole"));
-  const auto names = solver_names();
-  // skin_transport is a required layer: its absence is a broken build, not a reason to skip.
-  ASSERT_NE(std::find(names.begin(), names.end(), "accurate"), names.end()) << "fit::solver_names() lacks accurate";
   SpectrumFitOptions o;
   o.model = forward_model("accurate");
   const SpectrumFitter fitter(o);

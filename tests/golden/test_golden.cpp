@@ -51,7 +51,7 @@ json compute() {
   const skin::WavelengthGrid grid;  // 400-700 nm every 2 nm
   const auto radii = skin::RadialGrid::logarithmic(0.001, 16, 24);
   for (const char* name : kSolvers) {
-    const skin::Solver solver = skin::parse_solver(name);
+    const skin::transport::Model& solver = skin::transport::find_model(name);
     json& js = out[name];
     skin::ProfileSolver profiles(radii);
     for (const auto& preset : skin::presets()) {
@@ -72,8 +72,8 @@ json compute() {
     int i = 0;
     for (const auto& stack : generic_stacks()) {
       json& jg = js["stacks"][std::to_string(i++)];
-      jg["R_d"] = skin::stack_R_d(stack, solver);
-      if (solver == skin::Solver::accurate) {
+      jg["R_d"] = solver.R_d(stack);
+      if (std::string(name) == "accurate") {
         const skin::accurate::AccurateStack acc(stack);
         jg["T_d"] = acc.T_d();
         jg["profile"] = profiles.profile(acc);
@@ -85,7 +85,7 @@ json compute() {
     {
       const skin::WavelengthGrid g5(400, 700, 5);
       const auto s = skin::skin_spectrum(skin::find_preset("tanned").parameters, g5,
-                                         skin::Solver::multipole);
+                                         skin::transport::find_model("multipole"));
       skin::fit::MeasuredSpectrum m;
       m.name = "golden";
       for (std::size_t k = 0; k < g5.size(); ++k) {

@@ -39,7 +39,7 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
   // its error is known: (1.1 R_diff - R_mc) / R_mc.
   auto cases = mc::generic_cases();
   std::vector<mc::ValidationCase> two{cases[3], cases[4]};  // absorbing semi-infinite: fast
-  mc::SolverColumn scaled = mc::multipole_solver();
+  mc::SolverColumn scaled = mc::solver_column(skin::transport::find_model("multipole"));
   scaled.name = "scaled-by-1.1";
   scaled.R_d = [](const skin::LayerStack& s) { return 1.1 * skin::DiffusionStack(s).R_d(); };
   scaled.profile = {};  // no profile: the report must cope
@@ -49,7 +49,7 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
   std::vector<std::pair<std::size_t, std::size_t>> calls;
   std::vector<std::string> ids;
   const auto run = mc::run_validation(
-      two, {mc::multipole_solver(), scaled}, o,
+      two, {mc::solver_column(skin::transport::find_model("multipole")), scaled}, o,
       [&](std::size_t done, std::size_t total, const mc::CaseResult& c) {
         calls.emplace_back(done, total);
         ids.push_back(c.c.id);

@@ -55,7 +55,7 @@ TEST(KnownAnswer, SkinSlabWithoutSpecularIsRdColour) {
     const Stats st = pixel_stats(render(scene, rs));
     SkinParameters p = find_preset("caucasian").parameters;
     p.oiliness = 0;
-    const auto expected = skin_spectrum(p, WavelengthGrid(), parse_solver(solver)).color.srgb_linear;
+    const auto expected = skin_spectrum(p, WavelengthGrid(), skin::transport::find_model(solver)).color.srgb_linear;
     for (int c = 0; c < 3; ++c) {
       SCOPED_TRACE(c);
       EXPECT_NEAR(st.mean[c], expected[c], 0.01 * expected[c]) << st.mean << " stderr " << st.stderr_;

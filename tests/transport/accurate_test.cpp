@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "ad_core.hpp"
@@ -148,12 +149,13 @@ TEST(Limits, SplittingALayerChangesNothing) {
 }
 
 TEST(Limits, SemiInfiniteTableMatchesDirectDoubling) {
+  const skin::accurate::Cache cache;
   for (double albedo_prime : {0.05, 0.3, 0.7, 0.95, 0.999, 0.99999}) {
     for (double n : {1.0, 1.4}) {
       LayerStack s;
       s.layers = {Layer{1 - albedo_prime, albedo_prime, skin::kInfinity, n, 0.9}};
-      const auto tab = skin::accurate::detail::solve(s, {}, true);
-      const auto direct = skin::accurate::detail::solve(s, {}, false);
+      const auto tab = skin::accurate::detail::solve(s, {}, true, cache);
+      const auto direct = skin::accurate::detail::solve(s, {}, false, cache);
       EXPECT_NEAR(tab.R_d, direct.R_d, 1e-6 * std::max(direct.R_d, 1e-3))
           << "alpha'=" << albedo_prime << " n=" << n;
     }
@@ -163,12 +165,13 @@ TEST(Limits, SemiInfiniteTableMatchesDirectDoubling) {
 // The finite-layer table (bicubic in sqrt(1 - omega) and log tau) against direct doubling, over
 // the skin presets' whole spectrum and a spread of generic slabs.
 TEST(Limits, SlabTableMatchesDirectDoubling) {
+  const skin::accurate::Cache cache;
   double worst = 0;
   for (const auto& preset : skin::presets()) {
     for (double lambda = 400; lambda <= 700; lambda += 10) {
       const auto st = skin::skin_layer_stack(preset.parameters, lambda);
-      const auto tab = skin::accurate::detail::solve(st, {}, true);
-      const auto direct = skin::accurate::detail::solve(st, {}, false);
+      const auto tab = skin::accurate::detail::solve(st, {}, true, cache);
+      const auto direct = skin::accurate::detail::solve(st, {}, false, cache);
       worst = std::max(worst, std::abs(tab.R_d / direct.R_d - 1));
     }
   }
@@ -176,8 +179,8 @@ TEST(Limits, SlabTableMatchesDirectDoubling) {
     for (double d : {0.03, 0.3, 3.0, 30.0}) {
       for (double n : {1.0, 1.4}) {
         const LayerStack s = slab(1 - albedo, 10 * albedo, 0.9, d, n);
-        const auto tab = skin::accurate::detail::solve(s, {}, true);
-        const auto direct = skin::accurate::detail::solve(s, {}, false);
+        const auto tab = skin::accurate::detail::solve(s, {}, true, cache);
+        const auto direct = skin::accurate::detail::solve(s, {}, false, cache);
         EXPECT_NEAR(tab.R_d, direct.R_d, 1e-4 * direct.R_d + 1e-9) << albedo << " " << d << " " << n;
         EXPECT_NEAR(tab.T_d, direct.T_d, 1e-4 * direct.T_d + 1e-7) << albedo << " " << d << " " << n;
       }
@@ -409,3 +412,28 @@ TEST(AccurateStack, OneLayerIsTheTopLayerAndIntegratesToTheTotal) {
 }
 
 }  // namespace
+
+// The solver's cache changes only the time: a spectrum solved with a fresh cache per stack, and
+// with one cache shared by two threads that fill its tables concurrently, gives the same totals
+// to the last bit (every table node is the same whoever fills it first).
+TEST(Cache, SharedAcrossThreadsGivesTheSameNumbers) {
+  const skin::WavelengthGrid grid(400, 700, 20);
+  std::vector<LayerStack> stacks;
+  for (const char* name : {"caucasian", "african"})
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      stacks.push_back(skin::skin_layer_stack(skin::find_preset(name).parameters, grid[i]));
+  std::vector<double> fresh;
+  for (const auto& st : stacks) fresh.push_back(adding_doubling(st).R_d);
+  const skin::accurate::Cache shared;
+  std::vector<double> a(stacks.size()), b(stacks.size());
+  std::thread t1([&] {
+    for (std::size_t i = 0; i < stacks.size(); ++i) a[i] = adding_doubling(stacks[i], {}, shared).R_d;
+  });
+  std::thread t2([&] {
+    for (std::size_t i = stacks.size(); i-- > 0;) b[i] = adding_doubling(stacks[i], {}, shared).R_d;
+  });
+  t1.join();
+  t2.join();
+  EXPECT_EQ(a, fresh);
+  EXPECT_EQ(b, fresh);
+}

@@ -35,7 +35,7 @@ struct ColorFitOptions {
   double melanin_blend_weight = 0.2;  // w [Lab units per unit beta_m], >= 0
   WavelengthGrid grid;                // colour integration grid, as `skin color`
   std::vector<std::pair<Parameter, Bounds>> bounds;  // overriding default_bounds
-  ForwardModel model;                 // empty: multipole_model()
+  ForwardModel model;                 // empty: forward_model(transport::default_model())
 };
 
 struct ColorFitResult {

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "skin/physics/skin_parameters.hpp"
+#include "skin/transport/model.hpp"
 
 namespace skin::fit {
 
@@ -50,17 +51,15 @@ std::ostream& operator<<(std::ostream& os, const Bounds& b);
 Bounds default_bounds(Parameter p);
 
 // The forward model: total diffuse reflectance R_d at one wavelength [nm]. Swappable so that
-// another solver (adding-doubling, Monte Carlo tables) can replace the multipole model. Must be
-// thread-safe (it is called from several threads by the texture fit and the report).
+// another model (Monte Carlo tables, ...) can replace the transport models. Must be thread-safe
+// (it is called from several threads by the texture fit and the report).
 using ForwardModel = std::function<double(const SkinParameters& p, double lambda)>;
-// The closed-form multipole model: DiffusionStack(skin_layer_stack(p, lambda)).R_d() (k = 0).
-ForwardModel multipole_model();
-// Adding-doubling R_d (skin::accurate, docs/accurate-solver.md), when the library is built with
-// it; otherwise throws InputError. Slower (~ms per wavelength) but valid for any thickness.
-ForwardModel accurate_model();
-// By name: "multipole" or "accurate" (throws InputError naming the known ones).
+// R_d of skin_layer_stack(p, lambda) by a transport model of the registry (its totals; NaN where
+// they are outside the model's validated range, which the fit treats as a barrier). The model
+// must outlive the function (the registry's do).
+ForwardModel forward_model(const transport::Model& model);
+// By name (transport::find_model: InputError naming the known ones).
 ForwardModel forward_model(std::string_view solver);
-std::vector<std::string> solver_names();  // the ones available in this build
 
 // A measured reflectance spectrum: wavelengths [nm], strictly increasing, and reflectance 0-1.
 struct MeasuredSpectrum {
@@ -97,7 +96,7 @@ struct SpectrumFitOptions {
   // Per-parameter bounds overriding default_bounds.
   std::vector<std::pair<Parameter, Bounds>> bounds;
   int max_iterations = 60;
-  ForwardModel model;  // empty: multipole_model()
+  ForwardModel model;  // empty: forward_model(transport::default_model())
 };
 
 struct FitResult {

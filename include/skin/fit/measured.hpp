@@ -26,7 +26,8 @@ const std::vector<Parameter>& extended_parameters();
 
 // Reads every *.csv under `spectra_dir` (recursively, sorted; files named *metadata* are read as
 // metadata: columns `column`, `original_label`, `used_in_donner_jensen_2006`, header
-// case-insensitive) and fits each spectrum (in parallel). `model` empty: multipole. Throws
+// case-insensitive) and fits each spectrum (in parallel). `model` empty: the registry's default
+// (transport::default_model()). Throws
 // InputError naming the directory if it is not one or holds no spectra.
 std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir,
                                                 const ForwardModel& model = {});

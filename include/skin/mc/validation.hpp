@@ -16,6 +16,7 @@
 
 #include "skin/mc/mc.hpp"
 #include "skin/physics/layer.hpp"
+#include "skin/transport/model.hpp"
 
 namespace skin::mc {
 
@@ -26,8 +27,9 @@ struct SolverColumn {
   // R(r) per power that entered [1/mm^2] at the radii given [mm]; empty function = no profile.
   std::function<std::vector<double>(const LayerStack&, const std::vector<double>& r_mm)> profile;
 };
-// The multipole model (skin::DiffusionStack + skin::ProfileSolver).
-SolverColumn multipole_solver();
+// A transport model of the registry (its R_d, and R(r) by skin::ProfileSolver of its response);
+// the column is named after the model.
+SolverColumn solver_column(const transport::Model& model);
 
 struct ValidationCase {
   std::string id;     // file-name safe: "pale-650nm", "slab-2mfp"

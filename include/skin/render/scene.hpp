@@ -12,6 +12,7 @@
 #include "skin/model/skin_model.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/render/image.hpp"
+#include "skin/transport/model.hpp"
 
 namespace skin::render {
 
@@ -55,9 +56,15 @@ class Scene {
 
   // Replaces the parameters of every `skin` material (the CLI's --preset).
   void set_skin_parameters(const SkinParameters& p);
-  // Recomputes every `skin` material with this solver of the model (the CLI's --solver; the
-  // default, accurate, is the one `skin color` uses; multipole is the paper's).
-  void set_solver(Solver solver);
+  // Recomputes every translucent material (skin, layered) with this transport model (the CLI's
+  // --solver; a material's own `solver` key otherwise, the registry's default without one).
+  void set_solver(const transport::Model& solver);
+  // The translucent materials whose profiles are outside their model's validated range.
+  struct MaterialValidity {
+    std::string material, solver;
+    transport::Validity validity;
+  };
+  std::vector<MaterialValidity> validity() const;
   // Turns every translucent material into a `diffuse` one of the same R_d (for benchmarks).
   void make_translucent_diffuse();
   int width() const;

@@ -22,12 +22,15 @@
 // reflectance, and the light that came back from below it) so that each component's total is
 // the adding-doubling one. Units: mm, 1/mm, k in rad/mm.
 #include <iosfwd>
+#include <memory>
 #include <optional>
+#include <string>
 
 #include "skin/transport/top_layer_table.hpp"
 #include "skin/physics/layer.hpp"
 #include "skin/transport/profile_fwd.hpp"
 #include "skin/transport/diffusion.hpp"
+#include "skin/transport/model.hpp"
 #include "skin/transport/stack.hpp"
 
 namespace skin::accurate {
@@ -49,14 +52,31 @@ struct Options {
 };
 std::ostream& operator<<(std::ostream& os, const Options& o);
 
-struct Totals {
-  double R_specular = 0;  // Fresnel reflectance of the top surface at normal incidence
-  double R_d = 0;         // diffuse reflectance per power that entered
-  double T_d = 0;         // total transmittance per power that entered (0 if semi-infinite)
+using Totals = transport::Totals;
+
+// What the adding-doubling solver keeps between stacks: per geometry (stream set, index, g) the
+// angular data and the tables of semi-infinite and finite layers over albedo and optical depth,
+// filled node by node on demand (a spectrum touches a few hundred nodes; later spectra of
+// nearby parameters reuse them: a warm table costs two 4 x 4 weighted sums of matrices instead
+// of ~10 doublings). Shared by every thread that uses it (thread-safe). The results do not
+// depend on what it already holds (each node is the same whoever fills it). The registry's
+// accurate model (skin/transport/model.hpp) holds one.
+class Cache {
+ public:
+  Cache();
+  ~Cache();
+  Cache(const Cache&) = delete;
+  Cache& operator=(const Cache&) = delete;
+  struct Impl;  // opaque (src/transport/adding_doubling.cpp)
+  Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
 };
-std::ostream& operator<<(std::ostream& os, const Totals& t);
 
 // Validates the stack (LayerStack::validate) and the options (InputError naming the parameter).
+Totals adding_doubling(const LayerStack& stack, const Options& options, const Cache& cache);
+// With a cache of its own (the same numbers; each call fills the table nodes it needs).
 Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
@@ -79,9 +99,29 @@ Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 //      R(k) = c_top R_top(k) + c_deep (R_stack(k) - R_top(k)), R_top the top layer alone (over
 //      the index of what lies below it), c_top = R_top^AD / R_top(0), c_deep making R(0) the
 //      adding-doubling R_d. The singular part is c_top times the top layer's nearest image pair.
+//
+// The stack is outside the shapes' validated range (the table does not describe its top layer,
+// or its top layer is darker than the table's darkest node, alpha' < 0.0975, where the clamped
+// shape's total is already 3x the adding-doubling one at alpha' = 0.04) when
+// transport_table_gap() says why; the totals stay exact. The model "accurate" of the registry (skin/transport/model.hpp) reports it.
+std::string transport_table_gap(const LayerStack& stack);
+
+// Fresnel moments of a boundary seen from inside a medium of relative index eta = n_in / n_out:
+// C1 = int_0^1 F(mu) mu dmu, C2 = int_0^1 F(mu) mu^2 dmu (midpoint rule on 4000 cells; the
+// integrand has only a square-root kink at the critical angle: error < 1e-6).
+struct FresnelMoments {
+  double C1 = 0, C2 = 0;
+  static FresnelMoments of(double eta);
+};
+
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const LayerStack& stack, const Options& options = {});
+  // With the Fresnel moments of the top surface (eta = top layer's index / index above) known
+  // and the solver's cache: the model of the registry keeps both (a spectrum has the same index
+  // and geometry throughout).
+  AccurateStack(const LayerStack& stack, const Options& options, const FresnelMoments& top,
+                const Cache& cache);
 
   double total() const override { return totals_.R_d; }
   double singular(double r) const override;

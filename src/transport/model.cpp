@@ -1,0 +1,171 @@
+// The registry of transport models (include/skin/transport/model.hpp): the multipole (DJ05
+// diffusion, skin::DiffusionStack) and the accurate model (adding-doubling totals, transport-table
+// profiles, skin::accurate::AccurateStack).
+#include "skin/transport/model.hpp"
+
+#include "skin/physics/fresnel.hpp"
+
+#include <array>
+#include <mutex>
+#include <ostream>
+#include <sstream>
+
+#include "skin/transport/accurate.hpp"
+#include "skin/transport/diffusion.hpp"
+#include "skin/transport/stack.hpp"
+#include "skin/util/error.hpp"
+
+namespace skin::transport {
+
+std::ostream& operator<<(std::ostream& os, const Totals& t) {
+  return os << "Totals{R_specular=" << t.R_specular << ", R_d=" << t.R_d << ", T_d=" << t.T_d
+            << '}';
+}
+
+std::ostream& operator<<(std::ostream& os, const Validity& v) {
+  os << "Validity{totals=" << v.totals << ", profile=" << v.profile;
+  if (!v.reason.empty()) os << ", reason=\"" << v.reason << '"';
+  if (!v.exact.empty()) os << ", exact=\"" << v.exact << '"';
+  return os << '}';
+}
+
+namespace {
+
+// DJ05 diffusion (include/skin/transport/diffusion.hpp, stack.hpp).
+class Multipole final : public Model {
+ public:
+  std::string_view name() const override { return "multipole"; }
+  std::string_view description() const override {
+    return "the paper's DJ05 diffusion model";
+  }
+  Totals totals(const LayerStack& stack) const override {
+    const DiffusionStack ds(stack);
+    const Transfer t = ds.at(0.0);
+    return {fresnel_dielectric(1.0, stack.eta_above, stack.layers.front().eta), t.R_down,
+            t.T_down};
+  }
+  double R_d(const LayerStack& stack) const override { return DiffusionStack(stack).R_d(); }
+  std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
+    return std::make_unique<DiffusionStack>(stack);
+  }
+  // The real source of each layer sits at z_r = 1 / sigma_t' (DJ05 eq 7): in a layer thinner
+  // than that it lies below the layer, the layer's transmittance changes sign and R_d jumps
+  // (docs/fit.md, "Validity"). Totals and profile are then both outside the model.
+  Validity validity(const LayerStack& stack) const override {
+    Validity v;
+    for (std::size_t i = 0; i < stack.layers.size(); ++i) {
+      const Layer& l = stack.layers[i];
+      const double tau_prime = l.thickness * (l.sigma_a + l.sigma_s_prime);
+      if (!l.semi_infinite() && tau_prime <= 1.0) {
+        std::ostringstream os;
+        os.precision(3);
+        os << "layer " << i + 1 << " is thinner than z_r = 1/sigma_t' (d = " << l.thickness
+           << " mm, z_r = " << 1.0 / (l.sigma_a + l.sigma_s_prime)
+           << " mm): diffusion's source lies below it";
+        v.totals = v.profile = false;
+        v.reason = os.str();
+        return v;
+      }
+    }
+    return v;
+  }
+};
+
+// Adding-doubling totals, transport-table profiles (include/skin/transport/accurate.hpp). Its
+// caches: the solver's (accurate::Cache), and the Fresnel moments of the top surface (4000
+// Fresnel evaluations), which depend on its index alone; a spectrum asks for the same ones at
+// every wavelength. Both are shared by every caller and thread.
+class Accurate final : public Model {
+ public:
+  std::string_view name() const override { return "accurate"; }
+  std::string_view description() const override {
+    return "adding-doubling radiative transfer, within Monte Carlo noise";
+  }
+  Totals totals(const LayerStack& stack) const override {
+    return accurate::adding_doubling(stack, {}, cache_);
+  }
+  std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
+    stack.validate();  // before the index of its top layer is used
+    return std::make_unique<accurate::AccurateStack>(
+        stack, accurate::Options{}, moments(stack.layers.front().eta / stack.eta_above), cache_);
+  }
+  Validity validity(const LayerStack& stack) const override {
+    Validity v;
+    v.reason = accurate::transport_table_gap(stack);
+    if (!v.reason.empty()) {
+      v.profile = false;
+      v.exact = "R_d and T_d (adding-doubling)";
+    }
+    return v;
+  }
+
+ private:
+  accurate::FresnelMoments moments(double eta) const {
+    const std::lock_guard lock(mutex_);
+    for (const auto& [e, m] : moments_)
+      if (e == eta) return m;
+    const auto m = accurate::FresnelMoments::of(eta);
+    if (moments_.size() >= 64) moments_.clear();  // bounds memory for callers sweeping eta
+    moments_.emplace_back(eta, m);
+    return m;
+  }
+  accurate::Cache cache_;
+  mutable std::mutex mutex_;
+  mutable std::vector<std::pair<double, accurate::FresnelMoments>> moments_;
+};
+
+// The models, the default first.
+const std::array<const Model*, 2>& registry() {
+  static const Accurate accurate_model;
+  static const Multipole multipole_model;
+  static const std::array<const Model*, 2> models = {&accurate_model, &multipole_model};
+  return models;
+}
+
+}  // namespace
+
+const Model& find_model(std::string_view name) {
+  for (const Model* m : registry())
+    if (m->name() == name) return *m;
+  throw InputError("solver = '" + std::string(name) + "' is unknown: allowed values are " +
+                   model_names_text());
+}
+
+const Model& default_model() { return find_model(kDefaultModel); }
+
+std::vector<std::string> model_names() {
+  std::vector<std::string> names;
+  for (const Model* m : registry()) names.emplace_back(m->name());
+  return names;
+}
+
+std::string model_names_text() {
+  std::string text;
+  for (const auto& n : model_names()) text += (text.empty() ? "" : ", ") + n;
+  return text;
+}
+
+Validity combined_validity(const Model& model, const std::vector<LayerStack>& stacks,
+                           const std::vector<std::string>& labels) {
+  const auto label = [&](std::size_t i) { return i < labels.size() ? labels[i] : std::to_string(i); };
+  Validity out;
+  std::size_t count = 0, first = 0, last = 0;
+  for (std::size_t i = 0; i < stacks.size(); ++i) {
+    Validity v = model.validity(stacks[i]);
+    if (v.ok()) continue;
+    if (count++ == 0) {
+      first = i;
+      out.reason = std::move(v.reason);
+      out.exact = std::move(v.exact);
+    }
+    out.totals = out.totals && v.totals;
+    out.profile = out.profile && v.profile;
+    last = i;
+  }
+  if (count > 0)
+    out.reason = "at " + label(first) + (count > 1 ? " .. " + label(last) : "") + " (" +
+                 std::to_string(count) + " of " + std::to_string(stacks.size()) + "): " + out.reason;
+  return out;
+}
+
+}  // namespace skin::transport
