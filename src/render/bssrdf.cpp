@@ -47,10 +47,13 @@ double Bssrdf::pdf_probe(const Vec3& x_i, const Vec3& n_i) const {
   const double r_proj[3] = {std::sqrt(dl.y * dl.y + dl.z * dl.z), std::sqrt(dl.x * dl.x + dl.z * dl.z),
                             std::sqrt(dl.x * dl.x + dl.y * dl.y)};  // about the s, t, n axes
   const double n_abs[3] = {std::abs(nl.x), std::abs(nl.y), std::abs(nl.z)};
+  // A channel's probes are chords of its sphere of radius r_max: they reach no point beyond it.
+  const double dist_mm = length(x_i - x_o_) * mm_;
   double pdf = 0;  // per unit area [1/unit^2]
   for (std::size_t ax = 0; ax < 3; ++ax)
     for (std::size_t ch = 0; ch < 3; ++ch)
-      pdf += kAxisProbability[ax] * n_abs[ax] * (1.0 / 3.0) * profile_[ch].pdf_area(r_proj[ax] * mm_) * mm_ * mm_;
+      if (dist_mm <= profile_[ch].r_max())
+        pdf += kAxisProbability[ax] * n_abs[ax] * (1.0 / 3.0) * profile_[ch].pdf_area(r_proj[ax] * mm_) * mm_ * mm_;
   return pdf;
 }
 

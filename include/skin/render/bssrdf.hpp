@@ -76,8 +76,8 @@ class Bssrdf {
   // Density per unit area [1/unit^2] with which the probes reach a surface point x_i of unit
   // normal n_i, over all axes and channels (one-sample MIS, balance heuristic):
   //   pdf(x_i) = sum_axis sum_channel P(axis) P(channel) |n_i . axis| pdf_area,channel(r_axis),
-  // r_axis = distance of x_i from x_o projected onto the plane perpendicular to the axis.
-  // Exact for points within every channel's r_max of x_o (where the profiles carry their mass).
+  // r_axis = distance of x_i from x_o projected onto the plane perpendicular to the axis; a
+  // channel's terms count only within its r_max of x_o (its probes are chords of that sphere).
   double pdf_probe(const Vec3& x_i, const Vec3& n_i) const;
   // The weight of an entry point found by a probe, per channel: R(|x_o - x_i|) / pdf(x_i) times
   // the number of candidate points the probe found (one of which was picked uniformly). False
