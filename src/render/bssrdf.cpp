@@ -65,6 +65,11 @@ bool Bssrdf::probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, Rgb3
   return true;
 }
 
+std::ostream& operator<<(std::ostream& os, const Bssrdf& b) {
+  return os << "Bssrdf{x_o=" << b.x_o() << ", n_o=" << b.frame().n << ", rho_dr(1)=" << b.rho_dr(1.0) << ", R_d=("
+            << b.R_d(0) << ", " << b.R_d(1) << ", " << b.R_d(2) << ")}";
+}
+
 std::ostream& operator<<(std::ostream& os, const ProbeSegment& s) {
   return os << "ProbeSegment{axis=" << s.axis << ", channel=" << s.channel << ", r=" << s.r << " mm, start=" << s.start
             << ", dir=" << s.dir << ", length=" << s.length << '}';

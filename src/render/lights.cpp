@@ -1,6 +1,7 @@
 // Point, directional, sphere and quad lights (lights.hpp): each sampler and its pdf share the
 // geometry they are computed from. The environment is in environment.cpp.
 #include <cmath>
+#include <ostream>
 
 #include "lights.hpp"
 
@@ -97,6 +98,24 @@ bool QuadLight::intersect(const Vec3& o, const Vec3& d, double* t) const {
   const double uu = dot(q, edge_u) / dot(edge_u, edge_u), vv = dot(q, edge_v) / dot(edge_v, edge_v);
   if (uu < 0 || uu > 1 || vv < 0 || vv > 1) return false;
   return *t > 0;
+}
+
+std::ostream& operator<<(std::ostream& os, const Light& light) {
+  struct Print {
+    std::ostream& os;
+    void operator()(const PointLight& l) const { os << "PointLight{position=" << l.position << ", intensity=" << l.intensity << '}'; }
+    void operator()(const DirectionalLight& l) const {
+      os << "DirectionalLight{direction=" << l.direction << ", irradiance=" << l.irradiance << '}';
+    }
+    void operator()(const SphereLight& l) const {
+      os << "SphereLight{centre=" << l.centre << ", radius=" << l.radius << ", radiance=" << l.radiance << '}';
+    }
+    void operator()(const QuadLight& l) const {
+      os << "QuadLight{corner=" << l.corner << ", edge_u=" << l.edge_u << ", edge_v=" << l.edge_v << ", radiance=" << l.radiance << '}';
+    }
+  };
+  std::visit(Print{os}, light.shape());
+  return os;
 }
 
 }  // namespace skin::render

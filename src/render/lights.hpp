@@ -13,6 +13,7 @@
 // The receiving normal n matters only for the constant environment (sampled cosine-weighted
 // about it); the other lights ignore it. Tested in tests/render/test_lights.cpp (chi-square of
 // each sampler against its pdf, pdfs integrating to one over their solid angle).
+#include <iosfwd>
 #include <limits>
 #include <memory>
 #include <variant>
@@ -113,6 +114,7 @@ class Light {
  private:
   Shape shape_;
 };
+std::ostream& operator<<(std::ostream& os, const Light& l);
 
 // Light arriving from infinity: a constant radiance, or a latitude-longitude map (row 0 = +y;
 // u grows with phi = atan2(x, -z) - rotation about +y) importance-sampled by luminance x

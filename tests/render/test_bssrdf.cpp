@@ -210,6 +210,7 @@ TEST(Bssrdf, ProbeWeightAveragesToRd) {
   // standard errors (about 4e-3 R_d). A pdf that counted a channel's term beyond the sphere its
   // probes reach made the red channel 2.7e-3 (3 standard errors) low on the tilted plane.
   const Bssrdf b(caucasian(), 0, nullptr, kXo, kNo, kMm);
+  SCOPED_TRACE(::testing::Message() << b);
   for (const Vec3& m : {kNo, tilted(b)}) {
     SCOPED_TRACE(::testing::Message() << "plane normal " << m);
     Rng rng(35, 1);
@@ -227,7 +228,7 @@ TEST(Bssrdf, ProbeWeightAveragesToRd) {
     }
     for (int c = 0; c < 3; ++c) {
       const double mean = sum[c] / kN, se = std::sqrt(std::max(0.0, sum2[c] / kN - mean * mean) / kN);
-      const double R_d = caucasian()[static_cast<std::size_t>(c)].R_d();
+      const double R_d = b.R_d(c);
       EXPECT_NEAR(mean, R_d, 4 * se) << "channel " << c << " se " << se;
     }
   }

@@ -31,6 +31,7 @@ double sphere_integral(const std::function<double(const Vec3&)>& f, int n_cos = 
 // Draws n samples of `light` from p and checks, for each, that `pdf` returns the sampler's own
 // density and that an area light is really there: the ray toward it hits at the sample's distance.
 void expect_sample_matches_pdf(const Light& light, const Vec3& p, const Vec3& n, std::uint64_t seed) {
+  SCOPED_TRACE(::testing::Message() << light << " seen from " << p);
   Rng rng(seed, 1);
   int ok = 0;
   for (int k = 0; k < 2000; ++k) {

@@ -56,6 +56,7 @@ class Bssrdf {
   double R(int channel, double r) const { return profile_[static_cast<std::size_t>(channel)].eval(r); }
   double sample_r(int channel, double u) const { return profile_[static_cast<std::size_t>(channel)].sample_radius(u); }
   double pdf_r(int channel, double r) const { return profile_[static_cast<std::size_t>(channel)].pdf_radius(r); }
+  double R_d(int channel) const { return profile_[static_cast<std::size_t>(channel)].R_d(); }
 
   // --- Transmission through the rough surface: rho_dr(theta) = rho_s rho_dr,1(theta) is what the
   // surface term reflects, F_t = 1 - rho_dr what crosses it (at x_o for w_o, at x_i for w_i).
@@ -95,5 +96,6 @@ class Bssrdf {
   Frame frame_;
   double mm_;  // mm per scene unit
 };
+std::ostream& operator<<(std::ostream& os, const Bssrdf& b);
 
 }  // namespace skin::render
