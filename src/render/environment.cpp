@@ -1,8 +1,9 @@
-// Environment lighting: a constant radiance, or a latitude-longitude map (row 0 = +y, the top;
-// u grows with the angle phi = atan2(x, -z) - rotation about +y) importance-sampled in
-// proportion to luminance x sin(theta), the Jacobian of the map's parametrisation.
+// Environment lighting (lights.hpp): a constant radiance, or a latitude-longitude map (row 0 =
+// +y, the top; u grows with the angle phi = atan2(x, -z) - rotation about +y) importance-sampled
+// in proportion to luminance x sin(theta), the Jacobian of the map's parametrisation.
 #include <cmath>
 
+#include "lights.hpp"
 #include "scene_data.hpp"
 
 namespace skin::render {
@@ -22,6 +23,9 @@ Vec3 from_uv(double u, double v, double rotation) {
 }
 
 double luminance(const Rgb3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+// Solid-angle density of a map direction from the density in (u, v): dw = 2 pi^2 sin(theta) du dv.
+double map_pdf(double pdf_uv, double sin_theta) { return sin_theta > 0 ? pdf_uv / (2 * kPi * kPi * sin_theta) : 0.0; }
 
 }  // namespace
 
@@ -44,31 +48,30 @@ void Environment::build_distribution() {
   distribution = Distribution2D(w, static_cast<std::size_t>(map->width), static_cast<std::size_t>(map->height));
 }
 
-Rgb3 Environment::sample(Vec2 u, const Vec3& n, Vec3* dir, double* pdf) const {
+LightSample Environment::sample(const Vec3&, const Vec3& n, Vec2 u) const {
+  LightSample ls;
   if (!map) {
     const Vec3 l = sample_cosine_hemisphere(u);
-    *dir = Frame::from_normal(n).to_world(l);
-    *pdf = pdf_cosine_hemisphere(l.z);
-    return constant;
+    ls.wi = Frame::from_normal(n).to_world(l);
+    ls.pdf = pdf_cosine_hemisphere(l.z);
+    ls.L = constant;
+    return ls;
   }
   double pdf_uv = 0;
   const Vec2 p = distribution.sample(u, &pdf_uv);
-  *dir = from_uv(p.x, p.y, rotation_deg * kPi / 180);
+  ls.wi = from_uv(p.x, p.y, rotation_deg * kPi / 180);
   const double sin_theta = std::sin(p.y * kPi);
-  if (pdf_uv <= 0 || sin_theta <= 0) {
-    *pdf = 0;
-    return {};
-  }
-  *pdf = pdf_uv / (2 * kPi * kPi * sin_theta);
-  return radiance(*dir);
+  if (pdf_uv <= 0 || sin_theta <= 0) return ls;
+  ls.pdf = map_pdf(pdf_uv, sin_theta);
+  ls.L = radiance(ls.wi);
+  return ls;
 }
 
-double Environment::pdf(const Vec3& dir, const Vec3& n) const {
-  if (!map) return pdf_cosine_hemisphere(dot(dir, n));
+double Environment::pdf(const Vec3&, const Vec3& n, const Vec3& wi) const {
+  if (!map) return pdf_cosine_hemisphere(dot(wi, n));
   double u, v;
-  to_uv(dir, rotation_deg * kPi / 180, &u, &v);
-  const double sin_theta = std::sin(v * kPi);
-  return sin_theta > 0 ? distribution.pdf({u, v}) / (2 * kPi * kPi * sin_theta) : 0.0;
+  to_uv(wi, rotation_deg * kPi / 180, &u, &v);
+  return map_pdf(distribution.pdf({u, v}), std::sin(v * kPi));
 }
 
 }  // namespace skin::render

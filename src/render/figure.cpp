@@ -155,12 +155,8 @@ Scene Scene::figure(int number, const std::string& mesh_path) {
   s.camera = {{0, 0, dist}, {0, 0, 0}, {0, 1, 0}, 2 * std::atan(half_h / dist) * 180 / kPi, cell_px * columns, cell_px * rows};
   s.spp = 32;
   s.max_depth = 3;
-  Light key;
-  key.kind = LightKind::sphere;
-  key.position = {-900, 900, 1500};
-  key.radius = 120;
-  key.intensity = {60, 60, 60};  // irradiance about pi x 60 x (120 / 2300)^2 = 0.5
-  s.lights.push_back(key);
+  // Irradiance about pi x 60 x (120 / 2300)^2 = 0.5.
+  s.lights.emplace_back(SphereLight{{-900, 900, 1500}, 120, {60, 60, 60}});
   s.environment.constant = {0.12, 0.12, 0.12};
   return make_scene(std::move(s));
 }

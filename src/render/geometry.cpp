@@ -1,17 +1,9 @@
-// Procedural meshes for the built-in scenes and the light shapes' areas.
+// Procedural meshes for the built-in scenes.
 #include <cmath>
 
 #include "scene_data.hpp"
 
 namespace skin::render {
-
-double Light::area() const {
-  switch (kind) {
-    case LightKind::sphere: return 4 * kPi * radius * radius;
-    case LightKind::quad: return length(cross(edge_u, edge_v));
-    default: return 0.0;
-  }
-}
 
 Mesh make_ellipsoid(const Vec3& c, const Vec3& radii, int n_theta, int n_phi, std::size_t material) {
   Mesh m;

@@ -10,7 +10,9 @@
 //               w_i), so that a uniformly lit flat slab has radiance
 //               rho_dr(theta_o) + (1 - rho_dr(theta_o)) R_d (1 - rho_dr_mean).
 // The entry point x_i is importance-sampled by radius from the tabulated profiles with probe
-// rays along the normal and the two tangents, combined with MIS over axes and channels.
+// rays along the normal and the two tangents, combined with MIS over axes and channels; the
+// profiles, the probes, their pdf and F_t are one object, Bssrdf (skin/render/bssrdf.hpp). Every
+// light pairs its sampler with its pdf (lights.hpp).
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -22,6 +24,7 @@
 #include <mutex>
 
 #include "scene_impl.hpp"
+#include "skin/render/bssrdf.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::render {
@@ -37,20 +40,10 @@ struct Surface {
   std::size_t mesh = 0;
 };
 
-struct LightSample {
-  Rgb3 L;           // incident radiance (or irradiance / intensity term for delta lights)
-  Vec3 wi;          // unit, toward the light
-  double dist = kInf;
-  double pdf = 0;   // solid angle (including the light selection probability); delta: selection
-  bool delta = false;
-};
-
 class Integrator {
  public:
   Integrator(const SceneData& s, const Accel& a, int max_depth)
-      : s_(s), a_(a), max_depth_(max_depth), eps_(1e-5 * a.extent()) {
-    n_lights_ = s.lights.size() + (s.environment.black() ? 0 : 1);
-  }
+      : s_(s), a_(a), max_depth_(max_depth), eps_(1e-5 * a.extent()) {}
 
   Rgb3 Li(Vec3 o, Vec3 d, Rng& rng) const;
 
@@ -58,29 +51,25 @@ class Integrator {
   // face_ray: turn the normals toward -d (two-sided shading of what a ray sees); otherwise keep
   // the mesh's own orientation (its normals, else its winding), outward for closed meshes.
   Surface surface(const RayHit& h, const Vec3& d, bool face_ray = true) const;
-  // Samples light k (k == lights.size() is the environment) as seen from p with normal n.
-  bool sample_light(std::size_t k, const Vec3& p, const Vec3& n, Rng& rng, LightSample* ls) const;
   // Direct light at a point: one sample of every light (next-event estimation over all of
   // them, rather than one picked at random: scenes have few lights, and the shadow rays are
   // cheap next to the variance a random pick adds), each weighted by MIS against the BSDF.
   // f(wi) returns the BSDF value times cos(theta_i), pdf(wi) its sampling density.
   template <class F, class P>
   Rgb3 direct(const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng, F f, P pdf) const;
-  // Area light hit along a ray before t_max: radiance and solid-angle pdf for MIS.
-  bool hit_area_light(const Vec3& o, const Vec3& d, double t_max, Rgb3* Le, double* pdf, double* t) const;
-  double light_pdf(const Light& l, const Vec3& o, const Vec3& d, double t) const;
+  // Area light hit along a ray before t_max: radiance and the light's solid-angle pdf for MIS
+  // (n: normal at the ray's origin, as the light's pdf takes it).
+  bool hit_area_light(const Vec3& o, const Vec3& n, const Vec3& d, double t_max, Rgb3* Le, double* pdf) const;
   bool visible(const Vec3& p, const Vec3& n, const Vec3& wi, double dist) const;
   Vec3 offset(const Vec3& p, const Vec3& n, const Vec3& w) const { return p + n * (dot(w, n) > 0 ? eps_ : -eps_); }
-  bool sample_entry(const Surface& xo, Rng& rng, Surface* xi, Rgb3* weight) const;
-  double rho_dr(const Material& m, double cos_theta) const {
-    return m.rho_s > 0 ? m.rho_s * m.specular_albedo->rho_dr(cos_theta) : 0.0;
-  }
+  // Finds an entry point x_i with the probes of the BSSRDF at x_o; the weight per channel is
+  // R(r) / pdf(x_i) (Bssrdf::probe_weight).
+  bool sample_entry(const Surface& xo, const Bssrdf& bssrdf, Rng& rng, Surface* xi, Rgb3* weight) const;
 
   const SceneData& s_;
   const Accel& a_;
   int max_depth_;
   double eps_;
-  std::size_t n_lights_ = 0;
 };
 
 Surface Integrator::surface(const RayHit& h, const Vec3& d, bool face_ray) const {
@@ -118,195 +107,62 @@ bool Integrator::visible(const Vec3& p, const Vec3& n, const Vec3& wi, double di
   return t_max > eps_ && !a_.occluded(o, wi, 0.0, t_max);
 }
 
-double Integrator::light_pdf(const Light& l, const Vec3& o, const Vec3& d, double t) const {
-  if (l.kind == LightKind::sphere) {
-    const double dc2 = dot(l.position - o, l.position - o);
-    if (dc2 <= l.radius * l.radius) return 0.0;
-    const double cos_max = std::sqrt(std::max(0.0, 1 - l.radius * l.radius / dc2));
-    return pdf_uniform_cone(cos_max);
-  }
-  if (l.kind == LightKind::quad) {
-    const Vec3 n = normalize(cross(l.edge_u, l.edge_v));
-    const double c = -dot(n, d);
-    return c > 0 ? t * t / (c * l.area()) : 0.0;
-  }
-  return 0.0;
-}
-
-bool Integrator::hit_area_light(const Vec3& o, const Vec3& d, double t_max, Rgb3* Le, double* pdf, double* t_out) const {
-  bool any = false;
+bool Integrator::hit_area_light(const Vec3& o, const Vec3& n, const Vec3& d, double t_max, Rgb3* Le, double* pdf) const {
+  const Light* nearest = nullptr;
   double best = t_max;
   for (const Light& l : s_.lights) {
     double t = kInf;
-    if (l.kind == LightKind::sphere) {
-      const Vec3 oc = o - l.position;
-      const double b = dot(oc, d), c = dot(oc, oc) - l.radius * l.radius;
-      const double disc = b * b - c;
-      if (disc < 0 || c < 0) continue;  // missed, or inside the light
-      t = -b - std::sqrt(disc);
-    } else if (l.kind == LightKind::quad) {
-      const Vec3 n = cross(l.edge_u, l.edge_v);
-      const double dn = dot(d, n);
-      if (dn >= 0) continue;  // one-sided: emits toward +n
-      t = dot(l.corner - o, n) / dn;
-      const Vec3 q = o + d * t - l.corner;
-      const double uu = dot(q, l.edge_u) / dot(l.edge_u, l.edge_u), vv = dot(q, l.edge_v) / dot(l.edge_v, l.edge_v);
-      if (uu < 0 || uu > 1 || vv < 0 || vv > 1) continue;
-    } else {
-      continue;
-    }
-    if (t > 0 && t < best) {
+    if (l.intersect(o, d, &t) && t < best) {
       best = t;
-      *Le = l.intensity;
-      *pdf = light_pdf(l, o, d, t);
-      any = true;
+      nearest = &l;
     }
   }
-  *t_out = best;
-  return any;
+  if (!nearest) return false;
+  *Le = nearest->Le();
+  *pdf = nearest->pdf(o, n, d);
+  return true;
 }
 
 template <class F, class P>
 Rgb3 Integrator::direct(const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng, F f, P pdf) const {
   Rgb3 L;
-  for (std::size_t k = 0; k < n_lights_; ++k) {
-    LightSample ls;
-    if (!sample_light(k, p, ns, rng, &ls) || ls.L.is_black()) continue;
-    if (dot(ls.wi, ng) <= 0) continue;
+  const auto add = [&](const auto& light) {
+    const Vec2 u{rng.uniform(), rng.uniform()};
+    const LightSample ls = light.sample(p, ns, u);
+    if (!(ls.pdf > 0) || ls.L.is_black()) return;
+    if (dot(ls.wi, ng) <= 0) return;
     const double fc = f(ls.wi);
-    if (!(fc > 0) || !visible(p, ng, ls.wi, ls.dist)) continue;
+    if (!(fc > 0) || !visible(p, ng, ls.wi, ls.dist)) return;
     const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, pdf(ls.wi));
     L += ls.L * (fc * w / ls.pdf);
-  }
+  };
+  for (const Light& l : s_.lights) add(l);
+  if (!s_.environment.black()) add(s_.environment);
   return L;
 }
 
-bool Integrator::sample_light(std::size_t k, const Vec3& p, const Vec3& n, Rng& rng, LightSample* ls) const {
-  const double sel = 1.0;
-  const Vec2 u{rng.uniform(), rng.uniform()};
-  if (k == s_.lights.size()) {  // the environment
-    double pdf = 0;
-    ls->L = s_.environment.sample(u, n, &ls->wi, &pdf);
-    ls->pdf = pdf * sel;
-    ls->dist = kInf;
-    ls->delta = false;
-    return pdf > 0;
-  }
-  const Light& l = s_.lights[k];
-  switch (l.kind) {
-    case LightKind::point: {
-      const Vec3 v = l.position - p;
-      const double d2 = dot(v, v);
-      ls->dist = std::sqrt(d2);
-      ls->wi = v / ls->dist;
-      ls->L = l.intensity / d2;
-      ls->pdf = sel;
-      ls->delta = true;
-      return true;
-    }
-    case LightKind::directional:
-      ls->wi = -l.direction;
-      ls->dist = kInf;
-      ls->L = l.intensity;
-      ls->pdf = sel;
-      ls->delta = true;
-      return true;
-    case LightKind::sphere: {
-      const Vec3 v = l.position - p;
-      const double dc2 = dot(v, v);
-      if (dc2 <= l.radius * l.radius) return false;
-      const double dc = std::sqrt(dc2);
-      const double cos_max = std::sqrt(std::max(0.0, 1 - l.radius * l.radius / dc2));
-      const Frame f = Frame::from_normal(v / dc);
-      ls->wi = f.to_world(sample_uniform_cone(u, cos_max));
-      // Distance to the near side of the sphere along wi.
-      const double b = dot(-v, ls->wi), c = dc2 - l.radius * l.radius;
-      ls->dist = -b - std::sqrt(std::max(0.0, b * b - c));
-      ls->L = l.intensity;
-      ls->pdf = pdf_uniform_cone(cos_max) * sel;
-      ls->delta = false;
-      return true;
-    }
-    case LightKind::quad: {
-      const Vec3 q = l.corner + l.edge_u * u.x + l.edge_v * u.y;
-      const Vec3 v = q - p;
-      const double d2 = dot(v, v);
-      ls->dist = std::sqrt(d2);
-      ls->wi = v / ls->dist;
-      const double c = -dot(normalize(cross(l.edge_u, l.edge_v)), ls->wi);
-      if (c <= 0) return false;
-      ls->L = l.intensity;
-      ls->pdf = d2 / (c * l.area()) * sel;
-      ls->delta = false;
-      return true;
-    }
-  }
-  return false;
-}
-
-// Probe axis probabilities. King et al. 2013 and pbrt-v3 use 1/2 for the normal; on smooth skin
-// the tangent probes rarely find a surface (they only matter at creases, edges and thin parts),
-// so more of the budget goes to the normal: 3/4, and 1/8 for each tangent. MIS keeps any
-// choice unbiased; this one halves the share of wasted probes on flat regions.
-constexpr double kProbeNormal = 0.75, kProbeTangent = 0.125;
-
-// Samples the point x_i where light enters for light leaving at x_o (King et al. 2013: probe
-// rays along the normal and the two tangents with the probabilities above, radius from the
-// profile of a channel chosen uniformly). The weight per channel is R_c(r) / pdf(x_i), with the
-// pdf the MIS combination over the three axes and three channels (one-sample balance heuristic),
-// times the number of candidate surface points found along the probe (one is picked uniformly).
-bool Integrator::sample_entry(const Surface& xo, Rng& rng, Surface* xi, Rgb3* weight) const {
-  const Material& m = *xo.mat;
-  const double mm = s_.mm_per_unit;
-  const Frame f = Frame::from_normal(xo.ns);
-  const double ua = rng.uniform();
-  Vec3 axis, ta, tb;
-  if (ua < kProbeNormal) { axis = f.n; ta = f.s; tb = f.t; }
-  else if (ua < kProbeNormal + kProbeTangent) { axis = f.s; ta = f.t; tb = f.n; }
-  else { axis = f.t; ta = f.n; tb = f.s; }
-  const auto c = std::min(static_cast<std::size_t>(rng.uniform() * 3.0), std::size_t{2});
-  const TabulatedProfile& prof = m.profile[c];
-  if (prof.empty()) return false;
-  const double r_max_mm = prof.r_max();
-  const double r_mm = prof.sample_radius(rng.uniform());
-  if (!(r_mm < r_max_mm)) return false;
-  const double phi = 2 * kPi * rng.uniform();
-  const double r = r_mm / mm, r_max = r_max_mm / mm;
-  const double half = std::sqrt(r_max * r_max - r * r);
-  const Vec3 base = xo.p + (ta * std::cos(phi) + tb * std::sin(phi)) * r;
-  const Vec3 start = base + axis * half;
-  // All surface points of the same material on the probe segment (at most kMaxHits).
+// Samples the point x_i where light enters for light leaving at x_o (King et al. 2013): a probe
+// segment from the BSSRDF, every surface point of the same material on it (up to kMaxHits), one
+// of them picked uniformly; the BSSRDF weighs it by its MIS pdf and the number of candidates.
+bool Integrator::sample_entry(const Surface& xo, const Bssrdf& bssrdf, Rng& rng, Surface* xi, Rgb3* weight) const {
+  const double u_axis = rng.uniform(), u_channel = rng.uniform(), u_r = rng.uniform(), u_phi = rng.uniform();
+  ProbeSegment seg;
+  if (!bssrdf.sample_probe(u_axis, u_channel, u_r, u_phi, &seg)) return false;
   constexpr int kMaxHits = 8;
   RayHit hits[kMaxHits];
   int count = 0;
   double t = 0;
-  const double len = 2 * half;
   while (count < kMaxHits) {
     RayHit h;
-    if (!a_.intersect(start, -axis, t, len, &h)) break;
+    if (!a_.intersect(seg.start, seg.dir, t, seg.length, &h)) break;
     if (s_.meshes[h.mesh].material == s_.meshes[xo.mesh].material) hits[count++] = h;
-    t = h.t + std::max(eps_, 1e-7 * len);
-    if (t >= len) break;
+    t = h.t + std::max(eps_, 1e-7 * seg.length);
+    if (t >= seg.length) break;
   }
   if (count == 0) return false;
   const auto pick = std::min(static_cast<int>(rng.uniform() * count), count - 1);
-  *xi = surface(hits[pick], -axis, false);
-  const Vec3 dv = xi->p - xo.p;
-  const Vec3 dl = f.to_local(dv);
-  const Vec3 nl = f.to_local(xi->ng);
-  const double r_proj[3] = {std::sqrt(dl.y * dl.y + dl.z * dl.z), std::sqrt(dl.x * dl.x + dl.z * dl.z),
-                            std::sqrt(dl.x * dl.x + dl.y * dl.y)};  // about s, t, n axes
-  const double axis_prob[3] = {kProbeTangent, kProbeTangent, kProbeNormal};
-  const double n_abs[3] = {std::abs(nl.x), std::abs(nl.y), std::abs(nl.z)};
-  double pdf = 0;  // per unit area [1/unit^2]
-  for (int ax = 0; ax < 3; ++ax)
-    for (std::size_t ch = 0; ch < 3; ++ch)
-      pdf += axis_prob[ax] * n_abs[ax] * (1.0 / 3.0) * m.profile[ch].pdf_area(r_proj[ax] * mm) * mm * mm;
-  if (!(pdf > 0)) return false;
-  const double dist_mm = length(dv) * mm;
-  for (int ch = 0; ch < 3; ++ch)
-    (*weight)[ch] = m.profile[static_cast<std::size_t>(ch)].eval(dist_mm) * mm * mm * count / pdf;
-  return true;
+  *xi = surface(hits[pick], seg.dir, false);
+  return bssrdf.probe_weight(xi->p, xi->ng, count, weight);
 }
 
 Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
@@ -320,8 +176,8 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
     const double t_hit = hit ? h.t : kInf;
     {
       Rgb3 Le;
-      double lpdf = 0, t_light = 0;
-      if (hit_area_light(o, d, t_hit, &Le, &lpdf, &t_light)) {
+      double lpdf = 0;
+      if (hit_area_light(o, prev_n, d, t_hit, &Le, &lpdf)) {
         const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
         L += beta * Le * w;
         break;
@@ -329,7 +185,7 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
     }
     if (!hit) {
       if (!s_.environment.black()) {
-        const double lpdf = s_.environment.pdf(d, prev_n);
+        const double lpdf = s_.environment.pdf(o, prev_n, d);
         const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
         L += beta * s_.environment.radiance(d) * w;
       }
@@ -355,7 +211,8 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
       o = offset(x.p, x.ng, wi);
       d = wi;
     } else {
-      const Frame f = Frame::from_normal(x.ns);
+      const Bssrdf bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), x.p, x.ns, s_.mm_per_unit);
+      const Frame& f = bssrdf.frame();
       const Vec3 wo_l = f.to_local(wo);
       const double cos_o = std::max(wo_l.z, 1e-4);
       const TorranceSparrow lobe(m.rho_s, m.roughness, m.eta);
@@ -367,24 +224,21 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
                            [&](const Vec3& wi) { return lobe.pdf(wo_c, f.to_local(wi)); });
       }
       // Subsurface term: entry point x_i, then direct light there with MIS.
-      const double Ft_o = 1 - rho_dr(m, cos_o);
+      const double Ft_o = bssrdf.F_t(cos_o);
       Surface xi;
       Rgb3 wss;
-      const bool entered = sample_entry(x, rng, &xi, &wss);
+      const bool entered = sample_entry(x, bssrdf, rng, &xi, &wss);
       Rgb3 beta_ss;
       if (entered) {
         Rgb3 tex{1, 1, 1};
         if (m.albedo_map && x.has_uv) tex = m.albedo_map->lookup(x.uv.x, x.uv.y) * m.texture_normalisation;
         beta_ss = beta * wss * tex * Ft_o;
         L += beta_ss * direct(xi.p, xi.ns, xi.ng, rng,
-                              [&](const Vec3& wi) {
-                                const double c = dot(wi, xi.ns);
-                                return c > 0 ? (1 - rho_dr(m, c)) / kPi * c : 0.0;
-                              },
+                              [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, xi.ns)); },
                               [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, xi.ns)); });
       }
       // Continue with one of the two terms, chosen by their albedo at w_o.
-      const double a_spec = rho_dr(m, cos_o);
+      const double a_spec = bssrdf.rho_dr(cos_o);
       const double a_ss = entered ? (1 - a_spec) * std::max(1e-3, m.R_d.average()) : 0.0;
       const double p_spec = a_spec + a_ss > 0 ? a_spec / (a_spec + a_ss) : 0.0;
       if (rng.uniform() < p_spec) {
@@ -405,8 +259,8 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
         const Vec3 wi_l = sample_cosine_hemisphere({rng.uniform(), rng.uniform()});
         const Vec3 wi = fi.to_world(wi_l);
         if (dot(wi, xi.ng) <= 0) break;
-        // f cos / pdf = (1 - rho_dr(theta_i)) / pi x cos / (cos / pi).
-        beta = beta_ss * ((1 - rho_dr(m, wi_l.z)) / (1 - p_spec));
+        // f cos / pdf = F_t(theta_i) / pi x cos / (cos / pi).
+        beta = beta_ss * (bssrdf.F_t(wi_l.z) / (1 - p_spec));
         prev_pdf = wi_l.z / kPi;
         prev_delta = false;
         prev_n = xi.ns;

@@ -327,36 +327,25 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
     for (std::size_t i = 0; i < ls.size(); ++i) {
       const Reader l(ls[i], file, "lights[" + std::to_string(i) + "]");
       const std::string type = l.string("type");
-      Light L;
       if (type == "point") {
         l.allow({"type", "position", "intensity"});
-        L.kind = LightKind::point;
-        L.position = l.vec3("position");
-        L.intensity = l.rgb("intensity", {1, 1, 1});
+        s.lights.emplace_back(PointLight{l.vec3("position"), l.rgb("intensity", {1, 1, 1})});
       } else if (type == "directional") {
         l.allow({"type", "direction", "irradiance"});
-        L.kind = LightKind::directional;
-        L.direction = normalize(l.vec3("direction"));
-        L.intensity = l.rgb("irradiance", {1, 1, 1});
+        s.lights.emplace_back(DirectionalLight{normalize(l.vec3("direction")), l.rgb("irradiance", {1, 1, 1})});
       } else if (type == "sphere") {
         l.allow({"type", "center", "radius", "radiance"});
-        L.kind = LightKind::sphere;
-        L.position = l.vec3("center");
-        L.radius = l.number("radius");
+        const SphereLight L{l.vec3("center"), l.number("radius"), l.rgb("radiance", {1, 1, 1})};
         if (!(L.radius > 0)) l.fail("'radius' must be > 0");
-        L.intensity = l.rgb("radiance", {1, 1, 1});
+        s.lights.emplace_back(L);
       } else if (type == "quad") {
         l.allow({"type", "corner", "edge_u", "edge_v", "radiance"});
-        L.kind = LightKind::quad;
-        L.corner = l.vec3("corner");
-        L.edge_u = l.vec3("edge_u");
-        L.edge_v = l.vec3("edge_v");
+        const QuadLight L{l.vec3("corner"), l.vec3("edge_u"), l.vec3("edge_v"), l.rgb("radiance", {1, 1, 1})};
         if (!(L.area() > 0)) l.fail("'edge_u' and 'edge_v' must span a non-zero area");
-        L.intensity = l.rgb("radiance", {1, 1, 1});
+        s.lights.emplace_back(L);
       } else {
         l.fail("unknown light type '" + type + "' (known: point, directional, sphere, quad)");
       }
-      s.lights.push_back(L);
     }
   }
   if (r.has("environment")) {
@@ -437,18 +426,8 @@ Scene Scene::default_scene() {
   s.meshes.push_back(make_sphere({32, 28, 0}, 28, 64, 128, 2));
   s.meshes.push_back(make_ellipsoid({94, 30, 0}, {18, 28, 2}, 64, 128, 3));
   s.meshes.push_back(make_quad({-400, 0, 300}, {800, 0, 0}, {0, 0, -700}, 4));
-  Light key;
-  key.kind = LightKind::sphere;
-  key.position = {-160, 260, 260};
-  key.radius = 30;
-  key.intensity = {40, 40, 40};
-  s.lights.push_back(key);
-  Light back;
-  back.kind = LightKind::sphere;
-  back.position = {98, 36, -30};
-  back.radius = 6;
-  back.intensity = {400, 400, 400};
-  s.lights.push_back(back);
+  s.lights.emplace_back(SphereLight{{-160, 260, 260}, 30, {40, 40, 40}});  // key
+  s.lights.emplace_back(SphereLight{{98, 36, -30}, 6, {400, 400, 400}});    // back
   s.environment.constant = {0.04, 0.045, 0.05};
   return make_scene(std::move(s));
 }

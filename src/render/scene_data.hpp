@@ -10,6 +10,7 @@
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/model.hpp"
 #include "skin/physics/skin_parameters.hpp"
+#include "lights.hpp"
 #include "skin/render/math.hpp"
 #include "skin/render/microfacet.hpp"
 #include "skin/render/profile_sampler.hpp"
@@ -74,34 +75,6 @@ struct Mesh {
   std::vector<Vec2> uv;                // empty: no texture coordinates
   std::vector<std::array<std::uint32_t, 3>> triangles;
   std::size_t material = 0;
-};
-
-enum class LightKind { point, directional, sphere, quad };
-struct Light {
-  LightKind kind = LightKind::point;
-  Rgb3 intensity;  // point [W/sr-like units], directional: irradiance, area lights: radiance
-  Vec3 position;   // point, sphere centre
-  Vec3 direction;  // directional: direction the light travels (unit)
-  double radius = 0;      // sphere
-  Vec3 corner, edge_u, edge_v;  // quad: emits on the side of cross(edge_u, edge_v)
-  double area() const;
-};
-
-struct Environment {
-  Rgb3 constant;                           // radiance of a uniform environment
-  std::shared_ptr<const Texture> map;      // lat-long map (multiplies `scale`), optional
-  double scale = 1.0;
-  double rotation_deg = 0.0;               // about +y
-  Distribution2D distribution;             // map importance (luminance x sin theta)
-  bool has_map() const { return map != nullptr; }
-  bool black() const { return !map && constant.is_black(); }
-  Rgb3 radiance(const Vec3& dir) const;
-  // Samples a direction toward the environment seen from a point with normal n; returns the
-  // radiance, sets dir and the solid-angle pdf. A constant environment is sampled cosine-weighted
-  // about n (what a diffuse receiver integrates), a map by its luminance.
-  Rgb3 sample(Vec2 u, const Vec3& n, Vec3* dir, double* pdf) const;
-  double pdf(const Vec3& dir, const Vec3& n) const;
-  void build_distribution();
 };
 
 struct Camera {

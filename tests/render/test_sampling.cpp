@@ -3,10 +3,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <functional>
 
-#include "scene_data.hpp"
-#include "skin/model/skin_model.hpp"
+#include "sampler_checks.hpp"
 #include "skin/render/microfacet.hpp"
 #include "skin/render/profile_sampler.hpp"
 #include "skin/render/sampling.hpp"
@@ -14,25 +12,7 @@
 
 namespace skin::render {
 namespace {
-
-using skin::test::chi_square_p;
-
-// Integral of f over [a, b] by composite Simpson (n even).
-double simpson(const std::function<double(double)>& f, double a, double b, int n = 200) {
-  const double h = (b - a) / n;
-  double s = f(a) + f(b);
-  for (int i = 1; i < n; ++i) s += f(a + i * h) * (i % 2 ? 4 : 2);
-  return s * h / 3;
-}
-
-TabulatedProfile skin_channel(int c) {
-  std::vector<double> r{0.0};
-  const RadialGrid g = RadialGrid::logarithmic(1e-3, 20.0, 128);
-  r.insert(r.end(), g.r.begin(), g.r.end());
-  ProfileSolver solver(RadialGrid::from(r));
-  const RgbProfile p = skin_rgb_profile(find_preset("caucasian").parameters, WavelengthGrid(400, 700, 10), solver);
-  return TabulatedProfile(p.radii.r, p.R[static_cast<std::size_t>(c)], p.R_d[static_cast<std::size_t>(c)]);
-}
+using namespace test;  // NOLINT(google-build-using-namespace)
 
 TEST(ProfileSampler, EvalIntegratesToRdAndPdfToOne) {
   // eval() is rescaled so that 2 pi int R r dr = R_d exactly; pdf_radius integrates to 1.
@@ -96,51 +76,6 @@ TEST(ProfileSampler, ChiSquareAgainstTabulatedProfile) {
     }
     EXPECT_GT(chi_square_p(counts, prob, kN), 1e-3);
   }
-}
-
-// Midpoint rule (avoids the end points, where some pdfs have integrable singularities).
-double midpoint(const std::function<double(double)>& f, double a, double b, int n) {
-  double s = 0;
-  for (int i = 0; i < n; ++i) s += f(a + (i + 0.5) * (b - a) / n);
-  return s * (b - a) / n;
-}
-
-// Chi-square of directions on the sphere: bins in (cos theta, phi), expected from the pdf
-// integrated numerically over each bin (midpoint rule in both coordinates).
-void direction_chi_square(const std::function<bool(Vec2, Vec3*)>& sample, const std::function<double(const Vec3&)>& pdf,
-                          std::uint64_t seed, double* p_value, double* pdf_integral) {
-  constexpr int kTheta = 20, kPhi = 40, kN = 200000;
-  std::vector<double> prob(kTheta * kPhi), counts(kTheta * kPhi, 0.0);
-  double total = 0;
-  for (int i = 0; i < kTheta; ++i)
-    for (int j = 0; j < kPhi; ++j) {
-      const double c0 = -1 + 2.0 * i / kTheta, c1 = -1 + 2.0 * (i + 1) / kTheta;
-      const double p0 = 2 * kPi * j / kPhi, p1 = 2 * kPi * (j + 1) / kPhi;
-      const double v = midpoint([&](double c) {
-        return midpoint([&](double ph) {
-          const double s = std::sqrt(std::max(0.0, 1 - c * c));
-          return pdf({s * std::cos(ph), s * std::sin(ph), c});
-        }, p0, p1, 8);
-      }, c0, c1, 24);
-      prob[static_cast<std::size_t>(i * kPhi + j)] = v;
-      total += v;
-    }
-  Rng rng(seed, 3);
-  for (int k = 0; k < kN; ++k) {
-    Vec3 w;
-    if (!sample({rng.uniform(), rng.uniform()}, &w)) continue;
-    const int i = std::clamp(static_cast<int>((w.z + 1) / 2 * kTheta), 0, kTheta - 1);
-    double ph = std::atan2(w.y, w.x);
-    if (ph < 0) ph += 2 * kPi;
-    const int j = std::clamp(static_cast<int>(ph / (2 * kPi) * kPhi), 0, kPhi - 1);
-    counts[static_cast<std::size_t>(i * kPhi + j)] += 1;
-  }
-  // Samples that failed (below the horizon) carry the missing probability mass.
-  double n_ok = 0;
-  for (double c : counts) n_ok += c;
-  for (auto& p : prob) p /= total;
-  *p_value = chi_square_p(counts, prob, n_ok);
-  *pdf_integral = total;
 }
 
 TEST(Beckmann, NormalisedAndSamplesItsPdf) {
@@ -222,28 +157,6 @@ TEST(Warps, ConeAndCosineHemisphereFollowTheirPdfs) {
                        [&](const Vec3& w) { return pdf_cosine_hemisphere(w.z); }, 14, &p, &integral);
   EXPECT_GT(p, 1e-3);
   EXPECT_NEAR(integral, 1.0, 1e-3);
-}
-
-TEST(Environment, MapSamplingFollowsItsPdf) {
-  // A 16 x 8 map with one bright texel and a gradient: the sampled directions must follow
-  // pdf(dir), and pdf must integrate to one over the sphere.
-  auto tex = std::make_shared<Texture>();
-  tex->width = 16;
-  tex->height = 8;
-  tex->rgb.resize(16 * 8 * 3);
-  for (int y = 0; y < 8; ++y)
-    for (int x = 0; x < 16; ++x)
-      for (int c = 0; c < 3; ++c) tex->rgb[static_cast<std::size_t>((y * 16 + x) * 3 + c)] = static_cast<float>(0.1 + 0.05 * x + (x == 5 && y == 2 ? 20 : 0));
-  Environment env;
-  env.map = tex;
-  env.rotation_deg = 30;
-  env.build_distribution();
-  const Vec3 n{0, 0, 1};
-  double p = 0, integral = 0;
-  direction_chi_square([&](Vec2 u, Vec3* w) { double pdf; env.sample(u, n, w, &pdf); return pdf > 0; },
-                       [&](const Vec3& w) { return env.pdf(w, n); }, 15, &p, &integral);
-  EXPECT_GT(p, 1e-3);
-  EXPECT_NEAR(integral, 1.0, 0.01);  // midpoint rule over bins that cut through texel edges
 }
 
 TEST(Distribution1D, SampleInvertPdf) {

@@ -1,0 +1,101 @@
+#pragma once
+// The BSSRDF of a translucent material seen from one exit point x_o (DJ06 eq 1, subsurface term;
+// docs/renderer.md):
+//
+//   S(x_i, w_i; x_o, w_o) = (1/pi) F_t(w_o) R(|x_o - x_i|) F_t(w_i),   F_t(w) = 1 - rho_dr(theta),
+//
+// with rho_dr = rho_s x the directional albedo of the surface term (eq 2). Everything that
+// evaluates, samples and weights it lives here, as in pbrt-v4's TabulatedBSSRDF, so that the
+// probe strategy and the pdf its MIS weight divides by cannot drift apart:
+//   - the profile R(r) per linear sRGB channel, its radius sampler and pdf (TabulatedProfile);
+//   - the probe segments (axis, channel, radius, angle) through which the integrator finds the
+//     entry point x_i, and their one-sample MIS pdf over the three axes and three channels;
+//   - the weight R(|x_o - x_i|) / pdf of a found entry point;
+//   - the transmission F_t at the exit (w_o) and at the entry (w_i), and the entry point's
+//     BRDF (1/pi) F_t(w_i).
+// A Bssrdf is a view built per shading point: it refers to the material's profile tables and
+// specular albedo, which must outlive it. Positions are in scene units; profiles in mm.
+#include <array>
+#include <iosfwd>
+
+#include "skin/render/math.hpp"
+#include "skin/render/microfacet.hpp"
+#include "skin/render/profile_sampler.hpp"
+
+namespace skin::render {
+
+// A probe segment: a chord of the sphere of radius r_max (of the sampled channel) about x_o,
+// parallel to one axis of the exit frame, at distance r from x_o. Surface points on it are
+// candidate entry points.
+struct ProbeSegment {
+  Vec3 start;         // scene units
+  Vec3 dir;           // unit; the segment is start + t dir, t in [0, length]
+  double length = 0;  // scene units
+  int axis = 2;       // 0, 1: the tangents s, t of the exit frame; 2: its normal
+  int channel = 0;    // profile the radius was drawn from
+  double r = 0;       // [mm] distance of the segment's line from x_o
+};
+std::ostream& operator<<(std::ostream& os, const ProbeSegment& s);
+
+class Bssrdf {
+ public:
+  // Probe axis probabilities. King et al. 2013 and pbrt-v3 use 1/2 for the normal; on smooth skin
+  // the tangent probes rarely find a surface (they matter at creases, edges and thin parts), so
+  // more of the budget goes to the normal: 3/4, and 1/8 for each tangent. MIS keeps any choice
+  // unbiased. Indexed like ProbeSegment::axis.
+  static constexpr std::array<double, 3> kAxisProbability{0.125, 0.125, 0.75};
+
+  // profile: R(r) per channel [1/mm^2]; rho_s and albedo: the surface term (albedo may be null
+  // when rho_s = 0); x_o and n_o: the exit point [scene units] and its unit shading normal;
+  // mm_per_unit: the scene's scale.
+  Bssrdf(const std::array<TabulatedProfile, 3>& profile, double rho_s, const SpecularAlbedo* albedo,
+         const Vec3& x_o, const Vec3& n_o, double mm_per_unit);
+
+  // --- The profile: R(r) [1/mm^2] at r [mm] (signed; integrates to R_d over the plane), the
+  // radius sampler of one channel and its density per unit radius [1/mm].
+  double R(int channel, double r) const { return profile_[static_cast<std::size_t>(channel)].eval(r); }
+  double sample_r(int channel, double u) const { return profile_[static_cast<std::size_t>(channel)].sample_radius(u); }
+  double pdf_r(int channel, double r) const { return profile_[static_cast<std::size_t>(channel)].pdf_radius(r); }
+  double R_d(int channel) const { return profile_[static_cast<std::size_t>(channel)].R_d(); }
+
+  // --- Transmission through the rough surface: rho_dr(theta) = rho_s rho_dr,1(theta) is what the
+  // surface term reflects, F_t = 1 - rho_dr what crosses it (at x_o for w_o, at x_i for w_i).
+  double rho_dr(double cos_theta) const {
+    return rho_s_ > 0 ? rho_s_ * albedo_->rho_dr(cos_theta) : 0.0;
+  }
+  double F_t(double cos_theta) const { return 1 - rho_dr(cos_theta); }
+  // The entry point's BRDF times cos(theta_i): (1/pi) F_t(theta_i) cos(theta_i); 0 below the
+  // horizon. Its cosine-sampled continuation weighs f cos / pdf = F_t(theta_i).
+  double f_entry_cos(double cos_theta_i) const {
+    return cos_theta_i > 0 ? F_t(cos_theta_i) / kPi * cos_theta_i : 0.0;
+  }
+
+  // --- Probe sampling (King et al. 2013). Four uniform numbers choose the axis (kAxisProbability),
+  // the channel (1/3 each), the radius r from that channel's profile and the angle phi about the
+  // axis. False when the radius reaches the end of the table (no chord left).
+  bool sample_probe(double u_axis, double u_channel, double u_r, double u_phi, ProbeSegment* seg) const;
+  // Density per unit area [1/unit^2] with which the probes reach a surface point x_i of unit
+  // normal n_i, over all axes and channels (one-sample MIS, balance heuristic):
+  //   pdf(x_i) = sum_axis sum_channel P(axis) P(channel) |n_i . axis| pdf_area,channel(r_axis),
+  // r_axis = distance of x_i from x_o projected onto the plane perpendicular to the axis; a
+  // channel's terms count only within its r_max of x_o (its probes are chords of that sphere).
+  double pdf_probe(const Vec3& x_i, const Vec3& n_i) const;
+  // The weight of an entry point found by a probe, per channel: R(|x_o - x_i|) / pdf(x_i) times
+  // the number of candidate points the probe found (one of which was picked uniformly). False
+  // where the pdf vanishes.
+  bool probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, Rgb3* weight) const;
+
+  const Frame& frame() const { return frame_; }
+  const Vec3& x_o() const { return x_o_; }
+
+ private:
+  const std::array<TabulatedProfile, 3>& profile_;
+  double rho_s_;
+  const SpecularAlbedo* albedo_;
+  Vec3 x_o_;
+  Frame frame_;
+  double mm_;  // mm per scene unit
+};
+std::ostream& operator<<(std::ostream& os, const Bssrdf& b);
+
+}  // namespace skin::render

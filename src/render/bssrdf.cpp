@@ -1,0 +1,78 @@
+// The BSSRDF at an exit point (include/skin/render/bssrdf.hpp; docs/renderer.md, "Sampling the
+// entry point"): probe segments and the MIS pdf they are weighted with, side by side.
+#include "skin/render/bssrdf.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <ostream>
+
+namespace skin::render {
+
+Bssrdf::Bssrdf(const std::array<TabulatedProfile, 3>& profile, double rho_s, const SpecularAlbedo* albedo,
+               const Vec3& x_o, const Vec3& n_o, double mm_per_unit)
+    : profile_(profile), rho_s_(rho_s), albedo_(albedo), x_o_(x_o), frame_(Frame::from_normal(n_o)), mm_(mm_per_unit) {
+  assert(rho_s == 0 || albedo != nullptr);  // built per shading point: a debug check only
+}
+
+bool Bssrdf::sample_probe(double u_axis, double u_channel, double u_r, double u_phi, ProbeSegment* seg) const {
+  // The axis, and the two directions spanning the plane perpendicular to it.
+  Vec3 axis, ta, tb;
+  if (u_axis < kAxisProbability[2]) {
+    seg->axis = 2; axis = frame_.n; ta = frame_.s; tb = frame_.t;
+  } else if (u_axis < kAxisProbability[2] + kAxisProbability[0]) {
+    seg->axis = 0; axis = frame_.s; ta = frame_.t; tb = frame_.n;
+  } else {
+    seg->axis = 1; axis = frame_.t; ta = frame_.n; tb = frame_.s;
+  }
+  seg->channel = static_cast<int>(std::min(static_cast<std::size_t>(u_channel * 3.0), std::size_t{2}));
+  const TabulatedProfile& prof = profile_[static_cast<std::size_t>(seg->channel)];
+  if (prof.empty()) return false;
+  const double r_max_mm = prof.r_max();
+  seg->r = prof.sample_radius(u_r);
+  if (!(seg->r < r_max_mm)) return false;
+  const double phi = 2 * kPi * u_phi;
+  const double r = seg->r / mm_, r_max = r_max_mm / mm_;
+  const double half = std::sqrt(r_max * r_max - r * r);
+  const Vec3 base = x_o_ + (ta * std::cos(phi) + tb * std::sin(phi)) * r;
+  seg->start = base + axis * half;
+  seg->dir = -axis;
+  seg->length = 2 * half;
+  return true;
+}
+
+double Bssrdf::pdf_probe(const Vec3& x_i, const Vec3& n_i) const {
+  const Vec3 dl = frame_.to_local(x_i - x_o_);
+  const Vec3 nl = frame_.to_local(n_i);
+  const double r_proj[3] = {std::sqrt(dl.y * dl.y + dl.z * dl.z), std::sqrt(dl.x * dl.x + dl.z * dl.z),
+                            std::sqrt(dl.x * dl.x + dl.y * dl.y)};  // about the s, t, n axes
+  const double n_abs[3] = {std::abs(nl.x), std::abs(nl.y), std::abs(nl.z)};
+  // A channel's probes are chords of its sphere of radius r_max: they reach no point beyond it.
+  const double dist_mm = length(x_i - x_o_) * mm_;
+  double pdf = 0;  // per unit area [1/unit^2]
+  for (std::size_t ax = 0; ax < 3; ++ax)
+    for (std::size_t ch = 0; ch < 3; ++ch)
+      if (dist_mm <= profile_[ch].r_max())
+        pdf += kAxisProbability[ax] * n_abs[ax] * (1.0 / 3.0) * profile_[ch].pdf_area(r_proj[ax] * mm_) * mm_ * mm_;
+  return pdf;
+}
+
+bool Bssrdf::probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, Rgb3* weight) const {
+  const double pdf = pdf_probe(x_i, n_i);
+  if (!(pdf > 0)) return false;
+  const double dist_mm = length(x_i - x_o_) * mm_;
+  for (int ch = 0; ch < 3; ++ch) (*weight)[ch] = R(ch, dist_mm) * mm_ * mm_ * candidates / pdf;
+  return true;
+}
+
+std::ostream& operator<<(std::ostream& os, const Bssrdf& b) {
+  return os << "Bssrdf{x_o=" << b.x_o() << ", n_o=" << b.frame().n << ", rho_dr(1)=" << b.rho_dr(1.0) << ", R_d=("
+            << b.R_d(0) << ", " << b.R_d(1) << ", " << b.R_d(2) << ")}";
+}
+
+std::ostream& operator<<(std::ostream& os, const ProbeSegment& s) {
+  return os << "ProbeSegment{axis=" << s.axis << ", channel=" << s.channel << ", r=" << s.r << " mm, start=" << s.start
+            << ", dir=" << s.dir << ", length=" << s.length << '}';
+}
+
+}  // namespace skin::render
