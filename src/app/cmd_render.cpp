@@ -14,12 +14,13 @@ namespace skin::cli {
 namespace {
 
 struct RenderOpts {
-  std::string scene, output, preset, resolution, mesh;
+  std::string scene, output, resolution, mesh;
   int spp = 0, threads = 0, max_depth = -1, figure = 0;
   std::uint64_t seed = 1;
   double time_budget = 0, exposure = 0;
   bool exposure_given = false, diffuse = false;
   SolverOption solver;
+  ParameterOptions params;  // render only: changes the skin materials
 };
 
 void parse_resolution(const std::string& s, render::RenderSettings* rs) {
@@ -83,7 +84,10 @@ void register_render(CLI::App& app) {
       "without SCENE, the built-in scene of the three Fig. 8 skin types and a back-lit ear-like fin");
   sub->add_option("scene", o->scene, "Scene file (JSON); omit for the built-in default scene");
   add_common(sub, o.get());
-  sub->add_option("--preset", o->preset, "Use this parameter set for every skin material of the scene");
+  o->params.add_to(*sub);
+  o->params.preset_option->description(
+      "Use this parameter set for every skin material of the scene (parameter flags and --params "
+      "then change it; without --preset they change each material's own set)");
   sub->add_option("--resolution", o->resolution, "Image size WxH (default: the scene's)");
   sub->add_flag("--diffuse", o->diffuse, "Replace every translucent material by a diffuse one of the same R_d (comparison)");
   sub->callback([o, sub] {
@@ -92,10 +96,10 @@ void register_render(CLI::App& app) {
       render::RenderSettings tmp;
       parse_resolution(o->resolution, &tmp);
     }
-    std::optional<SkinParameters> preset;
-    if (!o->preset.empty()) preset = find_preset(o->preset).parameters;
+    if (o->params.given()) (void)o->params.resolve();  // bad parameters fail before the scene loads
     render::Scene scene = o->scene.empty() ? render::Scene::default_scene() : render::Scene::load(o->scene);
-    if (preset) scene.set_skin_parameters(*preset);
+    if (o->params.given())
+      scene.update_skin_parameters([&](const SkinParameters& own) { return o->params.resolve_over(own); });
     if (sub->count("--solver") > 0) scene.set_solver(o->solver.model());  // else the scene's
     if (o->diffuse) scene.make_translucent_diffuse();
     run(*o, scene, nullptr);

@@ -81,7 +81,11 @@ long last_position(const CLI::App& app, const CLI::Option* o) {
 }  // namespace
 
 SkinParameters ParameterOptions::resolve() const {
-  SkinParameters p = find_preset(preset).parameters;
+  return resolve_over(find_preset(preset).parameters);
+}
+
+SkinParameters ParameterOptions::resolve_over(const SkinParameters& base) const {
+  SkinParameters p = preset_option->count() > 0 ? find_preset(preset).parameters : base;
   std::vector<const ParameterInfo*> from_file;
   if (params_option->count() > 0) from_file = read_parameter_file(params_file, p);
   const long file_at = last_position(*app, params_option);

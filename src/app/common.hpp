@@ -38,6 +38,8 @@ struct ParameterOptions {
   // Whether --preset, --params or any parameter flag was given.
   bool given() const;
   SkinParameters resolve() const;  // preset + file + overrides, validated
+  // The same over `base` when --preset is not given (the renderer: each material's own set).
+  SkinParameters resolve_over(const SkinParameters& base) const;
 };
 
 // Reads a parameter file: the JSON `skin fit` or `skin spectrum` writes (its "parameters"

@@ -1,5 +1,7 @@
 // Textures of the renderer: images (skin::image) kept for bilinear lookup.
 #include <cmath>
+#include <cctype>
+#include <filesystem>
 #include <memory>
 
 #include "scene_data.hpp"
@@ -16,6 +18,46 @@ std::shared_ptr<Texture> load_texture(const std::string& path, bool srgb) {
   t->width = img.width;
   t->height = img.height;
   t->rgb = std::move(img.rgb);
+  return t;
+}
+
+std::shared_ptr<Texture> load_map_texture(const std::string& path, const std::string& channel,
+                                          const std::string& key) {
+  auto t = std::make_shared<Texture>();
+  t->path = path;
+  const std::string ext = [&] {
+    std::string e = std::filesystem::path(path).extension().string();
+    for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return e;
+  }();
+  std::vector<float> plane;
+  if (ext == ".exr") {
+    const std::string name = channel.empty() ? key : channel;
+    image::Planes planes = image::read_exr_planes(
+        path, {name}, "parameter map (give \"channel\" to read another)");
+    t->width = planes.width;
+    t->height = planes.height;
+    plane = std::move(planes.values[0]);
+  } else {
+    int c = 0;
+    if (channel == "G") c = 1;
+    else if (channel == "B") c = 2;
+    else if (!channel.empty() && channel != "R")
+      throw InputError("parameter map '" + path + "': channel '" + channel +
+                       "' is not R, G or B (named channels need an OpenEXR file)");
+    image::Image img = image::read_image(path, false);
+    t->width = img.width;
+    t->height = img.height;
+    plane.resize(img.rgb.size() / 3);
+    for (std::size_t i = 0; i < plane.size(); ++i) plane[i] = img.rgb[3 * i + static_cast<std::size_t>(c)];
+  }
+  if (t->width <= 0 || t->height <= 0) throw InputError("image = '" + path + "': empty image");
+  t->rgb.assign(plane.size() * 3, 0.0f);
+  for (std::size_t i = 0; i < plane.size(); ++i) {
+    if (!std::isfinite(plane[i]))
+      throw InputError("parameter map '" + path + "': a texel is not a finite number");
+    t->rgb[3 * i] = plane[i];
+  }
   return t;
 }
 

@@ -105,8 +105,9 @@ const Material& Material::node_at(double u, double v, double xi) const {
   // successive bits of xi (stretched to stay uniform).
   std::size_t index = 0, stride = 1;
   for (const auto& mp : maps) {
-    const double value = mp.texture->lookup(u, v).r;  // [0, 1] data, not colour
-    const double x = std::clamp(value, 0.0, 1.0) * (mp.levels - 1);
+    const double texel = mp.texture->lookup(u, v).r;  // data, not colour
+    const double t = mp.values ? (texel - mp.min) / (mp.max - mp.min) : texel;
+    const double x = std::clamp(t, 0.0, 1.0) * (mp.levels - 1);
     const auto lo = std::min(static_cast<std::size_t>(x), static_cast<std::size_t>(mp.levels - 2));
     const double w_hi = x - static_cast<double>(lo);
     std::size_t level = lo;

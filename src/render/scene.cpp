@@ -1,6 +1,7 @@
 // Scene files (docs/scene-format.md), the built-in default scene, and the Scene handle.
 #include "skin/render/scene.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -136,21 +137,70 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
     if (r.has("albedo_texture"))
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
   } else if (type == "skin") {
-    r.allow({"type", "preset", "C_m", "beta_m", "C_h", "rho_s", "gamma", "epidermis_thickness",
-             "dermis_scattering_scale", "eta", "roughness", "albedo_texture", "texture_reference",
-             "parameter_maps", "solver"});
+    // Every parameter of the table by its key or the paper's symbol (skin::parameter_table()).
+    for (const auto& [k, v] : r.j().items()) {
+      static const std::set<std::string> other = {"type", "preset", "albedo_texture", "texture_reference",
+                                                  "parameter_maps", "solver"};
+      if (other.count(k) == 0 && find_parameter(k) == nullptr) {
+        std::string known;
+        for (const auto& o : other) known += o + ", ";
+        for (const auto& info : parameter_table()) known += std::string(info.key) + ", ";
+        r.fail("unknown key '" + k + "' (known: " + known + "or the paper's symbols C_m, beta_m, C_h, rho_s, gamma)");
+      }
+    }
     SkinParameters p = r.has("preset") ? with_context(r.file(), r.path("preset"), [&] { return find_preset(r.string("preset")).parameters; })
                                        : SkinParameters{};
-    p.melanin = r.number("C_m", p.melanin);
-    p.melanin_blend = r.number("beta_m", p.melanin_blend);
-    p.hemoglobin = r.number("C_h", p.hemoglobin);
-    p.oiliness = r.number("rho_s", p.oiliness);
-    p.oxygenation = r.number("gamma", p.oxygenation);
-    p.epidermis_thickness = r.number("epidermis_thickness", p.epidermis_thickness);
-    p.dermis_scattering_scale = r.number("dermis_scattering_scale", p.dermis_scattering_scale);
-    p.eta = r.number("eta", p.eta);
-    p.roughness = r.number("roughness", p.roughness);
+    std::set<const ParameterInfo*> given;
+    for (const auto& [k, v] : r.j().items()) {
+      const ParameterInfo* info = find_parameter(k);
+      if (info == nullptr) continue;
+      if (!given.insert(info).second) r.fail("'" + k + "' sets " + std::string(info->key) + " a second time");
+      p.*(info->member) = r.number(k.c_str());
+    }
     if (r.has("solver")) m.solver = read_solver(r);
+    if (r.has("parameter_maps")) {
+      const Reader pm(r.raw("parameter_maps"), r.file(), r.path("parameter_maps"));
+      for (const auto& [k, v] : pm.j().items()) {
+        const ParameterInfo* info = find_parameter(k);
+        if (info == nullptr)
+          with_context(r.file(), pm.path(k.c_str()), [&] { return parameter_info(k, "parameter"); });
+        const Reader e(v, r.file(), pm.path(k.c_str()));
+        e.allow({"texture", "channel", "min", "max", "levels"});
+        Material::ParameterMap mp;
+        mp.key = std::string(info->key);
+        mp.member = info->member;
+        mp.levels = e.integer("levels", 4);
+        if (mp.levels < 2 || mp.levels > 16) e.fail("'levels' = " + std::to_string(mp.levels) + " is out of range: [2, 16]");
+        if (e.has("min") != e.has("max")) e.fail("give both 'min' and 'max' (texels 0-1 scaled to them) or neither (texels are values)");
+        const std::string file = resolve(base, e.string("texture"));
+        const std::string channel = e.has("channel") ? e.string("channel") : std::string();
+        mp.texture = with_context(r.file(), e.path("texture"), [&] { return load_map_texture(file, channel, mp.key); });
+        if (e.has("min")) {
+          mp.min = e.number("min");
+          mp.max = e.number("max");
+          if (!(mp.max > mp.min)) e.fail("'max' = " + format_number(mp.max) + " must be > 'min' = " + format_number(mp.min));
+        } else {
+          // The channel holds the parameter's values: the nodes span what the texture holds.
+          mp.values = true;
+          double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+          for (std::size_t i = 0; i < mp.texture->rgb.size(); i += 3) {
+            const double x = mp.texture->rgb[i];
+            if (!info->in_range(x))
+              e.fail("texture '" + file + "' holds " + info->label() + " = " + format_number(x) +
+                     ", outside its range " + info->range_text());
+            lo = std::min(lo, x);
+            hi = std::max(hi, x);
+          }
+          if (!(hi > lo)) {  // one value everywhere: a constant, no map
+            p.*(info->member) = lo;
+            continue;
+          }
+          mp.min = lo;
+          mp.max = hi;
+        }
+        m.maps.push_back(mp);
+      }
+    }
     with_context(r.file(), "materials." + name, [&] { prepare_skin_material(m, p); return 0; });
     if (r.has("albedo_texture")) {
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
@@ -165,25 +215,6 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
     }
     if (r.has("parameter_maps")) {
       const Reader pm(r.raw("parameter_maps"), r.file(), r.path("parameter_maps"));
-      pm.allow({"C_m", "beta_m", "C_h", "rho_s"});
-      const std::pair<const char*, double SkinParameters::*> members[] = {
-          {"C_m", &SkinParameters::melanin}, {"beta_m", &SkinParameters::melanin_blend},
-          {"C_h", &SkinParameters::hemoglobin}, {"rho_s", &SkinParameters::oiliness}};
-      for (const auto& [key, member] : members) {
-        if (!pm.has(key)) continue;
-        const Reader e(pm.raw(key), r.file(), pm.path(key));
-        e.allow({"texture", "min", "max", "levels"});
-        Material::ParameterMap mp;
-        mp.key = key;
-        mp.member = member;
-        mp.min = e.number("min");
-        mp.max = e.number("max");
-        mp.levels = e.integer("levels", 4);
-        if (!(mp.max > mp.min)) e.fail("'max' = " + format_number(mp.max) + " must be > 'min' = " + format_number(mp.min));
-        if (mp.levels < 2 || mp.levels > 16) e.fail("'levels' = " + std::to_string(mp.levels) + " is out of range: [2, 16]");
-        mp.texture = with_context(r.file(), e.path("texture"), [&] { return load_texture(resolve(base, e.string("texture")), false); });
-        m.maps.push_back(mp);
-      }
       std::size_t nodes = 1;
       for (const auto& mp : m.maps) nodes *= static_cast<std::size_t>(mp.levels);
       if (nodes > 64) pm.fail("the maps need " + std::to_string(nodes) + " precomputed parameter sets; at most 64 (lower 'levels')");
@@ -433,16 +464,25 @@ Scene Scene::default_scene() {
 }
 
 void Scene::set_skin_parameters(const SkinParameters& p) {
-  // The profiles depend only on the parameters and the solver: compute them once per solver.
-  std::map<const transport::Model*, Material> computed;
+  update_skin_parameters([&p](const SkinParameters&) { return p; });
+}
+
+void Scene::update_skin_parameters(
+    const std::function<SkinParameters(const SkinParameters&)>& change) {
+  // The profiles depend only on the parameters and the solver: compute them once per pair.
+  std::vector<std::pair<std::pair<const transport::Model*, SkinParameters>, Material>> computed;
   for (auto& m : impl_->data.materials)
     if (m.kind == MaterialKind::skin) {
-      auto it = computed.find(m.solver);
+      const SkinParameters p = change(m.parameters);
+      auto it = std::find_if(computed.begin(), computed.end(), [&](const auto& c) {
+        return c.first.first == m.solver && c.first.second == p;
+      });
       if (it == computed.end()) {
         Material f;
         f.solver = m.solver;
         prepare_skin_material(f, p);
-        it = computed.emplace(m.solver, std::move(f)).first;
+        computed.push_back({{m.solver, p}, std::move(f)});
+        it = computed.end() - 1;
       }
       const Material& fresh = it->second;
       m.parameters = p;

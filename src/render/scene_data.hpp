@@ -50,16 +50,19 @@ struct Material {
   std::shared_ptr<const SpecularAlbedo> specular_albedo;
   bool translucent() const { return kind != MaterialKind::diffuse; }
 
-  // Per-texel parameter maps (skin only): each map sets one parameter from a texture's red
-  // channel, value = min + texel x (max - min). The BSSRDF is precomputed at the nodes of a
-  // regular grid over the mapped parameters (`nodes`, first map fastest), and a shading point
-  // uses one node chosen at random with its multilinear interpolation weight: in expectation,
-  // the profiles interpolated multilinearly in parameter space.
+  // Per-texel parameter maps (skin only): each map sets one parameter from one channel of a
+  // texture (load_map_texture): either the parameter's value itself (`values`; the nodes span
+  // the texture's range) or, with min and max given, value = min + texel x (max - min). The
+  // BSSRDF is precomputed at the nodes of a regular grid over the mapped parameters (`nodes`,
+  // first map fastest), and a shading point uses one node chosen at random with its multilinear
+  // interpolation weight: in expectation, the profiles interpolated multilinearly in parameter
+  // space.
   struct ParameterMap {
     double SkinParameters::*member = nullptr;
-    std::string key;  // JSON key (C_m, ...)
+    std::string key;  // parameter key (skin::parameter_table())
     std::shared_ptr<const Texture> texture;
-    double min = 0, max = 1;
+    double min = 0, max = 1;  // the nodes' range
+    bool values = false;      // texels are values (else fractions of [min, max])
     int levels = 2;
   };
   std::vector<ParameterMap> maps;
@@ -113,5 +116,11 @@ Mesh make_quad(const Vec3& corner, const Vec3& edge_u, const Vec3& edge_v, std::
 // Loading (throw InputError naming the file and the problem).
 std::vector<Mesh> load_mesh_file(const std::string& path, std::size_t material);
 std::shared_ptr<Texture> load_texture(const std::string& path, bool srgb);
+// A parameter map's texture: one channel of data (no transfer curve) in the red component.
+// OpenEXR: the channel named `channel`, or the parameter's `key` when `channel` is empty (as
+// `skin fit --texture` writes them); a missing channel is an error. Other formats: the red
+// channel ('channel' "R", "G" or "B" picks another).
+std::shared_ptr<Texture> load_map_texture(const std::string& path, const std::string& channel,
+                                          const std::string& key);
 
 }  // namespace skin::render

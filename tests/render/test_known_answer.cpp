@@ -222,7 +222,7 @@ TEST(KnownAnswer, ParameterMapBlendsNodeProfiles) {
     for (int x = 0; x < 4; ++x) map.set(x, y, {0.25, 0.25, 0.25});
   write_image((dir / "cm.exr").string(), map);
   const std::string material = R"({"type":"skin","preset":"caucasian","rho_s":0,
-      "parameter_maps": {"C_m": {"texture": "cm.exr", "min": 0.002, "max": 0.042, "levels": 3}}})";
+      "parameter_maps": {"C_m": {"texture": "cm.exr", "channel": "R", "min": 0.002, "max": 0.042, "levels": 3}}})";
   RenderSettings rs;
   rs.seed = 17;
   const Stats st = pixel_stats(render(Scene::parse(slab_scene(material), dir.string(), "map"), rs));
