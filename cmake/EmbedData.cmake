@@ -1,5 +1,5 @@
 # skin_embed_data(<target> files...): a static library exposing each file's text through
-# skin::data::embedded(name) (see include/skin/physics/data.hpp), so that no binary looks for
+# skin::data::embedded(name) (see include/skin/util/table.hpp), so that no binary looks for
 # data files at run time.
 function(skin_embed_data target)
   set(out ${CMAKE_BINARY_DIR}/generated/embedded_data.cpp)

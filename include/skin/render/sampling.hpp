@@ -1,6 +1,6 @@
 #pragma once
 // The sampling warps of the renderer, each as a matched set
-// (sample / pdf / invert where it exists), tested together in tests/render/sampling_test.cpp.
+// (sample / pdf / invert where it exists), tested together in tests/render/test_sampling.cpp.
 #include <cstddef>
 #include <cstdint>
 #include <iosfwd>
