@@ -242,7 +242,24 @@ void run_texture(const FitOpts& o) {
   j["height"] = maps.height;
   j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
   j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
-  std::cout << j.dump(2) << "\n";
+  // -o is the EXR: the summary goes to standard output in --format (table on a terminal).
+  OutputOptions summary = o.out;
+  summary.output.clear();
+  Result result;
+  result.document = j;
+  result.columns = {{"width", {double(maps.width)}, {}},
+                    {"height", {double(maps.height)}, {}},
+                    {"error_delta_e_2000.mean", {maps.mean_error}, {}},
+                    {"error_delta_e_2000.max", {maps.max_error}, {}},
+                    {"error_delta_e_2000.fraction_below_1", {maps.fraction_below_1}, {}}};
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "wrote %s: %dx%d, channels melanin, melanin_blend, hemoglobin, error\n"
+                "colour error (dE2000): mean %.3g, max %.3g, %.3g of pixels below 1\n",
+                o.out.output.c_str(), maps.width, maps.height, maps.mean_error, maps.max_error,
+                maps.fraction_below_1);
+  result.table = buf;
+  summary.write(result);
 }
 
 void run_report(const FitOpts& o) {

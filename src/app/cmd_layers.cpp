@@ -63,9 +63,8 @@ void register_layers(CLI::App& app) {
     warn_if_negative("R_d", {R_d}, {0.0}, "(total)");
     warn_if_negative("T_d", {T_d}, {0.0}, "(total)");
     if (!R.empty()) warn_if_negative("R(r)", R, r, "mm");
-    const Format fmt = o->out.resolve();
-    std::string text;
-    if (fmt == Format::json) {
+    Result result;
+    {
       json j;
       j["solver"] = o->solver.name;
       j["eta_above"] = stack.eta_above;
@@ -94,19 +93,19 @@ void register_layers(CLI::App& app) {
       j["T_d"] = T_d;
       j["profile"] = {{"r_mm", r}, {"R", R}};
       j["validity"] = to_json(validity);
-      text = j.dump(2) + "\n";
-    } else if (fmt == Format::csv) {
+      result.document = j;
+    }
+    {
       std::vector<Column> cols;
       if (!r.empty()) cols = {{"r_mm", r, {}}, {"R [1/mm^2]", R, {}}};
       cols.push_back(constant_column("R_d", R_d, r.size()));
       cols.push_back(constant_column("T_d", T_d, r.size()));
       cols.push_back(constant_column("R_specular", R_specular, r.size()));
-      text = to_csv(cols);
-    } else {
-      text = "R_d  " + format_number(R_d) + "\nT_d  " + format_number(T_d) + "\n";
-      if (!r.empty()) text += "\n" + format_table({"r_mm", "R [1/mm^2]"}, {r, R});
+      result.columns = cols;
     }
-    o->out.emit(text);
+    result.table = "R_d  " + format_number(R_d) + "\nT_d  " + format_number(T_d) + "\n";
+    if (!r.empty()) result.table += "\n" + format_table({"r_mm", "R [1/mm^2]"}, {r, R});
+    o->out.write(result);
   });
 }
 

@@ -131,10 +131,10 @@ void register_mc_command(CLI::App& app) {
     }
     stack.validate();
     const mc::Options opts = o->mc.resolve();
+    (void)o->out.resolve();  // a contradicting --format fails before the run
     const mc::Result r = mc::simulate(stack, opts);
-    const Format fmt = o->out.resolve();
-    std::string text;
-    if (fmt == Format::json) {
+    Result result;
+    {
       json j;
       j["solver"] = "monte-carlo";
       if (source == "preset") {
@@ -156,11 +156,12 @@ void register_mc_command(CLI::App& app) {
       j["seed"] = opts.seed;
       j["seconds"] = r.seconds;
       j["profile"] = {{"r_mm", r.r_mm}, {"R", r.R}, {"R_se", r.R_se}};
-      text = j.dump(2) + "\n";
-    } else if (fmt == Format::csv) {
+      result.document = j;
+    }
+    {
       // Totals per power that entered, as columns beside the profile.
       const std::size_t n = r.r_mm.size();
-      text = to_csv({{"r_mm", r.r_mm, {}},
+      result.columns = std::vector<Column>{{"r_mm", r.r_mm, {}},
                      {"R [1/mm^2]", r.R, {}},
                      {"R_se [1/mm^2]", r.R_se, {}},
                      constant_column("R_d", r.R_d, n),
@@ -168,8 +169,9 @@ void register_mc_command(CLI::App& app) {
                      constant_column("T_d", r.T_d, n),
                      constant_column("T_d_se", r.T_d_se, n),
                      constant_column("R_specular", r.R_specular, n),
-                     constant_column("photons", static_cast<double>(r.photons), n)});
-    } else {
+                     constant_column("photons", static_cast<double>(r.photons), n)};
+    }
+    {
       char buf[512];
       std::snprintf(buf, sizeof buf,
                     "per power that entered:  R_d %.6f +- %.6f   T_d %.6f +- %.6f\n"
@@ -177,10 +179,10 @@ void register_mc_command(CLI::App& app) {
                     "%llu photons in %.2f s\n",
                     r.R_d, r.R_d_se, r.T_d, r.T_d_se, r.R_d_incident, r.T_d_incident,
                     r.R_specular, static_cast<unsigned long long>(r.photons), r.seconds);
-      text = buf;
-      text += "\n" + format_table({"r_mm", "R [1/mm^2]", "R_se"}, {r.r_mm, r.R, r.R_se});
+      result.table = buf;
+      result.table += "\n" + format_table({"r_mm", "R [1/mm^2]", "R_se"}, {r.r_mm, r.R, r.R_se});
     }
-    o->out.emit(text);
+    o->out.write(result);
   });
 }
 

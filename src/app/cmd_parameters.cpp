@@ -19,45 +19,37 @@ void register_parameters(CLI::App& app) {
       "default and help");
   out->add_to(*sub);
   sub->callback([out] {
-    std::string text;
     const auto table = parameter_table();
-    switch (out->resolve()) {
-      case Format::json: {
-        json j = json::array();
-        for (const auto& p : table)
-          j.push_back({{"key", p.key},
-                       {"flag", "--" + p.flag()},
-                       {"symbol", p.symbol.empty() ? json(nullptr) : json(p.symbol)},
-                       {"unit", p.unit},
-                       {"min", bound(p.min)},
-                       {"max", bound(p.max)},
-                       {"min_exclusive", p.min_open},
-                       {"max_exclusive", p.max_open},
-                       {"default", p.default_value()},
-                       {"help", p.help}});
-        text = j.dump(2) + "\n";
-        break;
-      }
-      case Format::csv: {
-        text = "key,flag,symbol,unit,min,max,min_exclusive,max_exclusive,default,help\n";
-        for (const auto& p : table)
-          text += std::string(p.key) + ",--" + p.flag() + "," + std::string(p.symbol) + "," +
-                  std::string(p.unit) + "," + format_number(p.min) + "," + format_number(p.max) +
-                  "," + (p.min_open ? "true" : "false") + "," + (p.max_open ? "true" : "false") +
-                  "," + format_number(p.default_value()) + ",\"" + std::string(p.help) + "\"\n";
-        break;
-      }
-      case Format::table: {
-        std::vector<std::vector<std::string>> rows = {
-            {"key", "symbol", "unit", "range", "default", "help"}};
-        for (const auto& p : table)
-          rows.push_back({std::string(p.key), std::string(p.symbol), std::string(p.unit),
-                          p.range_text(), format_number(p.default_value()), std::string(p.help)});
-        text = format_text_table(rows);
-        break;
-      }
+    Result result;
+    result.document = json::array();
+    std::vector<Column> cols = {{"key", {}, {}},      {"flag", {}, {}},    {"symbol", {}, {}},
+                                {"unit", {}, {}},     {"min", {}, {}},     {"max", {}, {}},
+                                {"min_exclusive", {}, {}}, {"max_exclusive", {}, {}},
+                                {"default", {}, {}},  {"help", {}, {}}};
+    std::vector<std::vector<std::string>> rows = {
+        {"key", "symbol", "unit", "range", "default", "help"}};
+    for (const auto& p : table) {
+      result.document.push_back({{"key", p.key},
+                                 {"flag", "--" + p.flag()},
+                                 {"symbol", p.symbol.empty() ? json(nullptr) : json(p.symbol)},
+                                 {"unit", p.unit},
+                                 {"min", bound(p.min)},
+                                 {"max", bound(p.max)},
+                                 {"min_exclusive", p.min_open},
+                                 {"max_exclusive", p.max_open},
+                                 {"default", p.default_value()},
+                                 {"help", p.help}});
+      const std::string text[] = {std::string(p.key), "--" + p.flag(), std::string(p.symbol),
+                                  std::string(p.unit), format_number(p.min), format_number(p.max),
+                                  p.min_open ? "true" : "false", p.max_open ? "true" : "false",
+                                  format_number(p.default_value()), std::string(p.help)};
+      for (std::size_t c = 0; c < cols.size(); ++c) cols[c].text.push_back(text[c]);
+      rows.push_back({std::string(p.key), std::string(p.symbol), std::string(p.unit),
+                      p.range_text(), format_number(p.default_value()), std::string(p.help)});
     }
-    out->emit(text);
+    result.columns = cols;
+    result.table = format_text_table(rows);
+    out->write(result);
   });
 }
 

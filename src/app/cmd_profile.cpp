@@ -43,32 +43,26 @@ void register_profile(CLI::App& app) {
     const transport::Model& model = o->solver.model();
     const transport::Validity validity = skin_validity(p, grid, model);
     warn_validity(model, validity);
-    const Format fmt = o->out.resolve();
-    std::string text;
+    (void)o->out.resolve();  // a contradicting --format fails before the work
+    Result result;
     RgbProfile rgb;
     if (o->rgb || !o->plot.empty()) rgb = skin_rgb_profile(p, grid, solver, model);
     if (o->rgb) {
       const char* names[3] = {"r", "g", "b"};
       for (int c = 0; c < 3; ++c) warn_if_negative(std::string("R(r) linear sRGB channel ") + names[c], rgb.R[c], radii.r, "mm", true);
-      if (fmt == Format::json) {
-        json j;
-        j["preset"] = o->params.preset;
-        j["parameters"] = to_json(p);
-        j["solver"] = o->solver.name;
-        j["validity"] = to_json(validity);
-        j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
-        j["r_mm"] = radii.r;
-        j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
-        j["R_d"] = {{"r", rgb.R_d[0]}, {"g", rgb.R_d[1]}, {"b", rgb.R_d[2]}};
-        text = j.dump(2) + "\n";
-      } else if (fmt == Format::csv) {
-        std::vector<Column> cols = {{"r_mm", radii.r, {}}};
-        for (int c = 0; c < 3; ++c) cols.push_back({std::string("R.") + names[c] + " [1/mm^2]", rgb.R[c], {}});
-        for (int c = 0; c < 3; ++c) cols.push_back(constant_column(std::string("R_d.") + names[c], rgb.R_d[c], radii.size()));
-        text = to_csv(cols);
-      } else {
-        text = format_table({"r_mm", "R_r", "R_g", "R_b"}, {radii.r, rgb.R[0], rgb.R[1], rgb.R[2]});
-      }
+      json& j = result.document;
+      j["preset"] = o->params.preset;
+      j["parameters"] = to_json(p);
+      j["solver"] = o->solver.name;
+      j["validity"] = to_json(validity);
+      j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
+      j["r_mm"] = radii.r;
+      j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
+      j["R_d"] = {{"r", rgb.R_d[0]}, {"g", rgb.R_d[1]}, {"b", rgb.R_d[2]}};
+      result.columns = {{"r_mm", radii.r, {}}};
+      for (int c = 0; c < 3; ++c) result.columns.push_back({std::string("R.") + names[c] + " [1/mm^2]", rgb.R[c], {}});
+      for (int c = 0; c < 3; ++c) result.columns.push_back(constant_column(std::string("R_d.") + names[c], rgb.R_d[c], radii.size()));
+      result.table = format_table({"r_mm", "R_r", "R_g", "R_b"}, {radii.r, rgb.R[0], rgb.R[1], rgb.R[2]});
     } else {
       const SpectralProfile sp = skin_spectral_profile(p, grid, solver, model);
       std::vector<std::vector<double>> rows(grid.size());
@@ -77,27 +71,25 @@ void register_profile(CLI::App& app) {
                        sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * radii.size()));
         warn_if_negative("R(r) at " + format_number(grid[i]) + " nm", rows[i], radii.r, "mm");
       }
-      if (fmt == Format::json) {
-        json j;
-        j["preset"] = o->params.preset;
-        j["parameters"] = to_json(p);
-        j["solver"] = o->solver.name;
-        j["validity"] = to_json(validity);
-        j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
-        j["r_mm"] = radii.r;
-        j["wavelength_nm"] = grid.values();
-        j["R_d"] = sp.R_d.values;
-        j["R"] = rows;  // R[i_lambda][j_r]
-        text = j.dump(2) + "\n";
-      } else {
-        std::vector<std::string> h = {"r_mm"};
-        std::vector<std::vector<double>> cols = {radii.r};
-        for (std::size_t i = 0; i < grid.size(); ++i) {
-          h.push_back("R_" + format_number(grid[i]) + "nm" + (fmt == Format::csv ? " [1/mm^2]" : ""));
-          cols.push_back(rows[i]);
-        }
-        text = fmt == Format::csv ? format_csv(h, cols) : format_table(h, cols);
+      json& j = result.document;
+      j["preset"] = o->params.preset;
+      j["parameters"] = to_json(p);
+      j["solver"] = o->solver.name;
+      j["validity"] = to_json(validity);
+      j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
+      j["r_mm"] = radii.r;
+      j["wavelength_nm"] = grid.values();
+      j["R_d"] = sp.R_d.values;
+      j["R"] = rows;  // R[i_lambda][j_r]
+      std::vector<std::string> h = {"r_mm"};
+      std::vector<std::vector<double>> cols = {radii.r};
+      result.columns = {{"r_mm", radii.r, {}}};
+      for (std::size_t i = 0; i < grid.size(); ++i) {
+        h.push_back("R_" + format_number(grid[i]) + "nm");
+        cols.push_back(rows[i]);
+        result.columns.push_back({h.back() + " [1/mm^2]", rows[i], {}});
       }
+      result.table = format_table(h, cols);
     }
     if (!o->plot.empty()) {
       plot::Figure f;
@@ -111,7 +103,7 @@ void register_profile(CLI::App& app) {
       for (std::size_t c = 0; c < 3; ++c) f.series.push_back({names[c], radii.r, rgb.R[c], col[c]});
       plot::save(f, o->plot);
     }
-    o->out.emit(text);
+    o->out.write(result);
   });
 }
 
