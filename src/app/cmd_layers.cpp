@@ -12,9 +12,8 @@ namespace skin::cli {
 
 void register_layers(CLI::App& app) {
   struct Opts {
-    std::vector<std::string> layers;
+    StackOptions stack;
     std::vector<double> radii;
-    double eta_above = 1.0, eta_below = 1.0;
     SolverOption solver;
     OutputOptions out;
   };
@@ -24,21 +23,13 @@ void register_layers(CLI::App& app) {
       "Diffuse reflectance and transmittance of a stack of layers (per power that entered the "
       "top surface; accurate = adding-doubling, multipole = DJ05 diffusion), lengths in mm, "
       "coefficients in 1/mm");
-  sub->add_option("--layer", o->layers,
-                  "A layer, top to bottom: sigma_a=A,sigma_s_prime=S[,thickness=D][,eta=N][,g=G] "
-                  "(1/mm, mm; eta default 1.4; no thickness = semi-infinite, last layer only)")
-      ->required()->take_all()->allow_extra_args(false);
+  o->stack.add_to(*sub)->required();
   sub->add_option("--radius", o->radii, "Radius [mm] at which to print the profile R(r) (repeatable)")
       ->allow_extra_args(false);
-  sub->add_option("--eta-above", o->eta_above, "Refractive index above the stack, [1, 3]")->capture_default_str();
-  sub->add_option("--eta-below", o->eta_below, "Refractive index below the stack, [1, 3]")->capture_default_str();
   o->solver.add_to(*sub);
   o->out.add_to(*sub);
   sub->callback([o] {
-    LayerStack stack;
-    stack.eta_above = o->eta_above;
-    stack.eta_below = o->eta_below;
-    for (std::size_t i = 0; i < o->layers.size(); ++i) stack.layers.push_back(parse_layer(o->layers[i], i));
+    const LayerStack stack = o->stack.resolve();
     const DiffusionStack ds(stack);  // validates; its slabs describe the layers in the JSON
     const transport::Model& model = o->solver.model();
     const transport::Totals totals = model.totals(stack);

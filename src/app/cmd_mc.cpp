@@ -24,8 +24,7 @@ namespace {
 
 struct McOptions {
   std::uint64_t photons = 100000;
-  std::uint64_t seed = 1;
-  int threads = 0;
+  RunOptions run;
   double r_max = 10.0;
   std::size_t bins = 200;
   void add_to(CLI::App& app, std::uint64_t default_photons, std::size_t default_bins,
@@ -35,10 +34,7 @@ struct McOptions {
     const char* g = "Monte Carlo";
     app.add_option("--photons", photons, "Photon packets entering the medium (per case)")
         ->check(whole_number(1))->capture_default_str()->group(g);
-    app.add_option("--seed", seed, "Seed; the same seed gives identical results for any thread count")
-        ->check(whole_number(0))->capture_default_str()->group(g);
-    app.add_option("--threads", threads, "Worker threads (0 = all cores)")
-        ->check(whole_number(0, 4096))->capture_default_str()->group(g);
+    run.add_to(app, "Seed; the same seed gives identical results for any thread count", g);
     if (with_radius)
       app.add_option("--radius-max", r_max, "Outer radius of the radial profile R(r) [mm], > 0")
           ->capture_default_str()->group(g);
@@ -48,8 +44,8 @@ struct McOptions {
   mc::Options resolve() const {
     mc::Options o;
     o.photons = photons;
-    o.seed = seed;
-    o.threads = threads;
+    o.seed = run.seed;
+    o.threads = run.threads;
     o.r_max = r_max;
     o.bins = bins;
     o.progress = progress_bar("photons");  // drawn on a terminal only
@@ -74,8 +70,7 @@ json layers_json(const LayerStack& stack) {
 
 void register_mc_command(CLI::App& app) {
   struct Opts {
-    std::vector<std::string> layers;
-    double eta_above = 1.0, eta_below = 1.0;
+    StackOptions stack;
     double wavelength = 0;
     ParameterOptions params;
     McOptions mc;
@@ -88,16 +83,7 @@ void register_mc_command(CLI::App& app) {
       "incidence, Henyey-Greenstein scattering, exact Fresnel at every interface). Either "
       "--layer ... or --wavelength NM with the skin model (--preset and parameter flags). "
       "Reflectances per power that entered the medium; lengths in mm, coefficients in 1/mm");
-  CLI::Option* layer_opt =
-      sub->add_option("--layer", o->layers,
-                      "A layer, top to bottom: sigma_a=A,sigma_s_prime=S[,thickness=D][,eta=N][,g=G] "
-                      "(1/mm, mm; eta default 1.4, g default 0.9, sigma_s = sigma_s'/(1-g); no "
-                      "thickness = semi-infinite, last layer only)")
-          ->take_all()->allow_extra_args(false);
-  sub->add_option("--eta-above", o->eta_above, "Refractive index above the stack, [1, 3] (with --layer)")
-      ->capture_default_str();
-  sub->add_option("--eta-below", o->eta_below, "Refractive index below the stack, [1, 3] (with --layer)")
-      ->capture_default_str();
+  CLI::Option* layer_opt = o->stack.add_to(*sub, " (instead of --wavelength)");
   CLI::Option* wl_opt = sub->add_option(
       "--wavelength", o->wavelength,
       "Simulate the two-layer skin model at this wavelength [nm] (instead of --layer)");
@@ -108,7 +94,7 @@ void register_mc_command(CLI::App& app) {
   sub->callback([o, sub, wl_opt] {
     LayerStack stack;
     std::string source;
-    if (!o->layers.empty()) {
+    if (o->stack.given()) {
       // Skin parameters only make sense with --wavelength: reject them with --layer.
       if (o->params.preset_option->count() > 0)
         throw InputError("--preset needs --wavelength and cannot be combined with --layer");
@@ -117,10 +103,7 @@ void register_mc_command(CLI::App& app) {
       for (const auto& [opt, info] : o->params.flags)
         if (opt->count() > 0)
           throw InputError(opt->get_name() + " needs --wavelength and cannot be combined with --layer");
-      stack.eta_above = o->eta_above;
-      stack.eta_below = o->eta_below;
-      for (std::size_t i = 0; i < o->layers.size(); ++i)
-        stack.layers.push_back(parse_layer(o->layers[i], i));
+      stack = o->stack.resolve();
       source = "layers";
     } else if (wl_opt->count() > 0) {
       require_in_range("wavelength", o->wavelength, 250.0, 1000.0, "nm");
@@ -264,6 +247,7 @@ void register_tabulate_command(CLI::App& app) {
   struct Opts {
     std::string out;
     mc::TabulateOptions t = mc::TabulateOptions::defaults();
+    RunOptions run;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand(
@@ -280,9 +264,9 @@ void register_tabulate_command(CLI::App& app) {
       ->check(whole_number(1))->capture_default_str();
   sub->add_option("--max-photons", o->t.max_photons, "Most photons per node (pencil beam)")
       ->check(whole_number(1))->capture_default_str();
-  sub->add_option("--seed", o->t.seed, "Seed")->check(whole_number(0))->capture_default_str();
-  sub->add_option("--threads", o->t.threads, "Worker threads (0 = all cores)")
-      ->check(whole_number(0, 4096))->capture_default_str();
+  o->run.seed = o->t.seed;
+  o->run.threads = o->t.threads;
+  o->run.add_to(*sub, "Seed; the same seed gives the same table for any thread count");
   sub->add_option("--x", o->t.x, "Nodes in x = sqrt(1 - alpha'), increasing in [0, 1) (default 0.05 to 0.95 by 0.06)")
       ->delimiter(',');
   sub->add_option("--tau", o->t.tau, "Nodes in reduced optical thickness tau', increasing (default 0.35 2^(j/4), j = 0..26)")
@@ -292,6 +276,8 @@ void register_tabulate_command(CLI::App& app) {
       ->capture_default_str();
   sub->callback([o] {
     o->t.progress = progress_bar("nodes");  // drawn on a terminal only
+    o->t.seed = o->run.seed;
+    o->t.threads = o->run.threads;
     const accurate::TopLayerTable table = mc::tabulate_top_layer(o->t);
     io::write_file_atomic(o->out, table.to_csv());
     std::cout << "wrote " << o->out << ": " << table << '\n';

@@ -15,8 +15,8 @@ namespace {
 
 struct RenderOpts {
   std::string scene, output, resolution, mesh;
-  int spp = 0, threads = 0, max_depth = -1, figure = 0;
-  std::uint64_t seed = 1;
+  int spp = 0, max_depth = -1, figure = 0;
+  RunOptions run;
   double time_budget = 0, exposure = 0;
   bool exposure_given = false, diffuse = false;
   SolverOption solver;
@@ -43,8 +43,7 @@ void add_common(CLI::App* sub, RenderOpts* o) {
   o->solver.add_to(*sub);
   sub->add_option("-o,--output", o->output, "Output image: .png (sRGB 8-bit) or .exr (linear float)")->required();
   sub->add_option("--spp", o->spp, "Samples per pixel (default: the scene's)")->check(whole_number(1, 1 << 20));
-  sub->add_option("--seed", o->seed, "Random seed; same seed, same image at any thread count")->check(whole_number(0))->capture_default_str();
-  sub->add_option("--threads", o->threads, "Worker threads (0 = all cores)")->check(whole_number(0, 4096))->capture_default_str();
+  o->run.add_to(*sub, "Random seed; same seed, same image at any thread count");
   sub->add_option("--max-depth", o->max_depth, "Path vertices after the camera (default: the scene's)")->check(whole_number(0, 1000));
   sub->add_option("--time-budget", o->time_budget, "Stop after the last whole sample pass within this many seconds (0 = none)");
   sub->add_option("--exposure", o->exposure, "PNG exposure in stops (default: the scene's)")
@@ -55,8 +54,8 @@ void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* 
   check_output(o.output);
   render::RenderSettings rs;
   rs.spp = o.spp;
-  rs.seed = o.seed;
-  rs.threads = o.threads;
+  rs.seed = o.run.seed;
+  rs.threads = o.run.threads;
   rs.max_depth = o.max_depth;
   rs.time_budget = o.time_budget;
   if (!o.resolution.empty()) parse_resolution(o.resolution, &rs);

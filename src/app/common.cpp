@@ -190,6 +190,41 @@ json to_json(const transport::Validity& v) {
   return j;
 }
 
+void RunOptions::add_to(CLI::App& app, const std::string& seed_help, const std::string& group) {
+  app.add_option("--seed", seed, seed_help)->check(whole_number(0))->capture_default_str()->group(group);
+  app.add_option("--threads", threads, "Worker threads (0 = all cores)")
+      ->check(whole_number(0, 4096))
+      ->capture_default_str()
+      ->group(group);
+}
+
+CLI::Option* StackOptions::add_to(CLI::App& app, const std::string& note) {
+  layer_option =
+      app.add_option("--layer", layers,
+                     "A layer, top to bottom: sigma_a=A,sigma_s_prime=S[,thickness=D][,eta=N][,g=G] "
+                     "(1/mm, mm; eta default 1.4, g default 0.9; no thickness = semi-infinite, "
+                     "last layer only)" + note)
+          ->take_all()
+          ->allow_extra_args(false)
+          ->group("Layer stack");
+  app.add_option("--eta-above", eta_above, "Refractive index above the stack, [1, 3]" + note)
+      ->capture_default_str()
+      ->group("Layer stack");
+  app.add_option("--eta-below", eta_below, "Refractive index below the stack, [1, 3]" + note)
+      ->capture_default_str()
+      ->group("Layer stack");
+  return layer_option;
+}
+
+LayerStack StackOptions::resolve() const {
+  LayerStack stack;
+  stack.eta_above = eta_above;
+  stack.eta_below = eta_below;
+  for (std::size_t i = 0; i < layers.size(); ++i) stack.layers.push_back(parse_layer(layers[i], i));
+  stack.validate();
+  return stack;
+}
+
 void GridOptions::add_to(CLI::App& app) {
   app.add_option("--lambda-min", lambda_min, "Shortest wavelength [nm]")->capture_default_str()->group("Wavelengths");
   app.add_option("--lambda-max", lambda_max, "Longest wavelength [nm]")->capture_default_str()->group("Wavelengths");

@@ -53,6 +53,23 @@ std::vector<const ParameterInfo*> read_parameter_file(const std::string& path, S
 // would wrap "-1" around in an unsigned option).
 CLI::Validator whole_number(long long lo, long long hi = std::numeric_limits<long long>::max());
 
+// The run group: --seed and --threads, the same in every command that draws random numbers.
+struct RunOptions {
+  std::uint64_t seed = 1;
+  int threads = 0;  // 0 = all cores
+  void add_to(CLI::App& app, const std::string& seed_help, const std::string& group = "Run");
+};
+
+// The stack group: --layer (repeatable, top to bottom), --eta-above, --eta-below.
+struct StackOptions {
+  std::vector<std::string> layers;
+  double eta_above = 1.0, eta_below = 1.0;
+  CLI::Option* layer_option = nullptr;
+  CLI::Option* add_to(CLI::App& app, const std::string& note = "");
+  bool given() const { return !layers.empty(); }
+  LayerStack resolve() const;  // parsed and validated
+};
+
 struct GridOptions {
   double lambda_min = 400, lambda_max = 700, lambda_step = 2;
   void add_to(CLI::App& app);
