@@ -1,5 +1,9 @@
-// Python bindings: a thin layer over the C++ API, keywords identical to the C++ parameter names
-// (and to the CLI flags with underscores). No logic here beyond converting types.
+// Python bindings: a thin layer over the C++ API. The parameter keywords are the parameter table's
+// keys (the CLI flags with underscores, the JSON keys) or the paper's symbols. No logic here
+// beyond converting types.
+#include <cmath>
+#include <map>
+
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -12,38 +16,38 @@ using namespace skin;
 
 namespace {
 
+// The preset's parameters, overridden by the keywords: each a key of the parameter table, its
+// CLI spelling or the paper's symbol; None leaves the preset's value. Ranges: validate().
 SkinParameters parameters(const std::string& preset, const py::kwargs& kw) {
   SkinParameters p = find_preset(preset).parameters;
-  // Every SkinParameters field by its C++ name.
-  static const std::pair<const char*, double SkinParameters::*> fields[] = {
-      {"melanin", &SkinParameters::melanin},
-      {"melanin_blend", &SkinParameters::melanin_blend},
-      {"hemoglobin", &SkinParameters::hemoglobin},
-      {"oiliness", &SkinParameters::oiliness},
-      {"oxygenation", &SkinParameters::oxygenation},
-      {"epidermis_thickness", &SkinParameters::epidermis_thickness},
-      {"dermis_scattering_scale", &SkinParameters::dermis_scattering_scale},
-      {"eta", &SkinParameters::eta},
-      {"roughness", &SkinParameters::roughness},
-      {"g", &SkinParameters::g},
-      {"epidermal_hemoglobin", &SkinParameters::epidermal_hemoglobin},
-      {"beta_carotene", &SkinParameters::beta_carotene},
-      {"bilirubin", &SkinParameters::bilirubin},
-      {"scattering_scale", &SkinParameters::scattering_scale},
-  };
+  std::map<const ParameterInfo*, std::string> given;  // the keyword each parameter came as
   for (auto item : kw) {
-    const auto key = py::cast<std::string>(item.first);
-    bool known = false;
-    for (const auto& [name, member] : fields)
-      if (key == name) {
-        p.*member = py::cast<double>(item.second);
-        known = true;
-      }
-    if (!known) throw InputError("unknown parameter '" + key + "'");
+    const auto name = py::cast<std::string>(item.first);
+    const ParameterInfo& info = parameter_info(name);
+    if (const auto [it, fresh] = given.emplace(&info, name); !fresh)
+      throw InputError(std::string(info.key) + " is given twice: " + it->second + " and " + name +
+                       " name the same parameter");
+    if (item.second.is_none()) continue;
+    try {
+      if (py::isinstance<py::bool_>(item.second)) throw py::cast_error();
+      p.*(info.member) = py::cast<double>(item.second);
+    } catch (const py::cast_error&) {
+      throw InputError(std::string(info.key) + " must be a number, not " +
+                       py::cast<std::string>(py::repr(item.second)));
+    }
   }
   p.validate();
   return p;
 }
+
+// The same object as the CLI's JSON "parameters": every key of the table with its value.
+py::dict parameters_dict(const SkinParameters& p) {
+  py::dict d;
+  for (const ParameterInfo& info : parameter_table()) d[py::cast(info.key)] = p.*(info.member);
+  return d;
+}
+
+py::object bound(double v) { return std::isinf(v) ? py::object(py::none()) : py::float_(v); }
 
 py::dict color_dict(const color::ColorSummary& c) {
   py::dict d;
@@ -83,6 +87,23 @@ PYBIND11_MODULE(spectral_skin, m) {
     return names;
   }, "Names of the paper's parameter sets.");
 
+  m.def("parameters", [] {
+    py::list table;
+    for (const ParameterInfo& p : parameter_table())
+      table.append(py::dict(
+          py::arg("key") = p.key, py::arg("flag") = "--" + p.flag(),
+          py::arg("symbol") = p.symbol.empty() ? py::object(py::none()) : py::cast(p.symbol),
+          py::arg("unit") = p.unit, py::arg("min") = bound(p.min), py::arg("max") = bound(p.max),
+          py::arg("min_exclusive") = p.min_open, py::arg("max_exclusive") = p.max_open,
+          py::arg("default") = p.default_value(), py::arg("help") = p.help));
+    return table;
+  }, "The parameter table, as `skin parameters --format json`: key (the keyword), flag, the "
+     "paper's symbol (also accepted as a keyword), unit, min/max (None = unbounded), "
+     "min_exclusive/max_exclusive, default, help.");
+
+  m.def("solvers", &transport::model_names, "Names of the transport models (solver=), the "
+        "default first.");
+
   m.def(
       "spectrum",
       [](const std::string& preset, double lambda_min, double lambda_max, double lambda_step,
@@ -91,6 +112,7 @@ PYBIND11_MODULE(spectral_skin, m) {
                                              WavelengthGrid(lambda_min, lambda_max, lambda_step),
                                              transport::find_model(solver));
         py::dict d;
+        d["parameters"] = parameters_dict(s.parameters);
         d["solver"] = s.solver;
         d["wavelength_nm"] = s.grid.values();
         d["R_d"] = s.R_d.values;
@@ -104,8 +126,9 @@ PYBIND11_MODULE(spectral_skin, m) {
       py::arg("preset") = "caucasian", py::arg("lambda_min") = 400.0,
       py::arg("lambda_max") = 700.0, py::arg("lambda_step") = 2.0,
       py::arg("solver") = std::string(transport::kDefaultModel),
-      "R_d(lambda), the layers' sigma_a and sigma_s_prime [1/mm] and the colour; any "
-      "SkinParameters field (melanin, melanin_blend, hemoglobin, ...) as a keyword.");
+      "R_d(lambda), the layers' sigma_a and sigma_s_prime [1/mm], the colour and the parameters "
+      "used; any key of parameters() (melanin, melanin_blend, ...) or paper symbol (C_m, ...) "
+      "as a keyword overrides the preset (None keeps it).");
 
   m.def(
       "rgb_profile",
@@ -116,6 +139,7 @@ PYBIND11_MODULE(spectral_skin, m) {
         const SkinParameters p_skin = parameters(preset, kw);
         const RgbProfile p = skin_rgb_profile(p_skin, WavelengthGrid(), ps, model);
         py::dict d;
+        d["parameters"] = parameters_dict(p_skin);
         d["validity"] = validity_dict(skin_validity(p_skin, WavelengthGrid(), model), model);
         d["r_mm"] = p.radii.r;
         d["R"] = py::dict(py::arg("r") = p.R[0], py::arg("g") = p.R[1], py::arg("b") = p.R[2]);
@@ -123,7 +147,8 @@ PYBIND11_MODULE(spectral_skin, m) {
         return d;
       },
       py::arg("preset") = "caucasian", py::arg("r_mm"), py::arg("solver") = std::string(transport::kDefaultModel),
-      "Radial profile R(r) [1/mm^2] per linear sRGB channel at the radii r_mm [mm].");
+      "Radial profile R(r) [1/mm^2] per linear sRGB channel at the radii r_mm [mm] and the "
+      "parameters used; parameter keywords as for spectrum().");
 
   m.def(
       "layers",
