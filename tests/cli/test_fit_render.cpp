@@ -99,4 +99,26 @@ TEST_F(Cli, SceneTakesEveryParameterKeyAndSymbol) {
   EXPECT_NE(t.err.find("sets melanin a second time"), std::string::npos) << t.err;
 }
 
+// Every row of `skin parameters` is a scene key: a value outside its range is refused naming the
+// parameter (so the key is read and checked), and the symbol works as well as the key.
+TEST_F(Cli, EveryParameterIsASceneKey) {
+  const json table = json::parse(run("parameters --format json").out);
+  ASSERT_EQ(table.size(), 14u);
+  for (const auto& row : table) {
+    const std::string key = row["key"];
+    const double bad = row["max"].is_null() ? row["min"].get<double>() - 1.0 : row["max"].get<double>() + 1.0;
+    std::ofstream(dir_ / "bad.json") << scene(R"({"type": "skin", ")" + key + R"(": )" + json(bad).dump() + "}");
+    const CmdResult r = run("render bad.json -o bad.png");
+    EXPECT_EQ(r.code, 2) << key;
+    EXPECT_NE(r.err.find(row["flag"].get<std::string>().substr(2) + " "), std::string::npos) << key << ": " << r.err;
+    if (!row["symbol"].is_null()) {
+      std::ofstream(dir_ / "sym.json") << scene(R"({"type": "skin", ")" + row["symbol"].get<std::string>() +
+                                               R"(": )" + json(bad).dump() + "}");
+      const CmdResult s = run("render sym.json -o sym.png");
+      EXPECT_EQ(s.code, 2) << row["symbol"];
+      EXPECT_NE(s.err.find(row["symbol"].get<std::string>()), std::string::npos) << s.err;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "bad.png"));
+}
 }  // namespace
