@@ -94,12 +94,13 @@ void run_spectrum(const FitOpts& o) {
   opt.lambda_max = o.lambda_max;
   opt.bounds = parse_bounds(o.bounds);
   opt.model = forward_model(o.solver);
+  (void)o.out.resolve();  // a contradicting --format fails before the fit
   const fit::MeasuredSpectrum m = fit::read_spectrum(o.spectrum, o.column);
   const fit::FitResult r = fit::SpectrumFitter(opt).fit(m);
 
-  std::string text;
-  switch (o.out.resolve()) {
-    case Format::json: {
+  Result result;
+  {
+    {
       json j;
       j["input"] = m.name;
       j["solver"] = o.solver.name;
@@ -117,24 +118,22 @@ void run_spectrum(const FitOpts& o) {
       j["iterations"] = r.iterations;
       j["starts"] = r.starts;
       j["fitted"] = {{"wavelength_nm", r.wavelength_nm}, {"measured", r.measured}, {"R", r.fitted}};
-      text = j.dump(2) + "\n";
-      break;
+      result.document = j;
     }
-    case Format::csv: {
+    {
       std::vector<std::string> h;
       std::vector<std::vector<double>> c;
       for (std::size_t i = 0; i < r.free.size(); ++i) {
         h.push_back(std::string(fit::key(r.free[i])));
         c.push_back({fit::get(r.parameters, r.free[i])});
-        h.push_back(std::string(fit::key(r.free[i])) + "_sigma");
+        h.push_back("uncertainty." + std::string(fit::key(r.free[i])));
         c.push_back({r.uncertainty[i]});
       }
       h.push_back("rms");
       c.push_back({r.rms});
-      text = format_csv(h, c);
-      break;
+      for (std::size_t k = 0; k < h.size(); ++k) result.columns.push_back({h[k], c[k], {}});
     }
-    case Format::table: {
+    {
       std::ostringstream os;
       os << "fit of " << m.name << " (" << r.wavelength_nm.size() << " samples, "
          << r.wavelength_nm.front() << "-" << r.wavelength_nm.back() << " nm, solver " << o.solver.name << ")\n";
@@ -146,8 +145,7 @@ void run_spectrum(const FitOpts& o) {
       }
       if (o.includes_specular) os << "  specular term rho_s F    " << r.specular << "\n";
       os << "  RMS residual             " << r.rms << "\n";
-      text = os.str();
-      break;
+      result.table = os.str();
     }
   }
   if (!o.fitted.empty()) io::write_file_atomic(o.fitted, fitted_text(r, o.fitted));
@@ -165,7 +163,7 @@ void run_spectrum(const FitOpts& o) {
     f.series.push_back({"model", r.wavelength_nm, r.fitted, {0.8, 0.25, 0.15}});
     plot::save(f, o.plot);
   }
-  o.out.emit(text);
+  o.out.write(result);
 }
 
 // Options shared by the colour and the texture fits.
@@ -191,9 +189,9 @@ void run_color(const FitOpts& o) {
     std::cerr << "skin fit: warning: the closest model colour is " << r.delta_e
               << " dE2000 away: the target is outside the colours the model reaches with the "
                  "fixed parameters\n";
-  std::string text;
-  switch (o.out.resolve()) {
-    case Format::json: {
+  Result result;
+  {
+    {
       json j;
       j["target"] = {{"hex", in.hex}, {"lab", {in.lab.L, in.lab.a, in.lab.b}}};
       j["parameters"] = to_json(r.parameters);
@@ -202,25 +200,27 @@ void run_color(const FitOpts& o) {
       j["delta_e_2000"] = r.delta_e;
       j["melanin_blend_prior"] = o.blend_prior;
       j["melanin_blend_weight"] = o.blend_weight;
-      text = j.dump(2) + "\n";
-      break;
+      result.document = j;
     }
-    case Format::csv:
-      text = format_csv({"melanin", "melanin_blend", "hemoglobin", "delta_e_2000"},
-                        {{r.parameters.melanin}, {r.parameters.melanin_blend}, {r.parameters.hemoglobin}, {r.delta_e}});
-      break;
-    case Format::table: {
+    {
+      // Every parameter (the fitted ones and those held fixed), then the colour error.
+      for (const ParameterInfo& info : parameter_table())
+        result.columns.push_back({std::string(info.key), {r.parameters.*(info.member)}, {}});
+      result.columns.push_back({"target.hex", {}, {in.hex}});
+      result.columns.push_back({"fitted.hex", {}, {out.hex}});
+      result.columns.push_back({"delta_e_2000", {r.delta_e}, {}});
+    }
+    {
       std::ostringstream os;
       os << "target " << in.hex << "  Lab " << r.target << "\n"
          << "  melanin        " << r.parameters.melanin << "\n"
          << "  melanin_blend  " << r.parameters.melanin_blend << "\n"
          << "  hemoglobin     " << r.parameters.hemoglobin << "\n"
          << "fitted " << out.hex << "  Lab " << r.fitted << "  dE2000 " << r.delta_e << "\n";
-      text = os.str();
-      break;
+      result.table = os.str();
     }
   }
-  o.out.emit(text);
+  o.out.write(result);
 }
 
 void run_texture(const FitOpts& o) {
