@@ -102,4 +102,22 @@ TEST_F(Cli, ParamsFileMissing) {
   EXPECT_NE(r.err.find("params = 'nothing.json': cannot read the file"), std::string::npos) << r.err;
 }
 
+// skin layers answers in the order asked (repeats too); its layers say thickness_mm, as spectrum
+// does; CSV carries the totals as columns and the units in the header.
+TEST_F(Cli, LayersRadiiInTheOrderAskedAndOneKeyPerQuantity) {
+  const std::string stack =
+      "layers --layer sigma_a=0.5,sigma_s_prime=5,thickness=0.25 --layer sigma_a=0.05,sigma_s_prime=2.5 ";
+  const json j = json::parse(run(stack + "--radius 3 --radius 0.1 --radius 1 --radius 0.1 --format json").out);
+  EXPECT_EQ(j["profile"]["r_mm"], json::parse("[3, 0.1, 1, 0.1]"));
+  const auto R = j["profile"]["R"];
+  ASSERT_EQ(R.size(), 4u);
+  EXPECT_GT(R[1].get<double>(), R[2].get<double>());  // 0.1 mm brighter than 1 mm
+  EXPECT_GT(R[2].get<double>(), R[0].get<double>());  // 1 mm brighter than 3 mm
+  EXPECT_EQ(R[1], R[3]);
+  EXPECT_DOUBLE_EQ(j["layers"][0]["thickness_mm"].get<double>(), 0.25);
+  EXPECT_TRUE(j["layers"][1]["thickness_mm"].is_null());
+  const skin_test::CmdResult csv = run(stack + "--radius 1 --format csv");
+  EXPECT_EQ(csv.out.substr(0, csv.out.find('\n')), "r_mm,R [1/mm^2],R_d,T_d,R_specular");
+  EXPECT_EQ(csv.out.find('#'), std::string::npos);  // no comment lines
+}
 }  // namespace
