@@ -162,7 +162,7 @@ PYBIND11_MODULE(spectral_skin, m) {
           for (const auto& [k, v] : l) {
             if (k == "sigma_a") x.sigma_a = v;
             else if (k == "sigma_s_prime") x.sigma_s_prime = v;
-            else if (k == "thickness") x.thickness = v;
+            else if (k == "thickness_mm" || k == "thickness") x.thickness = v;
             else if (k == "eta") x.eta = v;
             else if (k == "g") x.g = v;
             else throw InputError("unknown layer key '" + k + "'");

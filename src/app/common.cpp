@@ -201,8 +201,8 @@ void RunOptions::add_to(CLI::App& app, const std::string& seed_help, const std::
 CLI::Option* StackOptions::add_to(CLI::App& app, const std::string& note) {
   layer_option =
       app.add_option("--layer", layers,
-                     "A layer, top to bottom: sigma_a=A,sigma_s_prime=S[,thickness=D][,eta=N][,g=G] "
-                     "(1/mm, mm; eta default 1.4, g default 0.9; no thickness = semi-infinite, "
+                     "A layer, top to bottom: sigma_a=A,sigma_s_prime=S[,thickness_mm=D][,eta=N][,g=G] "
+                     "(1/mm, mm; thickness= is accepted too; eta default 1.4, g default 0.9; no thickness = semi-infinite, "
                      "last layer only)" + note)
           ->take_all()
           ->allow_extra_args(false)
@@ -450,7 +450,7 @@ std::vector<double> to_vector(const Spectrum& s) { return s.values; }
 
 Layer parse_layer(const std::string& spec, std::size_t index) {
   const std::string where = "--layer " + std::to_string(index + 1) + " '" + spec + "'";
-  const std::string keys = "keys: sigma_a, sigma_s_prime, thickness, eta, g";
+  const std::string keys = "keys: sigma_a, sigma_s_prime, thickness_mm (or thickness), eta, g";
   Layer l;
   bool have_a = false, have_s = false;
   std::size_t start = 0;
@@ -472,7 +472,7 @@ Layer parse_layer(const std::string& spec, std::size_t index) {
     }
     if (key == "sigma_a") { l.sigma_a = v; have_a = true; }
     else if (key == "sigma_s_prime") { l.sigma_s_prime = v; have_s = true; }
-    else if (key == "thickness") {
+    else if (key == "thickness_mm" || key == "thickness") {
       if (!(v > 0)) require_positive("layer " + std::to_string(index + 1) + " thickness", v, "mm");
       l.thickness = v;
     }

@@ -238,10 +238,12 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
     }
     for (std::size_t i = 0; i < layers.size(); ++i) {
       const Reader lr(layers[i], r.file(), r.path("layers") + "[" + std::to_string(i) + "]");
-      lr.allow({"sigma_a", "sigma_s_prime", "thickness", "eta", "g"});
+      lr.allow({"sigma_a", "sigma_s_prime", "thickness_mm", "thickness", "eta", "g"});
+      if (lr.has("thickness_mm") && lr.has("thickness")) lr.fail("give 'thickness_mm' or 'thickness', not both");
+      const char* thickness_key = lr.has("thickness_mm") ? "thickness_mm" : "thickness";
       const Rgb3 sa = lr.rgb("sigma_a", {}), ss = lr.rgb("sigma_s_prime", {1, 1, 1});
       double thickness = kInfinity;
-      if (lr.has("thickness") && !lr.raw("thickness").is_null()) thickness = lr.number("thickness");
+      if (lr.has(thickness_key) && !lr.raw(thickness_key).is_null()) thickness = lr.number(thickness_key);
       for (int c = 0; c < 3; ++c) {
         Layer l;
         l.sigma_a = sa[c];
