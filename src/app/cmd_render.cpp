@@ -95,10 +95,11 @@ void register_render(CLI::App& app) {
       render::RenderSettings tmp;
       parse_resolution(o->resolution, &tmp);
     }
-    if (o->params.given()) (void)o->params.resolve();  // bad parameters fail before the scene loads
+    // A bad file or parameter fails before the scene loads.
+    std::function<SkinParameters(const SkinParameters&)> change;
+    if (o->params.given()) (void)(change = o->params.change())(SkinParameters{});
     render::Scene scene = o->scene.empty() ? render::Scene::default_scene() : render::Scene::load(o->scene);
-    if (o->params.given())
-      scene.update_skin_parameters([&](const SkinParameters& own) { return o->params.resolve_over(own); });
+    if (change) scene.update_skin_parameters(change);
     if (sub->count("--solver") > 0) scene.set_solver(o->solver.model());  // else the scene's
     if (o->diffuse) scene.make_translucent_diffuse();
     run(*o, scene, nullptr);

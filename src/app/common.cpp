@@ -81,67 +81,77 @@ long last_position(const CLI::App& app, const CLI::Option* o) {
 }  // namespace
 
 SkinParameters ParameterOptions::resolve() const {
-  return resolve_over(find_preset(preset).parameters);
+  return change()(find_preset(preset).parameters);
 }
 
-SkinParameters ParameterOptions::resolve_over(const SkinParameters& base) const {
-  SkinParameters p = preset_option->count() > 0 ? find_preset(preset).parameters : base;
-  std::vector<const ParameterInfo*> from_file;
-  if (params_option->count() > 0) from_file = read_parameter_file(params_file, p);
+std::function<SkinParameters(const SkinParameters&)> ParameterOptions::change() const {
+  std::optional<SkinParameters> from_preset;
+  if (preset_option->count() > 0) from_preset = find_preset(preset).parameters;
+  ParameterFile file;
+  if (params_option->count() > 0) file = ParameterFile::read(params_file);
+  // The flags that apply: all but those given before --params for parameters the file sets.
+  std::vector<const ParameterInfo*> applied;
   const long file_at = last_position(*app, params_option);
-  for (const auto& [opt, info] : flags) {
-    if (opt->count() == 0) continue;
-    const bool in_file =
-        std::find(from_file.begin(), from_file.end(), info) != from_file.end();
-    if (!in_file || last_position(*app, opt) > file_at) p.*(info->member) = values.*(info->member);
-  }
-  p.validate();
-  return p;
+  for (const auto& [opt, info] : flags)
+    if (opt->count() > 0 && (!file.sets(info) || last_position(*app, opt) > file_at))
+      applied.push_back(info);
+  return [from_preset, file = std::move(file), applied, values = values](const SkinParameters& base) {
+    SkinParameters p = from_preset ? *from_preset : base;
+    file.apply(p);
+    for (const ParameterInfo* info : applied) p.*(info->member) = values.*(info->member);
+    p.validate();
+    return p;
+  };
 }
 
-std::vector<const ParameterInfo*> read_parameter_file(const std::string& path, SkinParameters& p) {
+ParameterFile ParameterFile::read(const std::string& path) {
+  const std::string where = "params = '" + path + "': ";
+  // Messages of the checks below, with the file in front.
+  const auto in_file = [&where](const auto& check) {
+    try {
+      return check();
+    } catch (const InputError& e) {
+      throw InputError(where + e.what());
+    }
+  };
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("params = '" + path + "': cannot read the file");
+  if (!in) throw InputError(where + "cannot read the file");
   json doc;
   try {
     doc = json::parse(in);
   } catch (const std::exception& e) {
-    throw InputError("params = '" + path + "': not valid JSON (" + e.what() + ")");
+    throw InputError(where + "not valid JSON (" + e.what() + ")");
   }
-  const std::string where = "params = '" + path + "': ";
-  const json* obj = &doc;
-  if (doc.is_object() && doc.contains("parameters")) obj = &doc["parameters"];
-  if (!obj->is_object())
+  const bool nested = doc.is_object() && doc.contains("parameters");
+  const json& obj = nested ? doc["parameters"] : doc;
+  if (!obj.is_object())
     throw InputError(where + "expected an object of parameter keys (or a \"parameters\" object)");
-  if (obj == &doc && doc.contains("preset")) {
-    if (!doc["preset"].is_string()) throw InputError(where + "\"preset\" must be a string");
-    p = find_preset(doc["preset"].get<std::string>()).parameters;
-  }
-  std::vector<const ParameterInfo*> set;
-  for (auto it = obj->begin(); it != obj->end(); ++it) {
-    if (obj == &doc && it.key() == "preset") continue;
-    const ParameterInfo* info = find_parameter(it.key());
-    if (!info) {
-      try {
-        parameter_info(it.key(), "key");
-      } catch (const InputError& e) {
-        throw InputError(where + e.what());
-      }
+  ParameterFile file;
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    if (!nested && it.key() == "preset") {
+      if (!it->is_string()) throw InputError(where + "\"preset\" must be a string");
+      file.preset = it->get<std::string>();
+      in_file([&] { return &find_preset(file.preset); });
+      continue;
     }
+    const ParameterInfo* info = in_file([&] { return &parameter_info(it.key(), "key"); });
     if (it->is_null()) continue;
     if (!it->is_number() || it->is_boolean())
-      throw InputError(where + std::string(info->key) + " must be a number, not " +
-                       it->dump());
+      throw InputError(where + std::string(info->key) + " must be a number, not " + it->dump());
     const double v = it->get<double>();
-    try {
-      info->check(v);
-    } catch (const InputError& e) {
-      throw InputError(where + e.what());
-    }
-    p.*(info->member) = v;
-    set.push_back(info);
+    in_file([&] { info->check(v); return 0; });
+    file.values.emplace_back(info, v);
   }
-  return set;
+  return file;
+}
+
+bool ParameterFile::sets(const ParameterInfo* info) const {
+  return std::any_of(values.begin(), values.end(), [info](const auto& v) { return v.first == info; });
+}
+
+void ParameterFile::apply(SkinParameters& p) const {
+  if (!preset.empty()) p = find_preset(preset).parameters;
+  for (const auto& [info, v] : values) p.*(info->member) = v;
 }
 
 CLI::Validator whole_number(long long lo, long long hi) {

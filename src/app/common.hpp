@@ -38,15 +38,21 @@ struct ParameterOptions {
   // Whether --preset, --params or any parameter flag was given.
   bool given() const;
   SkinParameters resolve() const;  // preset + file + overrides, validated
-  // The same over `base` when --preset is not given (the renderer: each material's own set).
-  SkinParameters resolve_over(const SkinParameters& base) const;
+  // The same as a change of any base set, used when --preset is not given (the renderer: each
+  // material's own set). The file is read once, here; the change validates what it returns.
+  std::function<SkinParameters(const SkinParameters&)> change() const;
 };
 
-// Reads a parameter file: the JSON `skin fit` or `skin spectrum` writes (its "parameters"
-// object), or a bare object of parameter keys (paper symbols accepted; null = not set; an
-// optional "preset" naming the base set). Sets the values it holds on `p`, returns their keys.
-// Throws InputError naming the file and the key.
-std::vector<const ParameterInfo*> read_parameter_file(const std::string& path, SkinParameters& p);
+// A parameter file: the JSON `skin fit` or `skin spectrum` writes (its "parameters" object), or
+// a bare object of parameter keys (paper symbols accepted; null = not set; an optional "preset"
+// naming the base set). read() throws InputError naming the file and the key.
+struct ParameterFile {
+  std::string preset;  // empty: none
+  std::vector<std::pair<const ParameterInfo*, double>> values;
+  static ParameterFile read(const std::string& path);
+  bool sets(const ParameterInfo* info) const;
+  void apply(SkinParameters& p) const;  // the preset (if any), then the values
+};
 
 // Check of a whole-number option (counts, seeds, threads): anything but a whole number within
 // [lo, hi] is refused with "<value> is out of range: must be a whole number ..." (CLI11 alone

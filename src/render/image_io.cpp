@@ -1,11 +1,10 @@
 // Textures of the renderer: images (skin::image) kept for bilinear lookup.
 #include <cmath>
-#include <cctype>
-#include <filesystem>
 #include <memory>
 
 #include "scene_data.hpp"
 #include "skin/image/image.hpp"
+#include "skin/util/atomic_file.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::render {
@@ -25,13 +24,8 @@ std::shared_ptr<Texture> load_map_texture(const std::string& path, const std::st
                                           const std::string& key) {
   auto t = std::make_shared<Texture>();
   t->path = path;
-  const std::string ext = [&] {
-    std::string e = std::filesystem::path(path).extension().string();
-    for (char& c : e) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    return e;
-  }();
   std::vector<float> plane;
-  if (ext == ".exr") {
+  if (io::extension(path) == "exr") {
     const std::string name = channel.empty() ? key : channel;
     image::Planes planes = image::read_exr_planes(
         path, {name}, "parameter map (give \"channel\" to read another)");

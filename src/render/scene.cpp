@@ -161,9 +161,8 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
     if (r.has("parameter_maps")) {
       const Reader pm(r.raw("parameter_maps"), r.file(), r.path("parameter_maps"));
       for (const auto& [k, v] : pm.j().items()) {
-        const ParameterInfo* info = find_parameter(k);
-        if (info == nullptr)
-          with_context(r.file(), pm.path(k.c_str()), [&] { return parameter_info(k, "parameter"); });
+        const ParameterInfo* info =
+            with_context(r.file(), pm.path(k.c_str()), [&] { return &parameter_info(k, "parameter"); });
         const Reader e(v, r.file(), pm.path(k.c_str()));
         e.allow({"texture", "channel", "min", "max", "levels"});
         Material::ParameterMap mp;
