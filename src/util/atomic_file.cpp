@@ -87,27 +87,62 @@ std::string read_file(const std::string& path) {
 
 }  // namespace
 
-void write_via_temporary(const std::string& path, const std::function<void(const std::string&)>& write) {
+namespace {
+// Where a path's data go: standard output, a FIFO or device written in place, or a regular file
+// (new or replaced) behind any symbolic links.
+struct Target {
+  bool to_stdout = false, in_place = false, exists = false;
+  fs::path path;  // the links' final target
+};
+
+Target find_target(const std::string& path) {
   if (path.empty()) throw InputError("output: an empty file name was given");
-  const bool to_stdout = path == "-";
-  const fs::path target = to_stdout ? fs::path() : resolve_links(path);
+  Target t;
+  if (path == "-") {
+    t.to_stdout = t.in_place = true;
+    return t;
+  }
+  t.path = resolve_links(path);
   std::error_code ec;
-  const fs::file_status st = to_stdout ? fs::file_status() : fs::status(target, ec);
-  const bool exists = !to_stdout && fs::exists(st);
-  if (exists && fs::is_directory(st)) throw InputError(path + ": is a directory, not a file name");
-  // FIFOs, devices and standard output are written in place (after the writer has finished).
-  const bool in_place = to_stdout || (exists && !fs::is_regular_file(st));
+  const fs::file_status st = fs::status(t.path, ec);
+  t.exists = fs::exists(st);
+  if (t.exists && fs::is_directory(st)) throw InputError(path + ": is a directory, not a file name");
+  t.in_place = t.exists && !fs::is_regular_file(st);
+  return t;
+}
+
+// Writes complete data where the target says, in place (standard output, FIFO, device).
+void write_data_in_place(const std::string& shown, const Target& t, const std::string& data) {
+  if (!t.to_stdout) return write_in_place(shown, t.path, data);
+  if (!write_all(STDOUT_FILENO, data.data(), data.size()))
+    throw InputError("standard output: write failed: " + std::string(std::strerror(errno)));
+}
+
+// Writes `content` to a new file `tmp` (which must not exist).
+void write_new_file(const std::string& shown, const std::string& tmp, const std::string& content) {
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) throw InputError(shown + ": cannot open for writing: " + std::strerror(errno));
+  const bool ok = write_all(fd, content.data(), content.size());
+  const int err = errno;
+  const bool closed = ::close(fd) == 0;
+  if (!ok || !closed) throw InputError(shown + ": write failed: " + std::strerror(ok ? errno : err));
+}
+}  // namespace
+
+void write_via_temporary(const std::string& path, const std::function<void(const std::string&)>& write) {
+  const Target t = find_target(path);
+  std::error_code ec;
   fs::path tmp_dir;
-  if (in_place) {
+  if (t.in_place) {
+    // The writer needs a path: a temporary file elsewhere, copied in place once complete.
     tmp_dir = fs::temp_directory_path(ec);
     if (ec) tmp_dir = "/tmp";
   } else {
-    tmp_dir = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+    tmp_dir = t.path.parent_path().empty() ? fs::path(".") : t.path.parent_path();
     if (!fs::is_directory(tmp_dir))
       throw InputError(path + ": cannot write: directory '" + tmp_dir.string() + "' does not exist");
   }
-  const fs::path name = to_stdout ? fs::path("stdout") : target.filename();
-  const std::string tmp = temporary_name(tmp_dir / name);
+  const std::string tmp = temporary_name(tmp_dir / (t.to_stdout ? fs::path("stdout") : t.path.filename()));
   auto cleanup = [&] {
     std::error_code ignored;
     fs::remove(tmp, ignored);
@@ -118,22 +153,17 @@ void write_via_temporary(const std::string& path, const std::function<void(const
     cleanup();
     throw;
   }
-  if (in_place) {
+  if (t.in_place) {
     const std::string data = read_file(tmp);
     cleanup();
-    if (to_stdout) {
-      if (!write_all(STDOUT_FILENO, data.data(), data.size()))
-        throw InputError("standard output: write failed: " + std::string(std::strerror(errno)));
-      return;
-    }
-    write_in_place(path, target, data);
+    write_data_in_place(path, t, data);
     return;
   }
-  if (exists) {
+  if (t.exists) {
     // Keep the replaced file's permission bits.
-    fs::permissions(tmp, fs::status(target, ec).permissions(), fs::perm_options::replace, ec);
+    fs::permissions(tmp, fs::status(t.path, ec).permissions(), fs::perm_options::replace, ec);
   }
-  fs::rename(tmp, target, ec);
+  fs::rename(tmp, t.path, ec);
   if (ec) {
     cleanup();
     throw InputError(path + ": cannot write: " + ec.message());
@@ -141,15 +171,9 @@ void write_via_temporary(const std::string& path, const std::function<void(const
 }
 
 void write_file_atomic(const std::string& path, const std::string& content) {
-  write_via_temporary(path, [&](const std::string& tmp) {
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    if (fd < 0) throw InputError(path + ": cannot open for writing: " + std::strerror(errno));
-    const bool ok = write_all(fd, content.data(), content.size());
-    const int err = errno;
-    const bool closed = ::close(fd) == 0;
-    if (!ok || !closed)
-      throw InputError(path + ": write failed: " + std::strerror(ok ? errno : err));
-  });
+  // In place the content is written directly (no temporary copy of data already in memory).
+  if (const Target t = find_target(path); t.in_place) return write_data_in_place(path, t, content);
+  write_via_temporary(path, [&](const std::string& tmp) { write_new_file(path, tmp, content); });
 }
 
 }  // namespace skin::io
