@@ -137,23 +137,21 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
     if (r.has("albedo_texture"))
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
   } else if (type == "skin") {
-    // Every parameter of the table by its key or the paper's symbol (skin::parameter_table()).
-    for (const auto& [k, v] : r.j().items()) {
-      static const std::set<std::string> other = {"type", "preset", "albedo_texture", "texture_reference",
-                                                  "parameter_maps", "solver"};
-      if (other.count(k) == 0 && find_parameter(k) == nullptr) {
-        std::string known;
-        for (const auto& o : other) known += o + ", ";
-        for (const auto& info : parameter_table()) known += std::string(info.key) + ", ";
-        r.fail("unknown key '" + k + "' (known: " + known + "or the paper's symbols C_m, beta_m, C_h, rho_s, gamma)");
-      }
-    }
     SkinParameters p = r.has("preset") ? with_context(r.file(), r.path("preset"), [&] { return find_preset(r.string("preset")).parameters; })
                                        : SkinParameters{};
+    // Every parameter of the table by its key or the paper's symbol (skin::parameter_table()).
+    static const std::set<std::string> other = {"type", "preset", "albedo_texture", "texture_reference",
+                                                "parameter_maps", "solver"};
     std::set<const ParameterInfo*> given;
     for (const auto& [k, v] : r.j().items()) {
+      if (other.count(k) != 0) continue;
       const ParameterInfo* info = find_parameter(k);
-      if (info == nullptr) continue;
+      if (info == nullptr) {
+        std::string known;
+        for (const auto& o : other) known += o + ", ";
+        for (const auto& row : parameter_table()) known += std::string(row.key) + ", ";
+        r.fail("unknown key '" + k + "' (known: " + known + "or the paper's symbols C_m, beta_m, C_h, rho_s, gamma)");
+      }
       if (!given.insert(info).second) r.fail("'" + k + "' sets " + std::string(info->key) + " a second time");
       p.*(info->member) = r.number(k.c_str());
     }
