@@ -64,10 +64,7 @@ py::dict color_dict(const color::ColorSummary& c) {
 py::dict validity_dict(const transport::Validity& v, const transport::Model& model,
                        bool warn = true) {
   if (warn && !v.ok()) {
-    std::string text = "solver " + std::string(model.name()) + ": " +
-                       (v.totals ? "profile" : v.profile ? "totals" : "totals and profile") +
-                       " outside its validated range: " + v.reason;
-    if (!v.exact.empty()) text += "; still exact: " + v.exact;
+    const std::string text = transport::warning_text(model.name(), v);
     if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
   }
   return py::dict(py::arg("totals") = v.totals, py::arg("profile") = v.profile,

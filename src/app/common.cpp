@@ -183,13 +183,7 @@ CLI::Option* SolverOption::add_to(CLI::App& app) {
 
 void warn_validity(const transport::Model& model, const transport::Validity& v,
                    const std::string& what) {
-  if (v.ok()) return;
-  std::cerr << "skin: warning: solver " << model.name() << (what.empty() ? "" : " for " + what)
-            << ": "
-            << (v.totals ? "profile" : v.profile ? "totals" : "totals and profile")
-            << " outside its validated range: " << v.reason;
-  if (!v.exact.empty()) std::cerr << "; still exact: " << v.exact;
-  std::cerr << '\n';
+  if (!v.ok()) std::cerr << "skin: warning: " << transport::warning_text(model.name(), v, what) << '\n';
 }
 
 json to_json(const transport::Validity& v) {

@@ -3,13 +3,12 @@
 // profiles, skin::accurate::AccurateStack).
 #include "skin/transport/model.hpp"
 
-#include "skin/physics/fresnel.hpp"
-
 #include <array>
 #include <mutex>
 #include <ostream>
 #include <sstream>
 
+#include "skin/physics/fresnel.hpp"
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/diffusion.hpp"
 #include "skin/transport/stack.hpp"
@@ -27,6 +26,15 @@ std::ostream& operator<<(std::ostream& os, const Validity& v) {
   if (!v.reason.empty()) os << ", reason=\"" << v.reason << '"';
   if (!v.exact.empty()) os << ", exact=\"" << v.exact << '"';
   return os << '}';
+}
+
+std::string warning_text(std::string_view model, const Validity& v, const std::string& what) {
+  if (v.ok()) return {};
+  std::string text = "solver " + std::string(model) + (what.empty() ? "" : " for " + what) + ": " +
+                     (v.totals ? "profile" : v.profile ? "totals" : "totals and profile") +
+                     " outside its validated range: " + v.reason;
+  if (!v.exact.empty()) text += "; still exact: " + v.exact;
+  return text;
 }
 
 namespace {

@@ -33,6 +33,9 @@ struct Validity {
   bool ok() const { return totals && profile; }
 };
 std::ostream& operator<<(std::ostream& os, const Validity& v);
+// The one-line warning every surface shows for a stack outside `model`'s range ("" when ok):
+// "solver accurate[ for WHAT]: profile outside its validated range: REASON; still exact: ...".
+std::string warning_text(std::string_view model, const Validity& v, const std::string& what = "");
 
 class Model {
  public:
