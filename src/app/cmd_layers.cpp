@@ -64,11 +64,7 @@ void register_layers(CLI::App& app) {
       for (std::size_t i = 0; i < stack.layers.size(); ++i) {
         const auto& l = stack.layers[i];
         const auto& s = ds.slabs()[i];
-        json jl;
-        jl["sigma_a"] = l.sigma_a;
-        jl["sigma_s_prime"] = l.sigma_s_prime;
-        jl["thickness_mm"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
-        jl["eta"] = l.eta;
+        json jl = to_json(l);
         jl["alpha_prime"] = s.alpha_prime;
         jl["sigma_tr"] = s.sigma_tr;
         jl["z_r"] = s.z_r;

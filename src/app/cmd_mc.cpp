@@ -56,13 +56,8 @@ struct McOptions {
 json layers_json(const LayerStack& stack) {
   json layers = json::array();
   for (const auto& l : stack.layers) {
-    json jl;
-    jl["sigma_a"] = l.sigma_a;
-    jl["sigma_s_prime"] = l.sigma_s_prime;
+    json jl = to_json(l);
     jl["sigma_s"] = l.sigma_s();
-    jl["g"] = l.g;
-    jl["thickness_mm"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
-    jl["eta"] = l.eta;
     layers.push_back(jl);
   }
   return layers;

@@ -413,6 +413,16 @@ json to_json(const SkinParameters& p) {
   return j;
 }
 
+json to_json(const Layer& l) {
+  json j;
+  j["sigma_a"] = l.sigma_a;
+  j["sigma_s_prime"] = l.sigma_s_prime;
+  j["thickness_mm"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
+  j["eta"] = l.eta;
+  j["g"] = l.g;
+  return j;
+}
+
 json to_json(const color::ColorSummary& c) {
   json j;
   j["XYZ"] = {c.XYZ.X, c.XYZ.Y, c.XYZ.Z};

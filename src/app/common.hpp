@@ -142,6 +142,9 @@ std::string format_csv(const std::vector<std::string>& header,
                        const std::vector<std::vector<double>>& columns);
 
 json to_json(const SkinParameters& p);
+// A layer as the --layer keys name it: sigma_a, sigma_s_prime [1/mm], thickness_mm (null when
+// semi-infinite), eta, g.
+json to_json(const Layer& l);
 json to_json(const color::ColorSummary& c);
 std::string color_table(const color::ColorSummary& c);
 // The colour as CSV columns named like the JSON keys (XYZ.X, srgb_linear.r, srgb8.r, hex, lab.L).
