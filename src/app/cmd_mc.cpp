@@ -279,9 +279,38 @@ void register_tabulate_command(CLI::App& app) {
   });
 }
 
+void register_random_walk_command(CLI::App& app) {
+  struct Opts {
+    std::string out;
+    mc::RandomWalkOptions t = mc::RandomWalkOptions::defaults();
+    RunOptions run;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "tabulate-random-walk",
+      "Tabulate a renderer's random-walk subsurface response (index-matched half-space, Lambertian "
+      "entry) by Monte Carlo over the single-scattering albedo: the data file "
+      "data/random_walk_g0.csv that `skin export` fits renderers' parameters with");
+  sub->add_option("-o,--output", o->out, "Output CSV file (written atomically)")->required();
+  sub->add_option("--photons", o->t.photons, "Photons per node")
+      ->check(whole_number(1))->capture_default_str();
+  o->run.seed = o->t.seed;
+  o->run.threads = o->t.threads;
+  o->run.add_to(*sub, "Seed; the same seed gives the same table for any thread count");
+  sub->callback([o] {
+    o->t.progress = progress_bar("nodes");  // drawn on a terminal only
+    o->t.seed = o->run.seed;
+    o->t.threads = o->run.threads;
+    const transport::RandomWalkTable table = mc::tabulate_random_walk(o->t);
+    io::write_file_atomic(o->out, table.to_csv());
+    std::cout << "wrote " << o->out << ": " << table << '\n';
+  });
+}
+
 void register_mc(CLI::App& app) {
   register_mc_command(app);
   register_tabulate_command(app);
+  register_random_walk_command(app);
   register_validate_command(app);
 }
 

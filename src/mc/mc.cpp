@@ -135,7 +135,16 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double
     double ux = 0, uy = 0, uz = 1;  // pencil beam at normal incidence (refraction-free)
     double w = 1;                   // per power that entered
     std::size_t li = 0;
-    if (source == Source::diffuse_bottom) {
+    if (source == Source::diffuse_top) {
+      // Lambertian emission downwards from the top surface: mu = sqrt(u) has pdf 2 mu.
+      const double mu = std::sqrt(rng.uniform_open0());
+      const double sin_t = std::sqrt(std::max(0.0, 1.0 - mu * mu));
+      double cos_p, sin_p;
+      sample_azimuth(rng, cos_p, sin_p);
+      ux = sin_t * cos_p;
+      uy = sin_t * sin_p;
+      uz = mu;
+    } else if (source == Source::diffuse_bottom) {
       // Lambertian emission upwards from the bottom boundary: mu = sqrt(u) has pdf 2 mu.
       li = n_layers - 1;
       z = slabs[li].z_bottom;
@@ -265,7 +274,9 @@ std::ostream& operator<<(std::ostream& os, const Options& o) {
   return os << "mc::Options{photons=" << o.photons << ", seed=" << o.seed
             << ", threads=" << o.threads << ", r_max=" << o.r_max << "mm, bins=" << o.bins
             << ", progress=" << (o.progress ? "on" : "off") << ", source="
-            << (o.source == Source::pencil ? "pencil" : "diffuse_bottom")
+            << (o.source == Source::pencil           ? "pencil"
+              : o.source == Source::diffuse_top ? "diffuse_top"
+                                                : "diffuse_bottom")
             << ", exit_bins=" << o.exit_bins << " [" << o.exit_r_min << ", " << o.exit_r_max
             << "]mm}";
 }

@@ -21,47 +21,9 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-// Index i and weight t of v in the increasing nodes: v ~ (1 - t) nodes[i] + t nodes[i + 1],
-// clamped to the ends.
-std::pair<std::size_t, double> locate(const std::vector<double>& nodes, double v) {
-  if (v <= nodes.front()) return {0, 0.0};
-  if (v >= nodes.back()) return {nodes.size() - 2, 1.0};
-  const auto it = std::upper_bound(nodes.begin(), nodes.end(), v);
-  const std::size_t i = static_cast<std::size_t>(it - nodes.begin()) - 1;
-  return {i, (v - nodes[i]) / (nodes[i + 1] - nodes[i])};
-}
-
 void accumulate(std::vector<double>& out, const std::vector<double>& a, double w) {
   if (out.empty()) out.assign(a.size(), 0.0);
   for (std::size_t i = 0; i < a.size(); ++i) out[i] += w * a[i];
-}
-
-std::string join(const std::vector<double>& v) {
-  std::string s;
-  char buf[32];
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    std::snprintf(buf, sizeof buf, "%s%.7g", i ? "," : "", v[i]);
-    s += buf;
-  }
-  return s;
-}
-
-std::vector<double> parse_list(std::string_view v, std::string_view source, std::string_view key) {
-  std::vector<double> out;
-  std::size_t start = 0;
-  while (start <= v.size()) {
-    std::size_t end = v.find(',', start);
-    if (end == std::string_view::npos) end = v.size();
-    std::string_view f = v.substr(start, end - start);
-    while (!f.empty() && f.front() == ' ') f.remove_prefix(1);
-    double d = 0;
-    const auto r = std::from_chars(f.data(), f.data() + f.size(), d);
-    if (r.ec != std::errc() || f.empty())
-      throw InputError(std::string(source) + ": '" + std::string(key) + "' has a value that is not a number");
-    out.push_back(d);
-    start = end + 1;
-  }
-  return out;
 }
 
 }  // namespace
@@ -270,8 +232,8 @@ std::string TopLayerTable::to_csv() const {
   os << "# provenance: " << provenance << '\n';
   os << "# g: " << g << "\n# eta: " << eta << "\n# eta_above: " << eta_above << '\n';
   os << "# kappa_0: " << kappa_0 << '\n';
-  os << "# x: " << join(x) << "\n# tau: " << join(tau) << "\n# kappa: " << join(kappa)
-     << "\n# rho_edges: " << join(rho_edges) << '\n';
+  os << "# x: " << format_number_list(x) << "\n# tau: " << format_number_list(tau) << "\n# kappa: " << format_number_list(kappa)
+     << "\n# rho_edges: " << format_number_list(rho_edges) << '\n';
   os << "x,tau,R_e,T_down,T_up,R_up";
   for (std::size_t i = 0; i + 1 < rho_edges.size(); ++i) os << ",R_e_rho_" << i;
   for (const char* name : {"T_down_k_", "T_up_k_", "R_up_k_"})
@@ -281,7 +243,7 @@ std::string TopLayerTable::to_csv() const {
   for (std::size_t j = 0; j < tau.size(); ++j)
     for (std::size_t i = 0; i < x.size(); ++i) {
       const Node& n = nodes[j * x.size() + i];
-      os << join({x[i], tau[j], n.R_e, n.T_down, n.T_up, n.R_up});
+      os << format_number_list({x[i], tau[j], n.R_e, n.T_down, n.T_up, n.R_up});
       for (const auto* v : {&n.R_e_rho, &n.T_down_k, &n.T_up_k, &n.R_up_k})
         for (double d : *v) {
           std::snprintf(buf, sizeof buf, ",%.5g", d);
@@ -294,28 +256,14 @@ std::string TopLayerTable::to_csv() const {
 
 TopLayerTable TopLayerTable::parse(std::string_view text, std::string_view source) {
   const std::string src(source);
-  std::map<std::string, std::string, std::less<>> meta;
-  for (std::size_t pos = 0; pos < text.size();) {
-    std::size_t end = text.find('\n', pos);
-    if (end == std::string_view::npos) end = text.size();
-    std::string_view line = text.substr(pos, end - pos);
-    pos = end + 1;
-    if (line.size() < 2 || line.front() != '#') continue;
-    line.remove_prefix(1);
-    const std::size_t colon = line.find(':');
-    if (colon == std::string_view::npos) continue;
-    std::string_view key = line.substr(0, colon), value = line.substr(colon + 1);
-    while (!key.empty() && key.front() == ' ') key.remove_prefix(1);
-    while (!value.empty() && value.front() == ' ') value.remove_prefix(1);
-    meta.emplace(std::string(key), std::string(value));
-  }
+  const auto meta = csv_metadata(text);
   auto need = [&](const char* key) -> const std::string& {
     const auto it = meta.find(key);
     if (it == meta.end()) throw InputError(src + ": missing the '# " + key + ":' line");
     return it->second;
   };
   auto scalar = [&](const char* key) {
-    const auto v = parse_list(need(key), src, key);
+    const auto v = parse_number_list(need(key), src, key);
     if (v.size() != 1) throw InputError(src + ": '" + key + "' must be one number");
     return v[0];
   };
@@ -325,10 +273,10 @@ TopLayerTable TopLayerTable::parse(std::string_view text, std::string_view sourc
   t.eta = scalar("eta");
   t.eta_above = scalar("eta_above");
   t.kappa_0 = scalar("kappa_0");
-  t.x = parse_list(need("x"), src, "x");
-  t.tau = parse_list(need("tau"), src, "tau");
-  t.kappa = parse_list(need("kappa"), src, "kappa");
-  t.rho_edges = parse_list(need("rho_edges"), src, "rho_edges");
+  t.x = parse_number_list(need("x"), src, "x");
+  t.tau = parse_number_list(need("tau"), src, "tau");
+  t.kappa = parse_number_list(need("kappa"), src, "kappa");
+  t.rho_edges = parse_number_list(need("rho_edges"), src, "rho_edges");
   auto increasing = [&](const std::vector<double>& v, const char* key, std::size_t min_size) {
     if (v.size() < min_size) throw InputError(src + ": '" + key + "' has too few values");
     for (std::size_t i = 1; i < v.size(); ++i)

@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <mutex>
@@ -93,6 +94,46 @@ Table read_csv_file(const std::string& path) {
   ss << in.rdbuf();
   if (in.bad()) throw InputError(path + ": read error");
   return parse_csv(ss.str(), path);
+}
+
+std::map<std::string, std::string, std::less<>> csv_metadata(std::string_view text) {
+  std::map<std::string, std::string, std::less<>> meta;
+  for (std::size_t pos = 0; pos < text.size();) {
+    std::size_t end = text.find('\n', pos);
+    if (end == std::string_view::npos) end = text.size();
+    std::string_view line = text.substr(pos, end - pos);
+    pos = end + 1;
+    if (line.size() < 2 || line.front() != '#') continue;
+    line.remove_prefix(1);
+    const std::size_t colon = line.find(':');
+    if (colon == std::string_view::npos) continue;
+    meta.emplace(std::string(trim(line.substr(0, colon))), std::string(trim(line.substr(colon + 1))));
+  }
+  return meta;
+}
+
+std::vector<double> parse_number_list(std::string_view list, std::string_view source,
+                                      std::string_view key) {
+  std::vector<double> out;
+  for (std::string_view f : split(list)) {
+    double d = 0;
+    const auto r = std::from_chars(f.data(), f.data() + f.size(), d);
+    if (f.empty() || r.ec != std::errc() || r.ptr != f.data() + f.size())
+      throw InputError(std::string(source) + ": '" + std::string(key) +
+                       "' has a value that is not a number");
+    out.push_back(d);
+  }
+  return out;
+}
+
+std::string format_number_list(const std::vector<double>& v) {
+  std::string s;
+  char buf[32];
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "%s%.7g", i ? "," : "", v[i]);
+    s += buf;
+  }
+  return s;
 }
 
 namespace data {

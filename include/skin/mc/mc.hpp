@@ -29,7 +29,11 @@ namespace skin::mc {
 //   through the top surface and T_d the power returning down through the bottom boundary. Used
 //   to tabulate a layer's transfer functions for diffuse light arriving from below
 //   (skin::accurate::TopLayerTable).
-enum class Source { pencil, diffuse_bottom };
+// - diffuse_top: a Lambertian point source on the top surface radiating downwards into the first
+//   layer (cosine-weighted directions inside the medium, no refraction): the entry of a
+//   renderer's random-walk subsurface scattering (Cycles, Chiang et al. 2016). Results per power
+//   that entered; used to tabulate such renderers' response (skin::exporting, data/random-walk.csv).
+enum class Source { pencil, diffuse_bottom, diffuse_top };
 
 struct Options {
   std::uint64_t photons = 100000;  // photon packets entering the medium, >= 1

@@ -1,7 +1,11 @@
 #pragma once
 // Interpolation stencils on uniformly spaced nodes, in node units (node i at t = i). One home for
 // every stencil of the project, each tested in tests/util/test_numerics.cpp.
+#include <algorithm>
 #include <array>
+#include <cstddef>
+#include <utility>
+#include <vector>
 
 namespace skin {
 
@@ -25,4 +29,13 @@ inline double catmull_rom(double p0, double p1, double p2, double p3, double t) 
   return p1 + 0.5 * t * (p2 - p0 + t * (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3 + t * (3.0 * (p1 - p2) + p3 - p0)));
 }
 
+// Index i and weight t of v among increasing nodes (at least two): v ~ (1 - t) nodes[i] +
+// t nodes[i + 1], clamped to the end intervals (t in [0, 1]).
+inline std::pair<std::size_t, double> locate(const std::vector<double>& nodes, double v) {
+  if (v <= nodes.front()) return {0, 0.0};
+  if (v >= nodes.back()) return {nodes.size() - 2, 1.0};
+  const auto it = std::upper_bound(nodes.begin(), nodes.end(), v);
+  const std::size_t i = static_cast<std::size_t>(it - nodes.begin()) - 1;
+  return {i, (v - nodes[i]) / (nodes[i + 1] - nodes[i])};
+}
 }  // namespace skin

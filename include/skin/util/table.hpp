@@ -2,6 +2,7 @@
 // Numeric CSV tables: the project's data files and users' measured spectra.
 // Lines starting with '#' are comments; the first other line holds the column names; every
 // following non-empty line holds numbers (an empty field reads as NaN).
+#include <map>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,6 +24,16 @@ struct Table {
 Table parse_csv(std::string_view text, const std::string& source);
 // Reads and parses a file; throws InputError naming the file when it cannot be read.
 Table read_csv_file(const std::string& path);
+
+// Metadata of a data file: its comment lines of the form "# key: value" (the first of a repeated
+// key wins), e.g. "# provenance: ..." or "# rho_edges: 0,0.001,...".
+std::map<std::string, std::string, std::less<>> csv_metadata(std::string_view text);
+// A comma-separated list of numbers ("0,0.001,2.5"); InputError naming `source` and `key` for a
+// field that is not a number.
+std::vector<double> parse_number_list(std::string_view list, std::string_view source,
+                                      std::string_view key);
+// The inverse: "%.7g" values joined by commas.
+std::string format_number_list(const std::vector<double>& v);
 
 namespace data {
 // Text of a data file compiled into the library (data/*.csv), by file name; throws if unknown.

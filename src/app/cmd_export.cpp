@@ -1,0 +1,189 @@
+// skin export: this skin's parameters for other renderers and engines, each fitted through the
+// target's own model, with the fit's error beside the files (docs/export.md).
+#include <filesystem>
+#include <iostream>
+
+#include "common.hpp"
+#include "progress.hpp"
+#include "skin/export/export.hpp"
+#include "skin/image/image.hpp"
+#include "skin/util/atomic_file.hpp"
+#include "skin/util/error.hpp"
+
+namespace skin::cli {
+
+namespace {
+
+json fit_json(const exporting::FitReport& r, const SkinParameters& p, const std::string& solver,
+              const std::vector<std::string>& files) {
+  auto rgb = [](const Rgb& c) { return json{{"r", c.r}, {"g", c.g}, {"b", c.b}}; };
+  auto arr = [](const std::array<double, 3>& a) { return json{{"r", a[0]}, {"g", a[1]}, {"b", a[2]}}; };
+  json j;
+  j["target"] = r.target;
+  j["target_model"] = r.target_model;
+  j["parameters"] = to_json(p);
+  j["solver"] = solver;
+  j["units"] = {{"files", std::string(exporting::unit_name(r.unit))},
+                {"mean_radius_mm", "mm"},
+                {"colors", "linear Rec.709 (sRGB primaries, D65)"}};
+  j["files"] = files;
+  j["representable"] = r.representable;
+  j["notes"] = r.notes;
+  j["R_d_ours"] = rgb(r.R_d_ours);
+  j["R_d_target"] = rgb(r.R_d_target);
+  j["delta_e_2000"] = r.delta_e_2000;
+  j["profile_l1"] = arr(r.profile_l1);
+  j["mean_radius_mm"] = arr(r.mean_radius_mm);
+  j["mean_radius_error"] = arr(r.mean_radius_error);
+  json v = json::object();
+  for (const auto& [k, vals] : r.values) v[k] = vals.size() == 1 ? json(vals[0]) : json(vals);
+  j["values"] = v;
+  if (r.texels) {
+    j["texels"] = r.texels;
+    j["max_delta_e_2000"] = r.max_delta_e_2000;
+  }
+  return j;
+}
+
+// "dir/name.ext" -> "dir/name"
+std::string stem_of(const std::string& path) {
+  std::filesystem::path p(path);
+  return p.has_extension() ? p.replace_extension().string() : path;
+}
+
+std::string percent(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%+.1f%%", 100.0 * v);
+  return buf;
+}
+
+}  // namespace
+
+void register_export(CLI::App& app) {
+  struct Opts {
+    ParameterOptions params;
+    SolverOption solver;
+    std::string target;
+    std::string units;
+    double world_scale = 1.0;
+    std::string name = "spectral_skin";
+    std::string output;
+    std::string maps;
+    int gaussians = 5, taps = 17;
+    bool spectra_files = false;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "export",
+      "Export this skin to another renderer or engine: the target's parameters fitted through its "
+      "own subsurface model, with the fit's error in FILE.fit.json (docs/export.md)");
+  o->params.add_to(*sub);
+  o->solver.add_to(*sub);
+  sub->add_option("--target", o->target,
+                  "Target: " + exporting::target_names_text() + ", or all (-o names a folder)")
+      ->required();
+  sub->add_option("--units", o->units,
+                  "Length unit of the files: mm, cm or m (default: the target's usual one)");
+  sub->add_option("--world-scale", o->world_scale,
+                  "Scene units per --units unit (lengths written are multiplied by it), > 0")
+      ->capture_default_str();
+  sub->add_option("--name", o->name, "Material or asset name")->capture_default_str();
+  sub->add_option("-o,--output", o->output,
+                  "Main file (default NAME + the target's extension; beside it FILE.fit.json and "
+                  "any other files); with --target all, a folder")
+      ->group("Output");
+  sub->add_option("--parameter-maps", o->maps,
+                  "Per-texel parameters (the EXR `skin fit --texture` writes): per-texel colour and "
+                  "radius textures, for the targets that take textures");
+  sub->add_option("--gaussians", o->gaussians, "realtime: Gaussians in the sum, [2, 8]")
+      ->capture_default_str();
+  sub->add_option("--taps", o->taps, "realtime: taps of the separable kernel, odd, [3, 63]")
+      ->capture_default_str();
+  sub->add_flag("--spectra-files", o->spectra_files,
+                "pbrt-v4: write sigma_a and sigma_s as .spd files instead of inline");
+  sub->callback([o] {
+    const SkinParameters p = o->params.resolve();
+    const transport::Model& model = o->solver.model();
+    exporting::Options opt;
+    if (!o->units.empty()) opt.unit = exporting::parse_unit(o->units);
+    opt.world_scale = o->world_scale;
+    opt.name = o->name;
+    opt.gaussians = o->gaussians;
+    opt.taps = o->taps;
+    opt.spectra_files = o->spectra_files;
+    opt.validate();
+    std::vector<const exporting::Target*> chosen;
+    const bool all = o->target == "all";
+    if (all) {
+      if (!o->maps.empty())
+        throw InputError("parameter-maps: not with --target all (give one target that takes textures)");
+      for (const exporting::Target& t : exporting::targets()) chosen.push_back(&t);
+    } else {
+      chosen.push_back(&exporting::find_target(o->target));
+    }
+    std::optional<exporting::ParameterMapsInput> maps;
+    if (!o->maps.empty()) {
+      if (!chosen[0]->takes_textures) (void)exporting::export_skin(chosen[0]->name, p, model, opt, &*maps);
+      const std::vector<std::string> keys = {"melanin", "melanin_blend", "hemoglobin"};
+      image::Planes planes = image::read_exr_planes(o->maps, keys, "parameter maps");
+      maps = exporting::ParameterMapsInput{o->maps, planes.width, planes.height, keys,
+                                           std::move(planes.values)};
+    }
+    std::string folder;
+    if (all) {
+      folder = o->output.empty() ? "." : o->output;
+      std::error_code ec;
+      if (!std::filesystem::is_directory(folder, ec))
+        throw InputError(folder + ": not a folder (with --target all, -o names an existing folder)");
+    } else if (o->output == "-") {
+      throw InputError("output: '-' (stdout) is not possible: an export writes several files");
+    }
+    for (const exporting::Target* t : chosen) {
+      const std::string main_path =
+          all ? (std::filesystem::path(folder) / (o->name + "." + std::string(t->name) +
+                                                  std::string(t->extension)))
+                    .string()
+          : o->output.empty() ? o->name + std::string(t->extension)
+                              : o->output;
+      const std::string stem = stem_of(main_path);
+      opt.stem = std::filesystem::path(stem).filename().string();
+      const exporting::Export e = exporting::export_skin(
+          t->name, p, model, opt, maps ? &*maps : nullptr,
+          maps ? progress_bar("texels") : ProgressCallback{});
+      std::vector<std::string> written;
+      for (const exporting::TextFile& f : e.files) {
+        const std::string path = f.suffix.empty() ? main_path : stem + f.suffix;
+        io::write_file_atomic(path, f.content);
+        written.push_back(path);
+      }
+      for (const exporting::ImageFile& f : e.images) {
+        const std::string path = stem + f.suffix;
+        if (io::extension(path) == "exr")
+          image::write_exr_planes(path, f.planes, {{"skin_export", e.report.target}},
+                                  "export " + e.report.target);
+        else
+          image::write_image(path, f.rgb);
+        written.push_back(path);
+      }
+      const std::string fit_path = stem + ".fit.json";
+      written.push_back(fit_path);
+      io::write_file_atomic(fit_path, fit_json(e.report, p, o->solver.name, written).dump(2) + "\n");
+      const auto& r = e.report;
+      std::cout << r.target << ": wrote";
+      for (const std::string& w : written) std::cout << ' ' << w;
+      char buf[200];
+      std::snprintf(buf, sizeof buf,
+                    "\n  colour dE2000 %.2f; profile L1 r/g/b %.2f/%.2f/%.2f; mean radius %.3g/%.3g/%.3g mm",
+                    r.delta_e_2000, r.profile_l1[0], r.profile_l1[1], r.profile_l1[2],
+                    r.mean_radius_mm[0], r.mean_radius_mm[1], r.mean_radius_mm[2]);
+      std::cout << buf << " (target " << percent(r.mean_radius_error[0]) << "/"
+                << percent(r.mean_radius_error[1]) << "/" << percent(r.mean_radius_error[2])
+                << ")\n";
+      if (!r.representable) std::cerr << "skin: warning: " << r.target << ": " << r.notes.front() << '\n';
+    }
+  });
+}
+
+SKIN_REGISTER_COMMAND(65, register_export);
+
+}  // namespace skin::cli

@@ -1,0 +1,42 @@
+#pragma once
+// What every export starts from: our skin's RGB profile, colour and mean exit radii, and the
+// target-model helpers shared by the writers (export.cpp). Internal to skin::export.
+#include <array>
+#include <functional>
+#include <vector>
+
+#include "skin/export/export.hpp"
+#include "skin/model/skin_model.hpp"
+#include "skin/transport/profile.hpp"
+
+namespace skin::exporting::detail {
+
+// Our skin on a logarithmic radial grid [mm] (negative tails of out-of-gamut channels clamped to
+// zero for the fits and the error integrals).
+struct Reference {
+  SkinParameters parameters;
+  const transport::Model* model = nullptr;
+  RadialGrid radii;
+  std::array<std::vector<double>, 3> R;  // [1/mm^2]
+  Rgb R_d;                               // channel totals (exact, from k = 0)
+  std::array<double, 3> mean_radius{};   // [mm]
+};
+Reference make_reference(const SkinParameters& p, const transport::Model& model,
+                         ProfileSolver& solver);
+// The radial grid every reference uses.
+RadialGrid reference_radii();
+
+// int f(r) 2 pi r dr on the log grid (trapezoid in ln r).
+double area_integral(const RadialGrid& radii, const std::vector<double>& f);
+double mean_radius(const RadialGrid& radii, const std::vector<double>& R);
+// int |2 pi r (a - b)| dr / int 2 pi r b dr.
+double relative_l1(const RadialGrid& radii, const std::vector<double>& a,
+                   const std::vector<double>& b);
+// CIEDE2000 between two linear sRGB colours (D65 white).
+double delta_e(const Rgb& a, const Rgb& b);
+
+// Solves f(x) = y for increasing f on [lo, hi] by bisection; returns the clamped end when y is
+// outside [f(lo), f(hi)].
+double invert_increasing(const std::function<double(double)>& f, double y, double lo, double hi);
+
+}  // namespace skin::exporting::detail
