@@ -1002,7 +1002,7 @@ Gaussians fit_gaussians(const Reference& ref, int n) {
   };
   Gaussians best;
   best.error = 1e300;
-  for (double lv0 = -7.0; lv0 <= -1.0; lv0 += 0.5)
+  for (double lv0 = -15.0; lv0 <= -1.0; lv0 += 0.5)
     for (double lq = 0.6; lq <= 3.0; lq += 0.3) {
       Gaussians g = fit_ladder(std::exp(lv0), std::exp(lq));
       if (g.error < best.error) best = std::move(g);
@@ -1089,9 +1089,9 @@ Export export_profile(const Reference& ref, const Options& o, Unit unit) {
   std::ostringstream csv;
   const std::string u(unit_name(unit));
   csv << "# Spectral Skin radial profile R(r) per linear Rec.709 channel (docs/export.md).\n"
-      << "# r in " << u << ", R in 1/" << u << "^2; 2 pi int R(r) r dr = R_d: R " << num(ref.R_d.r)
-      << " (table: " << num(check[0]) << "), G " << num(ref.R_d.g) << " (" << num(check[1])
-      << "), B " << num(ref.R_d.b) << " (" << num(check[2]) << ")\n";
+      << "# units: r in " << u << ", R in 1/" << u << "^2; normalisation 2 pi int R(r) r dr = R_d\n"
+      << "# R_d: " << triple(ref.R_d, ",") << "\n"
+      << "# table_integral: " << num(check[0]) << "," << num(check[1]) << "," << num(check[2]) << "\n";
   csv << "r_" << u << ",R_r,R_g,R_b\n";
   json j;
   j["format"] = "Spectral Skin radial profile";

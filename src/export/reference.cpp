@@ -8,7 +8,7 @@
 
 namespace skin::exporting::detail {
 
-RadialGrid reference_radii() { return RadialGrid::logarithmic(1e-3, 60.0, 256); }
+RadialGrid reference_radii() { return RadialGrid::logarithmic(1e-5, 60.0, 400); }
 
 double area_integral(const RadialGrid& radii, const std::vector<double>& f) {
   double sum = 0;

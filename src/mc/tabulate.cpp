@@ -165,7 +165,7 @@ RandomWalkOptions RandomWalkOptions::defaults() {
 }
 
 transport::RandomWalkTable tabulate_random_walk(const RandomWalkOptions& o) {
-  if (o.alpha.empty()) throw InputError("alpha: at least one node is needed");
+  if (o.alpha.size() < 2) throw InputError("alpha: at least two nodes are needed");
   for (std::size_t i = 0; i < o.alpha.size(); ++i)
     if (!(o.alpha[i] > 0 && o.alpha[i] < 1) || (i && !(o.alpha[i] > o.alpha[i - 1])))
       throw InputError("alpha = " + format_number(o.alpha[i]) +

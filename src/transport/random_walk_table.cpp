@@ -106,11 +106,19 @@ std::string RandomWalkTable::to_csv() const {
   return os.str();
 }
 
+// Below the first node the walk is dominated by single scattering: R and every annulus's share
+// vanish linearly with alpha (R = alpha x the single-scatter escape probability at alpha -> 0).
 double RandomWalkTable::reflectance(double a) const {
+  if (a < alpha.front()) return R_d.front() * std::max(a, 0.0) / alpha.front();
   return lerp_at(R_d, alpha_weight(alpha, a));
 }
 
 std::vector<double> RandomWalkTable::fractions(double a) const {
+  if (a < alpha.front()) {
+    std::vector<double> f = fraction.front();
+    for (double& v : f) v *= std::max(a, 0.0) / alpha.front();
+    return f;
+  }
   const auto w = alpha_weight(alpha, a);
   std::vector<double> f(fraction[w.first].size());
   for (std::size_t b = 0; b < f.size(); ++b)

@@ -34,7 +34,8 @@ class RandomWalkTable {
   static RandomWalkTable from_csv(std::string_view text, const std::string& source);
   std::string to_csv() const;
 
-  // Interpolated in x = log(1 - alpha) between nodes (alpha clamped to the nodes' range).
+  // Interpolated in x = log(1 - alpha) between nodes; above the last node clamped, below the
+  // first scaled linearly to 0 at alpha = 0.
   double reflectance(double alpha) const;
   // Mean exit radius of the reflected light, in mean free paths: int rho R dA / int R dA.
   double mean_rho(double alpha) const;
