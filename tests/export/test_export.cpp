@@ -73,7 +73,7 @@ TEST(ExportModels, RandomWalkTableRoundTripsThroughCsv) {
 TEST(Export, EveryTargetForEveryPresetFitsTheColourAndMeanRadius) {
   // Colour: each target's albedo inversion hits our R_d (dE2000 < 0.5; realtime and the
   // two-layer media by construction); mean exit radius within 3 % where the target fits it
-  // (pbrt-v4 fits per wavelength: 8 % in RGB; realtime fits the shape instead). The profile's
+  // (pbrt-v4 fits per wavelength: 12 % in RGB; realtime fits the shape instead). The profile's
   // L1 error is the shape within the target's family: below 0.6 for every target (measured:
   // docs/export.md).
   const transport::Model& model = transport::default_model();
@@ -90,7 +90,7 @@ TEST(Export, EveryTargetForEveryPresetFitsTheColourAndMeanRadius) {
       for (int c = 0; c < 3; ++c) {
         // realtime fits the shape (L1), not the mean radius
         if (t.name != "realtime")
-          EXPECT_LT(std::abs(r.mean_radius_error[c]), t.name == "pbrt-v4" ? 0.08 : 0.03) << c;
+          EXPECT_LT(std::abs(r.mean_radius_error[c]), t.name == "pbrt-v4" ? 0.12 : 0.03) << c;
         EXPECT_LT(r.profile_l1[c], 0.6) << c;
       }
     }
