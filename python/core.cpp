@@ -381,40 +381,64 @@ PYBIND11_MODULE(_core, m) {
       ("`skin color`: the colour of R_d under D65 (CIE 1931 2-degree): XYZ (Y_white = 1), "
        "srgb_linear (white-balanced), srgb8, hex, lab (CIELAB), per set. " + solver_doc() + params).c_str());
 
+  // `skin profile` (per wavelength or, rgb, per channel) for one set or an array of sets.
+  auto profiles = [](bool rgb, const std::string& preset, const std::vector<double>& r_mm,
+                     double lambda_min, double lambda_max, double lambda_step,
+                     const std::string& solver, int threads, const py::kwargs& kw) {
+    const Sets sets = parameter_sets(preset, kw);
+    const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
+    const transport::Model& model = transport::find_model(solver);
+    const RadialGrid radii = RadialGrid::from(r_mm);
+    std::vector<batch::RgbProfileResult> by_channel;
+    std::vector<batch::SpectralProfileResult> by_wavelength;
+    {
+      py::gil_scoped_release unlocked;
+      if (rgb) by_channel = batch::rgb_profiles(sets.values, grid, radii, model, {threads});
+      else by_wavelength = batch::spectral_profiles(sets.values, grid, radii, model, {threads});
+    }
+    std::vector<transport::Validity> v;
+    for (const auto& x : by_channel) v.push_back(x.validity);
+    for (const auto& x : by_wavelength) v.push_back(x.validity);
+    const auto N = static_cast<py::ssize_t>(radii.size()), L = static_cast<py::ssize_t>(grid.size());
+    py::dict d, axes;
+    d["preset"] = preset;
+    d["parameters"] = sets.parameters;
+    d["solver"] = std::string(model.name());
+    d["validity"] = validity_dict(sets, v, model);
+    d["r_mm"] = vector_array(radii.r);
+    axes["r_mm"] = py::make_tuple("r_mm");
+    if (rgb) {
+      d["channel"] = py::make_tuple("r", "g", "b");
+      d["R"] = per_set(sets, by_channel, {3, N}, [&](const batch::RgbProfileResult& x, double* o) {
+        for (std::size_t c = 0; c < 3; ++c) std::copy(x.profile.R[c].begin(), x.profile.R[c].end(), o + c * radii.size());
+      });
+      d["R_d"] = per_set(sets, by_channel, {3}, [](const batch::RgbProfileResult& x, double* o) {
+        std::copy(x.profile.R_d.begin(), x.profile.R_d.end(), o);
+      });
+      axes["R"] = names(sets.axes, {"channel", "r_mm"});
+      axes["R_d"] = names(sets.axes, {"channel"});
+    } else {
+      d["wavelength_nm"] = vector_array(grid.values());
+      d["R"] = per_set(sets, by_wavelength, {L, N}, [](const batch::SpectralProfileResult& x, double* o) {
+        std::copy(x.profile.R.begin(), x.profile.R.end(), o);
+      });
+      d["R_d"] = per_set(sets, by_wavelength, {L}, [](const batch::SpectralProfileResult& x, double* o) {
+        std::copy(x.profile.R_d.values.begin(), x.profile.R_d.values.end(), o);
+      });
+      axes["wavelength_nm"] = py::make_tuple("wavelength_nm");
+      axes["R"] = names(sets.axes, {"wavelength_nm", "r_mm"});
+      axes["R_d"] = names(sets.axes, {"wavelength_nm"});
+    }
+    d["axes"] = axes;
+    return d;
+  };
+
   m.def(
       "rgb_profile",
-      [](const std::string& preset, const std::vector<double>& r_mm, double lambda_min, double lambda_max,
-         double lambda_step, const std::string& solver, int threads, const py::kwargs& kw) {
-        const Sets sets = parameter_sets(preset, kw);
-        const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
-        const transport::Model& model = transport::find_model(solver);
-        const RadialGrid radii = RadialGrid::from(r_mm);
-        std::vector<batch::RgbProfileResult> p;
-        {
-          py::gil_scoped_release unlocked;
-          p = batch::rgb_profiles(sets.values, grid, radii, model, {threads});
-        }
-        std::vector<transport::Validity> v;
-        for (const auto& x : p) v.push_back(x.validity);
-        const auto N = static_cast<py::ssize_t>(radii.size());
-        py::dict d, axes;
-        d["preset"] = preset;
-        d["parameters"] = sets.parameters;
-        d["solver"] = std::string(model.name());
-        d["validity"] = validity_dict(sets, v, model);
-        d["r_mm"] = vector_array(radii.r);
-        d["channel"] = py::make_tuple("r", "g", "b");
-        d["R"] = per_set(sets, p, {3, N}, [&](const batch::RgbProfileResult& x, double* o) {
-          for (std::size_t c = 0; c < 3; ++c) std::copy(x.profile.R[c].begin(), x.profile.R[c].end(), o + c * radii.size());
-        });
-        d["R_d"] = per_set(sets, p, {3}, [](const batch::RgbProfileResult& x, double* o) {
-          std::copy(x.profile.R_d.begin(), x.profile.R_d.end(), o);
-        });
-        axes["r_mm"] = py::make_tuple("r_mm");
-        axes["R"] = names(sets.axes, {"channel", "r_mm"});
-        axes["R_d"] = names(sets.axes, {"channel"});
-        d["axes"] = axes;
-        return d;
+      [profiles](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
+                 double lambda_max, double lambda_step, const std::string& solver, int threads,
+                 const py::kwargs& kw) {
+        return profiles(true, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
       },
       "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0,
       "lambda_max"_a = 700.0, "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
@@ -425,39 +449,10 @@ PYBIND11_MODULE(_core, m) {
 
   m.def(
       "profile",
-      [](const std::string& preset, const std::vector<double>& r_mm, double lambda_min, double lambda_max,
-         double lambda_step, const std::string& solver, int threads, const py::kwargs& kw) {
-        const Sets sets = parameter_sets(preset, kw);
-        const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
-        const transport::Model& model = transport::find_model(solver);
-        const RadialGrid radii = RadialGrid::from(r_mm);
-        std::vector<batch::SpectralProfileResult> p;
-        {
-          py::gil_scoped_release unlocked;
-          p = batch::spectral_profiles(sets.values, grid, radii, model, {threads});
-        }
-        std::vector<transport::Validity> v;
-        for (const auto& x : p) v.push_back(x.validity);
-        const auto N = static_cast<py::ssize_t>(radii.size()), L = static_cast<py::ssize_t>(grid.size());
-        py::dict d, axes;
-        d["preset"] = preset;
-        d["parameters"] = sets.parameters;
-        d["solver"] = std::string(model.name());
-        d["validity"] = validity_dict(sets, v, model);
-        d["r_mm"] = vector_array(radii.r);
-        d["wavelength_nm"] = vector_array(grid.values());
-        d["R"] = per_set(sets, p, {L, N}, [](const batch::SpectralProfileResult& x, double* o) {
-          std::copy(x.profile.R.begin(), x.profile.R.end(), o);
-        });
-        d["R_d"] = per_set(sets, p, {L}, [](const batch::SpectralProfileResult& x, double* o) {
-          std::copy(x.profile.R_d.values.begin(), x.profile.R_d.values.end(), o);
-        });
-        axes["r_mm"] = py::make_tuple("r_mm");
-        axes["wavelength_nm"] = py::make_tuple("wavelength_nm");
-        axes["R"] = names(sets.axes, {"wavelength_nm", "r_mm"});
-        axes["R_d"] = names(sets.axes, {"wavelength_nm"});
-        d["axes"] = axes;
-        return d;
+      [profiles](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
+                 double lambda_max, double lambda_step, const std::string& solver, int threads,
+                 const py::kwargs& kw) {
+        return profiles(false, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
       },
       "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0,
       "lambda_max"_a = 700.0, "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
