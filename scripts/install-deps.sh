@@ -11,6 +11,10 @@ PKGS=(
   libopenexr-dev libpng-dev                        # image output
   libcairo2-dev                                    # plots (PNG and SVG)
   pybind11-dev python3-dev                         # Python module
+  python3-numpy python3-pybind11 python3-setuptools python3-venv python3-pip python3-wheel
+                                                   # Python package: numpy results, pip install
+                                                   # into a venv (scripts/test.sh)
+  python3-matplotlib                               # Python example (examples/melanin_sweep.py)
 )
 missing=()
 for p in "${PKGS[@]}"; do

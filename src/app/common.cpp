@@ -292,14 +292,16 @@ std::string csv_field(const std::string& s) {
 std::string number_text(double v);
 }  // namespace
 
-std::string to_csv(const std::vector<Column>& columns) {
+std::string csv_header(const std::vector<Column>& columns) {
+  std::string out;
+  for (std::size_t c = 0; c < columns.size(); ++c) out += (c ? "," : "") + csv_field(columns[c].name);
+  return out + '\n';
+}
+
+std::string csv_rows(const std::vector<Column>& columns) {
   std::string out;
   std::size_t rows = 0;
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    out += (c ? "," : "") + csv_field(columns[c].name);
-    rows = std::max(rows, columns[c].rows());
-  }
-  out += '\n';
+  for (const Column& col : columns) rows = std::max(rows, col.rows());
   for (std::size_t r = 0; r < rows; ++r) {
     for (std::size_t c = 0; c < columns.size(); ++c) {
       const Column& col = columns[c];
@@ -311,6 +313,8 @@ std::string to_csv(const std::vector<Column>& columns) {
   }
   return out;
 }
+
+std::string to_csv(const std::vector<Column>& columns) { return csv_header(columns) + csv_rows(columns); }
 
 void OutputOptions::write(const Result& result) const {
   switch (resolve()) {

@@ -119,7 +119,10 @@ struct Result {
   std::vector<Column> columns;
   std::string table;
 };
-std::string to_csv(const std::vector<Column>& columns);
+std::string to_csv(const std::vector<Column>& columns);  // csv_header + csv_rows
+// The header line, and the rows alone (for output written in pieces: skin batch).
+std::string csv_header(const std::vector<Column>& columns);
+std::string csv_rows(const std::vector<Column>& columns);
 
 struct OutputOptions {
   std::string format;  // empty: table on a terminal, json otherwise

@@ -1,0 +1,43 @@
+#pragma once
+// Many parameter sets at once: the skin model (skin/model/skin_model.hpp) evaluated for every set
+// on all cores. Result i belongs to sets[i] and equals, bit for bit, the single call for that set
+// (each set is computed by the same library function; threads share only the transport models'
+// read-only tables). Used by `skin batch` and by the Python package's array calls. The thread
+// pool (TBB) stays private: this header exposes standard types only.
+#include <span>
+#include <vector>
+
+#include "skin/model/skin_model.hpp"
+
+namespace skin::batch {
+
+struct Options {
+  int threads = 0;  // worker threads; 0 = all cores
+};
+
+// skin_spectrum for every set: R_d(lambda), the layer coefficients and the colour.
+std::vector<SkinSpectrum> spectra(std::span<const SkinParameters> sets, const WavelengthGrid& grid,
+                                  const Model& model, const Options& options = {});
+
+// A profile and whether the model's profile of that skin is in its validated range
+// (skin_validity on the same grid).
+struct RgbProfileResult {
+  RgbProfile profile;
+  transport::Validity validity;
+};
+struct SpectralProfileResult {
+  SpectralProfile profile;
+  transport::Validity validity;
+};
+
+// skin_rgb_profile / skin_spectral_profile for every set at the same radii (one ProfileSolver per
+// worker thread).
+std::vector<RgbProfileResult> rgb_profiles(std::span<const SkinParameters> sets,
+                                           const WavelengthGrid& grid, const RadialGrid& radii,
+                                           const Model& model, const Options& options = {});
+std::vector<SpectralProfileResult> spectral_profiles(std::span<const SkinParameters> sets,
+                                                     const WavelengthGrid& grid,
+                                                     const RadialGrid& radii, const Model& model,
+                                                     const Options& options = {});
+
+}  // namespace skin::batch

@@ -1,0 +1,730 @@
+// Python bindings, the module spectral_skin._core (re-exported by the package spectral_skin): a
+// thin layer over the C++ API that converts types and nothing else. The parameter keywords are
+// the parameter table's keys (the CLI flags with underscores, the JSON keys) or the paper's
+// symbols, read from parameter_table(); solver= names a model of the transport registry. Results
+// are dicts shaped like the CLI's JSON, holding numpy arrays whose axes are named in the dict's
+// "axes". Parameter keywords may be arrays: they broadcast against each other, every set is
+// computed in C++ on all cores (skin::batch) with the GIL released, and the set axes lead the
+// result's shape. Units: mm, 1/mm, nm.
+#include <cmath>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "skin/batch/batch.hpp"
+#include "skin/fit/color_fit.hpp"
+#include "skin/fit/fit.hpp"
+#include "skin/mc/mc.hpp"
+#include "skin/model/skin_model.hpp"
+#include "skin/transport/model.hpp"
+#include "skin/util/error.hpp"
+
+namespace py = pybind11;
+using namespace pybind11::literals;
+using namespace skin;
+
+namespace {
+
+using Shape = std::vector<py::ssize_t>;
+
+Shape concat(Shape a, const Shape& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+py::tuple names(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return py::cast(a);
+}
+
+// A new float64 array of `shape` filled by fill(data pointer).
+template <class T = double, class F>
+py::array_t<T> make_array(const Shape& shape, F&& fill) {
+  py::array_t<T> a(shape);
+  fill(a.mutable_data());
+  return a;
+}
+py::array_t<double> vector_array(const std::vector<double>& v) {
+  return make_array({static_cast<py::ssize_t>(v.size())},
+                    [&](double* d) { std::copy(v.begin(), v.end(), d); });
+}
+
+[[noreturn]] void not_a_number(std::string_view key, const py::handle& v) {
+  throw InputError(std::string(key) + " must be a number, not " + py::cast<std::string>(py::repr(v)));
+}
+
+// A number of Python or numpy (not bool: JSON's true is not a number; not text).
+double number(std::string_view key, const py::handle& v) {
+  if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v) ||
+      py::isinstance(v, py::module_::import("numpy").attr("bool_")))
+    not_a_number(key, v);
+  try {
+    return py::cast<double>(v);
+  } catch (const py::cast_error&) {
+    not_a_number(key, v);
+  }
+}
+
+// The parameter sets of one call: the preset's values overridden by the keywords, broadcast.
+struct Sets {
+  std::vector<SkinParameters> values;  // row-major over `shape`
+  Shape shape;                         // () for one set
+  std::vector<std::string> axes;       // name of each axis of `shape`
+  py::dict parameters;                 // key -> float, or array of `shape` where it varies
+  std::size_t size() const { return values.size(); }
+};
+
+// Each keyword: a key of the table, its CLI spelling or the paper's symbol; None leaves the
+// preset's value; a number or an array of numbers (not bool, not text). The arrays broadcast
+// (numpy's rules) to the sets' shape; an axis is named after the one keyword varying along it
+// ("set" when several or none do, "set_<i>" for higher dimensions).
+Sets parameter_sets(const std::string& preset, const py::kwargs& kw) {
+  const SkinParameters base = find_preset(preset).parameters;
+  py::module_ np = py::module_::import("numpy");
+  std::map<const ParameterInfo*, std::string> given;  // the keyword each parameter came as
+  std::vector<std::pair<const ParameterInfo*, py::array>> arrays;
+  for (auto item : kw) {
+    const auto name = py::cast<std::string>(item.first);
+    const ParameterInfo& info = parameter_info(name);
+    if (const auto [it, fresh] = given.emplace(&info, name); !fresh)
+      throw InputError(std::string(info.key) + " is given twice: " + it->second + " and " + name +
+                       " name the same parameter");
+    const py::handle v = item.second;
+    if (v.is_none()) continue;
+    if (py::isinstance<py::bool_>(v) || py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v))
+      not_a_number(info.key, v);
+    py::array a;
+    try {
+      a = np.attr("asarray")(v);
+    } catch (const py::error_already_set&) {
+      not_a_number(info.key, v);
+    }
+    const char kind = a.dtype().kind();
+    if (kind != 'i' && kind != 'u' && kind != 'f') not_a_number(info.key, v);
+    arrays.emplace_back(&info, np.attr("asarray")(a, "dtype"_a = "float64"));
+  }
+  Sets s;
+  py::list shapes;
+  for (const auto& [info, a] : arrays) shapes.append(a.attr("shape"));
+  const auto shape = py::cast<std::vector<py::ssize_t>>(np.attr("broadcast_shapes")(*shapes));
+  s.shape = shape;
+  std::size_t n = 1;
+  for (auto d : shape) n *= static_cast<std::size_t>(d);
+  s.values.assign(n, base);
+  for (const auto& [info, a] : arrays) {
+    const auto flat = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(
+        np.attr("broadcast_to")(a, py::cast(shape)).attr("ravel")());
+    for (std::size_t i = 0; i < n; ++i) s.values[i].*(info->member) = flat.data()[i];
+  }
+  for (const SkinParameters& p : s.values) p.validate();
+  const auto ndim = static_cast<py::ssize_t>(shape.size());
+  for (py::ssize_t axis = 0; axis < ndim; ++axis) {
+    std::vector<std::string> varying;
+    for (const auto& [info, a] : arrays) {
+      const py::ssize_t own = a.ndim() - (ndim - axis);
+      if (own >= 0 && a.shape(own) > 1) varying.emplace_back(info->key);
+    }
+    s.axes.push_back(varying.size() == 1 ? varying.front()
+                                         : ndim == 1 ? "set" : "set_" + std::to_string(axis));
+  }
+  for (const ParameterInfo& info : parameter_table()) {
+    const auto it = std::find_if(arrays.begin(), arrays.end(), [&](const auto& x) { return x.first == &info; });
+    if (shape.empty() || it == arrays.end()) {
+      s.parameters[py::cast(info.key)] = s.values.front().*(info.member);
+    } else {
+      s.parameters[py::cast(info.key)] = make_array(shape, [&](double* d) {
+        for (std::size_t i = 0; i < n; ++i) d[i] = s.values[i].*(info.member);
+      });
+    }
+  }
+  return s;
+}
+
+// Values of every set, one `tail`-shaped block each: an array of shape sets.shape + tail.
+template <class Result, class F>
+py::array_t<double> per_set(const Sets& sets, const std::vector<Result>& results, const Shape& tail,
+                            F&& block) {
+  std::size_t m = 1;
+  for (auto d : tail) m *= static_cast<std::size_t>(d);
+  return make_array(concat(sets.shape, tail), [&](double* d) {
+    for (std::size_t i = 0; i < results.size(); ++i) block(results[i], d + i * m);
+  });
+}
+
+// The colour of every set as arrays (XYZ, linear and 8-bit sRGB, CIELAB: a last axis of 3; hex:
+// a str, or an array of str), with their axes.
+py::dict color_dict(const Sets& sets, const std::vector<SkinSpectrum>& s, py::dict& axes,
+                    const std::string& prefix) {
+  py::dict d;
+  const Shape three{3};
+  d["XYZ"] = per_set(sets, s, three, [](const SkinSpectrum& x, double* o) {
+    o[0] = x.color.XYZ.X, o[1] = x.color.XYZ.Y, o[2] = x.color.XYZ.Z;
+  });
+  d["srgb_linear"] = per_set(sets, s, three, [](const SkinSpectrum& x, double* o) {
+    o[0] = x.color.srgb_linear.r, o[1] = x.color.srgb_linear.g, o[2] = x.color.srgb_linear.b;
+  });
+  py::array_t<int> srgb8(concat(sets.shape, three));
+  for (std::size_t i = 0; i < s.size(); ++i)
+    for (std::size_t c = 0; c < 3; ++c) srgb8.mutable_data()[3 * i + c] = s[i].color.srgb8[c];
+  d["srgb8"] = srgb8;
+  std::vector<std::string> hex;
+  for (const auto& x : s) hex.push_back(x.color.hex);
+  d["hex"] = sets.shape.empty() ? py::object(py::str(hex.front()))
+                                : py::module_::import("numpy").attr("array")(hex).attr("reshape")(py::cast(sets.shape));
+  d["lab"] = per_set(sets, s, three, [](const SkinSpectrum& x, double* o) {
+    o[0] = x.color.lab.L, o[1] = x.color.lab.a, o[2] = x.color.lab.b;
+  });
+  axes[py::str(prefix + "XYZ")] = names(sets.axes, {"XYZ"});
+  axes[py::str(prefix + "srgb_linear")] = names(sets.axes, {"channel"});
+  axes[py::str(prefix + "srgb8")] = names(sets.axes, {"channel"});
+  axes[py::str(prefix + "hex")] = names(sets.axes, {});
+  axes[py::str(prefix + "lab")] = names(sets.axes, {"Lab"});
+  return d;
+}
+
+// {"totals": bool, "profile": bool, "reason": str}, arrays of them for several sets; a
+// RuntimeWarning names the first set outside the model's validated range (as the CLI's one
+// warning line does).
+py::dict validity_dict(const Sets& sets, const std::vector<transport::Validity>& v,
+                       const transport::Model& model) {
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!v[i].ok()) {
+      std::string text = transport::warning_text(model.name(), v[i]);
+      if (v.size() > 1) text = "set " + std::to_string(i) + ": " + text;
+      if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+      break;
+    }
+  if (sets.shape.empty())
+    return py::dict(py::arg("totals") = v[0].totals, py::arg("profile") = v[0].profile,
+                    py::arg("reason") = v[0].reason);
+  py::module_ np = py::module_::import("numpy");
+  std::vector<bool> totals, profile;
+  std::vector<std::string> reason;
+  for (const auto& x : v) totals.push_back(x.totals), profile.push_back(x.profile), reason.push_back(x.reason);
+  const py::object shape = py::cast(sets.shape);
+  return py::dict(py::arg("totals") = np.attr("array")(totals).attr("reshape")(shape),
+                  py::arg("profile") = np.attr("array")(profile).attr("reshape")(shape),
+                  py::arg("reason") = np.attr("array")(reason, "dtype"_a = "object").attr("reshape")(shape));
+}
+
+py::object bound(double v) { return std::isinf(v) ? py::object(py::none()) : py::float_(v); }
+
+// The parameter keywords, from the table, for the docstrings.
+std::string parameter_doc() {
+  std::ostringstream os;
+  os << "\n\nParameter keywords (a number or an array of numbers; arrays broadcast, one set per "
+        "element, computed on all cores; None keeps the preset's value):\n";
+  for (const ParameterInfo& p : parameter_table()) {
+    os << "  " << p.key;
+    if (!p.symbol.empty()) os << " (" << p.symbol << ")";
+    os << " [" << p.unit << "] in " << p.range_text() << ", default " << format_number(p.default_value())
+       << ": " << p.help << "\n";
+  }
+  return os.str();
+}
+
+std::string solver_doc() {
+  std::string s = "solver: a transport model, one of " + transport::model_names_text() + " (default " +
+                  std::string(transport::kDefaultModel) + ").";
+  return s;
+}
+
+// Layers as dicts with the keys of `skin layers --layer` (and of its JSON): sigma_a,
+// sigma_s_prime [1/mm], thickness_mm (or thickness; [mm]; absent or None = semi-infinite), eta, g.
+LayerStack layer_stack(const std::vector<py::dict>& layers, double eta_above, double eta_below) {
+  LayerStack st;
+  st.eta_above = eta_above;
+  st.eta_below = eta_below;
+  for (const py::dict& l : layers) {
+    Layer x;
+    for (auto [k, v] : l) {
+      const auto key = py::cast<std::string>(k);
+      if (key == "thickness_mm" || key == "thickness") {
+        if (!v.is_none()) x.thickness = number(key, v);
+      } else if (key == "sigma_a") x.sigma_a = number(key, v);
+      else if (key == "sigma_s_prime") x.sigma_s_prime = number(key, v);
+      else if (key == "eta") x.eta = number(key, v);
+      else if (key == "g") x.g = number(key, v);
+      else throw InputError("unknown layer key '" + key + "': known keys are sigma_a, sigma_s_prime, thickness_mm, eta, g");
+    }
+    st.layers.push_back(x);
+  }
+  st.validate();
+  return st;
+}
+
+std::vector<fit::Parameter> free_parameters(const std::optional<std::vector<std::string>>& free,
+                                            const std::vector<fit::Parameter>& fallback) {
+  if (!free) return fallback;
+  std::string list;
+  for (const auto& f : *free) list += (list.empty() ? "" : ",") + f;
+  return fit::parse_parameter_list(list);
+}
+
+std::vector<std::pair<fit::Parameter, fit::Bounds>> fit_bounds(
+    const std::map<std::string, std::pair<double, double>>& bounds) {
+  std::vector<std::pair<fit::Parameter, fit::Bounds>> out;
+  for (const auto& [name, b] : bounds) {
+    if (!(b.first < b.second))
+      throw InputError("bound = '" + name + "=" + format_number(b.first) + ":" + format_number(b.second) + "': need LO < HI");
+    out.emplace_back(fit::parse_parameter(name), fit::Bounds{b.first, b.second});
+  }
+  return out;
+}
+
+py::dict color_target_dict(const color::ColorSummary& c) {
+  return py::dict(py::arg("hex") = c.hex,
+                  py::arg("lab") = std::vector<double>{c.lab.L, c.lab.a, c.lab.b});
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "Spectral Skin: skin reflectance, profiles and colour from four biophysical "
+            "parameters (units: mm, 1/mm, nm). Same names as the C++ API and the `skin` CLI.";
+  m.attr("__version__") = SKIN_VERSION;
+  py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
+  const std::string params = parameter_doc();
+  const std::string default_solver(transport::kDefaultModel);
+
+  m.def("presets", [] {
+    std::vector<std::string> names;
+    for (const auto& p : presets()) names.push_back(p.name);
+    return names;
+  }, "Names of the paper's parameter sets.");
+
+  m.def("parameters", [] {
+    py::list table;
+    for (const ParameterInfo& p : parameter_table())
+      table.append(py::dict(
+          py::arg("key") = p.key, py::arg("flag") = "--" + p.flag(),
+          py::arg("symbol") = p.symbol.empty() ? py::object(py::none()) : py::cast(p.symbol),
+          py::arg("unit") = p.unit, py::arg("min") = bound(p.min), py::arg("max") = bound(p.max),
+          py::arg("min_exclusive") = p.min_open, py::arg("max_exclusive") = p.max_open,
+          py::arg("default") = p.default_value(), py::arg("help") = p.help));
+    return table;
+  }, "The parameter table, as `skin parameters --format json`: key (the keyword), flag, the "
+     "paper's symbol (also accepted as a keyword), unit, min/max (None = unbounded), "
+     "min_exclusive/max_exclusive, default, help.");
+
+  m.def("solvers", &transport::model_names, "Names of the transport models (solver=), the "
+        "default first.");
+
+  // `skin spectrum` and `skin color` for one set or an array of sets.
+  auto spectra = [](const std::string& preset, double lambda_min, double lambda_max,
+                    double lambda_step, const std::string& solver, int threads, bool with_spectra,
+                    const py::kwargs& kw) {
+    const Sets sets = parameter_sets(preset, kw);
+    const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
+    const transport::Model& model = transport::find_model(solver);
+    std::vector<SkinSpectrum> s;
+    {
+      py::gil_scoped_release unlocked;
+      s = batch::spectra(sets.values, grid, model, {threads});
+    }
+    py::dict d, axes;
+    d["preset"] = preset;
+    d["parameters"] = sets.parameters;
+    d["solver"] = std::string(model.name());
+    if (with_spectra) {
+      const Shape L{static_cast<py::ssize_t>(grid.size())};
+      d["wavelength_nm"] = vector_array(grid.values());
+      auto spectrum = [&](const Spectrum SkinSpectrum::*member) {
+        return per_set(sets, s, L, [&](const SkinSpectrum& x, double* o) {
+          std::copy((x.*member).values.begin(), (x.*member).values.end(), o);
+        });
+      };
+      d["R_d"] = spectrum(&SkinSpectrum::R_d);
+      d["epidermis"] = py::dict("sigma_a"_a = spectrum(&SkinSpectrum::epidermis_sigma_a),
+                                "sigma_s_prime"_a = spectrum(&SkinSpectrum::epidermis_sigma_s_prime),
+                                "thickness_mm"_a = sets.parameters["epidermis_thickness"]);
+      d["dermis"] = py::dict("sigma_a"_a = spectrum(&SkinSpectrum::dermis_sigma_a),
+                             "sigma_s_prime"_a = spectrum(&SkinSpectrum::dermis_sigma_s_prime));
+      const py::tuple wl = names(sets.axes, {"wavelength_nm"});
+      axes["wavelength_nm"] = py::make_tuple("wavelength_nm");
+      for (const char* k : {"R_d", "epidermis.sigma_a", "epidermis.sigma_s_prime", "dermis.sigma_a",
+                            "dermis.sigma_s_prime"})
+        axes[k] = wl;
+    }
+    d["color"] = color_dict(sets, s, axes, "color.");
+    for (auto [k, v] : sets.parameters)
+      if (py::isinstance<py::array>(v)) axes[py::str("parameters." + py::cast<std::string>(k))] = names(sets.axes, {});
+    d["axes"] = axes;
+    return d;
+  };
+
+  m.def(
+      "spectrum",
+      [spectra](const std::string& preset, double lambda_min, double lambda_max, double lambda_step,
+                const std::string& solver, int threads, const py::kwargs& kw) {
+        return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, true, kw);
+      },
+      "preset"_a = "caucasian", py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
+      "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
+      ("`skin spectrum`: total diffuse reflectance R_d(lambda), the layers' sigma_a and "
+       "sigma_s_prime [1/mm] (epidermis, dermis), the colour under D65 (color: XYZ, srgb_linear, "
+       "srgb8, hex, lab) and the parameters used. Wavelengths lambda_min..lambda_max every "
+       "lambda_step [nm]; threads: worker threads (0 = all cores). result['axes'] names the axes "
+       "of every array (the set axes, then wavelength_nm, channel, ...). " + solver_doc() + params).c_str());
+
+  m.def(
+      "color",
+      [spectra](const std::string& preset, double lambda_min, double lambda_max, double lambda_step,
+                const std::string& solver, int threads, const py::kwargs& kw) {
+        return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, false, kw);
+      },
+      "preset"_a = "caucasian", py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
+      "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
+      ("`skin color`: the colour of R_d under D65 (CIE 1931 2-degree): XYZ (Y_white = 1), "
+       "srgb_linear (white-balanced), srgb8, hex, lab (CIELAB), per set. " + solver_doc() + params).c_str());
+
+  // `skin profile` (per wavelength or, rgb, per channel) for one set or an array of sets.
+  auto profiles = [](bool rgb, const std::string& preset, const std::vector<double>& r_mm,
+                     double lambda_min, double lambda_max, double lambda_step,
+                     const std::string& solver, int threads, const py::kwargs& kw) {
+    const Sets sets = parameter_sets(preset, kw);
+    const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
+    const transport::Model& model = transport::find_model(solver);
+    const RadialGrid radii = RadialGrid::from(r_mm);
+    std::vector<batch::RgbProfileResult> by_channel;
+    std::vector<batch::SpectralProfileResult> by_wavelength;
+    {
+      py::gil_scoped_release unlocked;
+      if (rgb) by_channel = batch::rgb_profiles(sets.values, grid, radii, model, {threads});
+      else by_wavelength = batch::spectral_profiles(sets.values, grid, radii, model, {threads});
+    }
+    std::vector<transport::Validity> v;
+    for (const auto& x : by_channel) v.push_back(x.validity);
+    for (const auto& x : by_wavelength) v.push_back(x.validity);
+    const auto N = static_cast<py::ssize_t>(radii.size()), L = static_cast<py::ssize_t>(grid.size());
+    py::dict d, axes;
+    d["preset"] = preset;
+    d["parameters"] = sets.parameters;
+    d["solver"] = std::string(model.name());
+    d["validity"] = validity_dict(sets, v, model);
+    d["r_mm"] = vector_array(radii.r);
+    axes["r_mm"] = py::make_tuple("r_mm");
+    if (rgb) {
+      d["channel"] = py::make_tuple("r", "g", "b");
+      d["R"] = per_set(sets, by_channel, {3, N}, [&](const batch::RgbProfileResult& x, double* o) {
+        for (std::size_t c = 0; c < 3; ++c) std::copy(x.profile.R[c].begin(), x.profile.R[c].end(), o + c * radii.size());
+      });
+      d["R_d"] = per_set(sets, by_channel, {3}, [](const batch::RgbProfileResult& x, double* o) {
+        std::copy(x.profile.R_d.begin(), x.profile.R_d.end(), o);
+      });
+      axes["R"] = names(sets.axes, {"channel", "r_mm"});
+      axes["R_d"] = names(sets.axes, {"channel"});
+    } else {
+      d["wavelength_nm"] = vector_array(grid.values());
+      d["R"] = per_set(sets, by_wavelength, {L, N}, [](const batch::SpectralProfileResult& x, double* o) {
+        std::copy(x.profile.R.begin(), x.profile.R.end(), o);
+      });
+      d["R_d"] = per_set(sets, by_wavelength, {L}, [](const batch::SpectralProfileResult& x, double* o) {
+        std::copy(x.profile.R_d.values.begin(), x.profile.R_d.values.end(), o);
+      });
+      axes["wavelength_nm"] = py::make_tuple("wavelength_nm");
+      axes["R"] = names(sets.axes, {"wavelength_nm", "r_mm"});
+      axes["R_d"] = names(sets.axes, {"wavelength_nm"});
+    }
+    d["axes"] = axes;
+    return d;
+  };
+
+  m.def(
+      "rgb_profile",
+      [profiles](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
+                 double lambda_max, double lambda_step, const std::string& solver, int threads,
+                 const py::kwargs& kw) {
+        return profiles(true, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
+      },
+      "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0,
+      "lambda_max"_a = 700.0, "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
+      ("`skin profile --rgb`: radial profile R(r) [1/mm^2] per linear sRGB channel (r, g, b) at "
+       "the radii r_mm [mm] (increasing), the channel totals R_d, whether the profile is in the "
+       "model's validated range (validity; a RuntimeWarning says why not) and the parameters "
+       "used. R has the axes (sets..., channel, r_mm). " + solver_doc() + params).c_str());
+
+  m.def(
+      "profile",
+      [profiles](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
+                 double lambda_max, double lambda_step, const std::string& solver, int threads,
+                 const py::kwargs& kw) {
+        return profiles(false, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
+      },
+      "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0,
+      "lambda_max"_a = 700.0, "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
+      ("`skin profile`: radial profile R(r) [1/mm^2] per wavelength at the radii r_mm [mm] "
+       "(increasing), the totals R_d(lambda), validity and the parameters used. R has the axes "
+       "(sets..., wavelength_nm, r_mm). " + solver_doc() + params).c_str());
+
+  m.def(
+      "layers",
+      [](const std::vector<py::dict>& layers, const std::vector<double>& r_mm, double eta_above,
+         double eta_below, const std::string& solver) {
+        const LayerStack st = layer_stack(layers, eta_above, eta_below);
+        const transport::Model& model = transport::find_model(solver);
+        transport::Totals t;
+        std::vector<double> R;
+        {
+          py::gil_scoped_release unlocked;
+          t = model.totals(st);
+          if (!r_mm.empty()) R = ProfileSolver(RadialGrid::from(r_mm)).profile(*model.response(st));
+        }
+        py::dict d;
+        d["solver"] = std::string(model.name());
+        d["eta_above"] = st.eta_above;
+        d["eta_below"] = st.eta_below;
+        d["R_specular"] = t.R_specular;
+        d["R_d"] = t.R_d;
+        d["T_d"] = t.T_d;
+        const transport::Validity v = model.validity(st);
+        // The profile's validity matters only where one is computed; the totals' always.
+        if (!v.totals || (!r_mm.empty() && !v.profile)) {
+          const std::string text = transport::warning_text(model.name(), v);
+          if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+        }
+        d["validity"] = py::dict("totals"_a = v.totals, "profile"_a = v.profile, "reason"_a = v.reason);
+        d["profile"] = py::dict("r_mm"_a = vector_array(r_mm), "R"_a = vector_array(R));
+        d["axes"] = py::dict("profile.r_mm"_a = py::make_tuple("r_mm"), "profile.R"_a = py::make_tuple("r_mm"));
+        return d;
+      },
+      "layers"_a, py::kw_only(), "r_mm"_a = std::vector<double>{}, "eta_above"_a = 1.0,
+      "eta_below"_a = 1.0, "solver"_a = default_solver,
+      ("`skin layers`: R_d, T_d (per power that entered), R_specular and R(r) [1/mm^2] at r_mm "
+       "[mm] (increasing) of a layer stack, top to bottom, each a dict with the keys of "
+       "`skin layers --layer`: sigma_a, sigma_s_prime [1/mm], thickness_mm [mm] (absent or None "
+       "= semi-infinite, last layer only), eta (1.4), g (0.9); eta_above, eta_below: the media "
+       "around it. " + solver_doc()).c_str());
+
+  m.def(
+      "mc",
+      [](const std::optional<std::vector<py::dict>>& layers, std::optional<double> wavelength,
+         const std::optional<std::string>& preset, std::uint64_t photons, std::uint64_t seed, int threads,
+         double radius_max, std::size_t bins, double eta_above, double eta_below, const py::kwargs& kw) {
+        LayerStack st;
+        py::dict d;
+        if (layers && wavelength)
+          throw InputError("mc: give either layers or wavelength (with the skin parameters), not both");
+        if (layers) {
+          if (!kw.empty() || preset)
+            throw InputError("mc: skin parameters need wavelength and cannot be combined with layers");
+          st = layer_stack(*layers, eta_above, eta_below);
+        } else if (wavelength) {
+          require_in_range("wavelength", *wavelength, 250.0, 1000.0, "nm");
+          const Sets sets = parameter_sets(preset.value_or("caucasian"), kw);
+          if (!sets.shape.empty()) throw InputError("mc: one parameter set at a time (no arrays)");
+          st = skin_layer_stack(sets.values.front(), *wavelength);
+          d["preset"] = preset.value_or("caucasian");
+          d["parameters"] = sets.parameters;
+          d["wavelength_nm"] = *wavelength;
+        } else {
+          throw InputError("mc: give either layers or wavelength (with the skin parameters)");
+        }
+        mc::Options o;
+        o.photons = photons;
+        o.seed = seed;
+        o.threads = threads;
+        o.r_max = radius_max;
+        o.bins = bins;
+        mc::Result r;
+        {
+          py::gil_scoped_release unlocked;
+          r = mc::simulate(st, o);
+        }
+        d["solver"] = "monte-carlo";
+        d["eta_above"] = st.eta_above;
+        d["eta_below"] = st.eta_below;
+        d["R_specular"] = r.R_specular;
+        d["R_d"] = r.R_d;
+        d["R_d_se"] = r.R_d_se;
+        d["T_d"] = r.T_d;
+        d["T_d_se"] = r.T_d_se;
+        d["R_d_incident"] = r.R_d_incident;
+        d["T_d_incident"] = r.T_d_incident;
+        d["photons"] = r.photons;
+        d["seed"] = seed;
+        d["seconds"] = r.seconds;
+        d["profile"] = py::dict("r_mm"_a = vector_array(r.r_mm), "R"_a = vector_array(r.R),
+                                "R_se"_a = vector_array(r.R_se));
+        d["axes"] = py::dict("profile.r_mm"_a = py::make_tuple("r_mm"), "profile.R"_a = py::make_tuple("r_mm"),
+                             "profile.R_se"_a = py::make_tuple("r_mm"));
+        return d;
+      },
+      py::kw_only(), "layers"_a = py::none(), "wavelength"_a = py::none(), "preset"_a = py::none(),
+      "photons"_a = 100000, "seed"_a = 1, "threads"_a = 0, "radius_max"_a = 10.0, "bins"_a = 200,
+      "eta_above"_a = 1.0, "eta_below"_a = 1.0,
+      ("`skin mc`: Monte Carlo photon transport (MCML method) in a layer stack (layers= as in "
+       "layers(), plus g) or in the skin at one wavelength [nm] (wavelength=, the preset and "
+       "parameter keywords). R_d, T_d per power that entered with standard errors (_se), per "
+       "incident power (_incident), R(r) [1/mm^2] on `bins` annuli out to radius_max [mm]. The "
+       "same seed gives the same numbers for any thread count." + params).c_str());
+
+  m.def(
+      "fit_spectrum",
+      [](const std::vector<double>& wavelength_nm, const std::vector<double>& R, const std::string& preset,
+         const std::optional<std::vector<std::string>>& free, bool includes_specular,
+         double fit_lambda_min, double fit_lambda_max,
+         const std::map<std::string, std::pair<double, double>>& bounds, const std::string& solver,
+         const py::kwargs& kw) {
+        const Sets sets = parameter_sets(preset, kw);
+        if (!sets.shape.empty()) throw InputError("fit_spectrum: the start is one parameter set (no arrays)");
+        fit::SpectrumFitOptions opt;
+        opt.start = sets.values.front();
+        opt.free = free_parameters(free, opt.free);
+        opt.includes_specular = includes_specular;
+        opt.lambda_min = fit_lambda_min;
+        opt.lambda_max = fit_lambda_max;
+        opt.bounds = fit_bounds(bounds);
+        opt.model = fit::forward_model(solver);
+        const fit::MeasuredSpectrum m{"spectrum", wavelength_nm, R};
+        fit::FitResult r;
+        {
+          py::gil_scoped_release unlocked;
+          r = fit::SpectrumFitter(opt).fit(m);
+        }
+        py::dict d, uncertainty, at_bound;
+        std::vector<std::string> free_keys;
+        for (std::size_t i = 0; i < r.free.size(); ++i) {
+          const std::string k(fit::key(r.free[i]));
+          free_keys.push_back(k);
+          uncertainty[py::str(k)] = std::isfinite(r.uncertainty[i]) ? py::object(py::float_(r.uncertainty[i])) : py::object(py::none());
+          at_bound[py::str(k)] = bool(r.at_bound[i]);
+        }
+        d["solver"] = std::string(transport::find_model(solver).name());
+        d["includes_specular"] = includes_specular;
+        d["free"] = free_keys;
+        py::dict p;
+        for (const ParameterInfo& info : parameter_table()) p[py::cast(info.key)] = r.parameters.*(info.member);
+        d["parameters"] = p;
+        d["uncertainty"] = uncertainty;
+        d["at_bound"] = at_bound;
+        d["rms"] = r.rms;
+        d["specular"] = r.specular;
+        d["iterations"] = r.iterations;
+        d["starts"] = r.starts;
+        d["fitted"] = py::dict("wavelength_nm"_a = vector_array(r.wavelength_nm),
+                               "measured"_a = vector_array(r.measured), "R"_a = vector_array(r.fitted));
+        d["axes"] = py::dict("fitted.wavelength_nm"_a = py::make_tuple("wavelength_nm"),
+                             "fitted.measured"_a = py::make_tuple("wavelength_nm"),
+                             "fitted.R"_a = py::make_tuple("wavelength_nm"));
+        return d;
+      },
+      "wavelength_nm"_a, "R"_a, "preset"_a = "caucasian", py::kw_only(), "free"_a = py::none(),
+      "includes_specular"_a = false, "fit_lambda_min"_a = 400.0, "fit_lambda_max"_a = 700.0,
+      "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
+      ("`skin fit --spectrum`: the parameters whose R_d best matches a measured reflectance R "
+       "(0-1) at wavelength_nm [nm] (increasing, covering 450-650 nm). free: parameter keys to "
+       "fit (default melanin, melanin_blend, hemoglobin); the others keep the preset's or the "
+       "keywords' values (the start). bounds: {key: (lo, hi)}. includes_specular: the "
+       "measurement includes the surface reflection. Returns parameters, uncertainty (one sigma), "
+       "at_bound, rms, fitted. " + solver_doc() + params).c_str());
+
+  auto color_fit_options = [](const Sets& sets, const std::optional<std::vector<std::string>>& free,
+                              double prior, double weight,
+                              const std::map<std::string, std::pair<double, double>>& bounds,
+                              const std::string& solver) {
+    if (!sets.shape.empty()) throw InputError("the fixed parameters are one set (no arrays)");
+    fit::ColorFitOptions opt;
+    opt.start = sets.values.front();
+    opt.free = free_parameters(free, opt.free);
+    opt.melanin_blend_prior = prior;
+    opt.melanin_blend_weight = weight;
+    opt.bounds = fit_bounds(bounds);
+    opt.model = fit::forward_model(solver);
+    return opt;
+  };
+
+  m.def(
+      "fit_color",
+      [color_fit_options](const std::optional<std::string>& hex, const std::optional<std::string>& srgb,
+                          const std::string& preset, const std::optional<std::vector<std::string>>& free,
+                          double melanin_blend_prior, double melanin_blend_weight,
+                          const std::map<std::string, std::pair<double, double>>& bounds,
+                          const std::string& solver, const py::kwargs& kw) {
+        if (hex.has_value() == srgb.has_value()) throw InputError("fit_color: give one target: hex or srgb");
+        const fit::ColorFitOptions opt = color_fit_options(parameter_sets(preset, kw), free, melanin_blend_prior,
+                                                           melanin_blend_weight, bounds, solver);
+        const color::Rgb target = hex ? fit::parse_hex(*hex) : fit::parse_srgb8(*srgb);
+        fit::ColorFitResult r;
+        {
+          py::gil_scoped_release unlocked;
+          r = fit::ColorFitter(opt).fit(target);
+        }
+        const color::Colorimetry cm{WavelengthGrid{}};
+        const color::ColorSummary in = color::summarize_rgb(cm, target);
+        const color::ColorSummary out = color::summarize_rgb(cm, r.fitted_srgb_linear);
+        py::dict d, p;
+        for (const ParameterInfo& info : parameter_table()) p[py::cast(info.key)] = r.parameters.*(info.member);
+        d["target"] = py::dict("hex"_a = in.hex, "lab"_a = std::vector<double>{r.target.L, r.target.a, r.target.b});
+        d["parameters"] = p;
+        d["fitted"] = py::dict("hex"_a = out.hex, "lab"_a = std::vector<double>{r.fitted.L, r.fitted.a, r.fitted.b},
+                               "srgb_linear"_a = std::vector<double>{r.fitted_srgb_linear.r, r.fitted_srgb_linear.g,
+                                                                     r.fitted_srgb_linear.b});
+        d["delta_e_2000"] = r.delta_e;
+        d["melanin_blend_prior"] = melanin_blend_prior;
+        d["melanin_blend_weight"] = melanin_blend_weight;
+        return d;
+      },
+      py::kw_only(), "hex"_a = py::none(), "srgb"_a = py::none(), "preset"_a = "caucasian",
+      "free"_a = py::none(), "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
+      "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
+      ("`skin fit --hex/--srgb`: the parameters (melanin, melanin_blend, hemoglobin by default) "
+       "whose colour matches an 8-bit sRGB colour: hex='a98f74' or srgb='169,143,116'. "
+       "melanin_blend_prior, melanin_blend_weight [Lab units]: the weak prior that resolves "
+       "beta_m. Returns target, parameters, fitted, delta_e_2000. " + solver_doc() + params).c_str());
+
+  m.def(
+      "fit_texture",
+      [color_fit_options](const py::object& image, const std::string& preset,
+                          const std::optional<std::vector<std::string>>& free, double melanin_blend_prior,
+                          double melanin_blend_weight,
+                          const std::map<std::string, std::pair<double, double>>& bounds,
+                          const std::string& solver, const py::kwargs& kw) {
+        const fit::ColorFitOptions opt = color_fit_options(parameter_sets(preset, kw), free, melanin_blend_prior,
+                                                           melanin_blend_weight, bounds, solver);
+        image::Image img;
+        if (py::isinstance<py::str>(image)) {
+          img = image::read_image(py::cast<std::string>(image));
+        } else {
+          const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(image);
+          if (!a || a.ndim() != 3 || a.shape(2) != 3)
+            throw InputError("image must be a file name or an array of shape (height, width, 3) of linear sRGB");
+          img = image::Image(static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)));
+          std::copy(a.data(), a.data() + a.size(), img.rgb.begin());
+        }
+        fit::ParameterMaps maps;
+        {
+          py::gil_scoped_release unlocked;
+          maps = fit::TextureFitter(opt).fit(img);
+        }
+        const Shape hw{maps.height, maps.width};
+        auto plane = [&](const std::vector<float>& v) {
+          return make_array<float>(hw, [&](float* o) { std::copy(v.begin(), v.end(), o); });
+        };
+        py::dict d;
+        d["width"] = maps.width;
+        d["height"] = maps.height;
+        d["melanin"] = plane(maps.melanin);
+        d["melanin_blend"] = plane(maps.melanin_blend);
+        d["hemoglobin"] = plane(maps.hemoglobin);
+        d["error"] = plane(maps.error);
+        d["error_delta_e_2000"] = py::dict("mean"_a = maps.mean_error, "max"_a = maps.max_error,
+                                           "fraction_below_1"_a = maps.fraction_below_1);
+        py::dict axes;
+        for (const char* k : {"melanin", "melanin_blend", "hemoglobin", "error"}) axes[k] = py::make_tuple("y", "x");
+        d["axes"] = axes;
+        return d;
+      },
+      "image"_a, "preset"_a = "caucasian", py::kw_only(), "free"_a = py::none(),
+      "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
+      "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
+      ("`skin fit --texture`: per-pixel parameter maps (float32, axes y, x) melanin, "
+       "melanin_blend, hemoglobin and error (CIEDE2000) of an albedo texture: a file name (PNG, "
+       "JPEG, ...) or an array (height, width, 3) of linear sRGB in 0-1; on all cores. "
+       "Options as fit_color(). " + solver_doc() + params).c_str());
+
+  // `skin export` (issue #11) binds here, beside the commands it shares its inputs with.
+}

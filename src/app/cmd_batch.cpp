@@ -1,0 +1,312 @@
+// skin batch: the skin model for many parameter sets in one process (skin::batch, all cores),
+// one CSV row per set, written as the sets are computed. The sets come from a CSV file (one
+// column per parameter key) or from a grid of sweeps; --rows computes a slice, and the slices of
+// a table concatenate to the same bytes as one run (the header belongs to the slice starting at
+// set 0).
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <sstream>
+
+#include "common.hpp"
+#include "progress.hpp"
+#include "skin/batch/batch.hpp"
+#include "skin/util/atomic_file.hpp"
+#include "skin/util/error.hpp"
+#include "skin/util/table.hpp"
+
+namespace skin::cli {
+
+namespace {
+
+// The varying parameters of the sets: for set i, values[k][i] of parameter keys[k] (NaN = the
+// base value), over the base set.
+struct SetTable {
+  SkinParameters base;
+  std::vector<const ParameterInfo*> keys;
+  std::size_t count = 0;
+  // Column k's value for set i (NaN: the base's).
+  std::function<double(std::size_t k, std::size_t i)> value;
+  std::string source;  // for messages: the file, or "--sweep"
+
+  SkinParameters at(std::size_t i) const {
+    SkinParameters p = base;
+    for (std::size_t k = 0; k < keys.size(); ++k)
+      if (const double v = value(k, i); !std::isnan(v)) p.*(keys[k]->member) = v;
+    return p;
+  }
+};
+
+// "KEY=START:STOP:COUNT": COUNT values from START to STOP inclusive, evenly spaced.
+struct Sweep {
+  const ParameterInfo* info;
+  double start, stop;
+  std::size_t count;
+  double operator[](std::size_t i) const {
+    // (stop - start) * i / (count - 1): exact at both ends, and equal to the decimal a user
+    // types for the usual sweeps (0:0.5:21 gives 0.175, not 0.17500000000000002).
+    return count == 1 ? start
+                      : start + (stop - start) * static_cast<double>(i) / static_cast<double>(count - 1);
+  }
+};
+
+double parse_number(const std::string& text, const std::string& what) {
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || !std::isfinite(v))
+    throw InputError(what + ": '" + text + "' is not a finite number");
+  return v;
+}
+
+Sweep parse_sweep(const std::string& spec) {
+  const std::string what = "sweep = '" + spec + "'";
+  const auto eq = spec.find('=');
+  const auto c1 = spec.find(':', eq == std::string::npos ? 0 : eq);
+  const auto c2 = c1 == std::string::npos ? c1 : spec.find(':', c1 + 1);
+  if (eq == std::string::npos || c1 == std::string::npos || c2 == std::string::npos)
+    throw InputError(what + " must look like KEY=START:STOP:COUNT (e.g. melanin=0:0.5:21)");
+  Sweep s{&parameter_info(spec.substr(0, eq)), 0, 0, 0};
+  s.start = parse_number(spec.substr(eq + 1, c1 - eq - 1), what + ", START");
+  s.stop = parse_number(spec.substr(c1 + 1, c2 - c1 - 1), what + ", STOP");
+  const std::string count = spec.substr(c2 + 1);
+  const double n = parse_number(count, what + ", COUNT");
+  if (n < 1 || n > 1e9 || n != std::floor(n))
+    throw InputError(what + ": COUNT = " + count + " is out of range: must be a whole number in [1, 1e9]");
+  s.count = static_cast<std::size_t>(n);
+  // The range is an interval: both ends inside it put every value inside.
+  s.info->check(s.start);
+  s.info->check(s.stop);
+  return s;
+}
+
+// [first, last) from "A:B" (whole numbers, A <= B), clamped to the sets that exist.
+std::pair<std::size_t, std::size_t> parse_rows(const std::string& spec, std::size_t count) {
+  const auto colon = spec.find(':');
+  auto whole = [&](const std::string& t) {
+    const double v = parse_number(t, "rows = '" + spec + "'");
+    if (v < 0 || v != std::floor(v) || v > 1e15)
+      throw InputError("rows = '" + spec + "': '" + t + "' is not a whole number >= 0");
+    return static_cast<std::size_t>(v);
+  };
+  if (colon == std::string::npos)
+    throw InputError("rows = '" + spec + "' must look like FIRST:END (sets FIRST to END - 1, from 0)");
+  const std::size_t a = whole(spec.substr(0, colon)), b = whole(spec.substr(colon + 1));
+  if (b < a) throw InputError("rows = '" + spec + "': need FIRST <= END");
+  return {std::min(a, count), std::min(b, count)};
+}
+
+// Appends the one-row columns `row` to `to` (the same columns, or none yet).
+void append_row(std::vector<Column>& to, const std::vector<Column>& row) {
+  if (to.empty()) {
+    to = row;
+    return;
+  }
+  for (std::size_t k = 0; k < row.size(); ++k) {
+    to[k].numbers.insert(to[k].numbers.end(), row[k].numbers.begin(), row[k].numbers.end());
+    to[k].text.insert(to[k].text.end(), row[k].text.begin(), row[k].text.end());
+  }
+}
+
+std::string grid_text(const WavelengthGrid& grid) {
+  std::ostringstream os;
+  os << grid;
+  return os.str();
+}
+
+}  // namespace
+
+void register_batch(CLI::App& app) {
+  struct Opts {
+    ParameterOptions params;
+    GridOptions grid;
+    SolverOption solver;
+    std::string sets_file, rows, output;
+    std::vector<std::string> sweeps;
+    std::vector<double> wavelengths, radii;
+    bool spectrum = false;
+    int threads = 0;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "batch",
+      "The skin model for many parameter sets in one process, on all cores: one CSV row per set "
+      "(its colour, R_d at chosen wavelengths, optionally the whole spectrum and the RGB "
+      "profile at chosen radii), written as the sets are computed");
+  const char* g = "Sets";
+  auto* o_sets = sub->add_option("--sets", o->sets_file,
+                                 "CSV of parameter sets: one column per parameter key (any subset; "
+                                 "symbols accepted), one row per set; an empty cell keeps the base "
+                                 "value (--preset, --params, flags)")
+                     ->group(g);
+  auto* o_sweep = sub->add_option("--sweep", o->sweeps,
+                                  "KEY=START:STOP:COUNT: COUNT values from START to STOP; repeat "
+                                  "for a grid (the first sweep varies slowest)")
+                      ->group(g)->allow_extra_args(false);
+  o_sets->excludes(o_sweep);
+  sub->add_option("--rows", o->rows,
+                  "FIRST:END: compute sets FIRST to END - 1 only (numbered from 0; past the end "
+                  "is empty). Slices concatenate to the whole output: the header is written by "
+                  "the slice that starts at 0")
+      ->group(g);
+  o->params.add_to(*sub);
+  o->grid.add_to(*sub);
+  o->solver.add_to(*sub);
+  const char* c = "Columns";
+  sub->add_option("--wavelength", o->wavelengths,
+                  "R_d at this wavelength [nm] of the grid (repeatable): column R_d_<nm>nm")
+      ->group(c)->allow_extra_args(false);
+  sub->add_flag("--spectrum", o->spectrum, "R_d at every wavelength of the grid")->group(c);
+  sub->add_option("--radius", o->radii,
+                  "RGB profile R(r) [1/mm^2] at this radius [mm] (repeatable): columns "
+                  "R_<mm>mm.r/g/b (the channel totals are srgb_linear.r/g/b)")
+      ->group(c)->allow_extra_args(false);
+  sub->add_option("--threads", o->threads, "Worker threads (0 = all cores)")
+      ->check(whole_number(0, 4096))->capture_default_str()->group("Run");
+  sub->add_option("-o,--output", o->output,
+                  "Write the CSV to FILE (atomically, when complete) instead of standard output")
+      ->group("Output");
+  sub->callback([o] {
+    // Everything that can fail on input is checked before the first row is written.
+    SetTable sets;
+    sets.base = o->params.resolve();
+    auto refuse_flag_too = [&](const ParameterInfo* info, const std::string& by) {
+      for (const auto& [opt, flag_info] : o->params.flags)
+        if (flag_info == info && opt->count() > 0)
+          throw InputError(std::string(info->key) + " is given by both " + opt->get_name() + " and " + by);
+    };
+    std::vector<Sweep> sweeps;
+    std::optional<Table> table;
+    if (!o->sets_file.empty()) {
+      table = read_csv_file(o->sets_file);
+      for (const std::string& name : table->columns) {
+        const ParameterInfo* info = &parameter_info(name, o->sets_file + ": column");
+        if (std::find(sets.keys.begin(), sets.keys.end(), info) != sets.keys.end())
+          throw InputError(o->sets_file + ": column '" + name + "' repeats parameter " + std::string(info->key));
+        refuse_flag_too(info, o->sets_file);
+        sets.keys.push_back(info);
+      }
+      sets.count = table->rows();
+      sets.value = [t = &*table](std::size_t k, std::size_t i) { return t->data[k][i]; };
+      sets.source = o->sets_file;
+    } else if (!o->sweeps.empty()) {
+      sets.count = 1;
+      for (const std::string& spec : o->sweeps) {
+        const Sweep s = parse_sweep(spec);
+        for (const Sweep& other : sweeps)
+          if (other.info == s.info) throw InputError(std::string(s.info->key) + " is swept twice");
+        refuse_flag_too(s.info, "--sweep");
+        if (sets.count > std::size_t(1e12) / s.count) throw InputError("the sweeps make more than 1e12 sets");
+        sets.count *= s.count;
+        sweeps.push_back(s);
+        sets.keys.push_back(s.info);
+      }
+      // Row-major over the sweeps: the last varies fastest.
+      sets.value = [&sweeps](std::size_t k, std::size_t i) {
+        for (std::size_t j = sweeps.size(); j-- > k + 1;) i /= sweeps[j].count;
+        return sweeps[k][i % sweeps[k].count];
+      };
+      sets.source = "--sweep";
+    } else {
+      throw InputError("batch: give the parameter sets with --sets FILE.csv or --sweep KEY=START:STOP:COUNT");
+    }
+    const auto [first, end] = o->rows.empty() ? std::pair<std::size_t, std::size_t>{0, sets.count}
+                                              : parse_rows(o->rows, sets.count);
+    for (std::size_t i = first; i < end; ++i) {
+      try {
+        sets.at(i).validate();
+      } catch (const InputError& e) {
+        throw InputError(sets.source + ": set " + std::to_string(i) + ": " + e.what());
+      }
+    }
+    const WavelengthGrid grid = o->grid.resolve();
+    const transport::Model& model = o->solver.model();
+    std::vector<std::size_t> at_wavelength;  // grid indices of the R_d columns
+    for (double w : o->wavelengths) {
+      const double x = (w - grid.lambda_min()) / grid.step();
+      if (!(x >= -1e-9 && x <= double(grid.size() - 1) + 1e-9) || std::abs(x - std::round(x)) > 1e-9)
+        throw InputError("wavelength = " + format_number(w) + " nm is not on the grid (" + grid_text(grid) + ")");
+      at_wavelength.push_back(static_cast<std::size_t>(std::lround(x)));
+    }
+    if (o->spectrum)
+      for (std::size_t i = 0; i < grid.size(); ++i) at_wavelength.push_back(i);
+    std::optional<RadialGrid> radii;
+    std::vector<std::size_t> radius_order;  // position of each --radius in the sorted grid
+    if (!o->radii.empty()) {
+      for (double r : o->radii) require_non_negative("radius", r, "mm");
+      std::vector<double> sorted = o->radii;
+      std::sort(sorted.begin(), sorted.end());
+      sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+      for (double r : o->radii)
+        radius_order.push_back(static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), r) - sorted.begin()));
+      radii = RadialGrid::from(sorted);
+    }
+
+    // One chunk of sets at a time: computed on all cores, then written, so rows stream out and
+    // memory stays bounded for any number of sets.
+    const batch::Options run{o->threads};
+    const std::size_t chunk = 256;
+    const ProgressCallback progress = progress_bar("sets");  // empty unless stderr is a terminal
+    auto write_all = [&](std::ostream& out) {
+      for (std::size_t a = first; a < end; a += chunk) {
+        const std::size_t b = std::min(end, a + chunk);
+        std::vector<SkinParameters> chunk_sets;
+        for (std::size_t i = a; i < b; ++i) chunk_sets.push_back(sets.at(i));
+        const auto spectra = batch::spectra(chunk_sets, grid, model, run);
+        std::vector<batch::RgbProfileResult> profiles;
+        if (radii) profiles = batch::rgb_profiles(chunk_sets, grid, *radii, model, run);
+        std::vector<Column> columns;
+        Column index{"set", {}, {}};
+        for (std::size_t i = a; i < b; ++i) index.numbers.push_back(double(i));
+        columns.push_back(index);
+        for (const ParameterInfo* info : sets.keys) {
+          Column col{std::string(info->key), {}, {}};
+          for (const SkinParameters& p : chunk_sets) col.numbers.push_back(p.*(info->member));
+          columns.push_back(col);
+        }
+        std::vector<Column> colour;
+        for (const auto& s : spectra) append_row(colour, color_columns(s.color));
+        columns.insert(columns.end(), colour.begin(), colour.end());
+        for (std::size_t w : at_wavelength) {
+          Column col{"R_d_" + format_number(grid[w]) + "nm", {}, {}};
+          for (const auto& s : spectra) col.numbers.push_back(s.R_d[w]);
+          columns.push_back(col);
+        }
+        if (radii) {
+          const char* names[3] = {"r", "g", "b"};
+          for (std::size_t k = 0; k < o->radii.size(); ++k)
+            for (int ch = 0; ch < 3; ++ch) {
+              Column col{"R_" + format_number(o->radii[k]) + "mm." + names[ch] + " [1/mm^2]", {}, {}};
+              for (const auto& p : profiles) col.numbers.push_back(p.profile.R[std::size_t(ch)][radius_order[k]]);
+              columns.push_back(col);
+            }
+        }
+        if (a == 0) out << csv_header(columns);
+        out << csv_rows(columns) << std::flush;
+        if (!out) throw InputError("batch: writing the output failed");
+        if (progress) progress(b - first, end - first);
+      }
+    };
+    if (o->output.empty() || o->output == "-") {
+      write_all(std::cout);
+    } else {
+      io::write_via_temporary(o->output, [&](const std::string& tmp) {
+        std::ofstream f(tmp, std::ios::binary);
+        if (!f) throw InputError(o->output + ": cannot open for writing");
+        write_all(f);
+        f.close();
+        if (!f) throw InputError(o->output + ": write failed");
+      });
+    }
+  });
+}
+
+SKIN_REGISTER_COMMAND(45, register_batch);
+
+}  // namespace skin::cli

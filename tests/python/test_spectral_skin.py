@@ -1,0 +1,386 @@
+"""The Python package gives the `skin` command's numbers (to 1e-12), with the same names, as numpy
+arrays with named axes, for one parameter set or arrays of them."""
+import json
+import math
+import os
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+
+import spectral_skin as ss
+
+SKIN = os.environ.get("SKIN_BINARY")
+SOURCE_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
+
+
+def cli(*args):
+    """The JSON document of `skin ARGS --format json`."""
+    out = subprocess.run([SKIN, *args, "--format", "json"], check=True, capture_output=True, text=True)
+    return json.loads(out.stdout)
+
+
+def assert_same(test, py, js, path="", rtol=1e-12):
+    """Every key of the CLI's JSON `js` is in `py` with the same value (numbers to rtol)."""
+    if isinstance(js, dict):
+        for k, v in js.items():
+            test.assertIn(k, py, path)
+            assert_same(test, py[k], v, f"{path}.{k}", rtol)
+    elif isinstance(js, list) and all(isinstance(x, str) for x in js):
+        test.assertEqual(list(py), js, path)
+    elif isinstance(js, list) or isinstance(py, np.ndarray):
+        a = np.asarray(py)
+        b = np.asarray(js, dtype=a.dtype if a.dtype.kind in "iub" else float)
+        test.assertEqual(a.shape, b.shape, path)
+        if a.dtype.kind in "fi":
+            np.testing.assert_allclose(a, b, rtol=rtol, atol=0, err_msg=path)
+        else:
+            np.testing.assert_array_equal(a, b, err_msg=path)
+    elif isinstance(js, float) and not isinstance(py, (bool, str)):
+        test.assertTrue(math.isclose(py, js, rel_tol=rtol, abs_tol=0), f"{path}: {py} != {js}")
+    else:
+        test.assertEqual(py, js, path)
+
+
+def assert_equal(test, a, b):
+    np.testing.assert_equal(a, b)
+
+
+@unittest.skipUnless(SKIN, "SKIN_BINARY (the skin command) not set; CTest sets it")
+class SameAsTheCommand(unittest.TestCase):
+    """Each function equals its subcommand's JSON to 1e-12 (the same library code runs; the
+    tolerance allows only for the JSON's decimal round trip)."""
+
+    def test_spectrum(self):
+        for solver in ss.solvers():
+            with self.subTest(solver=solver):
+                py = ss.spectrum("african", lambda_step=10, melanin=0.3, C_h=0.02, solver=solver)
+                js = cli("spectrum", "--preset", "african", "--lambda-step", "10", "--melanin", "0.3",
+                         "--C_h", "0.02", "--solver", solver)
+                del js["units"]
+                assert_same(self, py, js)
+
+    def test_color(self):
+        py = ss.color("tanned", melanin=0.05)
+        js = cli("color", "--preset", "tanned", "--melanin", "0.05")
+        assert_same(self, py, js)
+
+    def test_profiles(self):
+        r = np.geomspace(0.01, 8, 12)
+        args = ["--radius-min", "0.01", "--radius-max", "8", "--samples", "12", "--lambda-step", "25"]
+        js = cli("profile", "--rgb", "--preset", "asian", *args)
+        py = ss.rgb_profile("asian", r_mm=js["r_mm"], lambda_step=25)
+        np.testing.assert_allclose(js["r_mm"], r, rtol=1e-12)
+        for c, name in enumerate(py["channel"]):
+            np.testing.assert_allclose(py["R"][c], js["R"][name], rtol=1e-12, atol=0)
+            np.testing.assert_allclose(py["R_d"][c], js["R_d"][name], rtol=1e-12, atol=0)
+        assert_same(self, py["parameters"], js["parameters"])
+        js = cli("profile", "--preset", "asian", "--solver", "multipole", *args)
+        py = ss.profile("asian", r_mm=js["r_mm"], lambda_step=25, solver="multipole")
+        del js["units"]
+        assert_same(self, py, js)
+
+    def test_layers(self):
+        js = cli("layers", "--layer", "sigma_a=0.5,sigma_s_prime=5,thickness_mm=0.25",
+                 "--layer", "sigma_a=0.05,sigma_s_prime=2.5", "--radius", "0.1", "--radius", "1")
+        py = ss.layers([{"sigma_a": 0.5, "sigma_s_prime": 5, "thickness_mm": 0.25},
+                        {"sigma_a": 0.05, "sigma_s_prime": 2.5, "thickness_mm": None}], r_mm=[0.1, 1])
+        del js["layers"]
+        assert_same(self, py, js)
+
+    def test_mc(self):
+        js = cli("mc", "--preset", "pale", "--wavelength", "650", "--photons", "3000", "--bins", "20",
+                 "--threads", "2")
+        py = ss.mc(preset="pale", wavelength=650, photons=3000, bins=20, threads=1)
+        for key in ("layers", "seconds"):
+            del js[key]
+        assert_same(self, py, js)
+
+    def test_fit_spectrum(self):
+        truth = ss.spectrum(melanin=0.03, melanin_blend=0.4, hemoglobin=0.02, lambda_step=10, solver="multipole")
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "measured.csv")
+            with open(path, "w") as f:
+                f.write("wavelength_nm,R\n")
+                for w, r in zip(truth["wavelength_nm"], truth["R_d"]):
+                    f.write(f"{w!r},{r!r}\n")
+            js = cli("fit", "--spectrum", path, "--solver", "multipole")
+        py = ss.fit_spectrum(truth["wavelength_nm"], truth["R_d"], solver="multipole")
+        del js["input"]
+        assert_same(self, py, js, rtol=1e-9)  # the CSV's decimal digits
+        self.assertAlmostEqual(py["parameters"]["melanin"], 0.03, places=6)
+
+    def test_fit_color(self):
+        js = cli("fit", "--hex", "a98f74", "--solver", "multipole")
+        py = ss.fit_color(hex="a98f74", solver="multipole")
+        assert_same(self, py, js)
+        self.assertEqual(ss.fit_color(srgb="169,143,116", solver="multipole"), py)
+
+    def test_parameters(self):
+        self.assertEqual(ss.parameters(), cli("parameters"))
+
+
+class Arrays(unittest.TestCase):
+    """Arrays of parameter sets: one call, every set on all cores, the same numbers as one call
+    per set, axes named after the parameter varying along them."""
+
+    def test_a_sweep_equals_one_call_per_set(self):
+        melanin = np.linspace(0, 0.5, 6)
+        s = ss.spectrum(melanin=melanin, lambda_step=10)
+        self.assertEqual(s["R_d"].shape, (6, 31))
+        self.assertEqual(s["axes"]["R_d"], ("melanin", "wavelength_nm"))
+        self.assertEqual(s["axes"]["color.lab"], ("melanin", "Lab"))
+        self.assertEqual(s["color"]["hex"].shape, (6,))
+        np.testing.assert_array_equal(s["parameters"]["melanin"], melanin)
+        self.assertEqual(s["parameters"]["hemoglobin"], 0.005)  # not varied: a number
+        for i, m in enumerate(melanin):
+            one = ss.spectrum(melanin=m, lambda_step=10)
+            np.testing.assert_array_equal(s["R_d"][i], one["R_d"])  # bit for bit
+            np.testing.assert_array_equal(s["color"]["lab"][i], one["color"]["lab"])
+            self.assertEqual(s["color"]["hex"][i], one["color"]["hex"])
+
+    def test_arrays_broadcast_to_a_grid(self):
+        c = ss.color(melanin=np.array([0.01, 0.1, 0.3])[:, None], hemoglobin=[0.001, 0.05],
+                     solver="multipole", threads=2)
+        self.assertEqual(c["color"]["XYZ"].shape, (3, 2, 3))
+        self.assertEqual(c["axes"]["color.XYZ"], ("melanin", "hemoglobin", "XYZ"))
+        self.assertEqual(c["parameters"]["hemoglobin"].shape, (3, 2))
+        one = ss.color(melanin=0.3, hemoglobin=0.05, solver="multipole")
+        np.testing.assert_array_equal(c["color"]["XYZ"][2, 1], one["color"]["XYZ"])
+        # More melanin is darker; in light skin more blood is redder (a* up).
+        self.assertTrue(np.all(np.diff(c["color"]["lab"][:, :, 0], axis=0) < 0))
+        self.assertGreater(c["color"]["lab"][0, 1, 1], c["color"]["lab"][0, 0, 1] + 2)
+        serial = ss.color(melanin=np.array([0.01, 0.1, 0.3])[:, None], hemoglobin=[0.001, 0.05],
+                          solver="multipole", threads=1)
+        np.testing.assert_array_equal(serial["color"]["XYZ"], c["color"]["XYZ"])
+
+    def test_rgb_profiles_of_many_sets(self):
+        p = ss.rgb_profile(r_mm=[0.1, 1.0], C_m=[0.01, 0.02], lambda_step=20)
+        self.assertEqual(p["R"].shape, (2, 3, 2))
+        self.assertEqual(p["axes"]["R"], ("melanin", "channel", "r_mm"))
+        self.assertEqual(p["validity"]["profile"].tolist(), [True, True])
+        one = ss.rgb_profile(r_mm=[0.1, 1.0], C_m=0.02, lambda_step=20)
+        np.testing.assert_array_equal(p["R"][1], one["R"])
+        q = ss.profile(r_mm=[0.5], melanin=[0.01, 0.02], lambda_step=100, solver="multipole")
+        self.assertEqual(q["R"].shape, (2, 4, 1))
+        self.assertEqual(q["axes"]["R"], ("melanin", "wavelength_nm", "r_mm"))
+
+    def test_several_keywords_on_one_axis(self):
+        s = ss.color(melanin=[0.01, 0.02], hemoglobin=[0.01, 0.02], solver="multipole")
+        self.assertEqual(s["axes"]["color.lab"], ("set", "Lab"))
+
+    def test_a_bad_element_is_the_commands_message(self):
+        with self.assertRaisesRegex(ValueError, r"^melanin \(C_m\) = 2 is out of range: allowed range is \[0, 1\]$"):
+            ss.spectrum(melanin=[0.1, 2.0])
+        with self.assertRaisesRegex(ValueError, r"^melanin must be a number, not array\(\[ True, False\]\)$"):
+            ss.spectrum(melanin=np.array([True, False]))
+        with self.assertRaisesRegex(ValueError, "^hemoglobin must be a number, not "):
+            ss.spectrum(hemoglobin=["0.1"])
+        with self.assertRaises(ValueError):  # shapes that do not broadcast
+            ss.spectrum(melanin=[0.1, 0.2], hemoglobin=[0.1, 0.2, 0.3])
+
+
+class Bindings(unittest.TestCase):
+    def test_version(self):
+        self.assertRegex(ss.__version__, r"^\d+\.\d+\.\d+$")
+        with open(os.path.join(SOURCE_DIR, "CMakeLists.txt")) as f:
+            self.assertIn(f"project(spectral_skin VERSION {ss.__version__}", f.read())
+
+    def test_the_stub_names_every_keyword_and_solver(self):
+        stub = os.path.join(os.path.dirname(ss.__file__), "__init__.pyi")
+        with open(stub) as f:
+            text = f.read()
+        for p in ss.parameters():
+            self.assertIn(f"    {p['key']}: Number | None = ...,", text)
+        self.assertIn("Solver = Literal[" + ", ".join(repr(s) for s in ss.solvers()) + "]", text)
+        for name in ss.__all__:
+            if name not in ("InputError", "__version__"):
+                self.assertIn(f"def {name}(", text)
+        compile(text, stub, "exec")  # valid Python syntax
+
+    def test_docstrings_give_units_from_the_table(self):
+        for f in (ss.spectrum, ss.color, ss.rgb_profile, ss.fit_spectrum):
+            self.assertIn("epidermis_thickness [mm] in (0, inf), default 0.25", f.__doc__)
+            self.assertIn("accurate, multipole", f.__doc__)
+
+    def test_semi_infinite_layer_is_the_classic_dipole(self):
+        # alpha' = 1 / 1.01, A(1.4) = 3.2507: Jensen et al. 2001 closed form.
+        a = 1 / 1.01
+        A = 3.250697461379377
+        root = math.sqrt(3 * (1 - a))
+        expected = a / 2 * (1 + math.exp(-4 / 3 * A * root)) * math.exp(-root)
+        r = ss.layers([{"sigma_a": 0.01, "sigma_s_prime": 1.0}], solver="multipole")
+        self.assertAlmostEqual(r["R_d"], expected, places=12)
+        self.assertEqual(r["T_d"], 0.0)
+        with self.assertRaisesRegex(ValueError, "^sigma_a must be a number, not True$"):
+            ss.layers([{"sigma_a": True, "sigma_s_prime": 1.0}])
+
+    def test_spectrum_keywords_and_solvers(self):
+        s = ss.spectrum("african", lambda_step=10, melanin=0.4)
+        self.assertEqual(s["R_d"].shape, (31,))
+        self.assertEqual(s["axes"]["R_d"], ("wavelength_nm",))
+        self.assertEqual(s["solver"], "accurate")
+        m = ss.spectrum("african", lambda_step=10, melanin=0.4, solver="multipole")
+        self.assertGreater(m["R_d"][5], s["R_d"][5])  # diffusion overstates dark skin at 450 nm
+        self.assertEqual(len(s["color"]["hex"]), 7)
+
+    def test_profile_integrates_to_total(self):
+        r = np.geomspace(1e-4, 60, 600)
+        p = ss.rgb_profile("caucasian", r_mm=r)
+        for c in range(3):
+            R = p["R"][c]
+            total = math.pi * r[0] ** 2 * R[0] + np.sum(math.pi * (R[:-1] * r[:-1] + R[1:] * r[1:]) * np.diff(r))
+            self.assertAlmostEqual(total / p["R_d"][c], 1.0, delta=0.005)
+
+    def test_validity_outside_the_accurate_tables(self):
+        # A dark top layer (alpha' = 0.038, below the transport tables' 0.0975) over a bright
+        # half-space: the profile is flagged (with a RuntimeWarning), R_d stays exact.
+        layers = [{"sigma_a": 50.0, "sigma_s_prime": 2.0, "thickness": 0.05},
+                  {"sigma_a": 0.001, "sigma_s_prime": 10.0}]
+        with self.assertWarnsRegex(RuntimeWarning, "solver accurate: profile outside"):
+            r = ss.layers(layers, r_mm=[0.3, 3.0])
+        self.assertEqual(r["validity"]["profile"], False)
+        self.assertEqual(r["validity"]["totals"], True)
+        with self.assertWarnsRegex(RuntimeWarning, "g = 0.7"):
+            p = ss.rgb_profile("caucasian", r_mm=[0.3, 3.0], g=0.7)
+        self.assertEqual(p["validity"]["profile"], False)
+        self.assertEqual(ss.rgb_profile("caucasian", r_mm=[0.3])["validity"]["profile"], True)
+
+    def test_fit_texture_of_a_uniform_image(self):
+        target = ss.color("tanned")["color"]["srgb_linear"]
+        maps = ss.fit_texture(np.tile(target, (2, 3, 1)), solver="multipole")
+        self.assertEqual(maps["melanin"].shape, (2, 3))
+        self.assertEqual(maps["axes"]["melanin"], ("y", "x"))
+        self.assertLess(maps["error_delta_e_2000"]["max"], 0.5)
+
+    def test_the_readme_example_runs(self):
+        readme = os.path.join(SOURCE_DIR, "README.md")
+        with open(readme, encoding="utf-8") as f:
+            text = f.read()
+        section = text[text.index("### Python"):]
+        start = section.index("```python\n") + len("```python\n")
+        block = section[start:section.index("```\n", start)]
+        self.assertIn("import spectral_skin", block)
+        exec(compile(block, "README.md (### Python)", "exec"), {})
+
+    def test_bad_input_raises_value_error_naming_the_parameter(self):
+        with self.assertRaisesRegex(ValueError, r"melanin \(C_m\) = 1.5 is out of range"):
+            ss.spectrum(melanin=1.5)
+        self.assertIn("ear", ss.presets())
+        with self.assertRaisesRegex(ValueError, "^solver = 'diffusion' is unknown: allowed values are accurate, multipole$"):
+            ss.color(solver="diffusion")
+
+
+@unittest.skipUnless(os.environ.get("SKIN_EXPECT_INSTALLED"), "set by scripts/test.sh in its venv")
+class Installed(unittest.TestCase):
+    """scripts/test.sh runs these tests in a virtual environment the package was pip-installed
+    into: the package imported is that copy, with its metadata."""
+
+    def test_imported_from_the_environment(self):
+        import importlib.metadata
+        import sys
+        self.assertTrue(os.path.abspath(ss.__file__).startswith(os.path.abspath(sys.prefix)), ss.__file__)
+        self.assertEqual(importlib.metadata.version("spectral_skin"), ss.__version__)
+        self.assertTrue(os.path.exists(os.path.join(os.path.dirname(ss.__file__), "__init__.pyi")))
+
+
+class Example(unittest.TestCase):
+    def test_the_example_plots(self):
+        try:
+            import matplotlib  # noqa: F401
+        except ImportError:
+            self.skipTest("matplotlib (python3-matplotlib) not installed")
+        import sys
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "sweep.png")
+            run = subprocess.run([sys.executable, os.path.join(SOURCE_DIR, "examples", "melanin_sweep.py"), out],
+                                 capture_output=True, text=True, cwd=d)
+            self.assertEqual(run.returncode, 0, run.stderr)
+            self.assertIn("R_d (11, 151) axes ('melanin', 'wavelength_nm')", run.stdout)
+            self.assertGreater(os.path.getsize(out), 10000)
+
+
+def value_in_range(p):
+    """A value inside p's range, away from its default (and from the presets' values)."""
+    if p["max"] is None:
+        return p["default"] * 1.37
+    return p["min"] + 0.37 * (p["max"] - p["min"])
+
+
+class ParameterKeywords(unittest.TestCase):
+    """The keywords are the parameter table's keys and symbols, as the CLI's flags are."""
+
+    def spectrum(self, **kw):
+        # Seven wavelengths and the multipole model: the keywords are under test, not the solver.
+        return ss.spectrum("african", lambda_step=50, solver="multipole", **kw)
+
+    def test_table_shape(self):
+        table = ss.parameters()
+        self.assertEqual([p["key"] for p in table][:4],
+                         ["melanin", "melanin_blend", "hemoglobin", "oiliness"])
+        self.assertEqual({p["symbol"] for p in table if p["symbol"]},
+                         {"C_m", "beta_m", "C_h", "rho_s", "gamma"})
+        g = next(p for p in table if p["key"] == "g")
+        self.assertEqual((g["min"], g["max"], g["min_exclusive"], g["default"]), (-1, 1, True, 0.9))
+        thickness = next(p for p in table if p["key"] == "epidermis_thickness")
+        self.assertIsNone(thickness["max"])
+        self.assertEqual(thickness["flag"], "--epidermis-thickness")
+        self.assertEqual(ss.solvers(), ["accurate", "multipole"])
+
+    def test_every_key_is_a_keyword(self):
+        preset = self.spectrum()["parameters"]
+        self.assertEqual(set(preset), {p["key"] for p in ss.parameters()})
+        for p in ss.parameters():
+            with self.subTest(key=p["key"]):
+                v = value_in_range(p)
+                self.assertNotEqual(v, preset[p["key"]])
+                got = self.spectrum(**{p["key"]: v})["parameters"]
+                self.assertEqual(got, dict(preset, **{p["key"]: v}))
+
+    def test_symbols_are_aliases(self):
+        for p in ss.parameters():
+            if p["symbol"] is None:
+                continue
+            with self.subTest(symbol=p["symbol"]):
+                v = value_in_range(p)
+                by_symbol = self.spectrum(**{p["symbol"]: v})
+                by_key = self.spectrum(**{p["key"]: v})
+                self.assertEqual(by_symbol["parameters"][p["key"]], v)
+                assert_equal(self, by_symbol, by_key)
+        with self.assertRaisesRegex(ValueError,
+                                    "^melanin is given twice: melanin and C_m name the same"):
+            self.spectrum(melanin=0.1, C_m=0.2)
+
+    def test_keywords_change_the_physics(self):
+        # Not only the echo: more melanin darkens the spectrum at every wavelength.
+        base = ss.spectrum("caucasian", lambda_step=50, solver="multipole")
+        dark = ss.spectrum("caucasian", lambda_step=50, solver="multipole", C_m=0.4)
+        self.assertTrue(np.all(dark["R_d"] < base["R_d"]))
+        profile = ss.rgb_profile("african", r_mm=[0.5], solver="multipole", C_h=0.2)
+        self.assertEqual(profile["parameters"]["hemoglobin"], 0.2)
+
+    def test_none_keeps_the_preset(self):
+        assert_equal(self, self.spectrum(melanin=None, g=None, C_h=None), self.spectrum())
+
+    def test_booleans_and_text_are_not_numbers(self):
+        with self.assertRaisesRegex(ValueError, "^melanin must be a number, not True$"):
+            self.spectrum(melanin=True)
+        with self.assertRaisesRegex(ValueError, "^hemoglobin must be a number, not False$"):
+            self.spectrum(C_h=False)
+        with self.assertRaisesRegex(ValueError, "^eta must be a number, not '1.4'$"):
+            self.spectrum(eta="1.4")
+        self.assertEqual(self.spectrum(eta=2)["parameters"]["eta"], 2.0)  # an int is a number
+        self.assertEqual(self.spectrum(eta=np.float32(2))["parameters"]["eta"], 2.0)
+
+    def test_unknown_keyword_lists_the_known_keys(self):
+        with self.assertRaises(ValueError) as e:
+            self.spectrum(melanine=0.1)
+        message = str(e.exception)
+        self.assertTrue(message.startswith("parameter 'melanine' is unknown: known parameters are "))
+        for p in ss.parameters():
+            self.assertIn(p["key"], message)
+
+
+if __name__ == "__main__":
+    unittest.main()
