@@ -11,6 +11,7 @@ PKGS=(
   libopenexr-dev libpng-dev                        # image output
   libcairo2-dev                                    # plots (PNG and SVG)
   pybind11-dev python3-dev                         # Python module
+  blender                                          # proves `skin export --target cycles` in Cycles
   python3-numpy python3-pybind11 python3-setuptools python3-venv python3-pip python3-wheel
                                                    # Python package: numpy results, pip install
                                                    # into a venv (scripts/test.sh)
