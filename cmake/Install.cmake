@@ -1,7 +1,7 @@
 # `cmake --install build [--prefix DIR]`: the C++ package. Installs the public headers, the
 # libraries (static, position-independent), the `skin` executable, the data tables and a CMake
 # package: find_package(SpectralSkin CONFIG) gives SpectralSkin::util, ::physics, ::transport,
-# ::color, ::model and, when built, ::mc, ::image, ::fit, ::render, ::batch, each with its
+# ::color, ::model and, when built, ::mc, ::image, ::fit, ::render, ::batch, ::export, each with its
 # dependencies (Debian's libraries, found by the package's config file). The physical tables
 # are compiled into the libraries (SpectralSkin::embedded_data), so nothing is read at run time;
 # data/*.csv are installed beside for their sources and units.
@@ -10,7 +10,7 @@ include(CMakePackageConfigHelpers)
 
 set(skin_install_parts "")
 set(skin_install_targets skin_embedded_data skin_warnings skin_sanitize)
-foreach(part util physics transport color model mc image fit render batch)
+foreach(part util physics transport color model mc image fit render batch export)
   if(TARGET skin_${part})
     list(APPEND skin_install_parts ${part})
     list(APPEND skin_install_targets skin_${part})

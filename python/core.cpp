@@ -19,6 +19,7 @@
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
 #include "skin/mc/mc.hpp"
+#include "skin/export/export.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/model.hpp"
 #include "skin/util/error.hpp"
@@ -726,5 +727,57 @@ PYBIND11_MODULE(_core, m) {
        "JPEG, ...) or an array (height, width, 3) of linear sRGB in 0-1; on all cores. "
        "Options as fit_color(). " + solver_doc() + params).c_str());
 
-  // `skin export` (issue #11) binds here, beside the commands it shares its inputs with.
+  m.def(
+      "export",
+      [](const std::string& target, const std::string& preset, const std::string& solver,
+         const std::optional<std::string>& units, double world_scale, const std::string& name,
+         int gaussians, int taps, bool spectra_files, const py::kwargs& kw) {
+        const Sets sets = parameter_sets(preset, kw);
+        if (sets.size() != 1) throw InputError("export: one parameter set (no arrays)");
+        exporting::Options o;
+        if (units) o.unit = exporting::parse_unit(*units);
+        o.world_scale = world_scale;
+        o.name = name;
+        o.gaussians = gaussians;
+        o.taps = taps;
+        o.spectra_files = spectra_files;
+        const transport::Model& model = transport::find_model(solver);
+        exporting::Export e;
+        {
+          py::gil_scoped_release unlocked;
+          e = exporting::export_skin(target, sets.values[0], model, o);
+        }
+        py::dict files;
+        for (const auto& f : e.files) files[py::cast(f.suffix)] = f.content;
+        py::dict images;
+        for (const auto& im : e.images) {
+          if (!im.planes.values.empty()) {
+            const Shape hwc{im.planes.height, im.planes.width, static_cast<py::ssize_t>(im.planes.names.size())};
+            images[py::cast(im.suffix)] = make_array<float>(hwc, [&](float* out) {
+              const std::size_t n = im.planes.values[0].size(), k = im.planes.names.size();
+              for (std::size_t i = 0; i < n; ++i)
+                for (std::size_t c = 0; c < k; ++c) out[i * k + c] = im.planes.values[c][i];
+            });
+          } else {
+            const Shape hwc{im.rgb.height, im.rgb.width, 3};
+            images[py::cast(im.suffix)] = make_array<float>(
+                hwc, [&](float* out) { std::copy(im.rgb.rgb.begin(), im.rgb.rgb.end(), out); });
+          }
+        }
+        const py::object loads = py::module_::import("json").attr("loads");
+        py::dict d;
+        d["target"] = target;
+        d["files"] = files;
+        d["images"] = images;
+        d["report"] = loads(exporting::fit_report_json(e.report, sets.values[0], solver, {}));
+        return d;
+      },
+      "target"_a, "preset"_a = "caucasian", py::kw_only(), "solver"_a = default_solver,
+      "units"_a = py::none(), "world_scale"_a = 1.0, "name"_a = "spectral_skin", "gaussians"_a = 5,
+      "taps"_a = 17, "spectra_files"_a = false,
+      ("`skin export --target TARGET`: the files of a renderer or engine target (" +
+       exporting::target_names_text() +
+       ") as {suffix: text} ('' is the main file), images as float32 arrays (height, width, "
+       "channels), and report: the fit's error as FILE.fit.json holds it (docs/export.md). units: "
+       "'mm', 'cm' or 'm' (default: the target's). " + solver_doc() + params).c_str());
 }

@@ -26,6 +26,7 @@ functions = {
     "fit_spectrum": f"(\n    wavelength_nm: ArrayLike,\n    R: ArrayLike,\n    preset: str = ...,\n    *,\n    free: Sequence[str] | None = ...,\n    includes_specular: bool = ...,\n    fit_lambda_min: float = ...,  # [nm]\n    fit_lambda_max: float = ...,  # [nm]\n    bounds: Mapping[str, tuple[float, float]] = ...,\n    solver: Solver = ...,\n{one_set}) -> dict[str, Any]",
     "fit_color": f"(\n    *,\n    hex: str | None = ...,\n    srgb: str | None = ...,\n    preset: str = ...,\n    free: Sequence[str] | None = ...,\n    melanin_blend_prior: float = ...,\n    melanin_blend_weight: float = ...,\n    bounds: Mapping[str, tuple[float, float]] = ...,\n    solver: Solver = ...,\n{one_set}) -> dict[str, Any]",
     "fit_texture": f"(\n    image: str | ArrayLike,\n    preset: str = ...,\n    *,\n    free: Sequence[str] | None = ...,\n    melanin_blend_prior: float = ...,\n    melanin_blend_weight: float = ...,\n    bounds: Mapping[str, tuple[float, float]] = ...,\n    solver: Solver = ...,\n{one_set}) -> dict[str, Any]",
+    "export": f"(\n    target: str,\n    preset: str = ...,\n    *,\n    solver: Solver = ...,\n    units: Literal['mm', 'cm', 'm'] | None = ...,\n    world_scale: float = ...,\n    name: str = ...,\n    gaussians: int = ...,\n    taps: int = ...,\n    spectra_files: bool = ...,\n{one_set}) -> dict[str, Any]",
     "presets": "() -> list[str]",
     "parameters": "() -> list[dict[str, Any]]",
     "solvers": "() -> list[str]",

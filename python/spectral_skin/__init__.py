@@ -18,6 +18,7 @@ from ._core import (  # noqa: F401  (the package's interface)
     InputError,
     __version__,
     color,
+    export,
     fit_color,
     fit_spectrum,
     fit_texture,
@@ -31,9 +32,7 @@ from ._core import (  # noqa: F401  (the package's interface)
     spectrum,
 )
 
-# `skin export` (issue #11) will be bound in _core and re-exported here.
-
 __all__ = [
-    "InputError", "__version__", "color", "fit_color", "fit_spectrum", "fit_texture", "layers",
+    "InputError", "__version__", "color", "export", "fit_color", "fit_spectrum", "fit_texture", "layers",
     "mc", "parameters", "presets", "profile", "rgb_profile", "solvers", "spectrum",
 ]

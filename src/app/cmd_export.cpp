@@ -14,37 +14,6 @@ namespace skin::cli {
 
 namespace {
 
-json fit_json(const exporting::FitReport& r, const SkinParameters& p, const std::string& solver,
-              const std::vector<std::string>& files) {
-  auto rgb = [](const Rgb& c) { return json{{"r", c.r}, {"g", c.g}, {"b", c.b}}; };
-  auto arr = [](const std::array<double, 3>& a) { return json{{"r", a[0]}, {"g", a[1]}, {"b", a[2]}}; };
-  json j;
-  j["target"] = r.target;
-  j["target_model"] = r.target_model;
-  j["parameters"] = to_json(p);
-  j["solver"] = solver;
-  j["units"] = {{"files", std::string(exporting::unit_name(r.unit))},
-                {"mean_radius_mm", "mm"},
-                {"colors", "linear Rec.709 (sRGB primaries, D65)"}};
-  j["files"] = files;
-  j["representable"] = r.representable;
-  j["notes"] = r.notes;
-  j["R_d_ours"] = rgb(r.R_d_ours);
-  j["R_d_target"] = rgb(r.R_d_target);
-  j["delta_e_2000"] = r.delta_e_2000;
-  j["profile_l1"] = arr(r.profile_l1);
-  j["mean_radius_mm"] = arr(r.mean_radius_mm);
-  j["mean_radius_error"] = arr(r.mean_radius_error);
-  json v = json::object();
-  for (const auto& [k, vals] : r.values) v[k] = vals.size() == 1 ? json(vals[0]) : json(vals);
-  j["values"] = v;
-  if (r.texels) {
-    j["texels"] = r.texels;
-    j["max_delta_e_2000"] = r.max_delta_e_2000;
-  }
-  return j;
-}
-
 // "dir/name.ext" -> "dir/name"
 std::string stem_of(const std::string& path) {
   std::filesystem::path p(path);
@@ -167,7 +136,7 @@ void register_export(CLI::App& app) {
       }
       const std::string fit_path = stem + ".fit.json";
       written.push_back(fit_path);
-      io::write_file_atomic(fit_path, fit_json(e.report, p, o->solver.name, written).dump(2) + "\n");
+      io::write_file_atomic(fit_path, exporting::fit_report_json(e.report, p, o->solver.name, written));
       const auto& r = e.report;
       std::cout << r.target << ": wrote";
       for (const std::string& w : written) std::cout << ' ' << w;

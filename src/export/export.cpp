@@ -714,13 +714,23 @@ WavelengthGrid spectral_grid() { return WavelengthGrid(400.0, 700.0, 10.0); }
 
 std::string pbrt_spectrum(const WavelengthGrid& g, const std::vector<double>& v) {
   std::string s = "[";
-  for (std::size_t i = 0; i < g.size(); ++i) s += " " + num(g[i]) + " " + num(v[i]);
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    s += ' ';
+    s += num(g[i]);
+    s += ' ';
+    s += num(v[i]);
+  }
   return s + " ]";
 }
 
 std::string spd_file(const WavelengthGrid& g, const std::vector<double>& v, const std::string& what) {
   std::string s = "# " + what + "\n";
-  for (std::size_t i = 0; i < g.size(); ++i) s += num(g[i]) + " " + num(v[i]) + "\n";
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    s += num(g[i]);
+    s += ' ';
+    s += num(v[i]);
+    s += '\n';
+  }
   return s;
 }
 
@@ -888,8 +898,12 @@ Export export_mitsuba(const Reference& ref, const Options& o, Unit unit) {
   std::ostringstream x;
   auto spectrum = [&](const std::string& name, const std::vector<double>& v) {
     std::string s = "        <spectrum name=\"" + name + "\" value=\"";
-    for (std::size_t i = 0; i < grid.size(); ++i)
-      s += (i ? ", " : "") + num(grid[i]) + ":" + num(v[i]);
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      if (i) s += ", ";
+      s += num(grid[i]);
+      s += ':';
+      s += num(v[i]);
+    }
     return s + "\"/>\n";
   };
   x << "<?xml version=\"1.0\"?>\n<!--\n" << header_lines("   ", e, p, *ref.model, unit, o.world_scale)
@@ -1133,6 +1147,39 @@ Export export_profile(const Reference& ref, const Options& o, Unit unit) {
 
 }  // namespace
 
+std::string fit_report_json(const FitReport& r, const SkinParameters& p, std::string_view solver,
+                            const std::vector<std::string>& files) {
+  auto rgb = [](const Rgb& c) { return json{{"r", c.r}, {"g", c.g}, {"b", c.b}}; };
+  auto arr = [](const std::array<double, 3>& a) {
+    return json{{"r", a[0]}, {"g", a[1]}, {"b", a[2]}};
+  };
+  json j;
+  j["target"] = r.target;
+  j["target_model"] = r.target_model;
+  json params = json::object();
+  for (const ParameterInfo& info : parameter_table()) params[std::string(info.key)] = p.*(info.member);
+  j["parameters"] = params;
+  j["solver"] = solver;
+  j["units"] = {{"files", std::string(unit_name(r.unit))},
+                {"mean_radius_mm", "mm"},
+                {"colors", "linear Rec.709 (sRGB primaries, D65)"}};
+  j["files"] = files;
+  j["representable"] = r.representable;
+  j["notes"] = r.notes;
+  j["R_d_ours"] = rgb(r.R_d_ours);
+  j["R_d_target"] = rgb(r.R_d_target);
+  j["delta_e_2000"] = r.delta_e_2000;
+  j["profile_l1"] = arr(r.profile_l1);
+  j["mean_radius_mm"] = arr(r.mean_radius_mm);
+  j["mean_radius_error"] = arr(r.mean_radius_error);
+  j["values"] = report_values_json(r);
+  if (r.texels) {
+    j["texels"] = r.texels;
+    j["max_delta_e_2000"] = r.max_delta_e_2000;
+  }
+  return j.dump(2) + "\n";
+}
+
 Export export_skin(std::string_view target_name, const SkinParameters& parameters,
                    const transport::Model& model, const Options& options_in,
                    const ParameterMapsInput* maps, const ProgressCallback& progress) {
@@ -1159,7 +1206,7 @@ Export export_skin(std::string_view target_name, const SkinParameters& parameter
     for (std::size_t k = 0; k < maps->keys.size(); ++k) {
       double sum = 0;
       for (float v : maps->values[k]) sum += v;
-      p.*(parameter_info(maps->keys[k], maps->path).member) = sum / maps->values[k].size();
+      p.*(parameter_info(maps->keys[k], maps->path).member) = sum / static_cast<double>(maps->values[k].size());
     }
   }
   const Reference ref = detail::make_reference(p, model, solver);

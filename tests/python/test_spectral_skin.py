@@ -52,6 +52,23 @@ class SameAsTheCommand(unittest.TestCase):
     """Each function equals its subcommand's JSON to 1e-12 (the same library code runs; the
     tolerance allows only for the JSON's decimal round trip)."""
 
+    def test_export(self):
+        # The same files and fit report as `skin export` (the report's "files" lists paths only
+        # the command writes).
+        with tempfile.TemporaryDirectory() as d:
+            main = os.path.join(d, "skin.mtlx")
+            subprocess.run([SKIN, "export", "--target", "openpbr", "--preset", "african", "--melanin",
+                            "0.3", "--name", "skin", "-o", main], check=True, capture_output=True)
+            py = ss.export("openpbr", "african", melanin=0.3, name="skin")
+            with open(main, encoding="utf-8") as f:
+                self.assertEqual(py["files"][""], f.read())
+            with open(os.path.join(d, "skin.fit.json"), encoding="utf-8") as f:
+                js = json.load(f)
+            del js["files"]
+            assert_same(self, py["report"], js)
+        with self.assertRaises(ValueError):
+            ss.export("renderman")
+
     def test_spectrum(self):
         for solver in ss.solvers():
             with self.subTest(solver=solver):

@@ -112,6 +112,11 @@ Export export_skin(std::string_view target, const SkinParameters& parameters,
                    const transport::Model& model, const Options& options,
                    const ParameterMapsInput* maps = nullptr, const ProgressCallback& progress = {});
 
+// The fit report as the JSON document written beside the files (FILE.fit.json) and returned by
+// Python's export(): the report, the parameters, the solver and the files written.
+std::string fit_report_json(const FitReport& report, const SkinParameters& parameters,
+                            std::string_view solver, const std::vector<std::string>& files);
+
 // The target models, exposed for tests and docs (mm, per channel):
 // Christensen & Burley 2015 normalized diffusion, R(r) = (e^{-r/d} + e^{-r/3d}) / (8 pi d r),
 // integrating to 1; its mean exit radius is 2.5 d.
