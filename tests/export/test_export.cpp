@@ -89,8 +89,9 @@ TEST(Export, EveryTargetForEveryPresetFitsTheColourAndMeanRadius) {
       EXPECT_LT(r.delta_e_2000, 0.5);
       for (int c = 0; c < 3; ++c) {
         // realtime fits the shape (L1), not the mean radius
-        if (t.name != "realtime")
+        if (t.name != "realtime") {
           EXPECT_LT(std::abs(r.mean_radius_error[c]), t.name == "pbrt-v4" ? 0.12 : 0.03) << c;
+        }
         EXPECT_LT(r.profile_l1[c], 0.6) << c;
       }
     }
