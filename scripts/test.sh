@@ -18,7 +18,7 @@ ctest --test-dir "$dir" --output-on-failure -j 2
 # The Python package as users install it: pip into a fresh virtual environment (Debian's
 # interpreter; no package index), reusing the module built above; its tests run on that copy.
 if [ -z "${1:-}" ]; then
-  venv="$dir/venv"
+  venv="$PWD/$dir/venv"
   /usr/bin/python3 -m venv --system-site-packages --clear "$venv"
   SKIN_BUILD_DIR="$dir" "$venv/bin/pip" install --no-build-isolation --no-index -q .
   (cd "$dir" && SKIN_EXPECT_INSTALLED=1 SKIN_BINARY="$PWD/bin/skin" \
