@@ -17,7 +17,7 @@ import numpy as np
 import spectral_skin as ss
 
 # %% A melanin sweep: one call, 11 parameter sets, computed on all cores.
-melanin = np.linspace(0.0, 0.5, 11)
+melanin = np.geomspace(0.002, 0.5, 11)  # pale to dark skin
 s = ss.spectrum("caucasian", melanin=melanin)
 print("R_d", s["R_d"].shape, "axes", s["axes"]["R_d"])  # (11, 151) ('melanin', 'wavelength_nm')
 
@@ -33,8 +33,8 @@ print(f"fitted melanin {p['melanin']:.4f} (true {truth['parameters']['melanin']}
 # %% Plot: the sweep drawn in each skin's own colour, and the fit.
 fig, (left, right) = plt.subplots(1, 2, figsize=(10, 4))
 for i, m in enumerate(melanin):
-    left.plot(s["wavelength_nm"], s["R_d"][i], color=s["color"]["hex"][i], label=f"{m:.2f}")
-left.set(xlabel="wavelength [nm]", ylabel="R_d", title="Melanin sweep (caucasian preset)", ylim=(0, None))
+    left.plot(s["wavelength_nm"], s["R_d"][i], color=s["color"]["hex"][i], label=f"{m:.3g}")
+left.set(xlabel="wavelength [nm]", ylabel="R_d", title="Melanin sweep (caucasian preset)", yscale="log")
 left.legend(title="melanin", fontsize="small", ncol=2)
 right.plot(truth["wavelength_nm"], measured, ".", color="0.3", label="measured (1 % noise)")
 right.plot(fit["fitted"]["wavelength_nm"], fit["fitted"]["R"], color="tab:red",

@@ -225,6 +225,9 @@ void register_batch(CLI::App& app) {
         throw InputError(sets.source + ": set " + std::to_string(i) + ": " + e.what());
       }
     }
+    if (const std::string ext = io::extension(o->output); !o->output.empty() && o->output != "-" &&
+                                                           ext != "csv" && ext != "txt" && !ext.empty())
+      throw InputError("output = '" + o->output + "': skin batch writes CSV (.csv or .txt)");
     const WavelengthGrid grid = o->grid.resolve();
     const transport::Model& model = o->solver.model();
     std::vector<std::size_t> at_wavelength;  // grid indices of the R_d columns

@@ -136,6 +136,7 @@ TEST_F(Cli, BatchBadInputIsOneLineBeforeAnyRow) {
       {"batch --sweep melanine=0:1:2", "skin: error: parameter 'melanine' is unknown: known parameters are"},
       {"batch --sweep melanin=0:1:2 --rows 3:1", "skin: error: rows = '3:1': need FIRST <= END\n"},
       {"batch --sweep melanin=0:1:2 --wavelength 551", "skin: error: wavelength = 551 nm is not on the grid"},
+      {"batch --sweep melanin=0:1:2 -o out.json", "skin: error: output = 'out.json': skin batch writes CSV (.csv or .txt)\n"},
       {"batch", "skin: error: batch: give the parameter sets with --sets FILE.csv or --sweep KEY=START:STOP:COUNT\n"},
   };
   for (const auto& c : cases) {
@@ -146,4 +147,10 @@ TEST_F(Cli, BatchBadInputIsOneLineBeforeAnyRow) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args;
   }
   EXPECT_FALSE(std::filesystem::exists(dir_ / "out.csv"));
+  EXPECT_FALSE(std::filesystem::exists(dir_ / "out.json"));
+  // A file output is the same bytes as standard output.
+  const CmdResult to_file = run("batch --sweep melanin=0:0.5:3 -o sets-out.csv");
+  ASSERT_EQ(to_file.code, 0) << to_file.err;
+  EXPECT_EQ(to_file.out, "");
+  EXPECT_EQ(skin_test::slurp(dir_ / "sets-out.csv"), run("batch --sweep melanin=0:0.5:3").out);
 }
