@@ -92,12 +92,15 @@ void register_export(CLI::App& app) {
     }
     std::optional<exporting::ParameterMapsInput> maps;
     if (!o->maps.empty()) {
-      if (!chosen[0]->takes_textures) (void)exporting::export_skin(chosen[0]->name, p, model, opt, &*maps);
+      exporting::require_textures(*chosen[0]);
       const std::vector<std::string> keys = {"melanin", "melanin_blend", "hemoglobin"};
       image::Planes planes = image::read_exr_planes(o->maps, keys, "parameter maps");
       maps = exporting::ParameterMapsInput{o->maps, planes.width, planes.height, keys,
                                            std::move(planes.values)};
     }
+    // Our profile and colour, shared by the targets.
+    const std::shared_ptr<const exporting::Prepared> ours =
+        maps ? nullptr : exporting::prepare(p, model);
     std::string folder;
     if (all) {
       folder = o->output.empty() ? "." : o->output;
@@ -116,9 +119,9 @@ void register_export(CLI::App& app) {
                               : o->output;
       const std::string stem = stem_of(main_path);
       opt.stem = std::filesystem::path(stem).filename().string();
-      const exporting::Export e = exporting::export_skin(
-          t->name, p, model, opt, maps ? &*maps : nullptr,
-          maps ? progress_bar("texels") : ProgressCallback{});
+      const exporting::Export e =
+          maps ? exporting::export_skin(t->name, p, model, opt, &*maps, progress_bar("texels"))
+               : exporting::export_prepared(t->name, *ours, opt);
       std::vector<std::string> written;
       for (const exporting::TextFile& f : e.files) {
         const std::string path = f.suffix.empty() ? main_path : stem + f.suffix;

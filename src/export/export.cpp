@@ -734,7 +734,8 @@ std::string spd_file(const WavelengthGrid& g, const std::vector<double>& v, cons
   return s;
 }
 
-Export export_pbrt(const Reference& ref, const Options& o, Unit unit, ProfileSolver& solver) {
+Export export_pbrt(const Reference& ref, const Options& o, Unit unit) {
+  ProfileSolver solver(detail::reference_radii());
   const SkinParameters& p = ref.parameters;
   const transport::Model& model = *ref.model;
   const WavelengthGrid grid = spectral_grid();
@@ -1180,53 +1181,80 @@ std::string fit_report_json(const FitReport& r, const SkinParameters& p, std::st
   return j.dump(2) + "\n";
 }
 
+namespace {
+
+Options checked(const Options& in) {
+  Options o = in;
+  if (o.stem.empty()) o.stem = o.name;
+  o.validate();
+  return o;
+}
+
+Export run(const Target& target, const Reference& ref, const Options& o, const MapsFit* mf) {
+  const Unit unit = o.unit.value_or(target.default_unit);
+  const std::string_view n = target.name;
+  Export e;
+  if (n == "openpbr" || n == "standard-surface") e = export_materialx(n == "openpbr", ref, o, unit, mf);
+  else if (n == "cycles") e = export_cycles(ref, o, unit, mf);
+  else if (n == "unreal") e = export_unreal(ref, o, unit);
+  else if (n == "unity") e = export_unity(ref, o, unit);
+  else if (n == "pbrt-v4") e = export_pbrt(ref, o, unit);
+  else if (n == "mitsuba3") e = export_mitsuba(ref, o, unit);
+  else if (n == "realtime") e = export_realtime(ref, o, unit);
+  else e = export_profile(ref, o, unit);
+  return e;
+}
+
+}  // namespace
+
+struct Prepared {
+  Reference ref;
+};
+
+void require_textures(const Target& target) {
+  if (target.takes_textures) return;
+  std::string which;
+  for (const Target& t : targets())
+    if (t.takes_textures) which += (which.empty() ? "" : ", ") + std::string(t.name);
+  throw InputError("parameter-maps: target " + std::string(target.name) +
+                   " takes no textures (its profile is one per material); targets that do: " +
+                   which);
+}
+
+std::shared_ptr<const Prepared> prepare(const SkinParameters& parameters,
+                                        const transport::Model& model) {
+  parameters.validate();
+  ProfileSolver solver(detail::reference_radii());
+  return std::make_shared<const Prepared>(Prepared{detail::make_reference(parameters, model, solver)});
+}
+
+Export export_prepared(std::string_view target_name, const Prepared& ours, const Options& options) {
+  const Target& target = find_target(target_name);
+  return run(target, ours.ref, checked(options), nullptr);
+}
+
 Export export_skin(std::string_view target_name, const SkinParameters& parameters,
                    const transport::Model& model, const Options& options_in,
                    const ParameterMapsInput* maps, const ProgressCallback& progress) {
   const Target& target = find_target(target_name);
-  Options o = options_in;
-  if (o.stem.empty()) o.stem = o.name;
-  o.validate();
+  const Options o = checked(options_in);
   parameters.validate();
-  if (maps && !target.takes_textures) {
-    std::string which;
-    for (const Target& t : targets())
-      if (t.takes_textures) which += (which.empty() ? "" : ", ") + std::string(t.name);
-    throw InputError("parameter-maps: target " + std::string(target.name) +
-                     " takes no textures (its profile is one per material); targets that do: " +
-                     which);
-  }
-  const Unit unit = o.unit.value_or(target.default_unit);
-  ProfileSolver solver(detail::reference_radii());
-  // With maps, the single-material values are those of the maps' mean texel.
+  if (!maps) return run(target, prepare(parameters, model)->ref, o, nullptr);
+  require_textures(target);
+  // The single-material values are those of the maps' mean texel.
   SkinParameters p = parameters;
-  std::optional<MapsFit> mf;
-  if (maps) {
-    mf = fit_maps(target.name, parameters, model, *maps, progress);
-    for (std::size_t k = 0; k < maps->keys.size(); ++k) {
-      double sum = 0;
-      for (float v : maps->values[k]) sum += v;
-      p.*(parameter_info(maps->keys[k], maps->path).member) = sum / static_cast<double>(maps->values[k].size());
-    }
+  const MapsFit mf = fit_maps(target.name, parameters, model, *maps, progress);
+  for (std::size_t k = 0; k < maps->keys.size(); ++k) {
+    double sum = 0;
+    for (float v : maps->values[k]) sum += v;
+    p.*(parameter_info(maps->keys[k], maps->path).member) =
+        sum / static_cast<double>(maps->values[k].size());
   }
-  const Reference ref = detail::make_reference(p, model, solver);
-  Export e;
-  const std::string_view n = target.name;
-  const MapsFit* mfp = mf ? &*mf : nullptr;
-  if (n == "openpbr" || n == "standard-surface") e = export_materialx(n == "openpbr", ref, o, unit, mfp);
-  else if (n == "cycles") e = export_cycles(ref, o, unit, mfp);
-  else if (n == "unreal") e = export_unreal(ref, o, unit);
-  else if (n == "unity") e = export_unity(ref, o, unit);
-  else if (n == "pbrt-v4") e = export_pbrt(ref, o, unit, solver);
-  else if (n == "mitsuba3") e = export_mitsuba(ref, o, unit);
-  else if (n == "realtime") e = export_realtime(ref, o, unit);
-  else e = export_profile(ref, o, unit);
-  if (mf) {
-    e.report.texels = mf->distinct;
-    e.report.max_delta_e_2000 = mf->max_delta_e;
-    e.report.notes.push_back("single values are those of the maps' mean texel; the textures hold "
-                             "each texel's own fit");
-  }
+  Export e = run(target, prepare(p, model)->ref, o, &mf);
+  e.report.texels = mf.distinct;
+  e.report.max_delta_e_2000 = mf.max_delta_e;
+  e.report.notes.push_back("single values are those of the maps' mean texel; the textures hold "
+                           "each texel's own fit");
   return e;
 }
 

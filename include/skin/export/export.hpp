@@ -13,6 +13,7 @@
 //
 // Units: inputs and the report in mm; files in the unit asked for (Options::unit).
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -45,6 +46,8 @@ const std::vector<Target>& targets();
 // InputError listing the targets' names otherwise.
 const Target& find_target(std::string_view name);
 std::string target_names_text();  // "openpbr, standard-surface, ..."
+// InputError unless the target takes per-texel textures (--parameter-maps).
+void require_textures(const Target& target);
 
 struct Options {
   std::optional<Unit> unit;   // default: the target's
@@ -105,6 +108,13 @@ struct ParameterMapsInput {
   std::vector<std::string> keys;          // parameter keys, one per plane
   std::vector<std::vector<float>> values; // one plane per key, width * height
 };
+
+// Our skin as every target starts from it (its RGB profile, colour and mean exit radii),
+// computed once by prepare() and shared by the exports of several targets (--target all).
+struct Prepared;
+std::shared_ptr<const Prepared> prepare(const SkinParameters& parameters,
+                                        const transport::Model& model);
+Export export_prepared(std::string_view target, const Prepared& ours, const Options& options);
 
 // Exports `parameters` (validated) for `target` (find_target). progress(texels done, texels) with
 // parameter maps.
