@@ -2,7 +2,6 @@
 #include "skin/transport/top_layer_table.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -11,6 +10,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "skin/util/charconv.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/interpolation.hpp"
 #include "skin/util/table.hpp"
@@ -55,7 +55,7 @@ std::vector<double> parse_list(std::string_view v, std::string_view source, std:
     std::string_view f = v.substr(start, end - start);
     while (!f.empty() && f.front() == ' ') f.remove_prefix(1);
     double d = 0;
-    const auto r = std::from_chars(f.data(), f.data() + f.size(), d);
+    const auto r = skin::from_chars(f.data(), f.data() + f.size(), d);
     if (r.ec != std::errc() || f.empty())
       throw InputError(std::string(source) + ": '" + std::string(key) + "' has a value that is not a number");
     out.push_back(d);

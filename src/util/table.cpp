@@ -1,12 +1,12 @@
 #include "skin/util/table.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <mutex>
 #include <sstream>
 
+#include "skin/util/charconv.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::data::detail {
@@ -70,7 +70,7 @@ Table parse_csv(std::string_view text, const std::string& source) {
         if (!fields[c].empty()) {
           auto f = fields[c];
           if (!f.empty() && f.front() == '+') f.remove_prefix(1);
-          auto res = std::from_chars(f.data(), f.data() + f.size(), v);
+          auto res = skin::from_chars(f.data(), f.data() + f.size(), v);
           if (res.ec != std::errc() || res.ptr != f.data() + f.size())
             throw InputError(source + ":" + std::to_string(line_no) + ": field " +
                              std::to_string(c + 1) + " ('" + std::string(fields[c]) +
