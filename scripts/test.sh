@@ -15,3 +15,5 @@ fi
 cmake -S . -B "$dir" -G Ninja -DSKIN_BUILD_TESTS=ON "${opts[@]}"
 cmake --build "$dir"
 ctest --test-dir "$dir" --output-on-failure -j 2
+# The web page (scripts/web-test.sh: WebAssembly build, module and browser tests), once.
+if [ "$dir" = build ]; then bash scripts/web-test.sh; fi

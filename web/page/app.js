@@ -106,11 +106,12 @@ function setValue(key, v) {
 
 // --- Updates ----------------------------------------------------------------------------------
 
-let pending = false;
+let pending = false;  // an update is scheduled (window.skinPending: for tests)
 function scheduleUpdate() {
   if (pending) return;
   pending = true;
-  requestAnimationFrame(() => { pending = false; update(); });
+  window.skinPending = true;
+  requestAnimationFrame(() => { pending = false; window.skinPending = false; update(); });
 }
 
 // One full update: spectrum (R_d, layer coefficients, colour) and the RGB profile at 256 radii,
