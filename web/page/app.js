@@ -120,8 +120,7 @@ function update() {
   const t0 = performance.now();
   let spectrum, profile;
   try {
-    spectrum = runJson('spectrum', request());
-    profile = runJson('profile', request({ rgb: true }));
+    ({ spectrum, profile } = runJson('update', request()));
   } catch (e) {
     $('status').textContent = e.message;
     $('status').className = 'error';

@@ -3,6 +3,7 @@
 // point takes a request as JSON text and returns the command's output as text (JSON, or CSV /
 // table with "format"), or {"error": "..."} with the one-line message the CLI would print.
 //
+// "update" returns both documents the page shows at each change ({"spectrum", "profile"}).
 // Request keys mirror the command-line options: "preset" (default caucasian), "params" (the
 // object --params FILE.json holds: parameter keys or symbols, an optional "preset"),
 // "solver", "lambda_min", "lambda_max", "lambda_step", "format"; for profile also "rgb",
@@ -104,6 +105,20 @@ Result profile(const json& req) {
                                          preset_of(req), name, validity);
 }
 
+// The page's live update: the spectrum (R_d, layer coefficients, colour) and the RGB profile, the
+// two documents of `skin spectrum` and `skin profile --rgb`, with the transport run once per
+// wavelength (skin_appearance).
+json update(const json& req) {
+  const SkinParameters p = parameters_of(req);
+  const WavelengthGrid grid = grid_of(req);
+  const transport::Model& model = model_of(req);
+  const SkinAppearance a = skin_appearance(p, grid, profile_solver(radii_of(req)), model);
+  const std::string preset = preset_of(req);
+  return {{"spectrum", schema::spectrum_result(a.spectrum, preset).document},
+          {"profile", schema::rgb_profile_result(a.rgb, p, preset, std::string(model.name()),
+                                                 skin_validity(p, grid, model)).document}};
+}
+
 // The dropped file is written to the module's in-memory file system under its own name and read
 // by the CLI's reader (fit::read_spectrum), so messages and the "input" key name it as the CLI
 // does when run in the file's folder.
@@ -179,6 +194,7 @@ std::string run(const std::string& command, const std::string& request) {
     if (command == "fit") return write(fit_spectrum(req), req);
     if (command == "parameters") return write(schema::parameters_result(), req);
     if (command == "presets") return write(schema::presets_result(), req);
+    if (command == "update") return update(req).dump();
     if (command == "spectra") return spectra(req).dump();
     if (command == "melanin_strip") return melanin_strip(req).dump();
     if (command == "solvers") {
@@ -189,7 +205,7 @@ std::string run(const std::string& command, const std::string& request) {
       return j.dump();
     }
     throw InputError("command '" + command + "' is unknown: allowed values are spectrum, color, "
-                     "profile, fit, parameters, presets, spectra, melanin_strip, solvers");
+                     "profile, fit, parameters, presets, update, spectra, melanin_strip, solvers");
   });
 }
 

@@ -1,6 +1,7 @@
 // The built WebAssembly module (build-web/site/skin.js) against the `skin` command: for random
-// parameter sets and both solvers, `spectrum` and `profile --rgb` give the same JSON (keys,
-// text, hex exactly; numbers to 1e-9), and the spectrum fit of a Vrhel spectrum the same fit.
+// parameter sets and both solvers, `spectrum`, `profile --rgb` and the page's `update` (both at
+// once) give the same JSON (keys, text, hex exactly; numbers to 1e-9), and the spectrum fit of
+// a Vrhel spectrum the same fit.
 // Run: node web/test/module.test.js (after scripts/web.sh and the native build).
 'use strict';
 const fs = require('fs');
@@ -26,13 +27,17 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
     for (const solver of ['accurate', 'multipole']) {
       const params = randomParameters(u);
       const preset = ['caucasian', 'asian', 'african'][i % 3];
-      const spectrum = compare(run('spectrum', { preset, params, solver }),
-                               cli(['spectrum', '--preset', preset, '--solver', solver], params), TOL, 'spectrum');
+      const refSpectrum = cli(['spectrum', '--preset', preset, '--solver', solver], params);
+      const refProfile = cli(['profile', '--rgb', '--preset', preset, '--solver', solver], params);
+      const spectrum = compare(run('spectrum', { preset, params, solver }), refSpectrum, TOL, 'spectrum');
       fail(spectrum.failures, `spectrum ${solver} ${JSON.stringify(params)}`);
-      const profile = compare(run('profile', { preset, params, solver, rgb: true }),
-                              cli(['profile', '--rgb', '--preset', preset, '--solver', solver], params), TOL, 'profile', PROFILE_FLOOR);
+      const profile = compare(run('profile', { preset, params, solver, rgb: true }), refProfile, TOL, 'profile', PROFILE_FLOOR);
       fail(profile.failures, `profile ${solver} ${JSON.stringify(params)}`);
-      worst = Math.max(worst, spectrum.worst, profile.worst);
+      // The page's update: both documents from one pass.
+      const both = run('update', { preset, params, solver });
+      const update = compare(both, { spectrum: refSpectrum, profile: refProfile }, TOL, 'update', PROFILE_FLOOR);
+      fail(update.failures, `update ${solver} ${JSON.stringify(params)}`);
+      worst = Math.max(worst, spectrum.worst, profile.worst, update.worst);
       cases += 2;
     }
   }
