@@ -275,16 +275,25 @@ Result color_result(const SkinSpectrum& s, const std::string& preset) {
   return result;
 }
 
+namespace {
+// What both profiles' documents begin with.
+json profile_document(const SkinParameters& p, const std::string& preset, const std::string& solver,
+                      const transport::Validity& validity) {
+  json j;
+  j["preset"] = preset;
+  j["parameters"] = to_json(p);
+  j["solver"] = solver;
+  j["validity"] = to_json(validity);
+  return j;
+}
+}  // namespace
+
 Result rgb_profile_result(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
                           const std::string& solver, const transport::Validity& validity) {
   const char* names[3] = {"r", "g", "b"};
   const RadialGrid& radii = rgb.radii;
   Result result;
-  json& j = result.document;
-  j["preset"] = preset;
-  j["parameters"] = to_json(p);
-  j["solver"] = solver;
-  j["validity"] = to_json(validity);
+  json& j = result.document = profile_document(p, preset, solver, validity);
   j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
   j["r_mm"] = radii.r;
   j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
@@ -306,11 +315,7 @@ Result spectral_profile_result(const SpectralProfile& sp, const SkinParameters& 
     rows[i].assign(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
                    sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * radii.size()));
   Result result;
-  json& j = result.document;
-  j["preset"] = preset;
-  j["parameters"] = to_json(p);
-  j["solver"] = solver;
-  j["validity"] = to_json(validity);
+  json& j = result.document = profile_document(p, preset, solver, validity);
   j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
   j["r_mm"] = radii.r;
   j["wavelength_nm"] = grid.values();
