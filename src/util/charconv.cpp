@@ -76,7 +76,9 @@ std::string to_chars_shortest_fallback(double value) {
   // Scientific, as printf's %e writes it (at least two exponent digits).
   char exp_text[16];
   std::snprintf(exp_text, sizeof exp_text, "e%c%02d", exponent < 0 ? '-' : '+', std::abs(exponent));
-  const std::string scientific = digits.substr(0, 1) + (n > 1 ? "." + digits.substr(1) : "") + exp_text;
+  std::string scientific = digits.substr(0, 1);
+  if (n > 1) scientific += '.' + digits.substr(1);
+  scientific += exp_text;
   std::string fixed;
   if (exponent >= n - 1) {
     // An integer: to_chars writes its exact digits, as %.0f does (as long as the shortest ones).
@@ -89,7 +91,9 @@ std::string to_chars_shortest_fallback(double value) {
   } else {
     fixed = "0." + std::string(static_cast<std::size_t>(-exponent - 1), '0') + digits;
   }
-  return (negative ? "-" : "") + (fixed.size() <= scientific.size() ? fixed : scientific);
+  std::string text = negative ? "-" : "";
+  text += fixed.size() <= scientific.size() ? fixed : scientific;
+  return text;
 }
 
 }  // namespace detail

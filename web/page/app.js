@@ -17,7 +17,8 @@ const state = {
   fit: null,        // the last fit document (skin fit --format json)
   strip: null,
   stripKey: '',
-  timings: [],      // ms of each full update (spectrum, colour, RGB profile)
+  timings: [],      // ms of each full update (spectrum, colour, RGB profile, drawing)
+  modelTimings: [], // ms of its model part (the module's update, JSON included)
   updates: 0,
 };
 window.skinState = state;
@@ -128,6 +129,7 @@ function update() {
       row.classList.toggle('invalid', e.message.includes(row.dataset.key));
     return;
   }
+  const tModel = performance.now() - t0;
   for (const row of document.querySelectorAll('.param')) row.classList.remove('invalid');
   state.spectrum = spectrum;
   state.profile = profile;
@@ -137,10 +139,10 @@ function update() {
   drawCoefficients();
   const ms = performance.now() - t0;
   state.timings.push(ms);
+  state.modelTimings.push(tModel);
   state.updates += 1;
-  const sorted = [...state.timings].sort((a, b) => a - b);
-  const median = sorted[Math.floor(sorted.length / 2)];
-  $('timing').textContent = `${ms.toFixed(1)} ms (median ${median.toFixed(1)} ms of ${sorted.length})`;
+  const median = (a) => [...a].sort((x, y) => x - y)[Math.floor(a.length / 2)];
+  $('timing').textContent = `${ms.toFixed(1)} ms, model ${tModel.toFixed(1)} ms (medians ${median(state.timings).toFixed(1)}, ${median(state.modelTimings).toFixed(1)} ms of ${state.timings.length})`;
   const warn = profile.validity.profile ? '' : ` Profile outside the solver's validated range: ${profile.validity.reason}`;
   $('status').textContent = `Ready. ${state.solver} solver.${warn}`;
   $('status').className = warn ? 'error' : '';
