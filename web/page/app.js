@@ -160,13 +160,17 @@ function drawColour() {
 }
 
 function drawCoefficients() {
-  const s = state.spectrum;
-  let html = '<tr><th>wavelength_nm</th><th>R_d</th><th>epidermis.sigma_a</th><th>epidermis.sigma_s_prime</th><th>dermis.sigma_a</th><th>dermis.sigma_s_prime</th></tr>';
-  s.wavelength_nm.forEach((l, i) => {
-    html += `<tr><td>${l}</td><td>${num(s.R_d[i])}</td><td>${num(s.epidermis.sigma_a[i])}</td><td>${num(s.epidermis.sigma_s_prime[i])}</td>` +
-      `<td>${num(s.dermis.sigma_a[i])}</td><td>${num(s.dermis.sigma_s_prime[i])}</td></tr>`;
-  });
-  $('coefficients').innerHTML = html;
+  // The rows are made once per grid; an update rewrites the cells' text only.
+  const s = state.spectrum, table = $('coefficients');
+  const columns = [s.wavelength_nm, s.R_d, s.epidermis.sigma_a, s.epidermis.sigma_s_prime, s.dermis.sigma_a, s.dermis.sigma_s_prime];
+  if (table.rows.length !== s.wavelength_nm.length + 1) {
+    table.innerHTML = '<tr><th>wavelength_nm</th><th>R_d</th><th>epidermis.sigma_a</th><th>epidermis.sigma_s_prime</th><th>dermis.sigma_a</th><th>dermis.sigma_s_prime</th></tr>' +
+      '<tr><td></td><td></td><td></td><td></td><td></td><td></td></tr>'.repeat(s.wavelength_nm.length);
+  }
+  for (let i = 0; i < s.wavelength_nm.length; i++) {
+    const cells = table.rows[i + 1].cells;
+    for (let c = 0; c < columns.length; c++) cells[c].textContent = c === 0 ? String(columns[0][i]) : num(columns[c][i]);
+  }
 }
 
 // --- Plots (SVG) ------------------------------------------------------------------------------
