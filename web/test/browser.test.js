@@ -81,6 +81,7 @@ async function main() {
       values: window.skinState.values,
       preset: window.skinState.preset,
       solver: window.skinState.solver,
+      wide: window.skinState.wide,
       profile: window.skinState.profile,
       updates: window.skinState.updates,
     }));
@@ -95,7 +96,7 @@ async function main() {
     };
     const compareWithCli = async (what) => {
       const s = await shown();
-      const args = ['--preset', s.preset, '--solver', s.solver];
+      const args = ['--preset', s.preset, '--solver', s.solver, ...(s.wide ? ['--lambda-min', '380', '--lambda-max', '780'] : [])];
       const ok = checkDisplayed(s, cli(['spectrum', ...args], s.values), what);
       const p = compare(s.profile, cli(['profile', '--rgb', ...args], s.values), 1e-9, 'profile', 1e-9);
       fail(p.failures, `${what}: profile`);
@@ -113,6 +114,11 @@ async function main() {
     await page.select('#solver', 'multipole');
     await page.waitForFunction(() => window.skinState.profile.solver === 'multipole');
     await compareWithCli('african, oxygenation moved, multipole');
+    await page.click('#wide');
+    await page.waitForFunction(() => window.skinState.spectrum.wavelength_nm[0] === 380);
+    await compareWithCli('380-780 nm');
+    await page.click('#wide');
+    await page.waitForFunction(() => window.skinState.spectrum.wavelength_nm[0] === 400);
     await page.select('#solver', 'accurate');
     await page.click('button[data-preset="caucasian"]');
     await page.waitForFunction(() => window.skinState.preset === 'caucasian' && window.skinState.profile.solver === 'accurate');
