@@ -16,6 +16,8 @@ PKGS=(
                                                    # Python package: numpy results, pip install
                                                    # into a venv (scripts/test.sh)
   python3-matplotlib                               # Python example (examples/melanin_sweep.py)
+  emscripten node-acorn                            # web page: WebAssembly build (acorn: its JS optimizer)
+  chromium                                         # web page: the browser test (headless)
 )
 missing=()
 for p in "${PKGS[@]}"; do
@@ -25,4 +27,10 @@ if [ ${#missing[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi
+# The web page's tests run Node.js and npm (puppeteer-core): Debian's, unless a Node.js that
+# brings its own npm is installed (NodeSource's conflicts with Debian's npm package).
+if ! command -v npm >/dev/null; then
+  SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends nodejs npm
 fi

@@ -24,3 +24,5 @@ if [ -z "${1:-}" ]; then
   (cd "$dir" && SKIN_EXPECT_INSTALLED=1 SKIN_BINARY="$PWD/bin/skin" \
     "$venv/bin/python" ../tests/python/test_spectral_skin.py)
 fi
+# The web page (scripts/web-test.sh: WebAssembly build, module and browser tests), once.
+if [ "$dir" = build ]; then bash scripts/web-test.sh; fi

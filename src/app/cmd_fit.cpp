@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "common.hpp"
+#include "fit_schema.hpp"
 #include "progress.hpp"
 #include "report_measured.hpp"
 #include "skin/fit/color_fit.hpp"
@@ -55,15 +56,6 @@ std::vector<std::pair<fit::Parameter, fit::Bounds>> parse_bounds(const std::vect
   return out;
 }
 
-json uncertainty_json(const fit::FitResult& r) {
-  json j = json::object();
-  for (std::size_t i = 0; i < r.free.size(); ++i) {
-    const double u = r.uncertainty[i];
-    j[std::string(fit::key(r.free[i]))] = std::isfinite(u) ? json(u) : json(nullptr);
-  }
-  return j;
-}
-
 std::string fitted_text(const fit::FitResult& r, const std::string& path) {
   std::vector<double> resid(r.fitted.size());
   for (std::size_t i = 0; i < resid.size(); ++i) resid[i] = r.fitted[i] - r.measured[i];
@@ -98,56 +90,7 @@ void run_spectrum(const FitOpts& o) {
   const fit::MeasuredSpectrum m = fit::read_spectrum(o.spectrum, o.column);
   const fit::FitResult r = fit::SpectrumFitter(opt).fit(m);
 
-  Result result;
-  {
-    {
-      json j;
-      j["input"] = m.name;
-      j["solver"] = o.solver.name;
-      j["includes_specular"] = o.includes_specular;
-      json free = json::array();
-      for (auto p : r.free) free.push_back(std::string(fit::key(p)));
-      j["free"] = free;
-      j["parameters"] = to_json(r.parameters);
-      j["uncertainty"] = uncertainty_json(r);
-      json at_bound = json::object();
-      for (std::size_t i = 0; i < r.free.size(); ++i) at_bound[std::string(fit::key(r.free[i]))] = bool(r.at_bound[i]);
-      j["at_bound"] = at_bound;
-      j["rms"] = r.rms;
-      j["specular"] = r.specular;
-      j["iterations"] = r.iterations;
-      j["starts"] = r.starts;
-      j["fitted"] = {{"wavelength_nm", r.wavelength_nm}, {"measured", r.measured}, {"R", r.fitted}};
-      result.document = j;
-    }
-    {
-      std::vector<std::string> h;
-      std::vector<std::vector<double>> c;
-      for (std::size_t i = 0; i < r.free.size(); ++i) {
-        h.push_back(std::string(fit::key(r.free[i])));
-        c.push_back({fit::get(r.parameters, r.free[i])});
-        h.push_back("uncertainty." + std::string(fit::key(r.free[i])));
-        c.push_back({r.uncertainty[i]});
-      }
-      h.push_back("rms");
-      c.push_back({r.rms});
-      for (std::size_t k = 0; k < h.size(); ++k) result.columns.push_back({h[k], c[k], {}});
-    }
-    {
-      std::ostringstream os;
-      os << "fit of " << m.name << " (" << r.wavelength_nm.size() << " samples, "
-         << r.wavelength_nm.front() << "-" << r.wavelength_nm.back() << " nm, solver " << o.solver.name << ")\n";
-      for (std::size_t i = 0; i < r.free.size(); ++i) {
-        char buf[160];
-        std::snprintf(buf, sizeof buf, "  %-22s %12.6g  +- %-10.3g%s\n", std::string(fit::key(r.free[i])).c_str(),
-                      fit::get(r.parameters, r.free[i]), r.uncertainty[i], r.at_bound[i] ? "  (at bound)" : "");
-        os << buf;
-      }
-      if (o.includes_specular) os << "  specular term rho_s F    " << r.specular << "\n";
-      os << "  RMS residual             " << r.rms << "\n";
-      result.table = os.str();
-    }
-  }
+  const Result result = schema::spectrum_fit_result(m, r, o.solver.name, o.includes_specular);
   if (!o.fitted.empty()) io::write_file_atomic(o.fitted, fitted_text(r, o.fitted));
   if (!o.plot.empty()) {
     plot::Figure f;

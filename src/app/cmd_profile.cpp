@@ -50,46 +50,15 @@ void register_profile(CLI::App& app) {
     if (o->rgb) {
       const char* names[3] = {"r", "g", "b"};
       for (int c = 0; c < 3; ++c) warn_if_negative(std::string("R(r) linear sRGB channel ") + names[c], rgb.R[c], radii.r, "mm", true);
-      json& j = result.document;
-      j["preset"] = o->params.preset;
-      j["parameters"] = to_json(p);
-      j["solver"] = o->solver.name;
-      j["validity"] = to_json(validity);
-      j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
-      j["r_mm"] = radii.r;
-      j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
-      j["R_d"] = {{"r", rgb.R_d[0]}, {"g", rgb.R_d[1]}, {"b", rgb.R_d[2]}};
-      result.columns = {{"r_mm", radii.r, {}}};
-      for (int c = 0; c < 3; ++c) result.columns.push_back({std::string("R.") + names[c] + " [1/mm^2]", rgb.R[c], {}});
-      for (int c = 0; c < 3; ++c) result.columns.push_back(constant_column(std::string("R_d.") + names[c], rgb.R_d[c], radii.size()));
-      result.table = format_table({"r_mm", "R_r", "R_g", "R_b"}, {radii.r, rgb.R[0], rgb.R[1], rgb.R[2]});
+      result = schema::rgb_profile_result(rgb, p, o->params.preset, o->solver.name, validity);
     } else {
       const SpectralProfile sp = skin_spectral_profile(p, grid, solver, model);
-      std::vector<std::vector<double>> rows(grid.size());
-      for (std::size_t i = 0; i < grid.size(); ++i) {
-        rows[i].assign(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
-                       sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * radii.size()));
-        warn_if_negative("R(r) at " + format_number(grid[i]) + " nm", rows[i], radii.r, "mm");
-      }
-      json& j = result.document;
-      j["preset"] = o->params.preset;
-      j["parameters"] = to_json(p);
-      j["solver"] = o->solver.name;
-      j["validity"] = to_json(validity);
-      j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
-      j["r_mm"] = radii.r;
-      j["wavelength_nm"] = grid.values();
-      j["R_d"] = sp.R_d.values;
-      j["R"] = rows;  // R[i_lambda][j_r]
-      std::vector<std::string> h = {"r_mm"};
-      std::vector<std::vector<double>> cols = {radii.r};
-      result.columns = {{"r_mm", radii.r, {}}};
-      for (std::size_t i = 0; i < grid.size(); ++i) {
-        h.push_back("R_" + format_number(grid[i]) + "nm");
-        cols.push_back(rows[i]);
-        result.columns.push_back({h.back() + " [1/mm^2]", rows[i], {}});
-      }
-      result.table = format_table(h, cols);
+      for (std::size_t i = 0; i < grid.size(); ++i)
+        warn_if_negative("R(r) at " + format_number(grid[i]) + " nm",
+                         std::vector<double>(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
+                                             sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * radii.size())),
+                         radii.r, "mm");
+      result = schema::spectral_profile_result(sp, p, o->params.preset, o->solver.name, validity);
     }
     if (!o->plot.empty()) {
       plot::Figure f;

@@ -6,22 +6,6 @@
 namespace skin::cli {
 
 namespace {
-json spectrum_json(const SkinSpectrum& s, const std::string& preset) {
-  json j;
-  j["preset"] = preset;
-  j["parameters"] = to_json(s.parameters);
-  j["solver"] = s.solver;
-  j["units"] = {{"wavelength_nm", "nm"}, {"sigma_a", "1/mm"}, {"sigma_s_prime", "1/mm"}, {"R_d", "1"}};
-  j["wavelength_nm"] = s.grid.values();
-  j["R_d"] = s.R_d.values;
-  j["epidermis"] = {{"sigma_a", s.epidermis_sigma_a.values},
-                    {"sigma_s_prime", s.epidermis_sigma_s_prime.values},
-                    {"thickness_mm", s.parameters.epidermis_thickness}};
-  j["dermis"] = {{"sigma_a", s.dermis_sigma_a.values},
-                 {"sigma_s_prime", s.dermis_sigma_s_prime.values}};
-  j["color"] = to_json(s.color);
-  return j;
-}
 // Totals only: the model's validity for them (the multipole in a layer thinner than z_r).
 void warn_if_totals_invalid(const SkinParameters& p, const WavelengthGrid& grid,
                             const transport::Model& model) {
@@ -55,19 +39,7 @@ void register_spectrum(CLI::App& app) {
     const SkinSpectrum s = skin_spectrum(p, grid, o->solver.model());
     warn_if_totals_invalid(p, grid, o->solver.model());
     warn_if_negative("R_d", s.R_d.values, grid.values(), "nm");
-    const std::vector<std::string> header = {"wavelength_nm", "R_d", "epidermis.sigma_a",
-                                             "epidermis.sigma_s_prime", "dermis.sigma_a",
-                                             "dermis.sigma_s_prime"};
-    const std::vector<std::vector<double>> cols = {grid.values(), s.R_d.values,
-                                                   s.epidermis_sigma_a.values,
-                                                   s.epidermis_sigma_s_prime.values,
-                                                   s.dermis_sigma_a.values,
-                                                   s.dermis_sigma_s_prime.values};
-    Result result;
-    result.document = spectrum_json(s, o->params.preset);
-    for (std::size_t c = 0; c < header.size(); ++c)
-      result.columns.push_back({header[c] + (c >= 2 ? " [1/mm]" : ""), cols[c], {}});
-    result.table = format_table(header, cols) + "\n" + color_table(s.color);
+    const Result result = schema::spectrum_result(s, o->params.preset);
     if (!o->plot.empty()) {
       plot::Figure f;
       f.title = "Total diffuse reflectance, preset " + o->params.preset + " (" + o->solver.name + ")";
@@ -102,14 +74,7 @@ void register_color(CLI::App& app) {
     const SkinParameters p = o->params.resolve();
     const SkinSpectrum s = skin_spectrum(p, o->grid.resolve(), o->solver.model());
     warn_if_totals_invalid(p, o->grid.resolve(), o->solver.model());
-    Result result;
-    result.document["preset"] = o->params.preset;
-    result.document["parameters"] = to_json(s.parameters);
-    result.document["solver"] = s.solver;
-    result.document["color"] = to_json(s.color);
-    result.columns = color_columns(s.color);
-    result.table = color_table(s.color);
-    o->out.write(result);
+    o->out.write(schema::color_result(s, o->params.preset));
   });
 }
 
@@ -117,25 +82,7 @@ void register_presets(CLI::App& app) {
   auto fmt = std::make_shared<OutputOptions>();
   CLI::App* sub = app.add_subcommand("presets", "List the named parameter sets of the paper");
   fmt->add_to(*sub);
-  sub->callback([fmt] {
-    Result result;
-    result.document = json::array();
-    Column name{"name", {}, {}}, description{"description", {}, {}};
-    std::vector<Column> values;
-    for (const ParameterInfo& info : parameter_table()) values.push_back({std::string(info.key), {}, {}});
-    for (const auto& p : presets()) {
-      result.document.push_back(
-          {{"name", p.name}, {"description", p.description}, {"parameters", to_json(p.parameters)}});
-      result.table += p.name + std::string(12 - p.name.size(), ' ') + p.description + "\n";
-      name.text.push_back(p.name);
-      description.text.push_back(p.description);
-      for (std::size_t i = 0; i < values.size(); ++i)
-        values[i].numbers.push_back(p.parameters.*(parameter_table()[i].member));
-    }
-    result.columns = {name, description};
-    result.columns.insert(result.columns.end(), values.begin(), values.end());
-    fmt->write(result);
-  });
+  sub->callback([fmt] { fmt->write(schema::presets_result()); });
 }
 
 SKIN_REGISTER_COMMAND(10, register_spectrum);

@@ -104,56 +104,6 @@ std::function<SkinParameters(const SkinParameters&)> ParameterOptions::change() 
   };
 }
 
-ParameterFile ParameterFile::read(const std::string& path) {
-  const std::string where = "params = '" + path + "': ";
-  // Messages of the checks below, with the file in front.
-  const auto in_file = [&where](const auto& check) {
-    try {
-      return check();
-    } catch (const InputError& e) {
-      throw InputError(where + e.what());
-    }
-  };
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(where + "cannot read the file");
-  json doc;
-  try {
-    doc = json::parse(in);
-  } catch (const std::exception& e) {
-    throw InputError(where + "not valid JSON (" + e.what() + ")");
-  }
-  const bool nested = doc.is_object() && doc.contains("parameters");
-  const json& obj = nested ? doc["parameters"] : doc;
-  if (!obj.is_object())
-    throw InputError(where + "expected an object of parameter keys (or a \"parameters\" object)");
-  ParameterFile file;
-  for (auto it = obj.begin(); it != obj.end(); ++it) {
-    if (!nested && it.key() == "preset") {
-      if (!it->is_string()) throw InputError(where + "\"preset\" must be a string");
-      file.preset = it->get<std::string>();
-      in_file([&] { return &find_preset(file.preset); });
-      continue;
-    }
-    const ParameterInfo* info = in_file([&] { return &parameter_info(it.key(), "key"); });
-    if (it->is_null()) continue;
-    if (!it->is_number() || it->is_boolean())
-      throw InputError(where + std::string(info->key) + " must be a number, not " + it->dump());
-    const double v = it->get<double>();
-    in_file([&] { info->check(v); return 0; });
-    file.values.emplace_back(info, v);
-  }
-  return file;
-}
-
-bool ParameterFile::sets(const ParameterInfo* info) const {
-  return std::any_of(values.begin(), values.end(), [info](const auto& v) { return v.first == info; });
-}
-
-void ParameterFile::apply(SkinParameters& p) const {
-  if (!preset.empty()) p = find_preset(preset).parameters;
-  for (const auto& [info, v] : values) p.*(info->member) = v;
-}
-
 CLI::Validator whole_number(long long lo, long long hi) {
   const std::string allowed =
       hi == std::numeric_limits<long long>::max()
@@ -184,14 +134,6 @@ CLI::Option* SolverOption::add_to(CLI::App& app) {
 void warn_validity(const transport::Model& model, const transport::Validity& v,
                    const std::string& what) {
   if (!v.ok()) std::cerr << "skin: warning: " << transport::warning_text(model.name(), v, what) << '\n';
-}
-
-json to_json(const transport::Validity& v) {
-  json j;
-  j["totals"] = v.totals;
-  j["profile"] = v.profile;
-  if (!v.ok()) j["reason"] = v.reason;
-  return j;
 }
 
 void RunOptions::add_to(CLI::App& app, const std::string& seed_help, const std::string& group) {
@@ -278,190 +220,12 @@ void OutputOptions::emit(const std::string& text) const {
   }
 }
 
-Column constant_column(std::string name, double value, std::size_t rows) {
-  return Column{std::move(name), std::vector<double>(std::max<std::size_t>(rows, 1), value), {}};
-}
-
-namespace {
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
-std::string number_text(double v);
-}  // namespace
-
-std::string csv_header(const std::vector<Column>& columns) {
-  std::string out;
-  for (std::size_t c = 0; c < columns.size(); ++c) out += (c ? "," : "") + csv_field(columns[c].name);
-  return out + '\n';
-}
-
-std::string csv_rows(const std::vector<Column>& columns) {
-  std::string out;
-  std::size_t rows = 0;
-  for (const Column& col : columns) rows = std::max(rows, col.rows());
-  for (std::size_t r = 0; r < rows; ++r) {
-    for (std::size_t c = 0; c < columns.size(); ++c) {
-      const Column& col = columns[c];
-      if (c) out += ',';
-      if (r < col.numbers.size()) out += number_text(col.numbers[r]);
-      else if (r < col.text.size()) out += csv_field(col.text[r]);
-    }
-    out += '\n';
-  }
-  return out;
-}
-
-std::string to_csv(const std::vector<Column>& columns) { return csv_header(columns) + csv_rows(columns); }
-
 void OutputOptions::write(const Result& result) const {
   switch (resolve()) {
     case Format::json: emit(result.document.dump(2) + "\n"); break;
     case Format::csv: emit(to_csv(result.columns)); break;
-    case Format::table: {
-      if (!result.table.empty()) {
-        emit(result.table);
-        break;
-      }
-      std::vector<std::vector<std::string>> rows(1);
-      std::size_t n = 0;
-      for (const auto& c : result.columns) {
-        rows[0].push_back(c.name);
-        n = std::max(n, c.rows());
-      }
-      for (std::size_t r = 0; r < n; ++r) {
-        rows.emplace_back();
-        for (const auto& c : result.columns) {
-          char buf[32];
-          std::snprintf(buf, sizeof buf, "%.6g", r < c.numbers.size() ? c.numbers[r] : 0.0);
-          rows.back().push_back(r < c.numbers.size() ? buf : r < c.text.size() ? c.text[r] : "");
-        }
-      }
-      emit(format_text_table(rows));
-      break;
-    }
+    case Format::table: emit(result.table.empty() ? schema::columns_table(result.columns) : result.table); break;
   }
-}
-
-namespace {
-std::string number_text(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.10g", v);
-  return buf;
-}
-}  // namespace
-
-std::string format_table(const std::vector<std::string>& header,
-                         const std::vector<std::vector<double>>& columns) {
-  std::ostringstream os;
-  std::vector<std::size_t> width(header.size());
-  const std::size_t rows = columns.empty() ? 0 : columns.front().size();
-  for (std::size_t c = 0; c < header.size(); ++c) {
-    width[c] = std::max<std::size_t>(header[c].size(), 12);
-  }
-  for (std::size_t c = 0; c < header.size(); ++c)
-    os << (c ? "  " : "") << std::string(width[c] - header[c].size(), ' ') << header[c];
-  os << '\n';
-  for (std::size_t r = 0; r < rows; ++r) {
-    for (std::size_t c = 0; c < header.size(); ++c) {
-      char buf[32];
-      std::snprintf(buf, sizeof buf, "%.6g", columns[c][r]);
-      const std::string s = buf;
-      os << (c ? "  " : "") << std::string(width[c] > s.size() ? width[c] - s.size() : 0, ' ') << s;
-    }
-    os << '\n';
-  }
-  return os.str();
-}
-
-std::string format_text_table(const std::vector<std::vector<std::string>>& rows) {
-  std::vector<std::size_t> width;
-  for (const auto& row : rows)
-    for (std::size_t c = 0; c < row.size(); ++c) {
-      if (width.size() <= c) width.push_back(0);
-      width[c] = std::max(width[c], row[c].size());
-    }
-  std::string out;
-  for (const auto& row : rows) {
-    std::string line;
-    for (std::size_t c = 0; c < row.size(); ++c)
-      line += row[c] + (c + 1 < row.size() ? std::string(width[c] - row[c].size() + 2, ' ') : "");
-    out += line + "\n";
-  }
-  return out;
-}
-
-std::string format_csv(const std::vector<std::string>& header,
-                       const std::vector<std::vector<double>>& columns) {
-  std::ostringstream os;
-  for (std::size_t c = 0; c < header.size(); ++c) os << (c ? "," : "") << header[c];
-  os << '\n';
-  const std::size_t rows = columns.empty() ? 0 : columns.front().size();
-  for (std::size_t r = 0; r < rows; ++r) {
-    for (std::size_t c = 0; c < columns.size(); ++c) os << (c ? "," : "") << num(columns[c][r]);
-    os << '\n';
-  }
-  return os.str();
-}
-
-json to_json(const SkinParameters& p) {
-  json j = json::object();
-  for (const ParameterInfo& info : parameter_table()) j[std::string(info.key)] = p.*(info.member);
-  return j;
-}
-
-json to_json(const Layer& l) {
-  json j;
-  j["sigma_a"] = l.sigma_a;
-  j["sigma_s_prime"] = l.sigma_s_prime;
-  j["thickness_mm"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
-  j["eta"] = l.eta;
-  j["g"] = l.g;
-  return j;
-}
-
-json to_json(const color::ColorSummary& c) {
-  json j;
-  j["XYZ"] = {c.XYZ.X, c.XYZ.Y, c.XYZ.Z};
-  j["srgb_linear"] = {c.srgb_linear.r, c.srgb_linear.g, c.srgb_linear.b};
-  j["srgb8"] = {c.srgb8[0], c.srgb8[1], c.srgb8[2]};
-  j["hex"] = c.hex;
-  j["lab"] = {c.lab.L, c.lab.a, c.lab.b};
-  return j;
-}
-
-std::vector<Column> color_columns(const color::ColorSummary& c) {
-  return {{"XYZ.X", {c.XYZ.X}, {}},
-          {"XYZ.Y", {c.XYZ.Y}, {}},
-          {"XYZ.Z", {c.XYZ.Z}, {}},
-          {"srgb_linear.r", {c.srgb_linear.r}, {}},
-          {"srgb_linear.g", {c.srgb_linear.g}, {}},
-          {"srgb_linear.b", {c.srgb_linear.b}, {}},
-          {"srgb8.r", {double(c.srgb8[0])}, {}},
-          {"srgb8.g", {double(c.srgb8[1])}, {}},
-          {"srgb8.b", {double(c.srgb8[2])}, {}},
-          {"hex", {}, {c.hex}},
-          {"lab.L", {c.lab.L}, {}},
-          {"lab.a", {c.lab.a}, {}},
-          {"lab.b", {c.lab.b}, {}}};
-}
-
-std::string color_table(const color::ColorSummary& c) {
-  std::ostringstream os;
-  os << "XYZ (D65, Y_white = 1)  " << num(c.XYZ.X) << "  " << num(c.XYZ.Y) << "  " << num(c.XYZ.Z) << '\n'
-     << "linear sRGB             " << num(c.srgb_linear.r) << "  " << num(c.srgb_linear.g) << "  "
-     << num(c.srgb_linear.b) << '\n'
-     << "sRGB 8-bit              " << c.srgb8[0] << " " << c.srgb8[1] << " " << c.srgb8[2] << '\n'
-     << "hex                     " << c.hex << '\n'
-     << "CIELAB                  " << num(c.lab.L) << "  " << num(c.lab.a) << "  " << num(c.lab.b) << '\n';
-  return os.str();
 }
 
 std::vector<double> to_vector(const Spectrum& s) { return s.values; }

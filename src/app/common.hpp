@@ -5,10 +5,10 @@
 #include <functional>
 #include <limits>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
+#include "schema.hpp"
 #include "skin/color/color.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/model.hpp"
@@ -18,7 +18,21 @@
 
 namespace skin::cli {
 
-using json = nlohmann::ordered_json;  // NOLINT
+// The schemas of the outputs (src/schema/schema.hpp), shared with the web page's module.
+using schema::color_columns;
+using schema::color_table;
+using schema::Column;
+using schema::constant_column;
+using schema::format_csv;
+using schema::format_table;
+using schema::format_text_table;
+using schema::json;
+using schema::ParameterFile;
+using schema::Result;
+using schema::to_csv;
+using schema::csv_header;
+using schema::csv_rows;
+using schema::to_json;
 
 bool stdout_is_terminal();
 bool stderr_is_terminal();
@@ -41,17 +55,6 @@ struct ParameterOptions {
   // The same as a change of any base set, used when --preset is not given (the renderer: each
   // material's own set). The file is read once, here; the change validates what it returns.
   std::function<SkinParameters(const SkinParameters&)> change() const;
-};
-
-// A parameter file: the JSON `skin fit` or `skin spectrum` writes (its "parameters" object), or
-// a bare object of parameter keys (paper symbols accepted; null = not set; an optional "preset"
-// naming the base set). read() throws InputError naming the file and the key.
-struct ParameterFile {
-  std::string preset;  // empty: none
-  std::vector<std::pair<const ParameterInfo*, double>> values;
-  static ParameterFile read(const std::string& path);
-  bool sets(const ParameterInfo* info) const;
-  void apply(SkinParameters& p) const;  // the preset (if any), then the values
 };
 
 // Check of a whole-number option (counts, seeds, threads): anything but a whole number within
@@ -93,8 +96,6 @@ struct SolverOption {
 // the reason and what stays exact.
 void warn_validity(const transport::Model& model, const transport::Validity& v,
                    const std::string& what = "");
-// {"totals": bool, "profile": bool, "reason": "..."} (reason only when one is false).
-json to_json(const transport::Validity& v);
 
 // The enumerator `json` names the format, the alias above the library: both read naturally at
 // their use (Format::json, json j), so the shadowing warning is silenced here only.
@@ -102,28 +103,6 @@ json to_json(const transport::Validity& v);
 #pragma GCC diagnostic ignored "-Wshadow"
 enum class Format { table, csv, json };
 #pragma GCC diagnostic pop
-// What a command computed, ready for each format: the JSON document, the columns of CSV (one
-// header per column: the JSON key, with its unit in brackets when it has one, e.g.
-// "sigma_a [1/mm]"; scalar results are columns too, repeated on every row, never comment lines
-// that CSV readers drop), and for the table format the text a person reads (empty: the columns).
-struct Column {
-  std::string name;
-  std::vector<double> numbers;    // a numeric column, or
-  std::vector<std::string> text;  // a text column
-  std::size_t rows() const { return numbers.empty() ? text.size() : numbers.size(); }
-};
-// A scalar result as a column of `rows` equal values.
-Column constant_column(std::string name, double value, std::size_t rows);
-struct Result {
-  json document;
-  std::vector<Column> columns;
-  std::string table;
-};
-std::string to_csv(const std::vector<Column>& columns);  // csv_header + csv_rows
-// The header line, and the rows alone (for output written in pieces: skin batch).
-std::string csv_header(const std::vector<Column>& columns);
-std::string csv_rows(const std::vector<Column>& columns);
-
 struct OutputOptions {
   std::string format;  // empty: table on a terminal, json otherwise
   std::string output;  // -o FILE; empty or "-": stdout
@@ -136,22 +115,6 @@ struct OutputOptions {
   void write(const Result& result) const;
 };
 
-// Fixed-width table for terminals: header row, then rows of numbers.
-std::string format_table(const std::vector<std::string>& header,
-                         const std::vector<std::vector<double>>& columns);
-// Left-aligned text columns (first row: header), two spaces apart.
-std::string format_text_table(const std::vector<std::vector<std::string>>& rows);
-std::string format_csv(const std::vector<std::string>& header,
-                       const std::vector<std::vector<double>>& columns);
-
-json to_json(const SkinParameters& p);
-// A layer as the --layer keys name it: sigma_a, sigma_s_prime [1/mm], thickness_mm (null when
-// semi-infinite), eta, g.
-json to_json(const Layer& l);
-json to_json(const color::ColorSummary& c);
-std::string color_table(const color::ColorSummary& c);
-// The colour as CSV columns named like the JSON keys (XYZ.X, srgb_linear.r, srgb8.r, hex, lab.L).
-std::vector<Column> color_columns(const color::ColorSummary& c);
 std::vector<double> to_vector(const Spectrum& s);
 
 // Parses "--layer sigma_a=A,sigma_s_prime=S,thickness=D,eta=N,g=G" (thickness missing or "inf"

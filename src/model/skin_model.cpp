@@ -23,17 +23,27 @@ std::vector<DiffusionStack> skin_diffusion_stacks(const SkinParameters& p,
   return out;
 }
 
+namespace {
+// A spectrum on `grid` without R_d and colour yet; `set_layers` fills wavelength i's coefficients.
+SkinSpectrum empty_spectrum(const SkinParameters& p, const WavelengthGrid& grid, const Model& model) {
+  return SkinSpectrum{p, std::string(model.name()), grid, Spectrum(grid), Spectrum(grid),
+                      Spectrum(grid), Spectrum(grid), Spectrum(grid), {}};
+}
+// The stack carries the layer coefficients (eqs 6-8); report them from it.
+void set_layers(SkinSpectrum& s, std::size_t i, const LayerStack& stack) {
+  s.epidermis_sigma_a[i] = stack.layers[0].sigma_a;
+  s.epidermis_sigma_s_prime[i] = stack.layers[0].sigma_s_prime;
+  s.dermis_sigma_a[i] = stack.layers[1].sigma_a;
+  s.dermis_sigma_s_prime[i] = stack.layers[1].sigma_s_prime;
+}
+}  // namespace
+
 SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid, const Model& model) {
   p.validate();
-  SkinSpectrum s{p,           std::string(model.name()), grid,           Spectrum(grid), Spectrum(grid),
-                 Spectrum(grid), Spectrum(grid), Spectrum(grid), {}};
+  SkinSpectrum s = empty_spectrum(p, grid, model);
   for (std::size_t i = 0; i < grid.size(); ++i) {
-    // The stack carries the layer coefficients (eqs 6-8); report them from it.
     const LayerStack stack = skin_layer_stack(p, grid[i]);
-    s.epidermis_sigma_a[i] = stack.layers[0].sigma_a;
-    s.epidermis_sigma_s_prime[i] = stack.layers[0].sigma_s_prime;
-    s.dermis_sigma_a[i] = stack.layers[1].sigma_a;
-    s.dermis_sigma_s_prime[i] = stack.layers[1].sigma_s_prime;
+    set_layers(s, i, stack);
     s.R_d[i] = model.R_d(stack);
   }
   s.color = color::summarize(color::Colorimetry(grid), s.R_d);
@@ -46,9 +56,8 @@ struct Responses {
   std::vector<std::unique_ptr<RadialResponse>> owned;
   std::vector<const RadialResponse*> pointers;
 };
-Responses responses(const SkinParameters& p, const WavelengthGrid& grid, const Model& model) {
+Responses responses(const std::vector<LayerStack>& stacks, const Model& model) {
   Responses r;
-  const auto stacks = skin_layer_stacks(p, grid);
   r.owned.reserve(stacks.size());
   for (const auto& s : stacks) r.pointers.push_back(r.owned.emplace_back(model.response(s)).get());
   return r;
@@ -57,14 +66,29 @@ Responses responses(const SkinParameters& p, const WavelengthGrid& grid, const M
 
 SpectralProfile skin_spectral_profile(const SkinParameters& p, const WavelengthGrid& grid,
                                       ProfileSolver& profiles, const Model& model) {
-  const auto r = responses(p, grid, model);
+  const auto r = responses(skin_layer_stacks(p, grid), model);
   return profiles.spectral(r.pointers, grid);
 }
 
 RgbProfile skin_rgb_profile(const SkinParameters& p, const WavelengthGrid& grid,
                             ProfileSolver& profiles, const Model& model) {
-  const auto r = responses(p, grid, model);
+  const auto r = responses(skin_layer_stacks(p, grid), model);
   return profiles.rgb(r.pointers, color::Colorimetry(grid).srgb_weights());
+}
+
+SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& grid,
+                               ProfileSolver& profiles, const Model& model) {
+  const auto stacks = skin_layer_stacks(p, grid);
+  const auto r = responses(stacks, model);
+  SkinAppearance a{empty_spectrum(p, grid, model), {}};
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    set_layers(a.spectrum, i, stacks[i]);
+    a.spectrum.R_d[i] = r.pointers[i]->total();
+  }
+  const color::Colorimetry colorimetry(grid);
+  a.spectrum.color = color::summarize(colorimetry, a.spectrum.R_d);
+  a.rgb = profiles.rgb(r.pointers, colorimetry.srgb_weights());
+  return a;
 }
 
 transport::Validity skin_validity(const SkinParameters& p, const WavelengthGrid& grid,

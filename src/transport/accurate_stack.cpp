@@ -274,9 +274,7 @@ void AccurateStack::use_dipole_only() {
 double AccurateStack::coupling_k(double k) const {
   if (!rest_) return 0.0;
   const double kappa = k / sigma_t_prime_;
-  const double T_down = table_->transform_at(top_sample_.T_down_k, kappa);
-  const double T_up = table_->transform_at(top_sample_.T_up_k, kappa);
-  const double R_up = table_->transform_at(top_sample_.R_up_k, kappa);
+  const auto [T_down, T_up, R_up] = table_->transforms_at(top_sample_, kappa);
   const double R_below = rest_->R_k(k);
   return T_down * R_below * T_up / (1.0 - R_up * R_below);
 }

@@ -1,6 +1,7 @@
 #include "skin/transport/profile.hpp"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <boost/math/quadrature/gauss.hpp>
 #include <cmath>
@@ -88,7 +89,7 @@ ProfileSolver::~ProfileSolver() = default;
 ProfileSolver::ProfileSolver(ProfileSolver&&) noexcept = default;
 ProfileSolver& ProfileSolver::operator=(ProfileSolver&&) noexcept = default;
 
-std::size_t ProfileSolver::nodes_used() const { return quad_ ? quad_->k.size() : 0; }
+std::size_t ProfileSolver::nodes_used() const { return quads_.empty() ? 0 : quads_.back()->k.size(); }
 
 namespace {
 constexpr double kK0 = 0.3;    // [rad/mm]: sample spacing near k = 0 is kK0 * kDu
@@ -96,7 +97,12 @@ constexpr double kDu = 0.04;   // spacing in u: interpolation error below 1e-6 o
 }  // namespace
 
 const ProfileSolver::Quadrature& ProfileSolver::quadrature_for(double k_max) {
-  if (quad_ && quad_->k_max == k_max) return *quad_;
+  constexpr std::size_t kKept = 4;
+  for (std::size_t i = 0; i < quads_.size(); ++i)
+    if (quads_[i]->k_max == k_max) {
+      std::rotate(quads_.begin() + static_cast<std::ptrdiff_t>(i), quads_.begin() + static_cast<std::ptrdiff_t>(i) + 1, quads_.end());
+      return *quads_.back();
+    }
   auto q = std::make_unique<Quadrature>();
   q->k_max = k_max;
   const auto n_samples = static_cast<std::size_t>(std::ceil(std::asinh(k_max / kK0) / kDu)) + 1;
@@ -140,8 +146,9 @@ const ProfileSolver::Quadrature& ProfileSolver::quadrature_for(double k_max) {
       }
     }
   }
-  quad_ = std::move(q);
-  return *quad_;
+  if (quads_.size() == kKept) quads_.erase(quads_.begin());
+  quads_.push_back(std::move(q));
+  return *quads_.back();
 }
 
 double ProfileSolver::k_max_for(const std::vector<const RadialResponse*>& stacks) {

@@ -2,7 +2,6 @@
 #include "skin/transport/top_layer_table.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -11,6 +10,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "skin/util/charconv.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/interpolation.hpp"
 #include "skin/util/table.hpp"
@@ -175,22 +175,42 @@ double TopLayerTable::R_e_at(const Sample& s, double rho) const {
   return between(s, i, t);
 }
 
-double TopLayerTable::transform_at(const std::vector<double>& values, double k) const {
-  if (k >= kappa.back()) return 0.0;
-  // Nodes are kappa_0 sinh(u_i), u evenly spaced from 0.
+namespace {
+// Where kappa lies among the nodes kappa_0 sinh(u_i), u evenly spaced from 0: the interval i and
+// the position t in it (i == n - 1: beyond the last node).
+struct NodePosition {
+  std::size_t i = 0;
+  double t = 0;
+};
+NodePosition node_position(const std::vector<double>& kappa, double kappa_0, double k) {
+  const std::size_t n = kappa.size();
+  if (k >= kappa.back()) return {n - 1, 0.0};
   const double du = std::asinh(kappa[1] / kappa_0);
   const double u = std::asinh(k / kappa_0) / du;
-  const std::size_t n = kappa.size();
   const std::size_t i = std::min(static_cast<std::size_t>(u), n - 2);
-  const double t = u - static_cast<double>(i);
-  // Catmull-Rom (C1) in u. A transform of a radial function is even in kappa and smooth at 0;
-  // u is odd in kappa, so the node before the first is its mirror image (values[1] at u = -1).
-  // (Linear interpolation in u would put a |kappa| kink at 0, which the inverse transform turns
-  // into a spurious 1/r^3 tail far from the source.)
+  return {i, u - static_cast<double>(i)};
+}
+// Catmull-Rom (C1) in u. A transform of a radial function is even in kappa and smooth at 0;
+// u is odd in kappa, so the node before the first is its mirror image (values[1] at u = -1).
+// (Linear interpolation in u would put a |kappa| kink at 0, which the inverse transform turns
+// into a spurious 1/r^3 tail far from the source.)
+double interpolate(const std::vector<double>& values, NodePosition at) {
+  const std::size_t n = values.size(), i = at.i;
+  if (i == n - 1) return 0.0;
   const double p0 = i == 0 ? values[1] : values[i - 1];
   const double p1 = values[i], p2 = values[i + 1];
   const double p3 = i + 2 < n ? values[i + 2] : 2.0 * p2 - p1;
-  return catmull_rom(p0, p1, p2, p3, t);
+  return catmull_rom(p0, p1, p2, p3, at.t);
+}
+}  // namespace
+
+double TopLayerTable::transform_at(const std::vector<double>& values, double k) const {
+  return interpolate(values, node_position(kappa, kappa_0, k));
+}
+
+TopLayerTable::Transforms TopLayerTable::transforms_at(const Sample& s, double k) const {
+  const NodePosition at = node_position(kappa, kappa_0, k);
+  return {interpolate(s.T_down_k, at), interpolate(s.T_up_k, at), interpolate(s.R_up_k, at)};
 }
 
 double TopLayerTable::R_e_integral(const Sample& s) const {

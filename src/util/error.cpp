@@ -1,18 +1,17 @@
 #include "skin/util/error.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+
+#include "skin/util/charconv.hpp"
 
 namespace skin {
 
 std::string format_number(double v) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-  char buf[64];
-  auto res = std::to_chars(buf, buf + sizeof buf, v);
-  return std::string(buf, res.ptr);
+  return to_chars_shortest(v);
 }
 
 namespace {

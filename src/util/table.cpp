@@ -1,6 +1,5 @@
 #include "skin/util/table.hpp"
 
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -8,6 +7,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "skin/util/charconv.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::data::detail {
@@ -71,7 +71,7 @@ Table parse_csv(std::string_view text, const std::string& source) {
         if (!fields[c].empty()) {
           auto f = fields[c];
           if (!f.empty() && f.front() == '+') f.remove_prefix(1);
-          auto res = std::from_chars(f.data(), f.data() + f.size(), v);
+          auto res = skin::from_chars(f.data(), f.data() + f.size(), v);
           if (res.ec != std::errc() || res.ptr != f.data() + f.size())
             throw InputError(source + ":" + std::to_string(line_no) + ": field " +
                              std::to_string(c + 1) + " ('" + std::string(fields[c]) +
@@ -117,7 +117,7 @@ std::vector<double> parse_number_list(std::string_view list, std::string_view so
   std::vector<double> out;
   for (std::string_view f : split(list)) {
     double d = 0;
-    const auto r = std::from_chars(f.data(), f.data() + f.size(), d);
+    const auto r = skin::from_chars(f.data(), f.data() + f.size(), d);
     if (f.empty() || r.ec != std::errc() || r.ptr != f.data() + f.size())
       throw InputError(std::string(source) + ": '" + std::string(key) +
                        "' has a value that is not a number");

@@ -156,3 +156,33 @@ TEST(Profile, RgbProfileIsTheWeightedSumOfSpectralProfiles) {
       EXPECT_NEAR(rgb.R[c][j], sum, 1e-12 * std::abs(rgb.R[c][0]));
     }
 }
+
+namespace skin {
+namespace {
+// skin_appearance (the web page's update) gives exactly what skin_spectrum and skin_rgb_profile
+// give, for every registered model: R_d from the responses' totals is the model's R_d.
+TEST(Profile, AppearanceIsSpectrumAndRgbProfileExactly) {
+  const WavelengthGrid grid(400, 700, 10);
+  for (const std::string& name : transport::model_names()) {
+    const transport::Model& model = transport::find_model(name);
+    for (const char* preset : {"caucasian", "african"}) {
+      const SkinParameters& p = find_preset(preset).parameters;
+      ProfileSolver a_solver(RadialGrid::logarithmic(1e-3, 16, 32)), b_solver(a_solver.radii());
+      const SkinAppearance a = skin_appearance(p, grid, a_solver, model);
+      const SkinSpectrum s = skin_spectrum(p, grid, model);
+      const RgbProfile rgb = skin_rgb_profile(p, grid, b_solver, model);
+      EXPECT_EQ(a.spectrum.solver, s.solver);
+      EXPECT_EQ(a.spectrum.R_d.values, s.R_d.values) << name << ' ' << preset;
+      EXPECT_EQ(a.spectrum.epidermis_sigma_a.values, s.epidermis_sigma_a.values);
+      EXPECT_EQ(a.spectrum.dermis_sigma_s_prime.values, s.dermis_sigma_s_prime.values);
+      EXPECT_EQ(a.spectrum.color.hex, s.color.hex);
+      EXPECT_EQ(a.spectrum.color.lab.L, s.color.lab.L);
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_EQ(a.rgb.R[c], rgb.R[c]) << name << ' ' << preset << " channel " << c;
+        EXPECT_EQ(a.rgb.R_d[c], rgb.R_d[c]);
+      }
+    }
+  }
+}
+}  // namespace
+}  // namespace skin

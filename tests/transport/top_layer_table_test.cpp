@@ -212,4 +212,21 @@ TEST(TransportTop, TotalIsTheAddingDoublingTotal) {
     }
 }
 
+// transforms_at (the accurate profile's) gives exactly the three transform_at values, at the
+// nodes, between them, at 0 and beyond the last node.
+TEST(TopLayerTable, TransformsAtOneKappaAreTheSingleTransforms) {
+  const TopLayerTable& t = table();
+  const TopLayerTable::Sample s = t.sample(0.8, 2.0);
+  std::vector<double> ks = {0.0, t.kappa[1], 0.5 * (t.kappa[3] + t.kappa[4]), t.kappa.back(), 2 * t.kappa.back()};
+  for (double k = 1e-3; k < 1.5 * t.kappa.back(); k *= 1.37) ks.push_back(k);
+  for (double k : ks) {
+    const auto [T_down, T_up, R_up] = t.transforms_at(s, k);
+    EXPECT_EQ(T_down, t.transform_at(s.T_down_k, k)) << k;
+    EXPECT_EQ(T_up, t.transform_at(s.T_up_k, k)) << k;
+    EXPECT_EQ(R_up, t.transform_at(s.R_up_k, k)) << k;
+  }
+  EXPECT_EQ(t.transforms_at(s, 2 * t.kappa.back()).T_down, 0.0);
+  EXPECT_GT(t.transforms_at(s, 0.0).T_down, 0.0);
+}
+
 }  // namespace

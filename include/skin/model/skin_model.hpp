@@ -44,6 +44,18 @@ RgbProfile skin_rgb_profile(const SkinParameters& p, const WavelengthGrid& grid,
                             ProfileSolver& profiles,
                             const Model& model = transport::default_model());
 
+// The spectrum and the RGB profile of one skin together, as skin_spectrum and skin_rgb_profile
+// give them (the same numbers): the profile's radial responses give R_d too (a response's total
+// is the model's R_d), so the transport runs once per wavelength instead of twice (the web
+// page's live update).
+struct SkinAppearance {
+  SkinSpectrum spectrum;
+  RgbProfile rgb;
+};
+SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& grid,
+                               ProfileSolver& profiles,
+                               const Model& model = transport::default_model());
+
 // Whether the model's profiles (and totals) of this skin are in its validated range at every
 // wavelength of `grid`; the reason names the first wavelength out and how many are
 // (transport::combined_validity).

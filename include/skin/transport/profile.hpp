@@ -55,8 +55,9 @@ struct RgbProfile {
 };
 std::ostream& operator<<(std::ostream& os, const RgbProfile& p);
 
-// Inverts many spectra onto one radial grid. Keeps the quadrature and the J0 table between calls
-// (they depend only on the radii and k_max), so repeated calls cost only the evaluation of G.
+// Inverts many spectra onto one radial grid. Keeps the quadratures of the last few k_max between
+// calls (they depend only on the radii and k_max), so repeated calls cost only the evaluation of
+// G, also when parameters that move k_max between two values are swept (the web page's sliders).
 // Not thread-safe: use one per thread.
 class ProfileSolver {
  public:
@@ -88,7 +89,7 @@ class ProfileSolver {
   struct Quadrature;
   const Quadrature& quadrature_for(double k_max);
   RadialGrid radii_;
-  std::unique_ptr<Quadrature> quad_;
+  std::vector<std::unique_ptr<Quadrature>> quads_;  // most recently used last
 };
 
 // Trapezoid estimate of 2 pi int R(r) r dr over the grid (for checks of a tabulated profile).

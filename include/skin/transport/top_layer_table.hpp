@@ -70,6 +70,12 @@ struct TopLayerTable {
   // 0 beyond the last), and a transform at reduced frequency kappa (0 beyond the last node).
   double R_e_at(const Sample& s, double rho) const;
   double transform_at(const std::vector<double>& values, double kappa) const;
+  // The three transforms of a sample at one kappa (the same numbers as three transform_at calls,
+  // with the node position found once: the accurate profile evaluates them together).
+  struct Transforms {
+    double T_down = 0, T_up = 0, R_up = 0;
+  };
+  Transforms transforms_at(const Sample& s, double kappa) const;
   // 2 pi int R_e(rho) rho drho of the interpolant above (the total the profile integrates to).
   double R_e_integral(const Sample& s) const;
 

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# The web page's tests (called by scripts/test.sh after CTest; needs build/bin/skin): builds the
+# page (scripts/web.sh), then
+#   web/test/module.test.js   the WebAssembly module against `skin` (random parameter sets, fit)
+#   web/test/browser.test.js  the page in headless Chromium (puppeteer-core, pinned in
+#                             web/package-lock.json, installed by `npm ci`; it downloads no
+#                             browser), screenshots and update time in build-web/screenshots.
+# Skips with a message only where Emscripten or the browser cannot be installed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+if ! command -v emcmake >/dev/null; then
+  echo "SKIP web tests: Debian's emscripten is not installed (scripts/install-deps.sh installs it)"
+  exit 0
+fi
+bash scripts/web.sh
+node web/test/module.test.js
+if [ ! -x /usr/bin/chromium ]; then
+  echo "SKIP browser test: Debian's chromium is not installed (scripts/install-deps.sh installs it)"
+  exit 0
+fi
+(cd web && npm ci --no-audit --no-fund --loglevel=error)
+node web/test/browser.test.js

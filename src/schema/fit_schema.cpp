@@ -1,0 +1,74 @@
+// The schema of skin fit --spectrum (fit_schema.hpp).
+#include "fit_schema.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+namespace skin::schema {
+
+namespace {
+json uncertainty_json(const fit::FitResult& r) {
+  json j = json::object();
+  for (std::size_t i = 0; i < r.free.size(); ++i) {
+    const double u = r.uncertainty[i];
+    j[std::string(fit::key(r.free[i]))] = std::isfinite(u) ? json(u) : json(nullptr);
+  }
+  return j;
+}
+}  // namespace
+
+Result spectrum_fit_result(const fit::MeasuredSpectrum& m, const fit::FitResult& r,
+                           const std::string& solver, bool includes_specular) {
+  Result result;
+  {
+    json j;
+    j["input"] = m.name;
+    j["solver"] = solver;
+    j["includes_specular"] = includes_specular;
+    json free = json::array();
+    for (auto p : r.free) free.push_back(std::string(fit::key(p)));
+    j["free"] = free;
+    j["parameters"] = to_json(r.parameters);
+    j["uncertainty"] = uncertainty_json(r);
+    json at_bound = json::object();
+    for (std::size_t i = 0; i < r.free.size(); ++i) at_bound[std::string(fit::key(r.free[i]))] = bool(r.at_bound[i]);
+    j["at_bound"] = at_bound;
+    j["rms"] = r.rms;
+    j["specular"] = r.specular;
+    j["iterations"] = r.iterations;
+    j["starts"] = r.starts;
+    j["fitted"] = {{"wavelength_nm", r.wavelength_nm}, {"measured", r.measured}, {"R", r.fitted}};
+    result.document = j;
+  }
+  {
+    std::vector<std::string> h;
+    std::vector<std::vector<double>> c;
+    for (std::size_t i = 0; i < r.free.size(); ++i) {
+      h.push_back(std::string(fit::key(r.free[i])));
+      c.push_back({fit::get(r.parameters, r.free[i])});
+      h.push_back("uncertainty." + std::string(fit::key(r.free[i])));
+      c.push_back({r.uncertainty[i]});
+    }
+    h.push_back("rms");
+    c.push_back({r.rms});
+    for (std::size_t k = 0; k < h.size(); ++k) result.columns.push_back({h[k], c[k], {}});
+  }
+  {
+    std::ostringstream os;
+    os << "fit of " << m.name << " (" << r.wavelength_nm.size() << " samples, "
+       << r.wavelength_nm.front() << "-" << r.wavelength_nm.back() << " nm, solver " << solver << ")\n";
+    for (std::size_t i = 0; i < r.free.size(); ++i) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "  %-22s %12.6g  +- %-10.3g%s\n", std::string(fit::key(r.free[i])).c_str(),
+                    fit::get(r.parameters, r.free[i]), r.uncertainty[i], r.at_bound[i] ? "  (at bound)" : "");
+      os << buf;
+    }
+    if (includes_specular) os << "  specular term rho_s F    " << r.specular << "\n";
+    os << "  RMS residual             " << r.rms << "\n";
+    result.table = os.str();
+  }
+  return result;
+}
+
+}  // namespace skin::schema

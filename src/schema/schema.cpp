@@ -1,0 +1,397 @@
+#include "schema.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include "skin/util/error.hpp"
+
+namespace skin::schema {
+
+Column constant_column(std::string name, double value, std::size_t rows) {
+  return Column{std::move(name), std::vector<double>(std::max<std::size_t>(rows, 1), value), {}};
+}
+
+namespace {
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+// Numbers of CSV files: ten significant digits.
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.10g", v);
+  return buf;
+}
+}  // namespace
+
+std::string csv_header(const std::vector<Column>& columns) {
+  std::string out;
+  for (std::size_t c = 0; c < columns.size(); ++c) out += (c ? "," : "") + csv_field(columns[c].name);
+  return out + '\n';
+}
+
+std::string csv_rows(const std::vector<Column>& columns) {
+  std::string out;
+  std::size_t rows = 0;
+  for (const Column& col : columns) rows = std::max(rows, col.rows());
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      const Column& col = columns[c];
+      if (c) out += ',';
+      if (r < col.numbers.size()) out += num(col.numbers[r]);
+      else if (r < col.text.size()) out += csv_field(col.text[r]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+std::string to_csv(const std::vector<Column>& columns) { return csv_header(columns) + csv_rows(columns); }
+
+std::string columns_table(const std::vector<Column>& columns) {
+  std::vector<std::vector<std::string>> rows(1);
+  std::size_t n = 0;
+  for (const auto& c : columns) {
+    rows[0].push_back(c.name);
+    n = std::max(n, c.rows());
+  }
+  for (std::size_t r = 0; r < n; ++r) {
+    rows.emplace_back();
+    for (const auto& c : columns) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.6g", r < c.numbers.size() ? c.numbers[r] : 0.0);
+      rows.back().push_back(r < c.numbers.size() ? buf : r < c.text.size() ? c.text[r] : "");
+    }
+  }
+  return format_text_table(rows);
+}
+
+std::string format_table(const std::vector<std::string>& header,
+                         const std::vector<std::vector<double>>& columns) {
+  std::ostringstream os;
+  std::vector<std::size_t> width(header.size());
+  const std::size_t rows = columns.empty() ? 0 : columns.front().size();
+  for (std::size_t c = 0; c < header.size(); ++c) {
+    width[c] = std::max<std::size_t>(header[c].size(), 12);
+  }
+  for (std::size_t c = 0; c < header.size(); ++c)
+    os << (c ? "  " : "") << std::string(width[c] - header[c].size(), ' ') << header[c];
+  os << '\n';
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < header.size(); ++c) {
+      char buf[32];
+      std::snprintf(buf, sizeof buf, "%.6g", columns[c][r]);
+      const std::string s = buf;
+      os << (c ? "  " : "") << std::string(width[c] > s.size() ? width[c] - s.size() : 0, ' ') << s;
+    }
+    os << '\n';
+  }
+  return os.str();
+}
+
+std::string format_text_table(const std::vector<std::vector<std::string>>& rows) {
+  std::vector<std::size_t> width;
+  for (const auto& row : rows)
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      if (width.size() <= c) width.push_back(0);
+      width[c] = std::max(width[c], row[c].size());
+    }
+  std::string out;
+  for (const auto& row : rows) {
+    std::string line;
+    for (std::size_t c = 0; c < row.size(); ++c)
+      line += row[c] + (c + 1 < row.size() ? std::string(width[c] - row[c].size() + 2, ' ') : "");
+    out += line + "\n";
+  }
+  return out;
+}
+
+std::string format_csv(const std::vector<std::string>& header,
+                       const std::vector<std::vector<double>>& columns) {
+  std::ostringstream os;
+  for (std::size_t c = 0; c < header.size(); ++c) os << (c ? "," : "") << header[c];
+  os << '\n';
+  const std::size_t rows = columns.empty() ? 0 : columns.front().size();
+  for (std::size_t r = 0; r < rows; ++r) {
+    for (std::size_t c = 0; c < columns.size(); ++c) os << (c ? "," : "") << num(columns[c][r]);
+    os << '\n';
+  }
+  return os.str();
+}
+
+json to_json(const SkinParameters& p) {
+  json j = json::object();
+  for (const ParameterInfo& info : parameter_table()) j[std::string(info.key)] = p.*(info.member);
+  return j;
+}
+
+json to_json(const Layer& l) {
+  json j;
+  j["sigma_a"] = l.sigma_a;
+  j["sigma_s_prime"] = l.sigma_s_prime;
+  j["thickness_mm"] = l.semi_infinite() ? json(nullptr) : json(l.thickness);
+  j["eta"] = l.eta;
+  j["g"] = l.g;
+  return j;
+}
+
+json to_json(const color::ColorSummary& c) {
+  json j;
+  j["XYZ"] = {c.XYZ.X, c.XYZ.Y, c.XYZ.Z};
+  j["srgb_linear"] = {c.srgb_linear.r, c.srgb_linear.g, c.srgb_linear.b};
+  j["srgb8"] = {c.srgb8[0], c.srgb8[1], c.srgb8[2]};
+  j["hex"] = c.hex;
+  j["lab"] = {c.lab.L, c.lab.a, c.lab.b};
+  return j;
+}
+
+json to_json(const transport::Validity& v) {
+  json j;
+  j["totals"] = v.totals;
+  j["profile"] = v.profile;
+  if (!v.ok()) j["reason"] = v.reason;
+  return j;
+}
+
+std::vector<Column> color_columns(const color::ColorSummary& c) {
+  return {{"XYZ.X", {c.XYZ.X}, {}},
+          {"XYZ.Y", {c.XYZ.Y}, {}},
+          {"XYZ.Z", {c.XYZ.Z}, {}},
+          {"srgb_linear.r", {c.srgb_linear.r}, {}},
+          {"srgb_linear.g", {c.srgb_linear.g}, {}},
+          {"srgb_linear.b", {c.srgb_linear.b}, {}},
+          {"srgb8.r", {double(c.srgb8[0])}, {}},
+          {"srgb8.g", {double(c.srgb8[1])}, {}},
+          {"srgb8.b", {double(c.srgb8[2])}, {}},
+          {"hex", {}, {c.hex}},
+          {"lab.L", {c.lab.L}, {}},
+          {"lab.a", {c.lab.a}, {}},
+          {"lab.b", {c.lab.b}, {}}};
+}
+
+std::string color_table(const color::ColorSummary& c) {
+  std::ostringstream os;
+  os << "XYZ (D65, Y_white = 1)  " << num(c.XYZ.X) << "  " << num(c.XYZ.Y) << "  " << num(c.XYZ.Z) << '\n'
+     << "linear sRGB             " << num(c.srgb_linear.r) << "  " << num(c.srgb_linear.g) << "  "
+     << num(c.srgb_linear.b) << '\n'
+     << "sRGB 8-bit              " << c.srgb8[0] << " " << c.srgb8[1] << " " << c.srgb8[2] << '\n'
+     << "hex                     " << c.hex << '\n'
+     << "CIELAB                  " << num(c.lab.L) << "  " << num(c.lab.a) << "  " << num(c.lab.b) << '\n';
+  return os.str();
+}
+
+ParameterFile ParameterFile::read(const std::string& path) {
+  const std::string where = "params = '" + path + "': ";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(where + "cannot read the file");
+  json doc;
+  try {
+    doc = json::parse(in);
+  } catch (const std::exception& e) {
+    throw InputError(where + "not valid JSON (" + e.what() + ")");
+  }
+  return parse(doc, where);
+}
+
+ParameterFile ParameterFile::parse(const json& doc, const std::string& where) {
+  // Messages of the checks below, with the file in front.
+  const auto in_file = [&where](const auto& check) {
+    try {
+      return check();
+    } catch (const InputError& e) {
+      throw InputError(where + e.what());
+    }
+  };
+  const bool nested = doc.is_object() && doc.contains("parameters");
+  const json& obj = nested ? doc["parameters"] : doc;
+  if (!obj.is_object())
+    throw InputError(where + "expected an object of parameter keys (or a \"parameters\" object)");
+  ParameterFile file;
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    if (!nested && it.key() == "preset") {
+      if (!it->is_string()) throw InputError(where + "\"preset\" must be a string");
+      file.preset = it->get<std::string>();
+      in_file([&] { return &find_preset(file.preset); });
+      continue;
+    }
+    const ParameterInfo* info = in_file([&] { return &parameter_info(it.key(), "key"); });
+    if (it->is_null()) continue;
+    if (!it->is_number() || it->is_boolean())
+      throw InputError(where + std::string(info->key) + " must be a number, not " + it->dump());
+    const double v = it->get<double>();
+    in_file([&] { info->check(v); return 0; });
+    file.values.emplace_back(info, v);
+  }
+  return file;
+}
+
+bool ParameterFile::sets(const ParameterInfo* info) const {
+  return std::any_of(values.begin(), values.end(), [info](const auto& v) { return v.first == info; });
+}
+
+void ParameterFile::apply(SkinParameters& p) const {
+  if (!preset.empty()) p = find_preset(preset).parameters;
+  for (const auto& [info, v] : values) p.*(info->member) = v;
+}
+
+Result spectrum_result(const SkinSpectrum& s, const std::string& preset) {
+  Result result;
+  json& j = result.document;
+  j["preset"] = preset;
+  j["parameters"] = to_json(s.parameters);
+  j["solver"] = s.solver;
+  j["units"] = {{"wavelength_nm", "nm"}, {"sigma_a", "1/mm"}, {"sigma_s_prime", "1/mm"}, {"R_d", "1"}};
+  j["wavelength_nm"] = s.grid.values();
+  j["R_d"] = s.R_d.values;
+  j["epidermis"] = {{"sigma_a", s.epidermis_sigma_a.values},
+                    {"sigma_s_prime", s.epidermis_sigma_s_prime.values},
+                    {"thickness_mm", s.parameters.epidermis_thickness}};
+  j["dermis"] = {{"sigma_a", s.dermis_sigma_a.values},
+                 {"sigma_s_prime", s.dermis_sigma_s_prime.values}};
+  j["color"] = to_json(s.color);
+  const std::vector<std::string> header = {"wavelength_nm", "R_d", "epidermis.sigma_a",
+                                           "epidermis.sigma_s_prime", "dermis.sigma_a",
+                                           "dermis.sigma_s_prime"};
+  const std::vector<std::vector<double>> cols = {s.grid.values(), s.R_d.values,
+                                                 s.epidermis_sigma_a.values,
+                                                 s.epidermis_sigma_s_prime.values,
+                                                 s.dermis_sigma_a.values,
+                                                 s.dermis_sigma_s_prime.values};
+  for (std::size_t c = 0; c < header.size(); ++c)
+    result.columns.push_back({header[c] + (c >= 2 ? " [1/mm]" : ""), cols[c], {}});
+  result.table = format_table(header, cols) + "\n" + color_table(s.color);
+  return result;
+}
+
+Result color_result(const SkinSpectrum& s, const std::string& preset) {
+  Result result;
+  result.document["preset"] = preset;
+  result.document["parameters"] = to_json(s.parameters);
+  result.document["solver"] = s.solver;
+  result.document["color"] = to_json(s.color);
+  result.columns = color_columns(s.color);
+  result.table = color_table(s.color);
+  return result;
+}
+
+namespace {
+// What both profiles' documents begin with.
+json profile_document(const SkinParameters& p, const std::string& preset, const std::string& solver,
+                      const transport::Validity& validity) {
+  json j;
+  j["preset"] = preset;
+  j["parameters"] = to_json(p);
+  j["solver"] = solver;
+  j["validity"] = to_json(validity);
+  return j;
+}
+}  // namespace
+
+Result rgb_profile_result(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
+                          const std::string& solver, const transport::Validity& validity) {
+  const char* names[3] = {"r", "g", "b"};
+  const RadialGrid& radii = rgb.radii;
+  Result result;
+  json& j = result.document = profile_document(p, preset, solver, validity);
+  j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
+  j["r_mm"] = radii.r;
+  j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
+  j["R_d"] = {{"r", rgb.R_d[0]}, {"g", rgb.R_d[1]}, {"b", rgb.R_d[2]}};
+  result.columns = {{"r_mm", radii.r, {}}};
+  for (int c = 0; c < 3; ++c) result.columns.push_back({std::string("R.") + names[c] + " [1/mm^2]", rgb.R[c], {}});
+  for (int c = 0; c < 3; ++c) result.columns.push_back(constant_column(std::string("R_d.") + names[c], rgb.R_d[c], radii.size()));
+  result.table = format_table({"r_mm", "R_r", "R_g", "R_b"}, {radii.r, rgb.R[0], rgb.R[1], rgb.R[2]});
+  return result;
+}
+
+Result spectral_profile_result(const SpectralProfile& sp, const SkinParameters& p,
+                               const std::string& preset, const std::string& solver,
+                               const transport::Validity& validity) {
+  const WavelengthGrid& grid = sp.grid;
+  const RadialGrid& radii = sp.radii;
+  std::vector<std::vector<double>> rows(grid.size());
+  for (std::size_t i = 0; i < grid.size(); ++i)
+    rows[i].assign(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
+                   sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * radii.size()));
+  Result result;
+  json& j = result.document = profile_document(p, preset, solver, validity);
+  j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
+  j["r_mm"] = radii.r;
+  j["wavelength_nm"] = grid.values();
+  j["R_d"] = sp.R_d.values;
+  j["R"] = rows;  // R[i_lambda][j_r]
+  std::vector<std::string> h = {"r_mm"};
+  std::vector<std::vector<double>> cols = {radii.r};
+  result.columns = {{"r_mm", radii.r, {}}};
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    h.push_back("R_" + format_number(grid[i]) + "nm");
+    cols.push_back(rows[i]);
+    result.columns.push_back({h.back() + " [1/mm^2]", rows[i], {}});
+  }
+  result.table = format_table(h, cols);
+  return result;
+}
+
+namespace {
+json bound(double v) { return std::isinf(v) ? json(nullptr) : json(v); }
+}  // namespace
+
+Result parameters_result() {
+  Result result;
+  result.document = json::array();
+  std::vector<Column> cols = {{"key", {}, {}},      {"flag", {}, {}},    {"symbol", {}, {}},
+                              {"unit", {}, {}},     {"min", {}, {}},     {"max", {}, {}},
+                              {"min_exclusive", {}, {}}, {"max_exclusive", {}, {}},
+                              {"default", {}, {}},  {"help", {}, {}}};
+  std::vector<std::vector<std::string>> rows = {
+      {"key", "symbol", "unit", "range", "default", "help"}};
+  for (const auto& p : parameter_table()) {
+    result.document.push_back({{"key", p.key},
+                               {"flag", "--" + p.flag()},
+                               {"symbol", p.symbol.empty() ? json(nullptr) : json(p.symbol)},
+                               {"unit", p.unit},
+                               {"min", bound(p.min)},
+                               {"max", bound(p.max)},
+                               {"min_exclusive", p.min_open},
+                               {"max_exclusive", p.max_open},
+                               {"default", p.default_value()},
+                               {"help", p.help}});
+    const std::string text[] = {std::string(p.key), "--" + p.flag(), std::string(p.symbol),
+                                std::string(p.unit), format_number(p.min), format_number(p.max),
+                                p.min_open ? "true" : "false", p.max_open ? "true" : "false",
+                                format_number(p.default_value()), std::string(p.help)};
+    for (std::size_t c = 0; c < cols.size(); ++c) cols[c].text.push_back(text[c]);
+    rows.push_back({std::string(p.key), std::string(p.symbol), std::string(p.unit),
+                    p.range_text(), format_number(p.default_value()), std::string(p.help)});
+  }
+  result.columns = cols;
+  result.table = format_text_table(rows);
+  return result;
+}
+
+Result presets_result() {
+  Result result;
+  result.document = json::array();
+  Column name{"name", {}, {}}, description{"description", {}, {}};
+  std::vector<Column> values;
+  for (const ParameterInfo& info : parameter_table()) values.push_back({std::string(info.key), {}, {}});
+  for (const auto& p : presets()) {
+    result.document.push_back(
+        {{"name", p.name}, {"description", p.description}, {"parameters", to_json(p.parameters)}});
+    result.table += p.name + std::string(12 - p.name.size(), ' ') + p.description + "\n";
+    name.text.push_back(p.name);
+    description.text.push_back(p.description);
+    for (std::size_t i = 0; i < values.size(); ++i)
+      values[i].numbers.push_back(p.parameters.*(parameter_table()[i].member));
+  }
+  result.columns = {name, description};
+  result.columns.insert(result.columns.end(), values.begin(), values.end());
+  return result;
+}
+
+}  // namespace skin::schema

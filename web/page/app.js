@@ -1,0 +1,358 @@
+// The page: controls generated from the parameter table, live updates through the WebAssembly
+// module (skin.js: the same schemas as the skin command), plots as SVG, a dropped measured
+// spectrum overlaid and fitted, downloads in the CLI's formats. No framework, no network.
+'use strict';
+
+const state = {
+  module: null,
+  table: [],        // skin parameters --format json
+  presets: [],      // skin presets --format json
+  preset: 'caucasian',
+  values: {},       // current parameter values by key
+  solver: 'accurate',
+  wide: false,
+  spectrum: null,   // the last spectrum document (skin spectrum --format json)
+  profile: null,    // the last profile document (skin profile --rgb --format json)
+  measured: null,   // {file, csv, columns: [{name, R}], wavelength_nm}
+  fit: null,        // the last fit document (skin fit --format json)
+  strip: null,
+  stripKey: '',
+  timings: [],      // ms of each full update (spectrum, colour, RGB profile, drawing)
+  modelTimings: [], // ms of its model part (the module's update, JSON included)
+  updates: 0,
+};
+window.skinState = state;
+
+const $ = (id) => document.getElementById(id);
+const num = (v) => Number(v).toPrecision(10).replace(/\.?0+(e|$)/, '$1');  // as %.10g
+
+function run(command, request) {
+  const text = state.module.run(command, JSON.stringify(request));
+  if (text.startsWith('{"error":')) throw new Error(JSON.parse(text).error);
+  return text;
+}
+const runJson = (command, request) => JSON.parse(run(command, request));
+
+function request(extra = {}) {
+  const r = { preset: state.preset, params: { ...state.values }, solver: state.solver };
+  if (state.wide) Object.assign(r, { lambda_min: 380, lambda_max: 780 });
+  return Object.assign(r, extra);
+}
+
+// --- Controls ---------------------------------------------------------------------------------
+
+function sliderRange(p) {
+  // Finite ranges as they are; open-ended ones up to four times the default.
+  const min = p.min === null ? 0 : p.min;
+  const max = p.max === null ? 4 * p.default : p.max;
+  return { min: p.min_exclusive ? Math.max(min, max / 1000) : min, max };
+}
+
+function buildControls() {
+  const box = $('parameters');
+  for (const p of state.table) {
+    const { min, max } = sliderRange(p);
+    const row = document.createElement('div');
+    row.className = 'param';
+    row.dataset.key = p.key;
+    const unit = p.unit === '1' ? '' : ` [${p.unit}]`;
+    const range = `${p.min_exclusive ? '(' : '['}${p.min === null ? '-inf' : p.min}, ${p.max === null ? 'inf' : p.max}${p.max_exclusive ? ')' : ']'}`;
+    const tip = `${p.help}${unit}; range ${range}; default ${p.default}; CLI ${p.flag}${p.symbol ? ' (--' + p.symbol + ')' : ''}`;
+    row.innerHTML = `<label title="${tip}" for="n-${p.key}">${p.key}${p.symbol ? ' <span class="muted">' + p.symbol + '</span>' : ''}${unit}</label>` +
+      `<input type="range" id="s-${p.key}" min="${min}" max="${max}" step="${(max - min) / 1000}" title="${tip}">` +
+      `<input type="number" id="n-${p.key}" step="any" title="${tip}">`;
+    box.appendChild(row);
+    const slider = row.querySelector('input[type=range]'), field = row.querySelector('input[type=number]');
+    slider.addEventListener('input', () => { field.value = slider.value; setValue(p.key, Number(slider.value)); });
+    field.addEventListener('change', () => { slider.value = field.value; setValue(p.key, Number(field.value)); });
+  }
+  for (const pr of state.presets) {
+    const b = document.createElement('button');
+    b.textContent = pr.name;
+    b.title = pr.description;
+    b.dataset.preset = pr.name;
+    b.addEventListener('click', () => applyPreset(pr.name));
+    $('presets').appendChild(b);
+  }
+  for (const s of runJson('solvers', {})) {
+    const o = document.createElement('option');
+    o.value = s.name;
+    o.textContent = `${s.name}${s.default ? ' (default)' : ''}`;
+    o.title = s.description;
+    $('solver').appendChild(o);
+  }
+  $('solver').addEventListener('change', () => { state.solver = $('solver').value; scheduleUpdate(); });
+  $('wide').addEventListener('change', () => { state.wide = $('wide').checked; scheduleUpdate(); });
+}
+
+function showValues() {
+  for (const p of state.table) {
+    $('s-' + p.key).value = state.values[p.key];
+    $('n-' + p.key).value = state.values[p.key];
+  }
+  for (const b of $('presets').children) b.classList.toggle('active', b.dataset.preset === state.preset);
+}
+
+function applyPreset(name) {
+  state.preset = name;
+  state.values = { ...state.presets.find((p) => p.name === name).parameters };
+  showValues();
+  scheduleUpdate();
+}
+
+function setValue(key, v) {
+  state.values[key] = v;
+  scheduleUpdate();
+}
+
+// --- Updates ----------------------------------------------------------------------------------
+
+let pending = false;  // an update is scheduled (window.skinPending: for tests)
+function scheduleUpdate() {
+  if (pending) return;
+  pending = true;
+  window.skinPending = true;
+  requestAnimationFrame(() => { pending = false; window.skinPending = false; update(); });
+}
+
+// One full update: spectrum (R_d, layer coefficients, colour) and the RGB profile at 256 radii,
+// through the module, then the page redrawn. The time covers both computations and the drawing.
+function update() {
+  const t0 = performance.now();
+  let spectrum, profile;
+  try {
+    ({ spectrum, profile } = runJson('update', request()));
+  } catch (e) {
+    $('status').textContent = e.message;
+    $('status').className = 'error';
+    for (const row of document.querySelectorAll('.param'))
+      row.classList.toggle('invalid', e.message.includes(row.dataset.key));
+    return;
+  }
+  const tModel = performance.now() - t0;
+  for (const row of document.querySelectorAll('.param')) row.classList.remove('invalid');
+  state.spectrum = spectrum;
+  state.profile = profile;
+  drawColour();
+  drawSpectrum();
+  drawProfile();
+  drawCoefficients();
+  const ms = performance.now() - t0;
+  state.timings.push(ms);
+  state.modelTimings.push(tModel);
+  state.updates += 1;
+  const median = (a) => [...a].sort((x, y) => x - y)[Math.floor(a.length / 2)];
+  $('timing').textContent = `${ms.toFixed(1)} ms, model ${tModel.toFixed(1)} ms (medians ${median(state.timings).toFixed(1)}, ${median(state.modelTimings).toFixed(1)} ms of ${state.timings.length})`;
+  const warn = profile.validity.profile ? '' : ` Profile outside the solver's validated range: ${profile.validity.reason}`;
+  $('status').textContent = `Ready. ${state.solver} solver.${warn}`;
+  $('status').className = warn ? 'error' : '';
+  scheduleStrip();
+}
+
+function drawColour() {
+  const c = state.spectrum.color;
+  $('swatch').style.background = c.hex;
+  $('hex').textContent = c.hex;
+  $('srgb8').textContent = c.srgb8.join(' ');
+  $('srgb-linear').textContent = c.srgb_linear.map(num).join('  ');
+  $('lab').textContent = c.lab.map(num).join('  ');
+  $('xyz').textContent = c.XYZ.map(num).join('  ');
+}
+
+function drawCoefficients() {
+  // The rows are made once per grid; an update rewrites the cells' text only.
+  const s = state.spectrum, table = $('coefficients');
+  const columns = [s.wavelength_nm, s.R_d, s.epidermis.sigma_a, s.epidermis.sigma_s_prime, s.dermis.sigma_a, s.dermis.sigma_s_prime];
+  if (table.rows.length !== s.wavelength_nm.length + 1) {
+    table.innerHTML = '<tr><th>wavelength_nm</th><th>R_d</th><th>epidermis.sigma_a</th><th>epidermis.sigma_s_prime</th><th>dermis.sigma_a</th><th>dermis.sigma_s_prime</th></tr>' +
+      '<tr><td></td><td></td><td></td><td></td><td></td><td></td></tr>'.repeat(s.wavelength_nm.length);
+  }
+  for (let i = 0; i < s.wavelength_nm.length; i++) {
+    const cells = table.rows[i + 1].cells;
+    for (let c = 0; c < columns.length; c++) cells[c].textContent = c === 0 ? String(columns[0][i]) : num(columns[c][i]);
+  }
+}
+
+// --- Plots (SVG) ------------------------------------------------------------------------------
+
+const W = 640, H = 300, M = { l: 56, r: 12, t: 10, b: 34 };
+
+function axes(svg, x0, x1, y0, y1, logX, logY, xLabel, yLabel) {
+  const tx = (x) => M.l + (W - M.l - M.r) * (logX ? Math.log10(x / x0) / Math.log10(x1 / x0) : (x - x0) / (x1 - x0));
+  const ty = (y) => H - M.b - (H - M.t - M.b) * (logY ? Math.log10(y / y0) / Math.log10(y1 / y0) : (y - y0) / (y1 - y0));
+  let g = `<rect x="${M.l}" y="${M.t}" width="${W - M.l - M.r}" height="${H - M.t - M.b}" fill="none" stroke="#999"/>`;
+  const ticks = (a, b, log) => {
+    if (log) {
+      const out = [];
+      for (let e = Math.ceil(Math.log10(a)); e <= Math.floor(Math.log10(b)); e++) out.push(10 ** e);
+      return out;
+    }
+    const step = 10 ** Math.floor(Math.log10((b - a) / 4));
+    const s = [1, 2, 5, 10].map((k) => k * step).find((k) => (b - a) / k <= 8);
+    const out = [];
+    for (let v = Math.ceil(a / s) * s; v <= b + 1e-12; v += s) out.push(+v.toPrecision(6));
+    return out;
+  };
+  for (const x of ticks(x0, x1, logX))
+    g += `<line x1="${tx(x)}" x2="${tx(x)}" y1="${H - M.b}" y2="${H - M.b + 4}" stroke="#999"/><text x="${tx(x)}" y="${H - M.b + 15}" text-anchor="middle">${x}</text>`;
+  for (const y of ticks(y0, y1, logY))
+    g += `<line x1="${M.l - 4}" x2="${M.l}" y1="${ty(y)}" y2="${ty(y)}" stroke="#999"/><text x="${M.l - 6}" y="${ty(y) + 4}" text-anchor="end">${logY ? y.toExponential(0) : y}</text>`;
+  g += `<text x="${(M.l + W - M.r) / 2}" y="${H - 4}" text-anchor="middle">${xLabel}</text>`;
+  g += `<text x="12" y="${(M.t + H - M.b) / 2}" transform="rotate(-90 12 ${(M.t + H - M.b) / 2})" text-anchor="middle">${yLabel}</text>`;
+  svg.innerHTML = g;
+  return { tx, ty };
+}
+
+function path(xs, ys, tx, ty, colour, extra = '') {
+  let d = '';
+  xs.forEach((x, i) => { if (Number.isFinite(ys[i])) d += `${d ? 'L' : 'M'}${tx(x).toFixed(1)},${ty(ys[i]).toFixed(1)}`; });
+  return `<path d="${d}" fill="none" stroke="${colour}" stroke-width="1.8" ${extra}/>`;
+}
+
+function drawSpectrum() {
+  const s = state.spectrum, svg = $('spectrum-plot');
+  const x0 = s.wavelength_nm[0], x1 = s.wavelength_nm[s.wavelength_nm.length - 1];
+  let yMax = Math.max(...s.R_d);
+  const m = measuredSeries();
+  if (m) yMax = Math.max(yMax, ...m.R);
+  yMax = Math.max(0.1, Math.ceil(yMax * 10 + 0.5) / 10);
+  const { tx, ty } = axes(svg, x0, x1, 0, yMax, false, false, 'wavelength [nm]', 'R_d');
+  let g = path(s.wavelength_nm, s.R_d, tx, ty, '#b33');
+  if (m) {
+    const inside = m.wavelength_nm.map((l, i) => [l, m.R[i]]).filter(([l, r]) => l >= x0 && l <= x1 && Number.isFinite(r));
+    g += inside.map(([l, r]) => `<circle cx="${tx(l).toFixed(1)}" cy="${ty(r).toFixed(1)}" r="1.8" fill="#222"/>`).join('');
+    if (state.fit) g += path(state.fit.fitted.wavelength_nm, state.fit.fitted.R, tx, ty, '#36c', 'stroke-dasharray="5 3"');
+  }
+  g += `<text x="${W - M.r - 4}" y="${M.t + 14}" text-anchor="end">— model${m ? ' · measured' + (state.fit ? ' - - fit' : '') : ''}</text>`;
+  svg.insertAdjacentHTML('beforeend', g);
+}
+
+function drawProfile() {
+  const p = state.profile, svg = $('profile-plot');
+  const all = [...p.R.r, ...p.R.g, ...p.R.b].filter((v) => v > 0);
+  const yMax = 10 ** Math.ceil(Math.log10(Math.max(...all)));
+  const yMin = Math.max(10 ** Math.floor(Math.log10(Math.min(...all))), yMax * 1e-12);
+  const r = p.r_mm;
+  const { tx, ty } = axes(svg, r[0], r[r.length - 1], yMin, yMax, true, true, 'r [mm]', 'R(r) [1/mm²]');
+  const pos = (ys) => ys.map((v) => (v > yMin ? v : NaN));
+  svg.insertAdjacentHTML('beforeend', path(r, pos(p.R.r), tx, ty, '#c22') + path(r, pos(p.R.g), tx, ty, '#2a2') + path(r, pos(p.R.b), tx, ty, '#23c'));
+}
+
+// --- Melanin strip ----------------------------------------------------------------------------
+
+const STRIP_MELANIN = Array.from({ length: 11 }, (_, i) => +(0.05 * i).toFixed(2));
+let stripTimer = 0;
+function scheduleStrip() {
+  // Every parameter but melanin decides the strip; it is recomputed after the update, off the
+  // update's time, when one of them changed.
+  const { melanin, ...rest } = state.values;
+  const key = JSON.stringify([rest, state.solver, state.wide]);
+  drawStrip();
+  if (key === state.stripKey) return;
+  clearTimeout(stripTimer);
+  stripTimer = setTimeout(() => {
+    try {
+      state.strip = runJson('melanin_strip', request({ melanin: STRIP_MELANIN }));
+      state.stripKey = key;
+      drawStrip();
+    } catch (e) { /* shown by the next update */ }
+  }, 60);
+}
+
+function drawStrip() {
+  if (!state.strip) return;
+  const m = state.values.melanin;
+  const nearest = STRIP_MELANIN.reduce((a, b) => (Math.abs(b - m) < Math.abs(a - m) ? b : a));
+  $('strip').innerHTML = state.strip.map((s) =>
+    `<div style="background:${s.color.hex}" title="melanin ${s.melanin}: ${s.color.hex}" class="${s.melanin === nearest ? 'current' : ''}">${s.melanin}</div>`).join('');
+}
+
+// --- Measured spectrum: drop, overlay, fit ----------------------------------------------------
+
+function measuredSeries() {
+  const m = state.measured;
+  if (!m) return null;
+  const col = m.columns.find((c) => c.name === $('measured-column').value) || m.columns[0];
+  return { wavelength_nm: m.wavelength_nm, R: col.R, name: col.name };
+}
+
+function loadMeasured(file, text) {
+  try {
+    const s = runJson('spectra', { csv: text, file });
+    state.measured = { file: s.file, csv: text, wavelength_nm: s.wavelength_nm, columns: s.columns };
+  } catch (e) {
+    $('status').textContent = e.message;
+    $('status').className = 'error';
+    return;
+  }
+  state.fit = null;
+  $('measured').hidden = false;
+  $('measured-file').textContent = state.measured.file;
+  $('measured-column').innerHTML = state.measured.columns.map((c) => `<option>${c.name}</option>`).join('');
+  $('fit-result').textContent = '';
+  drawSpectrum();
+}
+
+function fitMeasured() {
+  const m = state.measured;
+  const column = m.columns.length > 1 ? $('measured-column').value : '';
+  try {
+    state.fit = runJson('fit', request({ csv: m.csv, file: m.file, column }));
+  } catch (e) {
+    $('fit-result').textContent = e.message;
+    $('fit-result').className = 'error';
+    return;
+  }
+  const f = state.fit;
+  $('fit-result').className = '';
+  $('fit-result').textContent = f.free.map((k) => `${k} ${num(f.parameters[k])} ± ${num(f.uncertainty[k])}`).join(', ') + `; RMS ${num(f.rms)}`;
+  state.values = { ...f.parameters };
+  showValues();
+  scheduleUpdate();
+}
+
+function setUpDrop() {
+  const body = document.body;
+  body.addEventListener('dragover', (e) => { e.preventDefault(); body.classList.add('dragging'); });
+  body.addEventListener('dragleave', () => body.classList.remove('dragging'));
+  body.addEventListener('drop', async (e) => {
+    e.preventDefault();
+    body.classList.remove('dragging');
+    const file = e.dataTransfer.files[0];
+    if (file) loadMeasured(file.name, await file.text());
+  });
+  $('measured-column').addEventListener('change', () => { state.fit = null; $('fit-result').textContent = ''; drawSpectrum(); });
+  $('fit').addEventListener('click', fitMeasured);
+}
+
+// --- Downloads --------------------------------------------------------------------------------
+
+function download(name, text, type) {
+  const a = document.createElement('a');
+  a.href = URL.createObjectURL(new Blob([text], { type }));
+  a.download = name;
+  a.click();
+  setTimeout(() => URL.revokeObjectURL(a.href), 1000);
+}
+
+function setUpDownloads() {
+  // The parameters as `skin --params FILE.json` reads them: an object of parameter keys.
+  $('dl-params').addEventListener('click', () => download('skin-params.json', JSON.stringify(state.values, null, 2) + '\n', 'application/json'));
+  $('dl-spectrum-json').addEventListener('click', () => download('spectrum.json', run('spectrum', request()), 'application/json'));
+  $('dl-spectrum-csv').addEventListener('click', () => download('spectrum.csv', run('spectrum', request({ format: 'csv' })), 'text/csv'));
+  $('dl-profile-json').addEventListener('click', () => download('profile.json', run('profile', request({ rgb: true })), 'application/json'));
+  $('dl-profile-csv').addEventListener('click', () => download('profile.csv', run('profile', request({ rgb: true, format: 'csv' })), 'text/csv'));
+}
+
+// --- Start ------------------------------------------------------------------------------------
+
+createSkinModule().then((module) => {
+  state.module = module;
+  state.table = runJson('parameters', {});
+  state.presets = runJson('presets', {});
+  buildControls();
+  setUpDrop();
+  setUpDownloads();
+  applyPreset('caucasian');
+  window.skinReady = true;
+}).catch((e) => { $('status').textContent = 'The model failed to load: ' + e; $('status').className = 'error'; });

@@ -1,0 +1,215 @@
+// The WebAssembly module of the browser page (web/page): the model behind the same schemas as the
+// `skin` command (src/schema), so that the page, a Node script and the CLI agree. Every entry
+// point takes a request as JSON text and returns the command's output as text (JSON, or CSV /
+// table with "format"), or {"error": "..."} with the one-line message the CLI would print.
+//
+// "update" returns both documents the page shows at each change ({"spectrum", "profile"}).
+// Request keys mirror the command-line options: "preset" (default caucasian), "params" (the
+// object --params FILE.json holds: parameter keys or symbols, an optional "preset"),
+// "solver", "lambda_min", "lambda_max", "lambda_step", "format"; for profile also "rgb",
+// "radius_min", "radius_max", "samples", "spacing"; for fit "csv" (the file's text), "file"
+// (its name), "column", "free", "includes_specular", "fit_lambda_min", "fit_lambda_max".
+#include <emscripten/bind.h>
+
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "fit_schema.hpp"
+#include "schema.hpp"
+#include "skin/fit/fit.hpp"
+#include "skin/model/skin_model.hpp"
+#include "skin/util/error.hpp"
+#include "skin/util/table.hpp"
+
+namespace skin::web {
+namespace {
+
+using schema::json;
+using schema::Result;
+
+template <typename T>
+T get_or(const json& req, const char* key, T fallback) {
+  if (!req.contains(key) || req[key].is_null()) return fallback;
+  try {
+    return req[key].get<T>();
+  } catch (const std::exception&) {
+    throw InputError(std::string(key) + " = " + req[key].dump() + " has the wrong type");
+  }
+}
+
+std::string preset_of(const json& req) { return get_or<std::string>(req, "preset", "caucasian"); }
+
+// As ParameterOptions::resolve: the preset, then the --params object, validated.
+SkinParameters parameters_of(const json& req) {
+  SkinParameters p = find_preset(preset_of(req)).parameters;
+  if (req.contains("params")) schema::ParameterFile::parse(req["params"], "params: ").apply(p);
+  p.validate();
+  return p;
+}
+
+const transport::Model& model_of(const json& req) {
+  return transport::find_model(get_or<std::string>(req, "solver", std::string(transport::kDefaultModel)));
+}
+
+WavelengthGrid grid_of(const json& req) {
+  return WavelengthGrid(get_or(req, "lambda_min", 400.0), get_or(req, "lambda_max", 700.0),
+                        get_or(req, "lambda_step", 2.0));
+}
+
+std::string write(const Result& r, const json& req) {
+  const std::string format = get_or<std::string>(req, "format", "json");
+  if (format == "json") return r.document.dump(2) + "\n";
+  if (format == "csv") return schema::to_csv(r.columns);
+  if (format == "table") return r.table.empty() ? schema::columns_table(r.columns) : r.table;
+  throw InputError("format = '" + format + "' is unknown: allowed values are json, csv, table");
+}
+
+// Profile solvers by radial grid, kept between calls (each keeps its quadrature).
+ProfileSolver& profile_solver(const RadialGrid& radii) {
+  static std::map<std::vector<double>, std::unique_ptr<ProfileSolver>> solvers;
+  if (solvers.size() >= 8 && solvers.count(radii.r) == 0) solvers.clear();
+  auto& s = solvers[radii.r];
+  if (!s) s = std::make_unique<ProfileSolver>(radii);
+  return *s;
+}
+
+RadialGrid radii_of(const json& req) {
+  const auto n = get_or<std::size_t>(req, "samples", 256);
+  const std::string spacing = get_or<std::string>(req, "spacing", "log");
+  if (spacing != "log" && spacing != "linear")
+    throw InputError("spacing = '" + spacing + "' is unknown: allowed values are log, linear");
+  return spacing == "log" ? RadialGrid::logarithmic(get_or(req, "radius_min", 1e-3), get_or(req, "radius_max", 16.0), n)
+                          : RadialGrid::linear(get_or(req, "radius_max", 16.0), n);
+}
+
+Result spectrum(const json& req) {
+  return schema::spectrum_result(skin_spectrum(parameters_of(req), grid_of(req), model_of(req)), preset_of(req));
+}
+
+Result color(const json& req) {
+  return schema::color_result(skin_spectrum(parameters_of(req), grid_of(req), model_of(req)), preset_of(req));
+}
+
+Result profile(const json& req) {
+  const SkinParameters p = parameters_of(req);
+  const WavelengthGrid grid = grid_of(req);
+  const transport::Model& model = model_of(req);
+  ProfileSolver& solver = profile_solver(radii_of(req));
+  const transport::Validity validity = skin_validity(p, grid, model);
+  const std::string name(model.name());
+  if (get_or(req, "rgb", true))
+    return schema::rgb_profile_result(skin_rgb_profile(p, grid, solver, model), p, preset_of(req), name, validity);
+  return schema::spectral_profile_result(skin_spectral_profile(p, grid, solver, model), p,
+                                         preset_of(req), name, validity);
+}
+
+// The page's live update: the spectrum (R_d, layer coefficients, colour) and the RGB profile, the
+// two documents of `skin spectrum` and `skin profile --rgb`, with the transport run once per
+// wavelength (skin_appearance).
+json update(const json& req) {
+  const SkinParameters p = parameters_of(req);
+  const WavelengthGrid grid = grid_of(req);
+  const transport::Model& model = model_of(req);
+  const SkinAppearance a = skin_appearance(p, grid, profile_solver(radii_of(req)), model);
+  const std::string preset = preset_of(req);
+  return {{"spectrum", schema::spectrum_result(a.spectrum, preset).document},
+          {"profile", schema::rgb_profile_result(a.rgb, p, preset, std::string(model.name()),
+                                                 skin_validity(p, grid, model)).document}};
+}
+
+// The dropped file is written to the module's in-memory file system under its own name and read
+// by the CLI's reader (fit::read_spectrum), so messages and the "input" key name it as the CLI
+// does when run in the file's folder.
+std::string stored_file(const json& req) {
+  std::string name = get_or<std::string>(req, "file", "spectrum.csv");
+  if (const auto slash = name.find_last_of("/\\"); slash != std::string::npos) name = name.substr(slash + 1);
+  if (name.empty()) name = "spectrum.csv";
+  std::ofstream(name, std::ios::binary) << get_or<std::string>(req, "csv", "");
+  return name;
+}
+
+Result fit_spectrum(const json& req) {
+  fit::SpectrumFitOptions opt;
+  opt.start = parameters_of(req);
+  const std::string free = get_or<std::string>(req, "free", "");
+  if (!free.empty()) opt.free = fit::parse_parameter_list(free);
+  opt.includes_specular = get_or(req, "includes_specular", false);
+  opt.lambda_min = get_or(req, "fit_lambda_min", 400.0);
+  opt.lambda_max = get_or(req, "fit_lambda_max", 700.0);
+  const transport::Model& model = model_of(req);
+  opt.model = fit::forward_model(model);
+  const fit::MeasuredSpectrum m = fit::read_spectrum(stored_file(req), get_or<std::string>(req, "column", ""));
+  const fit::FitResult r = fit::SpectrumFitter(opt).fit(m);
+  return schema::spectrum_fit_result(m, r, std::string(model.name()), opt.includes_specular);
+}
+
+// The reflectance columns of a CSV file (all but the first, the wavelength), for the page to
+// offer a choice as --column does; and each one's samples.
+json spectra(const json& req) {
+  const std::string name = stored_file(req);
+  const Table t = read_csv_file(name);
+  json j;
+  j["file"] = name;
+  j["wavelength_nm"] = t.data.empty() ? std::vector<double>{} : t.data[0];
+  j["columns"] = json::array();
+  for (std::size_t c = 1; c < t.columns.size(); ++c)
+    j["columns"].push_back({{"name", t.columns[c]}, {"R", t.data[c]}});
+  return j;
+}
+
+// Colours along the melanin axis for the other parameters of the request ("melanin": [...]).
+json melanin_strip(const json& req) {
+  const SkinParameters p = parameters_of(req);
+  const WavelengthGrid grid = grid_of(req);
+  const transport::Model& model = model_of(req);
+  json out = json::array();
+  for (double m : get_or<std::vector<double>>(req, "melanin", {})) {
+    SkinParameters q = p;
+    q.melanin = m;
+    const SkinSpectrum s = skin_spectrum(q, grid, model);
+    out.push_back({{"melanin", m}, {"color", schema::to_json(s.color)}});
+  }
+  return out;
+}
+
+template <typename F>
+std::string guarded(const std::string& request, const F& f) {
+  try {
+    const json req = request.empty() ? json::object() : json::parse(request);
+    return f(req);
+  } catch (const json::exception& e) {
+    return json{{"error", std::string("request: not valid JSON (") + e.what() + ")"}}.dump();
+  } catch (const std::exception& e) {
+    return json{{"error", e.what()}}.dump();
+  }
+}
+
+std::string run(const std::string& command, const std::string& request) {
+  return guarded(request, [&](const json& req) -> std::string {
+    if (command == "spectrum") return write(spectrum(req), req);
+    if (command == "color") return write(color(req), req);
+    if (command == "profile") return write(profile(req), req);
+    if (command == "fit") return write(fit_spectrum(req), req);
+    if (command == "parameters") return write(schema::parameters_result(), req);
+    if (command == "presets") return write(schema::presets_result(), req);
+    if (command == "update") return update(req).dump();
+    if (command == "spectra") return spectra(req).dump();
+    if (command == "melanin_strip") return melanin_strip(req).dump();
+    if (command == "solvers") {
+      json j = json::array();
+      for (const auto& n : transport::model_names())
+        j.push_back({{"name", n}, {"description", std::string(transport::find_model(n).description())},
+                     {"default", n == transport::kDefaultModel}});
+      return j.dump();
+    }
+    throw InputError("command '" + command + "' is unknown: allowed values are spectrum, color, "
+                     "profile, fit, parameters, presets, update, spectra, melanin_strip, solvers");
+  });
+}
+
+}  // namespace
+}  // namespace skin::web
+
+EMSCRIPTEN_BINDINGS(skin_web) { emscripten::function("run", &skin::web::run); }

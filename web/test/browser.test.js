@@ -1,0 +1,179 @@
+// The page in a real browser: headless Chromium (Debian's chromium) driven by puppeteer-core
+// loads build-web/site from a local server, moves sliders, picks a preset and the solver, drops a
+// Vrhel spectrum and fits it, reads the values the page displays and compares them with the
+// `skin` command for the same parameters (hex exactly, numbers to 1e-9), measures the update
+// time over slider moves, and saves screenshots to build-web/screenshots.
+// Run: node web/test/browser.test.js (after scripts/web.sh, the native build and npm ci in web/).
+'use strict';
+const fs = require('fs');
+const http = require('http');
+const os = require('os');
+const path = require('path');
+const { ROOT, SITE, SPECTRA, TMP, cli, compare, fail } = require('./common');
+
+const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
+const SHOTS = path.join(ROOT, 'build-web', 'screenshots');
+
+function serve() {
+  const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css' };
+  const server = http.createServer((req, res) => {
+    const file = path.join(SITE, path.normalize(decodeURIComponent(req.url.split('?')[0])).replace(/^(\.\.[/\\])+/, '') || 'index.html');
+    const target = fs.existsSync(file) && fs.statSync(file).isDirectory() ? path.join(file, 'index.html') : file;
+    if (!target.startsWith(SITE) || !fs.existsSync(target)) { res.writeHead(404); res.end(); return; }
+    res.writeHead(200, { 'Content-Type': types[path.extname(target)] || 'application/octet-stream' });
+    fs.createReadStream(target).pipe(res);
+  });
+  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
+}
+
+// The numbers the page shows (10 significant digits, as the CLI's table) against the CLI's JSON.
+function checkDisplayed(shown, ref, what) {
+  const failures = [];
+  if (shown.hex !== ref.color.hex) failures.push(`hex ${shown.hex} != ${ref.color.hex}`);
+  if (shown.srgb8 !== ref.color.srgb8.join(' ')) failures.push(`srgb8 ${shown.srgb8} != ${ref.color.srgb8.join(' ')}`);
+  const numbers = (t) => t.trim().split(/\s+/).map(Number);
+  // Ten digits shown: half a unit of the tenth digit is at most 5e-10 relative, within 1e-9.
+  failures.push(...compare(numbers(shown.lab), ref.color.lab, 1e-9, 'lab').failures);
+  failures.push(...compare(numbers(shown.xyz), ref.color.XYZ, 1e-9, 'XYZ').failures);
+  failures.push(...compare(numbers(shown.srgb_linear), ref.color.srgb_linear, 1e-9, 'srgb_linear').failures);
+  const rows = shown.table.map((r) => r.map(Number));
+  failures.push(...compare(rows.map((r) => r[0]), ref.wavelength_nm, 0, 'wavelength_nm').failures);
+  failures.push(...compare(rows.map((r) => r[1]), ref.R_d, 1e-9, 'R_d').failures);
+  failures.push(...compare(rows.map((r) => r[2]), ref.epidermis.sigma_a, 1e-9, 'epidermis.sigma_a').failures);
+  failures.push(...compare(rows.map((r) => r[5]), ref.dermis.sigma_s_prime, 1e-9, 'dermis.sigma_s_prime').failures);
+  fail(failures, what);
+  return failures.length === 0;
+}
+
+async function main() {
+  if (!fs.existsSync(CHROMIUM)) {
+    console.log(`SKIP browser test: no browser at ${CHROMIUM} (install Debian's chromium: scripts/install-deps.sh)`);
+    return;
+  }
+  const puppeteer = require('puppeteer-core');
+  const server = await serve();
+  const url = `http://127.0.0.1:${server.address().port}/index.html`;
+  const profileDir = fs.mkdtempSync(path.join(os.tmpdir(), 'skin-chromium-'));
+  const browser = await puppeteer.launch({
+    executablePath: CHROMIUM,
+    headless: true,
+    userDataDir: profileDir,
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+           '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+  try {
+    const page = await browser.newPage();
+    await page.setViewport({ width: 1280, height: 1000 });
+    const requests = [];
+    page.on('request', (r) => requests.push(r.url()));
+    page.on('pageerror', (e) => fail([String(e)], 'page error'));
+    await page.goto(url);
+    await page.waitForFunction('window.skinReady === true', { timeout: 120000 });
+    await page.waitForFunction('window.skinState.updates >= 1');
+
+    const shown = () => page.evaluate(() => ({
+      hex: document.getElementById('hex').textContent,
+      srgb8: document.getElementById('srgb8').textContent,
+      lab: document.getElementById('lab').textContent,
+      xyz: document.getElementById('xyz').textContent,
+      srgb_linear: document.getElementById('srgb-linear').textContent,
+      table: [...document.querySelectorAll('#coefficients tr')].slice(1).map((tr) => [...tr.children].map((td) => td.textContent)),
+      values: window.skinState.values,
+      preset: window.skinState.preset,
+      solver: window.skinState.solver,
+      wide: window.skinState.wide,
+      profile: window.skinState.profile,
+      updates: window.skinState.updates,
+    }));
+    // Moves a slider as a user does (keyboard: each arrow press is one step of the slider) and
+    // waits for the page's update.
+    const press = async (key, code, times) => {
+      const before = (await shown()).updates;
+      await page.focus(`#s-${key}`);
+      for (let i = 0; i < times; i++) await page.keyboard.press(code);
+      await page.waitForFunction((n) => window.skinState.updates > n, {}, before);
+      await page.waitForFunction(() => !window.skinPending);
+    };
+    const compareWithCli = async (what) => {
+      const s = await shown();
+      const args = ['--preset', s.preset, '--solver', s.solver, ...(s.wide ? ['--lambda-min', '380', '--lambda-max', '780'] : [])];
+      const ok = checkDisplayed(s, cli(['spectrum', ...args], s.values), what);
+      const p = compare(s.profile, cli(['profile', '--rgb', ...args], s.values), 1e-9, 'profile', 1e-9);
+      fail(p.failures, `${what}: profile`);
+      console.log(`${what}: ${ok && p.failures.length === 0 ? 'matches' : 'DIFFERS FROM'} skin (hex ${s.hex})`);
+    };
+
+    await compareWithCli('caucasian preset');
+    await press('melanin', 'ArrowRight', 40);
+    await press('hemoglobin', 'ArrowRight', 15);
+    await press('melanin_blend', 'ArrowLeft', 200);
+    await compareWithCli('after moving melanin, hemoglobin, melanin_blend');
+    await page.click('button[data-preset="african"]');
+    await page.waitForFunction(() => window.skinState.preset === 'african');
+    await press('oxygenation', 'ArrowLeft', 100);
+    await page.select('#solver', 'multipole');
+    await page.waitForFunction(() => window.skinState.profile.solver === 'multipole');
+    await compareWithCli('african, oxygenation moved, multipole');
+    await page.click('#wide');
+    await page.waitForFunction(() => window.skinState.spectrum.wavelength_nm[0] === 380);
+    await compareWithCli('380-780 nm');
+    await page.click('#wide');
+    await page.waitForFunction(() => window.skinState.spectrum.wavelength_nm[0] === 400);
+    await page.select('#solver', 'accurate');
+    await page.click('button[data-preset="caucasian"]');
+    await page.waitForFunction(() => window.skinState.preset === 'caucasian' && window.skinState.profile.solver === 'accurate');
+
+    // Update time: the page's own measurement over slider moves (spectrum at 2 nm, colour, RGB
+    // profile at 256 radii, drawing). Reported, not asserted: it depends on the machine's load.
+    await page.evaluate(() => { window.skinState.timings = []; window.skinState.modelTimings = []; });
+    for (let i = 0; i < 40; i++) await press('melanin', i < 20 ? 'ArrowRight' : 'ArrowLeft', 1);
+    const times = (await page.evaluate(() => window.skinState.timings)).sort((a, b) => a - b);
+    const model = (await page.evaluate(() => window.skinState.modelTimings)).sort((a, b) => a - b);
+    const median = times[Math.floor(times.length / 2)], modelMedian = model[Math.floor(model.length / 2)];
+    fs.mkdirSync(SHOTS, { recursive: true });
+    const timing = { median_ms: median, min_ms: times[0], max_ms: times[times.length - 1], model_median_ms: modelMedian,
+                     model_min_ms: model[0], updates: times.length, loadavg: os.loadavg() };
+    fs.writeFileSync(path.join(SHOTS, 'timing.json'), JSON.stringify(timing, null, 2) + '\n');
+    console.log(`update time in headless Chromium: median ${median.toFixed(1)} ms (model ${modelMedian.toFixed(1)} ms), ` +
+                `min ${times[0].toFixed(1)} ms, max ${times[times.length - 1].toFixed(1)} ms over ${times.length} updates ` +
+                `(load average ${os.loadavg()[0].toFixed(1)})`);
+    if (!(median > 0)) fail(['no update time measured'], 'timing');
+    await page.screenshot({ path: path.join(SHOTS, 'page.png') });
+
+    if (!fs.existsSync(SPECTRA)) {
+      console.log(`SKIP drop and fit: ${SPECTRA} is absent`);
+    } else {
+      const name = path.basename(SPECTRA);
+      const text = fs.readFileSync(SPECTRA, 'utf8');
+      fs.copyFileSync(SPECTRA, path.join(TMP, name));
+      // A file dropped on the page, as the browser delivers it.
+      await page.evaluate((name, text) => {
+        const dt = new DataTransfer();
+        dt.items.add(new File([text], name, { type: 'text/csv' }));
+        document.body.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+      }, name, text);
+      await page.waitForFunction(() => window.skinState.measured !== null);
+      await page.select('#measured-column', 'vrhel_117');
+      const start = (await shown()).values;
+      await page.click('#fit');
+      await page.waitForFunction(() => window.skinState.fit !== null, { timeout: 120000 });
+      const fitted = await page.evaluate(() => window.skinState.fit);
+      const ref = cli(['fit', '--spectrum', name, '--column', 'vrhel_117', '--preset', 'caucasian'], start);
+      const f = compare(fitted, ref, 1e-7, 'fit');  // as the module test: 1e-8 measured
+      fail(f.failures, 'fit of the dropped vrhel_117');
+      console.log(`dropped ${name}, column vrhel_117, fitted: ${f.failures.length === 0 ? 'matches' : 'DIFFERS FROM'} skin fit (melanin ${fitted.parameters.melanin})`);
+      await page.waitForFunction((m) => window.skinState.spectrum.parameters.melanin === m, {}, fitted.parameters.melanin);
+      await compareWithCli('the fitted parameters');
+      await page.screenshot({ path: path.join(SHOTS, 'page-fit.png') });
+    }
+    const outside = requests.filter((u) => !u.startsWith(`http://127.0.0.1:${server.address().port}/`) && !u.startsWith('blob:') && !u.startsWith('data:'));
+    fail(outside.map((u) => `request to ${u}`), 'network access outside the local server');
+    console.log(`screenshots: ${SHOTS}`);
+  } finally {
+    await browser.close();
+    server.close();
+    fs.rmSync(profileDir, { recursive: true, force: true });
+  }
+}
+
+main().catch((e) => { console.error(e); process.exitCode = 1; });

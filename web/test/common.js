@@ -1,0 +1,76 @@
+// Helpers of the web tests: the built module, the `skin` command, and number comparison.
+'use strict';
+const { execFileSync } = require('child_process');
+const fs = require('fs');
+const os = require('os');
+const path = require('path');
+
+const ROOT = path.resolve(__dirname, '..', '..');
+const SITE = process.env.SKIN_WEB_SITE || path.join(ROOT, 'build-web', 'site');
+const SKIN = process.env.SKIN_BINARY || path.join(ROOT, 'build', 'bin', 'skin');
+const SPECTRA = path.join(ROOT, '..', 'shared', 'data', 'skin_spectra', 'vrhel_ncsu', 'vrhel_skin_reflectance.csv');
+const TMP = fs.mkdtempSync(path.join(os.tmpdir(), 'skin-web-'));
+
+// `skin ARGS... --params FILE` with the parameters written to FILE; the parsed JSON output.
+function cli(args, params, cwd = TMP) {
+  const file = path.join(TMP, 'params.json');
+  fs.writeFileSync(file, JSON.stringify(params));
+  const out = execFileSync(SKIN, [...args, '--params', file, '--format', 'json'], { cwd, encoding: 'utf8', stdio: ['ignore', 'pipe', 'ignore'] });
+  return JSON.parse(out);
+}
+
+// Every number of `a` against `b` (same keys, same shapes): relative difference at most `tol`
+// of the larger magnitude of the two, or of `floor` times the largest magnitude of the array
+// it sits in (values near zero in a profile's tail, where the transform's absolute accuracy
+// holds, not its relative one). Text and booleans must be equal. Returns the differences.
+function compare(a, b, tol, where = '', floor = 0, out = { worst: 0, failures: [] }) {
+  if (Array.isArray(b)) {
+    if (!Array.isArray(a) || a.length !== b.length) out.failures.push(`${where}: length ${a && a.length} != ${b.length}`);
+    else {
+      const scale = Math.max(0, ...b.filter((v) => typeof v === 'number').map(Math.abs));
+      b.forEach((v, i) => {
+        if (typeof v === 'number') check(a[i], v, tol, `${where}[${i}]`, floor * scale, out);
+        else compare(a[i], v, tol, `${where}[${i}]`, floor, out);
+      });
+    }
+  } else if (b !== null && typeof b === 'object') {
+    for (const k of Object.keys(b)) compare(a ? a[k] : undefined, b[k], tol, `${where}.${k}`, floor, out);
+    for (const k of Object.keys(a || {})) if (!(k in b)) out.failures.push(`${where}.${k}: extra key`);
+  } else if (typeof b === 'number') {
+    check(a, b, tol, where, 0, out);
+  } else if (a !== b) {
+    out.failures.push(`${where}: ${JSON.stringify(a)} != ${JSON.stringify(b)}`);
+  }
+  return out;
+}
+function check(a, b, tol, where, abs_floor, out) {
+  const d = Math.abs(a - b) / Math.max(Math.abs(a), Math.abs(b), abs_floor, 1e-300);
+  if (!(d <= tol) && a !== b) out.failures.push(`${where}: ${a} vs ${b} (relative ${d.toExponential(2)})`);
+  else if (a !== b) out.worst = Math.max(out.worst, d);
+}
+
+// A small deterministic generator (mulberry32) for reproducible random parameter sets.
+function rng(seed) {
+  return () => {
+    seed = (seed + 0x6d2b79f5) | 0;
+    let t = Math.imul(seed ^ (seed >>> 15), 1 | seed);
+    t = (t + Math.imul(t ^ (t >>> 7), 61 | t)) ^ t;
+    return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
+  };
+}
+// Random skin within the paper's ranges (C_m 0-0.5, C_h 0-0.2) and around the other defaults.
+function randomParameters(u) {
+  return {
+    melanin: 0.5 * u() ** 2, melanin_blend: u(), hemoglobin: 0.2 * u() ** 2, oiliness: u(),
+    oxygenation: 0.5 + 0.5 * u(), epidermis_thickness: 0.1 + 0.3 * u(),
+    dermis_scattering_scale: 0.3 + 0.5 * u(), beta_carotene: 50 * u(), bilirubin: 10 * u(),
+  };
+}
+
+function fail(failures, what) {
+  if (failures.length === 0) return;
+  console.error(`FAIL ${what}: ${failures.length} differences, first: ${failures.slice(0, 5).join('; ')}`);
+  process.exitCode = 1;
+}
+
+module.exports = { ROOT, SITE, SKIN, SPECTRA, TMP, cli, compare, rng, randomParameters, fail };

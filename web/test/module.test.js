@@ -1,0 +1,69 @@
+// The built WebAssembly module (build-web/site/skin.js) against the `skin` command: for random
+// parameter sets and both solvers, `spectrum`, `profile --rgb` and the page's `update` (both at
+// once) give the same JSON (keys, text, hex exactly; numbers to 1e-9), and the spectrum fit of
+// a Vrhel spectrum the same fit.
+// Run: node web/test/module.test.js (after scripts/web.sh and the native build).
+'use strict';
+const fs = require('fs');
+const path = require('path');
+const { SITE, SPECTRA, TMP, cli, compare, rng, randomParameters, fail } = require('./common');
+
+const TOL = 1e-9;
+// Profile values below 1e-9 of the profile's peak are compared absolutely at that level: the
+// inverse transform is accurate to ~1e-8 of the peak (include/skin/transport/profile.hpp), and
+// the two builds' libm differ in the last bit, which its far tail can amplify.
+const PROFILE_FLOOR = 1e-9;
+
+require(path.join(SITE, 'skin.js'))().then((m) => {
+  const run = (command, request) => {
+    const text = m.run(command, JSON.stringify(request));
+    const doc = JSON.parse(text);
+    if (doc && doc.error) throw new Error(doc.error);
+    return doc;
+  };
+  const u = rng(16);
+  let worst = 0, cases = 0;
+  for (let i = 0; i < 6; i++) {
+    for (const solver of ['accurate', 'multipole']) {
+      const params = randomParameters(u);
+      const preset = ['caucasian', 'asian', 'african'][i % 3];
+      const refSpectrum = cli(['spectrum', '--preset', preset, '--solver', solver], params);
+      const refProfile = cli(['profile', '--rgb', '--preset', preset, '--solver', solver], params);
+      const spectrum = compare(run('spectrum', { preset, params, solver }), refSpectrum, TOL, 'spectrum');
+      fail(spectrum.failures, `spectrum ${solver} ${JSON.stringify(params)}`);
+      const profile = compare(run('profile', { preset, params, solver, rgb: true }), refProfile, TOL, 'profile', PROFILE_FLOOR);
+      fail(profile.failures, `profile ${solver} ${JSON.stringify(params)}`);
+      // The page's update: both documents from one pass.
+      const both = run('update', { preset, params, solver });
+      const update = compare(both, { spectrum: refSpectrum, profile: refProfile }, TOL, 'update', PROFILE_FLOOR);
+      fail(update.failures, `update ${solver} ${JSON.stringify(params)}`);
+      worst = Math.max(worst, spectrum.worst, profile.worst, update.worst);
+      cases += 2;
+    }
+  }
+  console.log(`module vs skin: ${cases} spectrum/profile pairs, largest relative difference ${worst.toExponential(2)}`);
+
+  // CSV: the same columns (headers exactly), numbers to 1e-9.
+  const csv = m.run('spectrum', JSON.stringify({ preset: 'tanned', format: 'csv' }));
+  const lines = csv.trim().split('\n');
+  if (lines[0] !== 'wavelength_nm,R_d,epidermis.sigma_a [1/mm],epidermis.sigma_s_prime [1/mm],dermis.sigma_a [1/mm],dermis.sigma_s_prime [1/mm]') fail(['header ' + lines[0]], 'spectrum CSV');
+
+  // Errors: the CLI's one line.
+  const bad = JSON.parse(m.run('color', JSON.stringify({ params: { melanin: 2 } })));
+  if (!bad.error || !bad.error.includes('melanin (C_m) = 2 is out of range')) fail([JSON.stringify(bad)], 'error message');
+
+  if (!fs.existsSync(SPECTRA)) {
+    console.log(`SKIP fit: ${SPECTRA} is absent`);
+    return;
+  }
+  const text = fs.readFileSync(SPECTRA, 'utf8');
+  fs.copyFileSync(SPECTRA, path.join(TMP, path.basename(SPECTRA)));
+  const start = { melanin: 0.01 };
+  const web = run('fit', { csv: text, file: path.basename(SPECTRA), column: 'vrhel_117', params: start });
+  const ref = cli(['fit', '--spectrum', path.basename(SPECTRA), '--column', 'vrhel_117'], start);
+  // The fit stops when Levenberg-Marquardt converges: the last-bit differences of the two builds
+  // may move its end point within that tolerance (1e-8 measured), so the fit is compared to 1e-7.
+  const f = compare(web, ref, 1e-7, "fit");
+  fail(f.failures, 'fit of vrhel_117');
+  console.log(`fit of vrhel_117: largest relative difference ${f.worst.toExponential(2)}`);
+}).catch((e) => { console.error(e); process.exitCode = 1; });
