@@ -1,17 +1,22 @@
 #!/usr/bin/env bash
 # Second command of the README: installs the Debian packages, builds everything with the tests
-# and runs the whole suite with CTest. `scripts/test.sh --sanitize` does the same under
-# AddressSanitizer + UndefinedBehaviorSanitizer in build-asan/.
+# and runs the whole suite with CTest (Release, build/).
+#   bash scripts/test.sh --sanitize   the same suite under AddressSanitizer +
+#       UndefinedBehaviorSanitizer (clang, build-asan/, scripts/configure-asan.sh), then a short
+#       run of every fuzz harness from the same build (scripts/fuzz.sh, SKIN_FUZZ_SECONDS per
+#       target, default 5).
+# CI (.ci/run) runs both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-dir=build
-opts=(-DCMAKE_BUILD_TYPE=Release)
 if [ "${1:-}" = "--sanitize" ]; then
-  dir=build-asan
-  opts=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSKIN_SANITIZE=ON -DSKIN_BUILD_BENCH=OFF)
-  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  bash scripts/configure-asan.sh
+  cmake --build build-asan
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build-asan --output-on-failure -j 2
+  bash scripts/fuzz.sh "${SKIN_FUZZ_SECONDS:-5}"
+  exit 0
 fi
-cmake -S . -B "$dir" -G Ninja -DSKIN_BUILD_TESTS=ON "${opts[@]}"
-cmake --build "$dir"
-ctest --test-dir "$dir" --output-on-failure -j 2
+cmake -S . -B build -G Ninja -DSKIN_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release
+cmake --build build
+ctest --test-dir build --output-on-failure -j 2
