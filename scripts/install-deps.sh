@@ -11,6 +11,7 @@ PKGS=(
   libopenexr-dev libpng-dev                        # image output
   libcairo2-dev                                    # plots (PNG and SVG)
   pybind11-dev python3-dev                         # Python module
+  clang libclang-rt-14-dev llvm-14                 # sanitizer build, libFuzzer, symbolized reports (configure-asan.sh)
 )
 missing=()
 for p in "${PKGS[@]}"; do
