@@ -5,10 +5,22 @@ target_compile_options(skin_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow
 add_library(skin::warnings ALIAS skin_warnings)
 
 add_library(skin_sanitize INTERFACE)
-if(SKIN_SANITIZE)
-  # ASan + UBSan; no recovery so that any report fails the test that triggered it.
-  target_compile_options(skin_sanitize INTERFACE -fsanitize=address,undefined
-    -fno-sanitize-recover=all -fno-omit-frame-pointer -g)
+if(SKIN_SANITIZE OR SKIN_FUZZ)
+  # ASan + UBSan; no recovery so that any report fails the test that triggered it. Line tables
+  # are all the reports need (file:line in stack traces) and build faster than full debug info.
+  # SKIN_FUZZ adds libFuzzer's coverage instrumentation (the harnesses in fuzz/ link
+  # -fsanitize=fuzzer; tests link the sanitizers' weak defaults of its callbacks).
+  set(skin_sanitizers address,undefined)
+  if(SKIN_FUZZ)
+    set(skin_sanitizers fuzzer-no-link,${skin_sanitizers})
+  endif()
+  if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    set(skin_debug_info -gline-tables-only)
+  else()
+    set(skin_debug_info -g1)
+  endif()
+  target_compile_options(skin_sanitize INTERFACE -fsanitize=${skin_sanitizers}
+    -fno-sanitize-recover=all -fno-omit-frame-pointer ${skin_debug_info})
   target_link_options(skin_sanitize INTERFACE -fsanitize=address,undefined)
 endif()
 add_library(skin::sanitize ALIAS skin_sanitize)

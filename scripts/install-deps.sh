@@ -18,6 +18,7 @@ PKGS=(
   python3-matplotlib                               # Python example (examples/melanin_sweep.py)
   emscripten node-acorn                            # web page: WebAssembly build (acorn: its JS optimizer)
   chromium                                         # web page: the browser test (headless)
+  clang libclang-rt-14-dev llvm-14                 # sanitizer build, libFuzzer, symbolized reports (configure-asan.sh)
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -39,7 +39,7 @@ struct McOptions {
       app.add_option("--radius-max", r_max, "Outer radius of the radial profile R(r) [mm], > 0")
           ->capture_default_str()->group(g);
     app.add_option("--bins", bins, "Annular bins of the radial profile")
-        ->check(whole_number(1, 100000000))->capture_default_str()->group(g);
+        ->check(whole_number(1, 1000000))->capture_default_str()->group(g);
   }
   mc::Options resolve() const {
     mc::Options o;
@@ -110,6 +110,8 @@ void register_mc_command(CLI::App& app) {
     stack.validate();
     const mc::Options opts = o->mc.resolve();
     (void)o->out.resolve();  // a contradicting --format fails before the run
+    check_request("a Monte Carlo run of " + std::to_string(opts.photons) + " photons",
+                  static_cast<double>(opts.photons), kMcPhotonsPerSecond, opts.threads, mc::memory_bytes(opts));
     const mc::Result r = mc::simulate(stack, opts);
     Result result;
     {
@@ -199,6 +201,9 @@ void register_validate_command(CLI::App& app) {
     if (opts.photons < 1) throw InputError("photons = 0 is out of range: must be >= 1");
     std::vector<mc::ValidationCase> cases = mc::preset_cases(o->wavelengths);
     for (auto& c : mc::generic_cases()) cases.push_back(std::move(c));
+    check_request("a validation of " + std::to_string(cases.size()) + " cases of " + std::to_string(opts.photons) + " photons",
+                  static_cast<double>(cases.size()) * static_cast<double>(opts.photons), kMcPhotonsPerSecond,
+                  opts.threads, mc::memory_bytes(opts));
     std::filesystem::create_directories(o->out);
     const std::vector<mc::SolverColumn> solvers{
         mc::solver_column(transport::find_model("multipole")),
@@ -211,15 +216,23 @@ void register_validate_command(CLI::App& app) {
         std::cerr << "[" << done << "/" << total << "] " << validation_case_line(c, names) << '\n';
       };
     const mc::ValidationRun run = mc::run_validation(cases, solvers, opts, log);
+#ifdef SKIN_HAVE_FIT
+    // The model fitted to every measured spectrum, with each solver (skin::fit). Everything is
+    // computed before the first file is written, so that an interrupted run leaves an earlier
+    // report whole.
+    const bool measured = std::filesystem::is_directory(o->spectra_dir);
+    std::vector<std::pair<std::string, std::vector<fit::MeasuredEntry>>> fits;
+    for (const char* solver : {"multipole", "accurate"})
+      if (measured) fits.emplace_back(solver, fit::fit_measured_spectra(o->spectra_dir, fit::forward_model(solver)));
+#endif
     std::ostringstream md;
     write_validation_report(md, run, o->out, "");
     md << "\n## Measured skin spectra\n\n";
 #ifdef SKIN_HAVE_FIT
-    if (std::filesystem::is_directory(o->spectra_dir)) {
-      // The model fitted to every measured spectrum, with each solver (skin::fit).
-      for (const char* solver : {"multipole", "accurate"}) {
-        const std::string sub_dir = std::string("measured/") + (std::string(solver) == "multipole" ? "" : "accurate/");
-        write_measured_report(o->spectra_dir, o->out + "/" + sub_dir, solver);
+    if (measured) {
+      for (const auto& [solver, entries] : fits) {
+        const std::string sub_dir = std::string("measured/") + (solver == "multipole" ? "" : "accurate/");
+        write_measured_report(entries, o->spectra_dir, o->out + "/" + sub_dir, solver);
         md << "- with the " << solver << " solver: [" << sub_dir << "README.md](" << sub_dir
            << "README.md)\n";
       }

@@ -62,6 +62,14 @@ void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* 
   if (o.spp < 0) throw InputError("spp = " + std::to_string(o.spp) + " is out of range: must be >= 1");
   for (const auto& v : scene.validity())
     warn_validity(transport::find_model(v.solver), v.validity, "material '" + v.material + "'");
+  {
+    // A time budget bounds the time already; the memory is checked either way.
+    const render::RenderCost cost = render::render_cost(scene, rs);
+    check_request("a render of " + std::to_string(rs.width > 0 ? rs.width : scene.width()) + "x" +
+                      std::to_string(rs.height > 0 ? rs.height : scene.height()) + " pixels, " +
+                      format_number(cost.samples) + " samples",
+                  o.time_budget > 0 ? 0.0 : cost.samples, kRenderSamplesPerSecond, rs.threads, cost.bytes);
+  }
   render::RenderStats stats;
   render::Image img = render::render(scene, rs, &stats, progress_fraction_bar());
   if (layout) img = render::annotate_figure(img, *layout);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <thread>
 #include <algorithm>
 #include <charconv>
 #include <optional>
@@ -13,6 +14,7 @@
 
 #include "skin/util/atomic_file.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/input_file.hpp"
 
 namespace skin::cli {
 

@@ -62,6 +62,21 @@ struct ParameterOptions {
 // would wrap "-1" around in an unsigned option).
 CLI::Validator whole_number(long long lo, long long hi = std::numeric_limits<long long>::max());
 
+// Checks a request before long or large work starts: refuses it (InputError) when its memory
+// estimate exceeds the machine's physical memory or its time estimate a week (a typo, surely);
+// warns once on stderr with the time estimate when it would take more than an hour (SIGINT or
+// SIGTERM stop it cleanly). `what` names the work ("a render of 16384x16384 pixels"), `units` /
+// `units_per_second_per_thread` give the time estimate for `threads` (0 = all cores); `bytes`
+// the memory.
+inline constexpr double kWarnedSeconds = 3600, kRefusedSeconds = 7 * 86400;
+void check_request(const std::string& what, double units, double units_per_second_per_thread,
+                   int threads, double bytes);
+// Measured rates for those estimates (README, Benchmarks; reference machine, one thread):
+// renderer camera samples (default scene ~1.0e6/s, the head ~0.7e6/s) and Monte Carlo photons
+// (pale skin at 650 nm, g = 0.9: 32 CPU s per 1e6).
+inline constexpr double kRenderSamplesPerSecond = 1.0e6;
+inline constexpr double kMcPhotonsPerSecond = 3.0e4;
+
 // The run group: --seed and --threads, the same in every command that draws random numbers.
 struct RunOptions {
   std::uint64_t seed = 1;

@@ -1,11 +1,41 @@
 // The `skin` command: thin front end over the Spectral Skin libraries. User errors (bad
-// parameters, files) are reported once here, as one line, with exit code 2.
+// parameters, files) are reported once here, as one line, with exit code 2. SIGINT and SIGTERM
+// cancel the running computation (skin/util/cancel.hpp): the command stops at the libraries'
+// next poll, writes nothing and exits with 128 + the signal's number; a second signal ends the
+// process at once (its default action).
+#include <csignal>
 #include <iostream>
 
 #include "common.hpp"
+#include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
-#if defined(__SANITIZE_ADDRESS__)
+namespace {
+volatile std::sig_atomic_t received_signal = 0;
+
+extern "C" void on_signal(int sig) {
+  received_signal = sig;
+  skin::cancel::request();
+}
+
+void install_signal_handlers() {
+  struct sigaction action {};
+  action.sa_handler = on_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART | SA_RESETHAND;  // the next signal takes its default action
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+}  // namespace
+
+#if defined(__SANITIZE_ADDRESS__)  // GCC
+#define SKIN_ASAN 1
+#elif defined(__has_feature)  // clang
+#if __has_feature(address_sanitizer)
+#define SKIN_ASAN 1
+#endif
+#endif
+#if defined(SKIN_ASAN)
 // LeakSanitizer builds (SKIN_SANITIZE): fontconfig, used by Cairo to draw plot text, keeps a
 // process-lifetime cache that it never frees; that is not a leak of ours.
 extern "C" const char* __lsan_default_suppressions();
@@ -21,6 +51,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("skin 0.1.0"));
   register_commands(app);
+  install_signal_handlers();
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -32,6 +63,11 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     std::cerr << "skin: error: " << e.what() << " (run with --help for the options)\n";
     return 2;
+  } catch (const skin::Cancelled&) {
+    const int sig = received_signal;
+    std::cerr << "skin: interrupted by " << (sig == SIGTERM ? "SIGTERM" : "SIGINT")
+              << ": stopped, no output written\n";
+    return 128 + (sig ? sig : SIGINT);
   } catch (const skin::InputError& e) {
     std::cerr << "skin: error: " << e.what() << '\n';
     return 2;

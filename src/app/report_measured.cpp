@@ -138,10 +138,16 @@ std::vector<MeasuredEntry> write_measured_report(const std::string& spectra_dir,
                                                  const std::string& solver) {
   std::vector<MeasuredEntry> entries =
       fit::fit_measured_spectra(spectra_dir, fit::forward_model(solver));
+  write_measured_report(entries, spectra_dir, out_dir, solver);
+  return entries;
+}
+
+void write_measured_report(const std::vector<MeasuredEntry>& entries,
+                           const std::string& spectra_dir, const std::string& out_dir,
+                           const std::string& solver) {
   std::ostringstream md;
   write_measured_report(md, entries, spectra_dir, out_dir, solver);
   io::write_file_atomic((std::filesystem::path(out_dir) / "README.md").string(), md.str());
-  return entries;
 }
 
 }  // namespace skin::cli

@@ -28,5 +28,9 @@ void write_measured_report(std::ostream& md, const std::vector<fit::MeasuredEntr
 std::vector<fit::MeasuredEntry> write_measured_report(const std::string& spectra_dir,
                                                       const std::string& out_dir,
                                                       const std::string& solver);
+// The same for fits already made: writes `out_dir`/README.md and the plots.
+void write_measured_report(const std::vector<fit::MeasuredEntry>& entries,
+                           const std::string& spectra_dir, const std::string& out_dir,
+                           const std::string& solver);
 
 }  // namespace skin::cli

@@ -8,20 +8,26 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
 #include <png.h>
 #include <stb_image.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <ostream>
+#include <tuple>
 
 #include "skin/color/color.hpp"
 #include "skin/util/atomic_file.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/input_file.hpp"
 
 namespace skin::image {
 
@@ -39,15 +45,16 @@ std::ostream& operator<<(std::ostream& os, const Image& img) {
 
 namespace {
 
-void write_png(const std::string& path, const Image& img, double exposure) {
-  std::FILE* fp = std::fopen(path.c_str(), "wb");
-  if (!fp) throw InputError("output = '" + path + "': cannot open for writing");
+// Writes to `tmp`; messages name `path`, the file the user asked for.
+void write_png(const std::string& tmp, const std::string& path, const Image& img, double exposure) {
+  std::FILE* fp = std::fopen(tmp.c_str(), "wb");
+  if (!fp) throw InputError("output = '" + path + "': cannot open for writing: " + std::strerror(errno));
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info || setjmp(png_jmpbuf(png))) {
     png_destroy_write_struct(&png, &info);
     std::fclose(fp);
-    throw InputError("output = '" + path + "': PNG write failed");
+    throw InputError("output = '" + path + "': PNG write failed: " + std::strerror(errno));
   }
   png_init_io(png, fp);
   png_set_IHDR(png, info, static_cast<png_uint_32>(img.width), static_cast<png_uint_32>(img.height),
@@ -70,7 +77,38 @@ void write_png(const std::string& path, const Image& img, double exposure) {
   }
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
-  if (std::fclose(fp) != 0) throw InputError("output = '" + path + "': write failed");
+  if (std::fclose(fp) != 0) throw InputError("output = '" + path + "': write failed: " + std::strerror(errno));
+}
+
+// Width and height of an image a file declares, checked before anything is allocated: each side
+// >= 1 and at most kMaxImagePixels in all (a corrupt or hostile header can declare billions).
+std::pair<int, int> checked_size(long long w, long long h, const std::string& what, const std::string& path) {
+  if (w < 1 || h < 1 || w > kMaxImagePixels || h > kMaxImagePixels || w * h > kMaxImagePixels)
+    throw InputError(what + " = '" + path + "': declares " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels; allowed: at least 1x1 and at most " + std::to_string(kMaxImagePixels) +
+                     " pixels (8192x8192)");
+  return {static_cast<int>(w), static_cast<int>(h)};
+}
+
+// PNG, JPEG, TGA, BMP, HDR (stb_image): at most 4096 pixels per byte of the file. None of these
+// codecs packs more (deflate stops near 1032:1 of at least one byte per pixel; JPEG needs at
+// least one bit per 8x8 block, 512 pixels per byte), and stb_image fills a truncated file's
+// missing pixels without a word: a larger claim is a truncated or forged header. (OpenEXR
+// reports truncation itself, and its DWA compression may legitimately pack more.)
+void check_pixels_per_byte(int w, int h, const std::string& path) {
+  constexpr long long kPixelsPerByte = 4096;
+  std::error_code ec;
+  const auto bytes = static_cast<long long>(std::filesystem::file_size(path, ec));
+  if (!ec && static_cast<long long>(w) * h > kPixelsPerByte * bytes)
+    throw InputError("image = '" + path + "': declares " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels, more than a file of " + std::to_string(bytes) +
+                     " bytes can hold (truncated or corrupt)");
+}
+
+// The size of an EXR file's data window, checked.
+std::pair<int, int> checked_size(const Imath::Box2i& dw, const std::string& what, const std::string& path) {
+  return checked_size(static_cast<long long>(dw.max.x) - dw.min.x + 1,
+                      static_cast<long long>(dw.max.y) - dw.min.y + 1, what, path);
 }
 
 // One float channel of a frame buffer: `data` holds the pixel (0, 0) of the data window at
@@ -82,7 +120,31 @@ Imf::Slice float_slice(float* data, const Imath::Box2i& dw, std::size_t xs, std:
   return Imf::Slice(Imf::FLOAT, origin, xs, ys, 1, 1, 0.0);
 }
 
-void write_exr(const std::string& path, const Image& img) {
+// Writes an OpenEXR file of `header` to `tmp`, the pixels from `fb`; messages name `shown`.
+// OpenEXR writes the table of line offsets when the file object is destroyed and reports no
+// error from there, so the stream is ours and its state is checked after that: a write that
+// failed late (a full disk) never passes for a complete file.
+void write_exr_file(const std::string& tmp, const std::string& shown, const Imf::Header& header,
+                    const Imf::FrameBuffer& fb) {
+  std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
+  if (!os) throw InputError(shown + ": cannot open for writing: " + std::strerror(errno));
+  errno = 0;
+  try {
+    Imf::StdOFStream stream(os, tmp.c_str());
+    {
+      Imf::OutputFile file(stream, header);
+      file.setFrameBuffer(fb);
+      file.writePixels(header.dataWindow().max.y - header.dataWindow().min.y + 1);
+    }
+    os.close();
+  } catch (const std::exception& e) {
+    throw InputError(shown + ": EXR write failed: " + e.what());
+  }
+  if (os.fail())
+    throw InputError(shown + ": EXR write failed" + (errno ? std::string(": ") + std::strerror(errno) : ""));
+}
+
+void write_exr(const std::string& tmp, const std::string& path, const Image& img) {
   Imf::Header header(img.width, img.height);
   const char* names[3] = {"R", "G", "B"};
   for (const char* n : names) header.channels().insert(n, Imf::Channel(Imf::FLOAT));
@@ -91,20 +153,14 @@ void write_exr(const std::string& path, const Image& img) {
   auto* base = const_cast<float*>(img.rgb.data());
   for (int k = 0; k < 3; ++k)
     fb.insert(names[k], Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(base + k), xs, ys));
-  try {
-    Imf::OutputFile file(path.c_str(), header);
-    file.setFrameBuffer(fb);
-    file.writePixels(img.height);
-  } catch (const std::exception& e) {
-    throw InputError("output = '" + path + "': EXR write failed: " + e.what());
-  }
+  write_exr_file(tmp, "output = '" + path + "'", header, fb);
 }
 
 Image read_exr(const std::string& path) {
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
-    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    const auto [w, h] = checked_size(dw, "image", path);
     Image img(w, h);
     Imf::FrameBuffer fb;
     const std::size_t xs = sizeof(float) * 3, ys = xs * static_cast<std::size_t>(w);
@@ -113,6 +169,8 @@ Image read_exr(const std::string& path) {
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     return img;
+  } catch (const InputError&) {
+    throw;
   } catch (const std::exception& e) {
     throw InputError("image = '" + path + "': cannot read EXR: " + e.what());
   }
@@ -126,18 +184,20 @@ void write_image(const std::string& path, const Image& img, double exposure) {
   if (ext != "png" && ext != "exr")
     throw InputError("output = '" + path + "': unknown image format '." + ext + "', use .png or .exr");
   io::write_via_temporary(path, [&](const std::string& tmp) {
-    if (ext == "png") write_png(tmp, img, exposure);
-    else write_exr(tmp, img);
+    if (ext == "png") write_png(tmp, path, img, exposure);
+    else write_exr(tmp, path, img);
   });
 }
 
 Image read_image(const std::string& path, bool srgb) {
-  if (!std::filesystem::is_regular_file(path))
-    throw InputError("image = '" + path + "': file not found");
+  io::check_input_file(path, "image");
   const std::string ext = io::extension(path);
   if (ext == "exr") return read_exr(path);
   int w = 0, h = 0, n = 0;
   auto fail = [&] { return InputError("image = '" + path + "': cannot read: " + stbi_failure_reason()); };
+  if (stbi_info(path.c_str(), &w, &h, &n) == 0) throw fail();
+  checked_size(w, h, "image", path);
+  check_pixels_per_byte(w, h, path);
   if (ext == "hdr") {
     std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3), stbi_image_free);
     if (!data) throw fail();
@@ -170,32 +230,26 @@ void write_exr_planes(const std::string& path, const Planes& planes,
   for (const auto& v : planes.values) consistent = consistent && v.size() == npix;
   if (!consistent) throw InputError(what + ": inconsistent sizes for " + path);
   io::write_via_temporary(path, [&](const std::string& tmp) {
-    try {
-      Imf::Header header(planes.width, planes.height);
-      for (const auto& name : planes.names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-      for (const auto& [name, text] : attributes) header.insert(name, Imf::StringAttribute(text));
-      Imf::OutputFile out(tmp.c_str(), header);
-      Imf::FrameBuffer fb;
-      for (std::size_t c = 0; c < planes.names.size(); ++c)
-        fb.insert(planes.names[c],
-                  Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(planes.values[c].data())),
-                             sizeof(float), sizeof(float) * static_cast<std::size_t>(planes.width)));
-      out.setFrameBuffer(fb);
-      out.writePixels(planes.height);
-    } catch (const std::exception& e) {
-      throw InputError("cannot write " + what + " '" + path + "': " + e.what());
-    }
+    Imf::Header header(planes.width, planes.height);
+    for (const auto& name : planes.names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+    for (const auto& [name, text] : attributes) header.insert(name, Imf::StringAttribute(text));
+    Imf::FrameBuffer fb;
+    for (std::size_t c = 0; c < planes.names.size(); ++c)
+      fb.insert(planes.names[c],
+                Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(planes.values[c].data())),
+                           sizeof(float), sizeof(float) * static_cast<std::size_t>(planes.width)));
+    write_exr_file(tmp, what + " = '" + path + "'", header, fb);
   });
 }
 
 Planes read_exr_planes(const std::string& path, const std::vector<std::string>& names,
                        const std::string& what) {
+  io::check_input_file(path, what);
   try {
     Imf::InputFile in(path.c_str());
     const Imath::Box2i dw = in.header().dataWindow();
     Planes planes;
-    planes.width = dw.max.x - dw.min.x + 1;
-    planes.height = dw.max.y - dw.min.y + 1;
+    std::tie(planes.width, planes.height) = checked_size(dw, what, path);
     const std::size_t npix = static_cast<std::size_t>(planes.width) * static_cast<std::size_t>(planes.height);
     planes.names = names;
     planes.values.assign(names.size(), std::vector<float>(npix, 0.0f));

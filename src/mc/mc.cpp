@@ -15,6 +15,7 @@
 
 #include "skin/mc/sampling.hpp"
 #include "skin/physics/fresnel.hpp"
+#include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::mc {
@@ -249,6 +250,13 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double
   }
 }
 
+// Batches per round: enough to keep every thread busy between the ordered sums.
+std::uint64_t round_size(int threads) {
+  return std::max<std::uint64_t>(64, 16 * static_cast<std::uint64_t>(threads));
+}
+
+int thread_count(const Options& o) { return o.threads > 0 ? o.threads : tbb::info::default_concurrency(); }
+
 void validate(const Options& o) {
   if (o.photons < 1) throw InputError("photons = 0 is out of range: must be >= 1");
   if (o.threads < 0)
@@ -291,6 +299,12 @@ std::ostream& operator<<(std::ostream& os, const Result& r) {
   return os << '}';
 }
 
+double memory_bytes(const Options& o) {
+  const std::uint64_t n_batches = (o.photons + kBatchPhotons - 1) / kBatchPhotons;
+  const double tallies = static_cast<double>(std::min(round_size(thread_count(o)), n_batches) + 1);
+  return tallies * 2.0 * static_cast<double>(o.bins + o.exit_bins) * sizeof(double);
+}
+
 Result simulate(const LayerStack& stack, const Options& options) {
   stack.validate();
   validate(options);
@@ -304,11 +318,11 @@ Result simulate(const LayerStack& stack, const Options& options) {
 
   const std::uint64_t N = options.photons;
   const std::uint64_t n_batches = (N + kBatchPhotons - 1) / kBatchPhotons;
-  const int threads = options.threads > 0 ? options.threads : tbb::info::default_concurrency();
+  const int threads = thread_count(options);
   tbb::task_arena arena(threads);
   // Batches run in rounds; within a round each batch fills its own tally, and the tallies are
   // then added in batch order, so the floating-point sums do not depend on the schedule.
-  const std::uint64_t round = std::max<std::uint64_t>(64, 16 * static_cast<std::uint64_t>(threads));
+  const std::uint64_t round = round_size(threads);
   const ExitBins exits = options.exit_bins
                              ? ExitBins(options.exit_bins, options.exit_r_min, options.exit_r_max)
                              : ExitBins();
@@ -321,6 +335,7 @@ Result simulate(const LayerStack& stack, const Options& options) {
       tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, count, 1),
                         [&](const tbb::blocked_range<std::uint64_t>& range) {
                           for (std::uint64_t k = range.begin(); k != range.end(); ++k) {
+                            if (cancel::requested()) return;  // thrown below, after the round
                             const std::uint64_t b = first + k;
                             const std::uint64_t photons =
                                 std::min(kBatchPhotons, N - b * kBatchPhotons);
@@ -331,6 +346,7 @@ Result simulate(const LayerStack& stack, const Options& options) {
                           }
                         });
     });
+    cancel::check();
     for (std::uint64_t k = 0; k < count; ++k) total.add(slots[static_cast<std::size_t>(k)]);
     if (options.progress)
       options.progress(static_cast<std::size_t>(std::min(N, (first + count) * kBatchPhotons)),

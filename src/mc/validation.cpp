@@ -8,6 +8,7 @@
 #include <limits>
 #include <ostream>
 
+#include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/physics/skin_parameters.hpp"
@@ -206,6 +207,7 @@ ValidationRun run_validation(const std::vector<ValidationCase>& cases,
     cr.mc = simulate(c.stack, o);
     cr.r_fine = log_radii(0.5 * cr.mc.r_mm.front(), c.r_max, 200);
     for (const auto& s : solvers) {
+      cancel::check();
       cr.R_d.push_back(s.R_d(c.stack));
       if (s.profile) {
         cr.R.push_back(annulus_means(s, c.stack, cr.mc.r_mm));

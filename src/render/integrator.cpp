@@ -25,6 +25,7 @@
 
 #include "scene_impl.hpp"
 #include "skin/render/bssrdf.hpp"
+#include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::render {
@@ -280,12 +281,29 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
 
 }  // namespace
 
+namespace {
+// Image size and samples per pixel of a render: the settings', else the scene's.
+struct Extent {
+  int W, H, spp;
+};
+Extent extent(const SceneData& s, const RenderSettings& settings) {
+  return {settings.width > 0 ? settings.width : s.camera.width,
+          settings.height > 0 ? settings.height : s.camera.height, settings.spp > 0 ? settings.spp : s.spp};
+}
+}  // namespace
+
+RenderCost render_cost(const Scene& scene, const RenderSettings& settings) {
+  const Extent e = extent(scene.impl().data, settings);
+  const double pixels = static_cast<double>(e.W) * e.H;
+  // The sums (Rgb3 of doubles) and the image (3 floats) per pixel.
+  return {pixels * e.spp, pixels * static_cast<double>(sizeof(Rgb3) + 3 * sizeof(float))};
+}
+
 Image render(const Scene& scene, const RenderSettings& settings, RenderStats* stats, const Progress& progress) {
   const SceneData& s = scene.impl().data;
   const Accel& accel = *scene.impl().accel;
-  const int W = settings.width > 0 ? settings.width : s.camera.width;
-  const int H = settings.height > 0 ? settings.height : s.camera.height;
-  const int spp = settings.spp > 0 ? settings.spp : s.spp;
+  const Extent e = extent(s, settings);
+  const int W = e.W, H = e.H, spp = e.spp;  // named copies: lambdas below capture them
   const int max_depth = settings.max_depth >= 0 ? settings.max_depth : s.max_depth;
   if (W <= 0 || H <= 0 || W > 16384 || H > 16384)
     throw InputError("resolution = " + std::to_string(W) + "x" + std::to_string(H) + " is out of range: each side must be in [1, 16384]");
@@ -321,6 +339,7 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
           for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
             for (int y = ty * kTile; y < std::min(H, (ty + 1) * kTile); ++y)
               for (int x = tx * kTile; x < std::min(W, (tx + 1) * kTile); ++x) {
+                if (cancel::requested()) return;  // thrown below, after the pass
                 const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(W) + static_cast<std::uint64_t>(x);
                 Rgb3 acc = sum[pixel];
                 for (int si = s0; si < s1; ++si) {
@@ -341,6 +360,7 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
           }
       });
     });
+    cancel::check();
     done = s1;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (settings.time_budget > 0 && elapsed >= settings.time_budget) break;

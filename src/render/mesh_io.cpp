@@ -26,6 +26,7 @@
 #include "scene_data.hpp"
 #include "skin/util/atomic_file.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/input_file.hpp"
 
 namespace skin::render {
 namespace {
@@ -272,7 +273,7 @@ std::vector<Mesh> load_gltf(const std::string& path, std::size_t material) {
 }  // namespace
 
 std::vector<Mesh> load_mesh_file(const std::string& path, std::size_t material) {
-  if (!std::filesystem::is_regular_file(path)) fail(path, "file not found");
+  io::check_input_file(path, "mesh");
   const std::string ext = io::extension(path);
   if (ext == "obj") return load_obj(path, material);
   if (ext == "gltf" || ext == "glb") return load_gltf(path, material);

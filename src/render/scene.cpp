@@ -14,6 +14,7 @@
 
 #include "scene_impl.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/input_file.hpp"
 
 namespace skin::render {
 
@@ -160,7 +161,7 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
       const Reader pm(r.raw("parameter_maps"), r.file(), r.path("parameter_maps"));
       for (const auto& [k, v] : pm.j().items()) {
         const ParameterInfo* info =
-            with_context(r.file(), pm.path(k.c_str()), [&] { return &parameter_info(k, "parameter"); });
+            with_context(r.file(), pm.path(k.c_str()), [&key = k] { return &parameter_info(key, "parameter"); });
         const Reader e(v, r.file(), pm.path(k.c_str()));
         e.allow({"texture", "channel", "min", "max", "levels"});
         Material::ParameterMap mp;
@@ -416,18 +417,14 @@ Scene Scene::parse(const std::string& text, const std::string& base_dir, const s
   json root;
   try {
     root = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond double
     throw InputError("scene = '" + name + "': malformed JSON: " + e.what());
   }
   return make_scene(parse_scene(root, name, base_dir));
 }
 
 Scene Scene::load(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("scene = '" + path + "': file not found or unreadable");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse(ss.str(), std::filesystem::path(path).parent_path().string(), path);
+  return parse(io::read_file(path, "scene"), std::filesystem::path(path).parent_path().string(), path);
 }
 
 Scene Scene::default_scene() {

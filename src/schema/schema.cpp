@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "skin/util/error.hpp"
+#include "skin/util/input_file.hpp"
 
 namespace skin::schema {
 
@@ -187,11 +188,10 @@ std::string color_table(const color::ColorSummary& c) {
 
 ParameterFile ParameterFile::read(const std::string& path) {
   const std::string where = "params = '" + path + "': ";
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(where + "cannot read the file");
+  const std::string text = io::read_file(path, "params");
   json doc;
   try {
-    doc = json::parse(in);
+    doc = json::parse(text);
   } catch (const std::exception& e) {
     throw InputError(where + "not valid JSON (" + e.what() + ")");
   }

@@ -73,7 +73,7 @@ TEST(Inputs, CsvParsing) {
   EXPECT_EQ(message_of([] { parse_csv("# only comments\n", "z.csv"); }),
             "z.csv: no header line (column names) found");
   EXPECT_EQ(message_of([] { read_csv_file("/nonexistent/file.csv"); }),
-            "/nonexistent/file.csv: cannot open file for reading");
+            "CSV file = '/nonexistent/file.csv': file not found");
 }
 
 // The parameter table is complete (one row per member of SkinParameters, each member once),

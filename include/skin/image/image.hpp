@@ -13,6 +13,10 @@
 
 namespace skin::image {
 
+// The most pixels an image file may declare to be read (8192 x 8192; a texture of that size
+// takes 0.8 GB as linear floats). Larger ones are refused before anything is allocated.
+inline constexpr long long kMaxImagePixels = 8192LL * 8192LL;
+
 // Linear RGB floats (linear sRGB primaries unless the caller says otherwise), row 0 at the top.
 struct Image {
   int width = 0, height = 0;
@@ -40,7 +44,7 @@ void write_image(const std::string& path, const Image& img, double exposure = 0.
 
 // Reads .exr, .hdr (linear) or 8- and 16-bit .png / .jpg / .tga / .bmp (grey expanded to RGB,
 // alpha dropped; the sRGB transfer curve decoded to linear when `srgb`). Throws InputError naming
-// the file when it is missing or unreadable.
+// the file when it is missing, unreadable or declares more than kMaxImagePixels.
 Image read_image(const std::string& path, bool srgb = true);
 
 // Named float channels of one size, row 0 at the top (each plane width * height values).

@@ -52,6 +52,9 @@ struct Options {
   double exit_r_min = 1e-3, exit_r_max = 10.0;
 };
 std::ostream& operator<<(std::ostream& os, const Options& o);
+// Memory simulate() takes for its tallies with these options [bytes] (one tally of the radial
+// and exit bins per batch of a round, and the total), to check a request before it starts.
+double memory_bytes(const Options& o);
 
 struct Result {
   double R_specular = 0;  // Fresnel reflectance of the top surface at normal incidence

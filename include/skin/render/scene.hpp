@@ -89,6 +89,13 @@ using Progress = std::function<void(double fraction)>;
 Image render(const Scene& scene, const RenderSettings& settings, RenderStats* stats = nullptr,
              const Progress& progress = {});
 
+// What render() would take with these settings, to check a request before it starts.
+struct RenderCost {
+  double samples = 0;  // camera samples: pixels x spp (before any time budget)
+  double bytes = 0;    // memory of the image sums
+};
+RenderCost render_cost(const Scene& scene, const RenderSettings& settings);
+
 // Layout of `Scene::figure(number)`: grid size, the label of each patch (row-major), title.
 struct FigureLayout {
   int columns = 1, rows = 1;

@@ -8,10 +8,16 @@
 
 namespace skin {
 
+// Its message is one line by construction: control characters (a newline, a carriage return,
+// bytes of the user's file quoted by a decoder's message) are shown as \xNN escapes.
 class InputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(const std::string& message);
+  explicit InputError(const char* message) : InputError(std::string(message)) {}
 };
+
+// Text shown as one line: control characters (below 0x20, and 0x7f) as \xNN escapes.
+std::string one_line(std::string_view text);
 
 // Formats a double the way messages show it (shortest round-trip form).
 std::string format_number(double v);

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Builds the libFuzzer harnesses of fuzz/ (clang, -fsanitize=fuzzer,address,undefined, in
+# build-asan/: scripts/configure-asan.sh) and runs each for SECONDS (default 60), starting from
+# its seed corpus fuzz/corpus/<target>/ (never modified: new inputs go to
+# build-asan/fuzz-corpus/<target>/).
+#   bash scripts/fuzz.sh [SECONDS] [TARGET...]
+# A crash, hang (> 10 s on one input), out-of-memory (> 2 GB) or sanitizer report stops that
+# target and leaves its input in build-asan/fuzz-findings/; the script then exits 1. At the end it
+# prints one line per target: executions, and the corpus size.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+seconds=${1:-60}
+shift || true
+dir=build-asan
+[ -f "$dir/CMakeCache.txt" ] || bash scripts/configure-asan.sh
+cmake --build "$dir" --target fuzz_all
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then
+  for f in "$dir"/bin/fuzz_*; do targets+=("$(basename "$f")"); done
+fi
+export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+mkdir -p "$dir/fuzz-findings" "$dir/fuzz-logs"
+failed=0
+summary=()
+for t in "${targets[@]}"; do
+  mkdir -p "$dir/fuzz-corpus/$t"
+  seeds=fuzz/corpus/$t
+  log=$dir/fuzz-logs/$t.log
+  status=ok
+  if ! "$dir/bin/$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+      -artifact_prefix="$dir/fuzz-findings/$t-" "$dir/fuzz-corpus/$t" "$seeds" >"$log" 2>&1; then
+    status="FINDING (see $log and $dir/fuzz-findings/)"
+    failed=1
+  fi
+  execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || echo "?")
+  summary+=("$(printf '%-22s %10s executions in %ss, corpus %s files  %s' "$t" "$execs" "$seconds" \
+    "$(ls "$dir/fuzz-corpus/$t" | wc -l)" "$status")")
+done
+printf '%s\n' "${summary[@]}"
+exit $failed
