@@ -216,8 +216,11 @@ void register_batch(CLI::App& app) {
     } else {
       throw InputError("batch: give the parameter sets with --sets FILE.csv or --sweep KEY=START:STOP:COUNT");
     }
-    const auto [first, end] = o->rows.empty() ? std::pair<std::size_t, std::size_t>{0, sets.count}
-                                              : parse_rows(o->rows, sets.count);
+    // (plain variables, not a structured binding: the lambdas below capture them, which clang 14,
+    // the sanitizer build's compiler, does not allow for bindings)
+    const std::pair<std::size_t, std::size_t> range =
+        o->rows.empty() ? std::pair<std::size_t, std::size_t>{0, sets.count} : parse_rows(o->rows, sets.count);
+    const std::size_t first = range.first, end = range.second;
     for (std::size_t i = first; i < end; ++i) {
       try {
         sets.at(i).validate();
