@@ -136,26 +136,20 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng& rng, double
     double ux = 0, uy = 0, uz = 1;  // pencil beam at normal incidence (refraction-free)
     double w = 1;                   // per power that entered
     std::size_t li = 0;
-    if (source == Source::diffuse_top) {
-      // Lambertian emission downwards from the top surface: mu = sqrt(u) has pdf 2 mu.
+    if (source != Source::pencil) {
+      // Lambertian emission into the medium, downwards from the top surface (diffuse_top) or
+      // upwards from the bottom boundary (diffuse_bottom): mu = sqrt(u) has pdf 2 mu.
+      if (source == Source::diffuse_bottom) {
+        li = n_layers - 1;
+        z = slabs[li].z_bottom;
+      }
       const double mu = std::sqrt(rng.uniform_open0());
       const double sin_t = std::sqrt(std::max(0.0, 1.0 - mu * mu));
       double cos_p, sin_p;
       sample_azimuth(rng, cos_p, sin_p);
       ux = sin_t * cos_p;
       uy = sin_t * sin_p;
-      uz = mu;
-    } else if (source == Source::diffuse_bottom) {
-      // Lambertian emission upwards from the bottom boundary: mu = sqrt(u) has pdf 2 mu.
-      li = n_layers - 1;
-      z = slabs[li].z_bottom;
-      const double mu = std::sqrt(rng.uniform_open0());
-      const double sin_t = std::sqrt(std::max(0.0, 1.0 - mu * mu));
-      double cos_p, sin_p;
-      sample_azimuth(rng, cos_p, sin_p);
-      ux = sin_t * cos_p;
-      uy = sin_t * sin_p;
-      uz = -mu;
+      uz = source == Source::diffuse_top ? mu : -mu;
     }
     double tau_left = 0;  // unused optical depth carried across an interface
     for (;;) {
