@@ -13,6 +13,7 @@
 #include "common.hpp"
 #include "progress.hpp"
 #include "skin/batch/batch.hpp"
+#include "skin/batch/sets.hpp"
 #include "skin/util/atomic_file.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/table.hpp"
@@ -20,87 +21,6 @@
 namespace skin::cli {
 
 namespace {
-
-// The varying parameters of the sets: for set i, values[k][i] of parameter keys[k] (NaN = the
-// base value), over the base set.
-struct SetTable {
-  SkinParameters base;
-  std::vector<const ParameterInfo*> keys;
-  std::size_t count = 0;
-  // Column k's value for set i (NaN: the base's).
-  std::function<double(std::size_t k, std::size_t i)> value;
-  std::string source;  // for messages: the file, or "--sweep"
-
-  SkinParameters at(std::size_t i) const {
-    SkinParameters p = base;
-    for (std::size_t k = 0; k < keys.size(); ++k)
-      if (const double v = value(k, i); !std::isnan(v)) p.*(keys[k]->member) = v;
-    return p;
-  }
-};
-
-// "KEY=START:STOP:COUNT": COUNT values from START to STOP inclusive, evenly spaced.
-struct Sweep {
-  const ParameterInfo* info;
-  double start, stop;
-  std::size_t count;
-  double operator[](std::size_t i) const {
-    // (stop - start) * i / (count - 1): exact at both ends, and equal to the decimal a user
-    // types for the usual sweeps (0:0.5:21 gives 0.175, not 0.17500000000000002).
-    return count == 1 ? start
-                      : start + (stop - start) * static_cast<double>(i) / static_cast<double>(count - 1);
-  }
-};
-
-double parse_number(const std::string& text, const std::string& what) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || !std::isfinite(v))
-    throw InputError(what + ": '" + text + "' is not a finite number");
-  return v;
-}
-
-Sweep parse_sweep(const std::string& spec) {
-  const std::string what = "sweep = '" + spec + "'";
-  const auto eq = spec.find('=');
-  const auto c1 = spec.find(':', eq == std::string::npos ? 0 : eq);
-  const auto c2 = c1 == std::string::npos ? c1 : spec.find(':', c1 + 1);
-  if (eq == std::string::npos || c1 == std::string::npos || c2 == std::string::npos)
-    throw InputError(what + " must look like KEY=START:STOP:COUNT (e.g. melanin=0:0.5:21)");
-  Sweep s{&parameter_info(spec.substr(0, eq)), 0, 0, 0};
-  s.start = parse_number(spec.substr(eq + 1, c1 - eq - 1), what + ", START");
-  s.stop = parse_number(spec.substr(c1 + 1, c2 - c1 - 1), what + ", STOP");
-  const std::string count = spec.substr(c2 + 1);
-  const double n = parse_number(count, what + ", COUNT");
-  if (n < 1 || n > 1e9 || n != std::floor(n))
-    throw InputError(what + ": COUNT = " + count + " is out of range: must be a whole number in [1, 1e9]");
-  s.count = static_cast<std::size_t>(n);
-  // The range is an interval: both ends inside it put every value inside.
-  s.info->check(s.start);
-  s.info->check(s.stop);
-  return s;
-}
-
-// [first, last) from "A:B" (whole numbers, A <= B), clamped to the sets that exist.
-std::pair<std::size_t, std::size_t> parse_rows(const std::string& spec, std::size_t count) {
-  const auto colon = spec.find(':');
-  auto whole = [&](const std::string& t) {
-    const double v = parse_number(t, "rows = '" + spec + "'");
-    if (v < 0 || v != std::floor(v) || v > 1e15)
-      throw InputError("rows = '" + spec + "': '" + t + "' is not a whole number >= 0");
-    return static_cast<std::size_t>(v);
-  };
-  if (colon == std::string::npos)
-    throw InputError("rows = '" + spec + "' must look like FIRST:END (sets FIRST to END - 1, from 0)");
-  const std::size_t a = whole(spec.substr(0, colon)), b = whole(spec.substr(colon + 1));
-  if (b < a) throw InputError("rows = '" + spec + "': need FIRST <= END");
-  return {std::min(a, count), std::min(b, count)};
-}
 
 // Appends the one-row columns `row` to `to` (the same columns, or none yet).
 void append_row(std::vector<Column>& to, const std::vector<Column>& row) {
@@ -174,60 +94,31 @@ void register_batch(CLI::App& app) {
       ->group("Output");
   sub->callback([o] {
     // Everything that can fail on input is checked before the first row is written.
-    SetTable sets;
-    sets.base = o->params.resolve();
+    const SkinParameters base = o->params.resolve();
     auto refuse_flag_too = [&](const ParameterInfo* info, const std::string& by) {
       for (const auto& [opt, flag_info] : o->params.flags)
         if (flag_info == info && opt->count() > 0)
           throw InputError(std::string(info->key) + " is given by both " + opt->get_name() + " and " + by);
     };
-    std::vector<Sweep> sweeps;
+    std::vector<batch::Sweep> sweeps;
     std::optional<Table> table;
+    batch::Sets sets;
     if (!o->sets_file.empty()) {
       table = read_csv_file(o->sets_file);
-      for (const std::string& name : table->columns) {
-        const ParameterInfo* info = &parameter_info(name, o->sets_file + ": column");
-        if (std::find(sets.keys.begin(), sets.keys.end(), info) != sets.keys.end())
-          throw InputError(o->sets_file + ": column '" + name + "' repeats parameter " + std::string(info->key));
-        refuse_flag_too(info, o->sets_file);
-        sets.keys.push_back(info);
-      }
-      sets.count = table->rows();
-      sets.value = [t = &*table](std::size_t k, std::size_t i) { return t->data[k][i]; };
-      sets.source = o->sets_file;
+      sets = batch::sets_from_table(*table, base);
     } else if (!o->sweeps.empty()) {
-      sets.count = 1;
-      for (const std::string& spec : o->sweeps) {
-        const Sweep s = parse_sweep(spec);
-        for (const Sweep& other : sweeps)
-          if (other.info == s.info) throw InputError(std::string(s.info->key) + " is swept twice");
-        refuse_flag_too(s.info, "--sweep");
-        if (sets.count > std::size_t(1e12) / s.count) throw InputError("the sweeps make more than 1e12 sets");
-        sets.count *= s.count;
-        sweeps.push_back(s);
-        sets.keys.push_back(s.info);
-      }
-      // Row-major over the sweeps: the last varies fastest.
-      sets.value = [&sweeps](std::size_t k, std::size_t i) {
-        for (std::size_t j = sweeps.size(); j-- > k + 1;) i /= sweeps[j].count;
-        return sweeps[k][i % sweeps[k].count];
-      };
-      sets.source = "--sweep";
+      for (const std::string& spec : o->sweeps) sweeps.push_back(batch::parse_sweep(spec));
+      sets = batch::sets_from_sweeps(sweeps, base);
     } else {
       throw InputError("batch: give the parameter sets with --sets FILE.csv or --sweep KEY=START:STOP:COUNT");
     }
+    for (const ParameterInfo* info : sets.keys) refuse_flag_too(info, sets.source);
     // (plain variables, not a structured binding: the lambdas below capture them, which clang 14,
     // the sanitizer build's compiler, does not allow for bindings)
     const std::pair<std::size_t, std::size_t> range =
-        o->rows.empty() ? std::pair<std::size_t, std::size_t>{0, sets.count} : parse_rows(o->rows, sets.count);
+        o->rows.empty() ? std::pair<std::size_t, std::size_t>{0, sets.count} : batch::parse_rows(o->rows, sets.count);
     const std::size_t first = range.first, end = range.second;
-    for (std::size_t i = first; i < end; ++i) {
-      try {
-        sets.at(i).validate();
-      } catch (const InputError& e) {
-        throw InputError(sets.source + ": set " + std::to_string(i) + ": " + e.what());
-      }
-    }
+    sets.validate(first, end);
     if (const std::string ext = io::extension(o->output); !o->output.empty() && o->output != "-" &&
                                                            ext != "csv" && ext != "txt" && !ext.empty())
       throw InputError("output = '" + o->output + "': skin batch writes CSV (.csv or .txt)");

@@ -5,6 +5,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::batch {
@@ -12,7 +13,8 @@ namespace skin::batch {
 namespace {
 
 // compute(i) for i in [0, n) on `threads` workers (0 = all cores), one set per task: a set
-// costs 0.07-10 ms, far above TBB's scheduling overhead, and one per task balances best.
+// costs 0.07-10 ms, far above TBB's scheduling overhead, and one per task balances best. A
+// cancellation request (skin/util/cancel.hpp) ends it between sets with Cancelled.
 template <class F>
 void for_each_set(std::size_t n, const Options& options, const F& compute) {
   if (options.threads < 0)
@@ -22,7 +24,10 @@ void for_each_set(std::size_t n, const Options& options, const F& compute) {
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
                       [&](const tbb::blocked_range<std::size_t>& range) {
-                        for (std::size_t i = range.begin(); i != range.end(); ++i) compute(i);
+                        for (std::size_t i = range.begin(); i != range.end(); ++i) {
+                          cancel::check();
+                          compute(i);
+                        }
                       });
   });
 }

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "skin/batch/batch.hpp"
+#include "skin/batch/sets.hpp"
+#include "skin/util/table.hpp"
 #include "skin/util/error.hpp"
 
 using namespace skin;
@@ -59,4 +61,42 @@ TEST(Batch, InvalidSetsAndThreadCountsAreInputErrors) {
   EXPECT_THROW(batch::spectra(sets, WavelengthGrid(), transport::default_model()), InputError);
   EXPECT_THROW(batch::spectra(sweep(2), WavelengthGrid(), transport::default_model(), {-1}), InputError);
   EXPECT_TRUE(batch::spectra({}, WavelengthGrid(), transport::default_model()).empty());
+}
+
+// The sets of a batch run (skin/batch/sets.hpp).
+TEST(BatchSets, SweepsRunFromStartToStopExactly) {
+  // 0.001 + (0.2 - 0.001) rounds to 0.19999999999999998: the last value must be STOP itself.
+  const batch::Sweep s = batch::parse_sweep("hemoglobin=0.001:0.2:7");
+  EXPECT_EQ(s.count, 7u);
+  EXPECT_EQ(s[0], 0.001);
+  EXPECT_EQ(s[6], 0.2);
+  EXPECT_EQ(batch::parse_sweep("melanin=0:0.5:21")[7], 0.175);  // the decimal a user types
+  EXPECT_EQ(batch::parse_sweep("C_m=0.1:0.3:1")[0], 0.1);       // symbols; COUNT 1 is START
+}
+
+TEST(BatchSets, GridIsRowMajorOverTheSweeps) {
+  const std::vector<batch::Sweep> sweeps = {batch::parse_sweep("melanin=0:0.2:3"),
+                                            batch::parse_sweep("hemoglobin=0.01:0.02:2")};
+  const batch::Sets sets = batch::sets_from_sweeps(sweeps, SkinParameters{});
+  ASSERT_EQ(sets.count, 6u);
+  EXPECT_EQ(sets.at(0).melanin, 0.0);
+  EXPECT_EQ(sets.at(1).hemoglobin, 0.02);  // the last sweep varies fastest
+  EXPECT_EQ(sets.at(2).melanin, 0.1);
+  EXPECT_EQ(sets.at(5).melanin, 0.2);
+  EXPECT_THROW(batch::sets_from_sweeps({sweeps[0], sweeps[0]}, SkinParameters{}), InputError);
+}
+
+TEST(BatchSets, TablesAndRowsAreChecked) {
+  const Table t = parse_csv("melanin,C_h\n0.1,\n0.2,0.03\n", "sets.csv");
+  const batch::Sets sets = batch::sets_from_table(t, SkinParameters{});
+  ASSERT_EQ(sets.count, 2u);
+  EXPECT_EQ(sets.at(0).hemoglobin, SkinParameters{}.hemoglobin);  // empty cell: the base value
+  EXPECT_EQ(sets.at(1).hemoglobin, 0.03);
+  EXPECT_THROW(batch::sets_from_table(parse_csv("melanin,C_m\n0.1,0.1\n", "x.csv"), {}), InputError);
+  EXPECT_THROW(batch::sets_from_table(parse_csv("melanin\n2\n", "x.csv"), {}).validate(0, 1), InputError);
+  EXPECT_EQ(batch::parse_rows("5:100", 10), (std::pair<std::size_t, std::size_t>{5, 10}));
+  for (const char* bad : {"5", "a:3", "4:2", "-1:3", "1.5:3", "1:1e16"})
+    EXPECT_THROW(batch::parse_rows(bad, 10), InputError) << bad;
+  for (const char* bad : {"melanin=0:1", "melanin=0:1:0", "melanin=0:2:3", "nope=0:1:2", "melanin=0:x:2"})
+    EXPECT_THROW(batch::parse_sweep(bad), InputError) << bad;
 }

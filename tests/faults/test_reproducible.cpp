@@ -1,5 +1,5 @@
 // The same inputs and seed give bit-identical output files across runs and thread counts, for
-// render, mc, fit --texture and tabulate-top-layer (through the binary, as a user runs them).
+// render, mc, fit --texture, batch and tabulate-top-layer (through the binary, as a user runs them).
 // fit has no --threads: its thread count is set by the CPUs it may run on (taskset).
 #include <random>
 #include <thread>
@@ -43,6 +43,12 @@ TEST_F(Reproducible, Render) {
 
 TEST_F(Reproducible, MonteCarlo) {
   expect_identical("mc --preset pale --wavelength 650 --photons 10000 --seed 9 -o out.csv", "out.csv");
+}
+
+TEST_F(Reproducible, Batch) {
+  // Several chunks of 256 sets (the unit of parallel work), spectra and profiles.
+  expect_identical("batch --sweep melanin=0:0.5:40 --sweep hemoglobin=0.001:0.2:15 --spectrum --radius 0.05 --radius 0.5 --radius 2 -o out.csv",
+                   "out.csv");
 }
 
 TEST_F(Reproducible, TabulateTopLayer) {

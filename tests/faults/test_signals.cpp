@@ -1,5 +1,5 @@
 // SIGINT and SIGTERM during the long commands (render, mc, validate, fit --texture,
-// tabulate-top-layer): the command stops within 2 s of the signal, exits with 128 + the signal's
+// tabulate-top-layer, batch): the command stops within 2 s of the signal, exits with 128 + the signal's
 // number after one line saying so, leaves no temporary file and every existing output as it was.
 #include <random>
 
@@ -60,7 +60,10 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"mc", "mc --preset pale --wavelength 650 --photons 100000000 -o out.json", {"out.json"}, SIGTERM},
         Case{"validate", "validate --out report --photons 100000000", {"report/README.md", "report/measured/README.md"}, SIGINT},
         Case{"fit_texture", "fit --texture noise.png -o params.exr", {"params.exr"}, SIGTERM},
-        Case{"tabulate_top_layer", "tabulate-top-layer -o table.csv", {"table.csv"}, SIGINT}),
+        Case{"tabulate_top_layer", "tabulate-top-layer -o table.csv", {"table.csv"}, SIGINT},
+        Case{"batch", "batch --sweep melanin=0:0.5:1000 --sweep hemoglobin=0.001:0.2:1000 --spectrum -o sets.csv",
+             {"sets.csv"}, SIGTERM},
+        Case{"batch_profile", "batch --sweep melanin=0:0.5:100000 --radius 0.1 --radius 1 -o sets.csv", {"sets.csv"}, SIGINT}),
     [](const auto& test) { return test.param.name; });
 
 }  // namespace

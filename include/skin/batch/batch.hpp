@@ -3,7 +3,8 @@
 // on all cores. Result i belongs to sets[i] and equals, bit for bit, the single call for that set
 // (each set is computed by the same library function; threads share only the transport models'
 // read-only tables). Used by `skin batch` and by the Python package's array calls. The thread
-// pool (TBB) stays private: this header exposes standard types only.
+// pool (TBB) stays private: this header exposes standard types only. A cancellation request
+// (skin/util/cancel.hpp) ends a call between sets by throwing skin::Cancelled.
 #include <span>
 #include <vector>
 
