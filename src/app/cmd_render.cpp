@@ -1,5 +1,7 @@
 // skin render / skin figure: pictures of skin from the Monte Carlo renderer (skin::render).
 #include <chrono>
+#include <cmath>
+#include <optional>
 #include <cstdio>
 #include <iostream>
 
@@ -14,10 +16,10 @@ namespace skin::cli {
 namespace {
 
 struct RenderOpts {
-  std::string scene, output, resolution, mesh;
+  std::string scene, output, resolution, mesh, reference;
   int spp = 0, max_depth = -1, figure = 0;
   RunOptions run;
-  double time_budget = 0, exposure = 0;
+  double time_budget = 0, exposure = 0, target_error = 0;
   bool exposure_given = false, diffuse = false;
   SolverOption solver;
   ParameterOptions params;  // render only: changes the skin materials
@@ -46,6 +48,13 @@ void add_common(CLI::App* sub, RenderOpts* o) {
   o->run.add_to(*sub, "Random seed; same seed, same image at any thread count");
   sub->add_option("--max-depth", o->max_depth, "Path vertices after the camera (default: the scene's)")->check(whole_number(0, 1000));
   sub->add_option("--time-budget", o->time_budget, "Stop after the last whole sample pass within this many seconds (0 = none)");
+  sub->add_option("--target-error", o->target_error,
+                  "Adaptive sampling: stop each pixel once its estimated standard error is at most this "
+                  "fraction of the skin's mean brightness, in [0, 1) (0 = off; --spp is then the most a "
+                  "pixel takes, default 65536)");
+  sub->add_option("--reference", o->reference,
+                  "An .exr of the same scene and size (e.g. many spp): print the relative RMS error of this "
+                  "render against it over the skin pixels");
   sub->add_option("--exposure", o->exposure, "PNG exposure in stops (default: the scene's)")
       ->each([o](const std::string&) { o->exposure_given = true; });
 }
@@ -58,6 +67,7 @@ void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* 
   rs.threads = o.run.threads;
   rs.max_depth = o.max_depth;
   rs.time_budget = o.time_budget;
+  rs.target_error = o.target_error;
   if (!o.resolution.empty()) parse_resolution(o.resolution, &rs);
   if (o.spp < 0) throw InputError("spp = " + std::to_string(o.spp) + " is out of range: must be >= 1");
   for (const auto& v : scene.validity())
@@ -70,12 +80,32 @@ void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* 
                       format_number(cost.samples) + " samples",
                   o.time_budget > 0 ? 0.0 : cost.samples, kRenderSamplesPerSecond, rs.threads, cost.bytes);
   }
+  // The reference is read before the render: a bad file fails at once.
+  std::optional<render::Image> reference;
+  if (!o.reference.empty()) {
+    if (io::extension(o.reference) != "exr")
+      throw InputError("reference = '" + o.reference + "': must be an .exr (linear float) image");
+    reference = render::read_image(o.reference);
+  }
   render::RenderStats stats;
   render::Image img = render::render(scene, rs, &stats, progress_fraction_bar());
+  const double reference_error = reference ? render::relative_rms_error(img, *reference, stats.skin_mask) : 0.0;
   if (layout) img = render::annotate_figure(img, *layout);
   render::write_image(o.output, img, o.exposure_given ? o.exposure : scene.exposure());
-  std::printf("wrote %s: %dx%d, %d spp, %.1f s (%.3g samples/s)\n", o.output.c_str(), img.width, img.height,
-              stats.spp_done, stats.seconds, stats.samples_per_second());
+  const double mean_spp = static_cast<double>(stats.camera_samples) / (static_cast<double>(img.width) * img.height);
+  if (o.target_error > 0)
+    std::printf("wrote %s: %dx%d, %.3g spp on average (at most %d), %.1f s (%.3g samples/s)\n", o.output.c_str(),
+                img.width, img.height, mean_spp, stats.spp_done, stats.seconds, stats.samples_per_second());
+  else
+    std::printf("wrote %s: %dx%d, %d spp, %.1f s (%.3g samples/s)\n", o.output.c_str(), img.width, img.height,
+                stats.spp_done, stats.seconds, stats.samples_per_second());
+  // The error of the skin pixels, estimated from the samples' spread (and measured against a
+  // reference when given): the relative RMS error, render::RenderStats::estimated_error.
+  if (stats.skin_pixels > 0 && std::isfinite(stats.estimated_error)) {
+    std::printf("skin: %zu pixels, relative RMS error %.3g (estimated)", stats.skin_pixels, stats.estimated_error);
+    if (reference) std::printf(", %.3g against %s", reference_error, o.reference.c_str());
+    std::printf("\n");
+  }
   if (stats.invalid_samples > 0)
     std::fprintf(stderr, "skin: warning: %llu non-finite samples dropped\n",
                  static_cast<unsigned long long>(stats.invalid_samples));

@@ -46,7 +46,8 @@ class Integrator {
   Integrator(const SceneData& s, const Accel& a, int max_depth)
       : s_(s), a_(a), max_depth_(max_depth), eps_(1e-5 * a.extent()) {}
 
-  Rgb3 Li(Vec3 o, Vec3 d, Rng& rng) const;
+  // *translucent (if given): whether the first surface the ray meets is translucent.
+  Rgb3 Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent = nullptr) const;
 
  private:
   // face_ray: turn the normals toward -d (two-sided shading of what a ray sees); otherwise keep
@@ -166,7 +167,7 @@ bool Integrator::sample_entry(const Surface& xo, const Bssrdf& bssrdf, Rng& rng,
   return bssrdf.probe_weight(xi->p, xi->ng, count, weight);
 }
 
-Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
+Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
   Rgb3 L, beta{1, 1, 1};
   double prev_pdf = 0;     // solid-angle pdf of the direction that produced this ray
   bool prev_delta = true;  // camera ray: no MIS against lights
@@ -196,6 +197,7 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng) const {
     Surface x = surface(h, d);
     if (x.mat->has_maps() && x.has_uv) x.mat = &x.mat->node_at(x.uv.x, x.uv.y, rng.uniform());
     const Material& m = *x.mat;
+    if (depth == 0 && translucent) *translucent = m.translucent();
     const Vec3 wo = -d;
     if (!m.translucent()) {
       Rgb3 albedo = m.albedo;
@@ -286,6 +288,10 @@ namespace {
 struct Extent {
   int W, H, spp;
 };
+// Adaptive sampling: the first pass's samples per pixel (also the fewest a pixel takes) and the
+// most a pixel takes unless --spp says otherwise.
+constexpr int kAdaptiveFirstPass = 16;
+constexpr int kAdaptiveMaxSpp = 65536;
 Extent extent(const SceneData& s, const RenderSettings& settings) {
   return {settings.width > 0 ? settings.width : s.camera.width,
           settings.height > 0 ? settings.height : s.camera.height, settings.spp > 0 ? settings.spp : s.spp};
@@ -295,21 +301,49 @@ Extent extent(const SceneData& s, const RenderSettings& settings) {
 RenderCost render_cost(const Scene& scene, const RenderSettings& settings) {
   const Extent e = extent(scene.impl().data, settings);
   const double pixels = static_cast<double>(e.W) * e.H;
-  // The sums (Rgb3 of doubles) and the image (3 floats) per pixel.
-  return {pixels * e.spp, pixels * static_cast<double>(sizeof(Rgb3) + 3 * sizeof(float))};
+  const double spp = settings.target_error > 0 ? (settings.spp > 0 ? settings.spp : kAdaptiveMaxSpp) : e.spp;
+  // Per pixel: the sums and sums of squares (Rgb3 of doubles), the sample and skin counts, the
+  // active flag, the mask and the image (3 floats).
+  return {pixels * spp, pixels * static_cast<double>(2 * sizeof(Rgb3) + 2 * sizeof(std::uint32_t) + 2 + 3 * sizeof(float))};
+}
+
+double relative_rms_error(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask) {
+  if (image.width != reference.width || image.height != reference.height)
+    throw InputError("reference: its size " + std::to_string(reference.width) + "x" + std::to_string(reference.height) +
+                     " differs from the image's " + std::to_string(image.width) + "x" + std::to_string(image.height));
+  if (mask.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height))
+    throw InputError("reference: the skin mask does not match the image");
+  double se = 0, ref = 0;
+  std::size_t n = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      if (!mask[static_cast<std::size_t>(y) * static_cast<std::size_t>(image.width) + static_cast<std::size_t>(x)]) continue;
+      const Rgb3 a = image.at(x, y), b = reference.at(x, y);
+      const Rgb3 d = a - b;
+      se += d.r * d.r + d.g * d.g + d.b * d.b;
+      ref += b.r + b.g + b.b;
+      ++n;
+    }
+  if (n == 0) throw InputError("reference: the image has no skin pixels to compare");
+  return std::sqrt(se / (3.0 * static_cast<double>(n))) / (ref / (3.0 * static_cast<double>(n)));
 }
 
 Image render(const Scene& scene, const RenderSettings& settings, RenderStats* stats, const Progress& progress) {
   const SceneData& s = scene.impl().data;
   const Accel& accel = *scene.impl().accel;
   const Extent e = extent(s, settings);
-  const int W = e.W, H = e.H, spp = e.spp;  // named copies: lambdas below capture them
+  const bool adaptive = settings.target_error > 0;
+  // (named copies: lambdas below capture them)
+  const int W = e.W, H = e.H, spp = adaptive ? (settings.spp > 0 ? settings.spp : kAdaptiveMaxSpp) : e.spp;
   const int max_depth = settings.max_depth >= 0 ? settings.max_depth : s.max_depth;
   if (W <= 0 || H <= 0 || W > 16384 || H > 16384)
     throw InputError("resolution = " + std::to_string(W) + "x" + std::to_string(H) + " is out of range: each side must be in [1, 16384]");
   if (spp <= 0 || spp > 1000000) throw InputError("spp = " + std::to_string(spp) + " is out of range: [1, 1000000]");
   if (settings.threads < 0) throw InputError("threads = " + std::to_string(settings.threads) + " is out of range: must be >= 0 (0 = all)");
   require_non_negative("time-budget", settings.time_budget, "s");
+  if (!(settings.target_error >= 0 && settings.target_error < 1))
+    throw InputError("target-error = " + std::to_string(settings.target_error) +
+                     " is out of range: must be in [0, 1) (a relative error; 0 = off)");
   const Integrator integ(s, accel, max_depth);
 
   // Pinhole camera: vertical field of view, looking from eye to target.
@@ -320,19 +354,54 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
   const double tan_half = std::tan(cam.fov_deg * kPi / 360.0);
   const double aspect = static_cast<double>(W) / H;
 
-  std::vector<Rgb3> sum(static_cast<std::size_t>(W) * H);
+  const std::size_t pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
+  std::vector<Rgb3> sum(pixels), sum_sq(pixels);
+  std::vector<std::uint32_t> taken(pixels, 0), skin_hits(pixels, 0);
+  std::vector<std::uint8_t> active(pixels, 1);
   std::atomic<std::uint64_t> invalid{0};
   const auto t0 = std::chrono::steady_clock::now();
-  const int pass_size = settings.time_budget > 0 ? 1 : spp;
-  int done = 0;
+  // Passes: one sample per pixel under a time budget; 16 per pixel, then doubling, when
+  // adaptive; otherwise all at once.
+  auto pass_end = [&](int done) {
+    if (settings.time_budget > 0) return done + 1;
+    if (adaptive) return std::min(spp, done == 0 ? kAdaptiveFirstPass : 2 * done);
+    return spp;
+  };
+  int passes = 0;
+  for (int d = 0; d < spp; d = pass_end(d)) ++passes;
   constexpr int kTile = 16;
   const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile;
-  const std::uint64_t total_work = static_cast<std::uint64_t>(tiles_x) * tiles_y * static_cast<std::uint64_t>((spp + pass_size - 1) / pass_size);
+  const std::uint64_t total_work = static_cast<std::uint64_t>(tiles_x) * tiles_y * static_cast<std::uint64_t>(passes);
   std::atomic<std::uint64_t> work_done{0};
   std::mutex progress_mutex;
+  // The mean of a pixel's samples, and the variance of that mean averaged over the channels.
+  auto mean_of = [&](std::size_t p) { return taken[p] > 0 ? sum[p] / static_cast<double>(taken[p]) : Rgb3{}; };
+  auto variance_of_mean = [&](std::size_t p) {
+    const double n = taken[p];
+    if (n < 2) return std::numeric_limits<double>::quiet_NaN();
+    const Rgb3 m = sum[p] / n, q = sum_sq[p] / n;
+    const double v = std::max(0.0, q.r - m.r * m.r) + std::max(0.0, q.g - m.g * m.g) + std::max(0.0, q.b - m.b * m.b);
+    return v / 3.0 / (n - 1);  // (n / (n - 1)) x the biased variance, / n
+  };
+  auto is_skin = [&](std::size_t p) { return taken[p] > 0 && 2 * skin_hits[p] > taken[p]; };
+  // Mean over the skin pixels and channels (over all pixels if none is skin).
+  auto skin_mean = [&] {
+    double total = 0, all = 0;
+    std::size_t n = 0;
+    for (std::size_t p = 0; p < pixels; ++p) {
+      const Rgb3 m = mean_of(p);
+      all += (m.r + m.g + m.b) / 3;
+      if (is_skin(p)) {
+        total += (m.r + m.g + m.b) / 3;
+        ++n;
+      }
+    }
+    return n > 0 ? total / static_cast<double>(n) : all / static_cast<double>(pixels);
+  };
   tbb::task_arena arena(settings.threads > 0 ? settings.threads : tbb::task_arena::automatic);
+  int done = 0;
   while (done < spp) {
-    const int s0 = done, s1 = std::min(spp, done + pass_size);
+    const int s0 = done, s1 = pass_end(done);
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
         for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
@@ -341,21 +410,32 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
               for (int x = tx * kTile; x < std::min(W, (tx + 1) * kTile); ++x) {
                 if (cancel::requested()) return;  // thrown below, after the pass
                 const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(W) + static_cast<std::uint64_t>(x);
-                Rgb3 acc = sum[pixel];
+                if (!active[pixel]) continue;
+                Rgb3 acc = sum[pixel], acc_sq = sum_sq[pixel];
+                std::uint32_t hits = skin_hits[pixel];
                 for (int si = s0; si < s1; ++si) {
                   Rng rng = Rng::for_sample(settings.seed, pixel, static_cast<std::uint64_t>(si));
                   const double px = (x + rng.uniform()) / W, py = (y + rng.uniform()) / H;
                   const Vec3 dir = normalize(fwd + right * ((2 * px - 1) * tan_half * aspect) + up * ((1 - 2 * py) * tan_half));
-                  const Rgb3 c = integ.Li(cam.eye, dir, rng);
-                  if (std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) acc += c;
-                  else invalid.fetch_add(1, std::memory_order_relaxed);
+                  bool translucent = false;
+                  const Rgb3 c = integ.Li(cam.eye, dir, rng, &translucent);
+                  hits += translucent ? 1 : 0;
+                  if (std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) {
+                    acc += c;
+                    acc_sq += c * c;
+                  } else {
+                    invalid.fetch_add(1, std::memory_order_relaxed);
+                  }
                 }
                 sum[pixel] = acc;
+                sum_sq[pixel] = acc_sq;
+                skin_hits[pixel] = hits;
+                taken[pixel] = static_cast<std::uint32_t>(s1);
               }
             const std::uint64_t w = work_done.fetch_add(1, std::memory_order_relaxed) + 1;
             if (progress) {
               const std::lock_guard lock(progress_mutex);
-              progress(static_cast<double>(w) / static_cast<double>(total_work));
+              progress(std::min(1.0, static_cast<double>(w) / static_cast<double>(total_work)));
             }
           }
       });
@@ -364,15 +444,42 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
     done = s1;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (settings.time_budget > 0 && elapsed >= settings.time_budget) break;
+    if (adaptive && done < spp) {
+      // A pixel stops once the standard error of its mean is within the target relative to the
+      // skin's mean (then the RMS over the skin pixels is too); never before the first pass.
+      const double limit = settings.target_error * skin_mean();
+      std::size_t still = 0;
+      for (std::size_t p = 0; p < pixels; ++p) {
+        if (active[p] && taken[p] >= static_cast<std::uint32_t>(kAdaptiveFirstPass) &&
+            variance_of_mean(p) <= limit * limit)
+          active[p] = 0;
+        still += active[p];
+      }
+      if (still == 0) break;
+    }
   }
   Image img(W, H);
   for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) img.set(x, y, sum[static_cast<std::size_t>(y) * W + x] / done);
+    for (int x = 0; x < W; ++x) img.set(x, y, mean_of(static_cast<std::size_t>(y) * W + x));
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     stats->spp_done = done;
-    stats->camera_samples = static_cast<std::uint64_t>(W) * H * static_cast<std::uint64_t>(done);
+    stats->camera_samples = 0;
+    for (const std::uint32_t n : taken) stats->camera_samples += n;
     stats->invalid_samples = invalid.load();
+    stats->skin_mask.assign(pixels, 0);
+    stats->skin_pixels = 0;
+    double var = 0;
+    for (std::size_t p = 0; p < pixels; ++p)
+      if (is_skin(p)) {
+        stats->skin_mask[p] = 1;
+        ++stats->skin_pixels;
+        var += variance_of_mean(p);
+      }
+    const double mean = skin_mean();
+    stats->estimated_error = stats->skin_pixels > 0 && mean > 0
+                                 ? std::sqrt(var / static_cast<double>(stats->skin_pixels)) / mean
+                                 : std::numeric_limits<double>::quiet_NaN();
   }
   return img;
 }

@@ -23,6 +23,10 @@ struct RenderSettings {
   int max_depth = -1;         // path vertices after the camera; -1 = the scene's
   double time_budget = 0;     // seconds; > 0 stops after the last whole sample pass in budget
   int width = 0, height = 0;  // override of the camera resolution (0 = the scene's)
+  // Adaptive sampling: > 0 samples in passes (16 per pixel, then doubling) and stops a pixel once
+  // its estimated standard error is at most target_error x the mean of the skin pixels, and the
+  // render once every pixel has stopped (or at spp, then the most a pixel takes; 0 = 65536).
+  double target_error = 0;
 };
 
 struct RenderStats {
@@ -30,6 +34,14 @@ struct RenderStats {
   int spp_done = 0;                  // samples per pixel actually taken
   std::uint64_t camera_samples = 0;  // pixels x spp_done
   std::uint64_t invalid_samples = 0; // non-finite path contributions dropped (should be 0)
+  // Skin pixels: those whose camera samples mostly see a translucent (skin, layered) material;
+  // skin_mask has one entry per pixel, row-major, 1 for a skin pixel.
+  std::vector<std::uint8_t> skin_mask;
+  std::size_t skin_pixels = 0;
+  // The relative RMS error of the image over the skin pixels estimated from the samples' own
+  // spread: sqrt(mean over skin pixels and channels of the variance of the pixel's mean) / the
+  // mean over skin pixels and channels (NaN when fewer than 2 samples per pixel or no skin).
+  double estimated_error = 0;
   double samples_per_second() const { return seconds > 0 ? static_cast<double>(camera_samples) / seconds : 0; }
 };
 
@@ -88,6 +100,12 @@ using Progress = std::function<void(double fraction)>;
 
 Image render(const Scene& scene, const RenderSettings& settings, RenderStats* stats = nullptr,
              const Progress& progress = {});
+
+// The relative RMS error of `image` against `reference` over the pixels where mask is 1:
+// sqrt(mean of (image - reference)^2 over those pixels and the three channels) / the mean of the
+// reference there (the measure estimated_error estimates). InputError when the sizes differ or
+// the mask is empty.
+double relative_rms_error(const Image& image, const Image& reference, const std::vector<std::uint8_t>& mask);
 
 // What render() would take with these settings, to check a request before it starts.
 struct RenderCost {
