@@ -64,9 +64,17 @@ class Integrator {
   bool hit_area_light(const Vec3& o, const Vec3& n, const Vec3& d, double t_max, Rgb3* Le, double* pdf) const;
   bool visible(const Vec3& p, const Vec3& n, const Vec3& wi, double dist) const;
   Vec3 offset(const Vec3& p, const Vec3& n, const Vec3& w) const { return p + n * (dot(w, n) > 0 ? eps_ : -eps_); }
-  // Finds an entry point x_i with the probes of the BSSRDF at x_o; the weight per channel is
-  // R(r) / pdf(x_i) (Bssrdf::probe_weight).
-  bool sample_entry(const Surface& xo, const Bssrdf& bssrdf, Rng& rng, Surface* xi, Rgb3* weight) const;
+  // Entry points of one probe per channel (stratified over the channels) and every candidate on
+  // each: the multi-sample MIS estimator sum_c f(x_c) / sum_c' pdf_c'(x_c), i.e. the mean of the
+  // three one-sample weights, spread over all candidates (each weighted 1, not x their count).
+  struct Entry {
+    Surface x;
+    Rgb3 weight;
+  };
+  static constexpr int kMaxEntries = 3 * 8;
+  // With all_channels false, one probe of a random channel (its one-sample weight): for the
+  // deeper vertices of a path, where the split costs more than it gains.
+  int sample_entries(const Surface& xo, const Bssrdf& bssrdf, Rng& rng, bool all_channels, Entry* out) const;
 
   const SceneData& s_;
   const Accel& a_;
@@ -143,28 +151,35 @@ Rgb3 Integrator::direct(const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng,
   return L;
 }
 
-// Samples the point x_i where light enters for light leaving at x_o (King et al. 2013): a probe
-// segment from the BSSRDF, every surface point of the same material on it (up to kMaxHits), one
-// of them picked uniformly; the BSSRDF weighs it by its MIS pdf and the number of candidates.
-bool Integrator::sample_entry(const Surface& xo, const Bssrdf& bssrdf, Rng& rng, Surface* xi, Rgb3* weight) const {
-  const double u_axis = rng.uniform(), u_channel = rng.uniform(), u_r = rng.uniform(), u_phi = rng.uniform();
-  ProbeSegment seg;
-  if (!bssrdf.sample_probe(u_axis, u_channel, u_r, u_phi, &seg)) return false;
-  constexpr int kMaxHits = 8;
-  RayHit hits[kMaxHits];
-  int count = 0;
-  double t = 0;
-  while (count < kMaxHits) {
-    RayHit h;
-    if (!a_.intersect(seg.start, seg.dir, t, seg.length, &h)) break;
-    if (s_.meshes[h.mesh].material == s_.meshes[xo.mesh].material) hits[count++] = h;
-    t = h.t + std::max(eps_, 1e-7 * seg.length);
-    if (t >= seg.length) break;
+// The points x_i where light enters for light leaving at x_o (King et al. 2013): one probe
+// segment per channel from the BSSRDF, and every surface point of the same material on it (up to
+// kMaxHits), each weighed by the BSSRDF's MIS pdf; the channels' one-sample weights averaged.
+int Integrator::sample_entries(const Surface& xo, const Bssrdf& bssrdf, Rng& rng, bool all_channels, Entry* out) const {
+  int n = 0;
+  const int probes = all_channels ? 3 : 1;
+  for (int ch = 0; ch < probes; ++ch) {
+    const double u_axis = rng.uniform(), u_r = rng.uniform(), u_phi = rng.uniform();
+    const double u_channel = all_channels ? (ch + 0.5) / 3.0 : rng.uniform();
+    ProbeSegment seg;
+    if (!bssrdf.sample_probe(u_axis, u_channel, u_r, u_phi, &seg)) continue;
+    constexpr int kMaxHits = 8;
+    double t = 0;
+    for (int count = 0; count < kMaxHits; ++count) {
+      RayHit h;
+      if (!a_.intersect(seg.start, seg.dir, t, seg.length, &h)) break;
+      t = h.t + std::max(eps_, 1e-7 * seg.length);
+      if (s_.meshes[h.mesh].material == s_.meshes[xo.mesh].material) {
+        Entry& e = out[n];
+        e.x = surface(h, seg.dir, false);
+        if (bssrdf.probe_weight(e.x.p, e.x.ng, 1, &e.weight)) {
+          e.weight = e.weight / static_cast<double>(probes);
+          ++n;
+        }
+      }
+      if (t >= seg.length) break;
+    }
   }
-  if (count == 0) return false;
-  const auto pick = std::min(static_cast<int>(rng.uniform() * count), count - 1);
-  *xi = surface(hits[pick], seg.dir, false);
-  return bssrdf.probe_weight(xi->p, xi->ng, count, weight);
+  return n;
 }
 
 Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
@@ -226,19 +241,33 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
                            [&](const Vec3& wi) { const Vec3 l = f.to_local(wi); return lobe.f(wo_c, l) * l.z; },
                            [&](const Vec3& wi) { return lobe.pdf(wo_c, f.to_local(wi)); });
       }
-      // Subsurface term: entry point x_i, then direct light there with MIS.
+      // Subsurface term: entry points x_i (one probe per channel, every candidate), direct light
+      // at each with MIS; the path continues from one of them, picked by its weight.
       const double Ft_o = bssrdf.F_t(cos_o);
-      Surface xi;
-      Rgb3 wss;
-      const bool entered = sample_entry(x, bssrdf, rng, &xi, &wss);
+      Entry entries[kMaxEntries];
+      const int n_entries = sample_entries(x, bssrdf, rng, depth == 0, entries);
+      const bool entered = n_entries > 0;
       Rgb3 beta_ss;
+      Surface xi;
       if (entered) {
         Rgb3 tex{1, 1, 1};
         if (m.albedo_map && x.has_uv) tex = m.albedo_map->lookup(x.uv.x, x.uv.y) * m.texture_normalisation;
-        beta_ss = beta * wss * tex * Ft_o;
-        L += beta_ss * direct(xi.p, xi.ns, xi.ng, rng,
-                              [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, xi.ns)); },
-                              [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, xi.ns)); });
+        const Rgb3 beta_o = beta * tex * Ft_o;
+        double total = 0, pick_w[kMaxEntries];
+        for (int k = 0; k < n_entries; ++k) {
+          const Entry& e = entries[k];
+          L += beta_o * e.weight * direct(e.x.p, e.x.ns, e.x.ng, rng,
+                                          [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, e.x.ns)); },
+                                          [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, e.x.ns)); });
+          pick_w[k] = std::abs(e.weight.r) + std::abs(e.weight.g) + std::abs(e.weight.b) + 1e-12;
+          total += pick_w[k];
+        }
+        // One entry carries the path on: picked in proportion to its weight, divided by that.
+        double u = rng.uniform() * total;
+        int k = 0;
+        while (k + 1 < n_entries && u >= pick_w[k]) u -= pick_w[k++];
+        xi = entries[k].x;
+        beta_ss = beta_o * entries[k].weight * (total / pick_w[k]);
       }
       // Continue with one of the two terms, chosen by their albedo at w_o.
       const double a_spec = bssrdf.rho_dr(cos_o);
@@ -254,7 +283,7 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
         prev_pdf = pdf;
         prev_delta = false;
         prev_n = x.ns;
-        o = offset(x.p, x.ng, wi);
+          o = offset(x.p, x.ng, wi);
         d = wi;
       } else {
         if (!entered || p_spec >= 1) break;
@@ -445,13 +474,27 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (settings.time_budget > 0 && elapsed >= settings.time_budget) break;
     if (adaptive && done < spp) {
-      // A pixel stops once the standard error of its mean is within the target relative to the
-      // skin's mean (then the RMS over the skin pixels is too); never before the first pass.
+      // Samples in proportion to each pixel's standard deviation sigma_p (the allocation that
+      // minimises the RMS error over the pixels for a number of samples): the error^2 is then
+      // mean(sigma_p^2 / n_p) = kappa mean(sigma_p) with n_p = sigma_p / kappa, so the target
+      // sets kappa = (E M)^2 / mean(sigma_p), M the skin's mean. A pixel stops once n_p reaches
+      // sigma_p / kappa; the render once all have, or once the estimated error is within E.
       const double limit = settings.target_error * skin_mean();
+      double sigma_sum = 0, var_sum = 0;
+      std::size_t skin = 0;
+      for (std::size_t p = 0; p < pixels; ++p)
+        if (is_skin(p)) {
+          const double v = variance_of_mean(p);
+          sigma_sum += std::sqrt(v * taken[p]);
+          var_sum += v;
+          ++skin;
+        }
+      if (skin == 0 || var_sum / static_cast<double>(skin) <= limit * limit) break;
+      const double kappa = limit * limit / (sigma_sum / static_cast<double>(skin));
       std::size_t still = 0;
       for (std::size_t p = 0; p < pixels; ++p) {
         if (active[p] && taken[p] >= static_cast<std::uint32_t>(kAdaptiveFirstPass) &&
-            variance_of_mean(p) <= limit * limit)
+            !(std::sqrt(variance_of_mean(p) * taken[p]) > kappa * taken[p]))
           active[p] = 0;
         still += active[p];
       }
