@@ -317,19 +317,25 @@ PYBIND11_MODULE(_core, m) {
   // `skin spectrum` and `skin color` for one set or an array of sets.
   auto spectra = [](const std::string& preset, double lambda_min, double lambda_max,
                     double lambda_step, const std::string& solver, int threads, bool with_spectra,
-                    const py::kwargs& kw) {
+                    const std::string& illuminant, const py::kwargs& kw) {
     const Sets sets = parameter_sets(preset, kw);
     const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
     const transport::Model& model = transport::find_model(solver);
+    const color::Illuminant& light = color::find_illuminant(illuminant);
     std::vector<SkinSpectrum> s;
     {
       py::gil_scoped_release unlocked;
       s = batch::spectra(sets.values, grid, model, {threads});
+      if (light.name() != color::kDefaultIlluminant) {  // D65 is what batch::spectra gives
+        const color::Colorimetry cm(grid, light);
+        for (SkinSpectrum& x : s) x.color = color::summarize(cm, x.R_d);
+      }
     }
     py::dict d, axes;
     d["preset"] = preset;
     d["parameters"] = sets.parameters;
     d["solver"] = std::string(model.name());
+    d["illuminant"] = light.name();
     if (with_spectra) {
       const Shape L{static_cast<py::ssize_t>(grid.size())};
       d["wavelength_nm"] = vector_array(grid.values());
@@ -361,7 +367,8 @@ PYBIND11_MODULE(_core, m) {
       "spectrum",
       [spectra](const std::string& preset, double lambda_min, double lambda_max, double lambda_step,
                 const std::string& solver, int threads, const py::kwargs& kw) {
-        return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, true, kw);
+        return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, true,
+                       std::string(color::kDefaultIlluminant), kw);
       },
       "preset"_a = "caucasian", py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
       "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
@@ -374,13 +381,20 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "color",
       [spectra](const std::string& preset, double lambda_min, double lambda_max, double lambda_step,
-                const std::string& solver, int threads, const py::kwargs& kw) {
-        return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, false, kw);
+                const std::string& solver, int threads, const std::string& illuminant, const py::kwargs& kw) {
+        return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, false, illuminant, kw);
       },
       "preset"_a = "caucasian", py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
       "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
-      ("`skin color`: the colour of R_d under D65 (CIE 1931 2-degree): XYZ (Y_white = 1), "
-       "srgb_linear (white-balanced), srgb8, hex, lab (CIELAB), per set. " + solver_doc() + params).c_str());
+      "illuminant"_a = std::string(color::kDefaultIlluminant),
+      ("`skin color`: the colour of R_d under a CIE illuminant (illuminant=, as `skin color "
+       "--illuminant`; D65 by default; illuminants() lists them) with the CIE 1931 2-degree "
+       "observer: XYZ (Y_white = 1), srgb_linear (white-balanced; other than D65 after the "
+       "Bradford adaptation to D65), srgb8, hex, lab (CIELAB relative to the illuminant's white), "
+       "per set. " + solver_doc() + params).c_str());
+
+  m.def("illuminants", &color::illuminant_names,
+        "Names of the CIE illuminants (illuminant=), D65 (the default) first.");
 
   // `skin profile` (per wavelength or, rgb, per channel) for one set or an array of sets.
   auto profiles = [](bool rgb, const std::string& preset, const std::vector<double>& r_mm,

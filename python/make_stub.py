@@ -1,6 +1,7 @@
 """Writes the type stub of spectral_skin (argv[1], the package's __init__.pyi) from the built
 module: the parameter keywords from its parameter table, the solver names from its transport
-registry, so that the stub cannot drift from the library. Run by the build after the module."""
+registry (and the illuminant names from the colour module), so that the stub cannot drift from
+the library. Run by the build after the module."""
 import os
 import sys
 
@@ -14,11 +15,12 @@ units = {p["key"]: p["unit"] for p in ss.parameters()}
 params = "".join(f"    {k}: Number | None = ...,\n" for k in keywords)
 one_set = "".join(f"    {k}: float | None = ...,\n" for k in keywords)
 solver = "Literal[" + ", ".join(repr(s) for s in ss.solvers()) + "]"
+illuminant = "Literal[" + ", ".join(repr(s) for s in ss.illuminants()) + "]"
 grid = "    lambda_min: float = ...,  # [nm]\n    lambda_max: float = ...,  # [nm]\n    lambda_step: float = ...,  # [nm]\n"
 
 functions = {
     "spectrum": f"(\n    preset: str = ...,\n    *,\n{grid}    solver: Solver = ...,\n    threads: int = ...,\n{params}) -> dict[str, Any]",
-    "color": f"(\n    preset: str = ...,\n    *,\n{grid}    solver: Solver = ...,\n    threads: int = ...,\n{params}) -> dict[str, Any]",
+    "color": f"(\n    preset: str = ...,\n    *,\n{grid}    solver: Solver = ...,\n    threads: int = ...,\n    illuminant: Illuminant = ...,\n{params}) -> dict[str, Any]",
     "rgb_profile": f"(\n    preset: str = ...,\n    *,\n    r_mm: ArrayLike,  # [mm]\n{grid}    solver: Solver = ...,\n    threads: int = ...,\n{params}) -> dict[str, Any]",
     "profile": f"(\n    preset: str = ...,\n    *,\n    r_mm: ArrayLike,  # [mm]\n{grid}    solver: Solver = ...,\n    threads: int = ...,\n{params}) -> dict[str, Any]",
     "layers": "(\n    layers: Sequence[Mapping[str, float | None]],\n    *,\n    r_mm: ArrayLike = ...,  # [mm]\n    eta_above: float = ...,\n    eta_below: float = ...,\n    solver: Solver = ...,\n) -> dict[str, Any]",
@@ -30,6 +32,7 @@ functions = {
     "presets": "() -> list[str]",
     "parameters": "() -> list[dict[str, Any]]",
     "solvers": "() -> list[str]",
+    "illuminants": "() -> list[str]",
 }
 missing = set(ss.__all__) - set(functions) - {"InputError", "__version__"}
 assert not missing, f"no stub for {sorted(missing)}"
@@ -43,6 +46,7 @@ out = [
     "",
     "Number = float | int | np.floating | np.integer | ArrayLike",
     f"Solver = {solver}",
+    f"Illuminant = {illuminant}",
     "",
     "__version__: str",
     "",

@@ -22,6 +22,7 @@ from ._core import (  # noqa: F401  (the package's interface)
     fit_color,
     fit_spectrum,
     fit_texture,
+    illuminants,
     layers,
     mc,
     parameters,
@@ -33,6 +34,6 @@ from ._core import (  # noqa: F401  (the package's interface)
 )
 
 __all__ = [
-    "InputError", "__version__", "color", "export", "fit_color", "fit_spectrum", "fit_texture", "layers",
+    "InputError", "__version__", "color", "export", "fit_color", "fit_spectrum", "fit_texture", "illuminants", "layers",
     "mc", "parameters", "presets", "profile", "rgb_profile", "solvers", "spectrum",
 ]

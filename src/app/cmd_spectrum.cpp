@@ -60,21 +60,33 @@ void register_color(CLI::App& app) {
     ParameterOptions params;
     GridOptions grid;
     SolverOption solver;
+    IlluminantOption illuminant;
     OutputOptions out;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand(
-      "color", "Colour of the skin's total diffuse reflectance: CIE XYZ (D65, 2-degree), linear "
-               "sRGB (white-balanced: a perfect reflector is 1, 1, 1), 8-bit sRGB, hex, CIELAB");
+      "color", "Colour of the skin's total diffuse reflectance: CIE XYZ (2-degree) under the "
+               "illuminant, linear sRGB (white-balanced: a perfect reflector is 1, 1, 1), 8-bit "
+               "sRGB, hex, CIELAB");
   o->params.add_to(*sub);
   o->grid.add_to(*sub);
   o->solver.add_to(*sub);
+  o->illuminant.add_to(*sub, "CIE illuminant lighting the skin (skin illuminants lists them); "
+                             "other than D65, sRGB and hex after the Bradford adaptation to D65, "
+                             "CIELAB relative to the illuminant's white");
   o->out.add_to(*sub);
   sub->callback([o] {
     const SkinParameters p = o->params.resolve();
-    const SkinSpectrum s = skin_spectrum(p, o->grid.resolve(), o->solver.model());
-    warn_if_totals_invalid(p, o->grid.resolve(), o->solver.model());
-    o->out.write(schema::color_result(s, o->params.preset));
+    const WavelengthGrid grid = o->grid.resolve();
+    const color::Illuminant& illuminant = o->illuminant.illuminant();
+    const SkinSpectrum s = skin_spectrum(p, grid, o->solver.model());
+    warn_if_totals_invalid(p, grid, o->solver.model());
+    if (illuminant.name() == color::kDefaultIlluminant) {
+      o->out.write(schema::color_result(s, o->params.preset));
+    } else {
+      const color::ColorSummary c = color::summarize(color::Colorimetry(grid, illuminant), s.R_d);
+      o->out.write(schema::color_result(s, o->params.preset, c));
+    }
   });
 }
 

@@ -164,6 +164,23 @@ CLI::Option* SolverOption::add_to(CLI::App& app) {
       ->capture_default_str();
 }
 
+CLI::Validator illuminant_name() {
+  return CLI::Validator(
+      [](std::string& value) {
+        try {
+          value = color::find_illuminant(value).name();
+          return std::string();
+        } catch (const InputError& e) {
+          return std::string(e.what());
+        }
+      },
+      "NAME");
+}
+
+CLI::Option* IlluminantOption::add_to(CLI::App& app, const std::string& help) {
+  return app.add_option("--illuminant", name, help)->transform(illuminant_name())->capture_default_str();
+}
+
 void warn_validity(const transport::Model& model, const transport::Validity& v,
                    const std::string& what) {
   if (!v.ok()) std::cerr << "skin: warning: " << transport::warning_text(model.name(), v, what) << '\n';

@@ -107,6 +107,16 @@ struct SolverOption {
   CLI::Option* add_to(CLI::App& app);
   const transport::Model& model() const { return transport::find_model(name); }
 };
+// --illuminant NAME: a CIE illuminant (skin/color/illuminant.hpp, which holds the default, D65),
+// any case; an unknown name is refused with the list of the allowed ones.
+struct IlluminantOption {
+  std::string name{color::kDefaultIlluminant};
+  CLI::Option* add_to(CLI::App& app, const std::string& help);
+  const color::Illuminant& illuminant() const { return color::find_illuminant(name); }
+};
+// The check behind it: canonicalises the name (d65 -> D65) or fails with find_illuminant's message.
+CLI::Validator illuminant_name();
+
 // When `v` is not ok: one line on stderr naming the solver (and `what` it was for, if given),
 // the reason and what stays exact.
 void warn_validity(const transport::Model& model, const transport::Validity& v,

@@ -193,16 +193,21 @@ void draw(cairo_t* cr, const Figure& f) {
 
 }  // namespace
 
-void save(const Figure& fig, const std::string& path) {
+namespace {
+
+// Draws with `paint` on a width x height surface written to `path` (PNG or SVG by the
+// extension), atomically.
+template <class Paint>
+void write(const std::string& path, int width, int height, Paint&& paint) {
   const std::string ext = io::extension(path);
   if (ext != "png" && ext != "svg")
     throw InputError("plot = '" + path + "' has an unsupported extension: use .png or .svg");
   io::write_via_temporary(path, [&](const std::string& tmp) {
     cairo_surface_t* surface =
-        ext == "png" ? cairo_image_surface_create(CAIRO_FORMAT_RGB24, fig.width, fig.height)
-                     : cairo_svg_surface_create(tmp.c_str(), fig.width, fig.height);
+        ext == "png" ? cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height)
+                     : cairo_svg_surface_create(tmp.c_str(), width, height);
     cairo_t* cr = cairo_create(surface);
-    draw(cr, fig);
+    paint(cr);
     cairo_destroy(cr);
     cairo_status_t st = CAIRO_STATUS_SUCCESS;
     if (ext == "png") st = cairo_surface_write_to_png(surface, tmp.c_str());
@@ -212,6 +217,78 @@ void save(const Figure& fig, const std::string& path) {
     if (st != CAIRO_STATUS_SUCCESS)
       throw InputError(path + ": cannot write plot: " + cairo_status_to_string(st));
   });
+}
+
+constexpr double kCellW = 120, kCellH = 78, kLabelW = 110, kTop = 70, kCaptionH = 18;
+
+void draw_grid(cairo_t* cr, const SwatchGrid& g, double W, double H) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_font_size(cr, 16);
+  cairo_move_to(cr, 12, 26);
+  cairo_show_text(cr, g.title.c_str());
+  cairo_set_font_size(cr, 13);
+  cairo_text_extents_t e;
+  for (std::size_t j = 0; j < g.columns.size(); ++j) {
+    cairo_text_extents(cr, g.columns[j].c_str(), &e);
+    cairo_move_to(cr, kLabelW + (double(j) + 0.5) * kCellW - e.width / 2, kTop - 10);
+    cairo_show_text(cr, g.columns[j].c_str());
+  }
+  const double row_h = kCellH + kCaptionH + 8;
+  for (std::size_t i = 0; i < g.rows.size(); ++i) {
+    const double y = kTop + double(i) * row_h;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_font_size(cr, 13);
+    cairo_move_to(cr, 12, y + kCellH / 2 + 4);
+    cairo_show_text(cr, g.rows[i].c_str());
+    for (std::size_t j = 0; j < g.columns.size(); ++j) {
+      const SwatchGrid::Cell& c = g.cells.at(i * g.columns.size() + j);
+      const double x = kLabelW + double(j) * kCellW + 4, w = kCellW - 8;
+      cairo_set_source_rgb(cr, c.left[0], c.left[1], c.left[2]);
+      cairo_rectangle(cr, x, y, c.right ? w / 2 : w, kCellH);
+      cairo_fill(cr);
+      if (c.right) {
+        cairo_set_source_rgb(cr, (*c.right)[0], (*c.right)[1], (*c.right)[2]);
+        cairo_rectangle(cr, x + w / 2, y, w / 2, kCellH);
+        cairo_fill(cr);
+      }
+      cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+      cairo_set_font_size(cr, 11);
+      cairo_move_to(cr, x, y + kCellH + 14);
+      cairo_show_text(cr, c.caption.c_str());
+    }
+  }
+  cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+  cairo_set_font_size(cr, 11);
+  double y = H - 12.0 - 15.0 * double(std::count(g.note.begin(), g.note.end(), '\n'));
+  std::size_t start = 0;
+  while (start <= g.note.size()) {  // one line per '\n'
+    const std::size_t end = std::min(g.note.find('\n', start), g.note.size());
+    const std::string line = g.note.substr(start, end - start);
+    cairo_move_to(cr, 12, y);
+    cairo_show_text(cr, line.c_str());
+    y += 15;
+    start = end + 1;
+  }
+  (void)W;
+}
+
+}  // namespace
+
+void save(const Figure& fig, const std::string& path) {
+  write(path, fig.width, fig.height, [&](cairo_t* cr) { draw(cr, fig); });
+}
+
+void save(const SwatchGrid& grid, const std::string& path) {
+  if (grid.cells.size() != grid.rows.size() * grid.columns.size())
+    throw InputError("swatch grid: " + std::to_string(grid.cells.size()) + " cells for " +
+                     std::to_string(grid.rows.size()) + " x " + std::to_string(grid.columns.size()));
+  const int lines = grid.note.empty() ? 0 : 1 + static_cast<int>(std::count(grid.note.begin(), grid.note.end(), '\n'));
+  const int width = static_cast<int>(kLabelW + kCellW * double(grid.columns.size()) + 12);
+  const int height = static_cast<int>(kTop + (kCellH + kCaptionH + 8) * double(grid.rows.size()) + 10 + 15 * lines);
+  write(path, width, height, [&](cairo_t* cr) { draw_grid(cr, grid, width, height); });
 }
 
 }  // namespace skin::plot

@@ -32,13 +32,33 @@ const TabulatedFunction& cmf(int c) {
   }();
   return f[static_cast<std::size_t>(c)];
 }
-const TabulatedFunction& d65() {
-  static const TabulatedFunction f = [] {
-    const Table& t = data::embedded_table("d65.csv");
-    return TabulatedFunction(t.data[0], t.data[1], "data/d65.csv", TabulatedFunction::Outside::zero);
-  }();
-  return f;
+using Matrix = std::array<std::array<double, 3>, 3>;
+Xyz apply(const Matrix& m, const Xyz& c) {
+  return {m[0][0] * c.X + m[0][1] * c.Y + m[0][2] * c.Z,
+          m[1][0] * c.X + m[1][1] * c.Y + m[1][2] * c.Z,
+          m[2][0] * c.X + m[2][1] * c.Y + m[2][2] * c.Z};
 }
+Matrix multiply(const Matrix& a, const Matrix& b) {
+  Matrix m{};
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 3; ++j)
+      for (std::size_t k = 0; k < 3; ++k) m[i][j] += a[i][k] * b[k][j];
+  return m;
+}
+Matrix invert(const Matrix& m) {  // by cofactors; the callers' matrices are well conditioned
+  Matrix c{};
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = 0; j < 3; ++j) {
+      const std::size_t i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      c[j][i] = m[i1][j1] * m[i2][j2] - m[i1][j2] * m[i2][j1];  // transposed: the adjugate
+    }
+  const double det = m[0][0] * c[0][0] + m[0][1] * c[1][0] + m[0][2] * c[2][0];
+  for (auto& row : c)
+    for (auto& v : row) v /= det;
+  return c;
+}
+// The Bradford cone response matrix (Lam 1985, as given in CIE 159:2004 and ICC.1 v4).
+constexpr Matrix kBradford{{{0.8951, 0.2664, -0.1614}, {-0.7502, 1.7135, 0.0367}, {0.0389, -0.0685, 1.0296}}};
 }  // namespace
 
 Rgb xyz_to_srgb_linear(const Xyz& c) {
@@ -52,29 +72,76 @@ Xyz srgb_linear_to_xyz(const Rgb& c) {
           0.0193339 * c.r + 0.1191920 * c.g + 0.9503041 * c.b};
 }
 
-Colorimetry::Colorimetry(const WavelengthGrid& grid) : grid_(grid) {
-  const std::size_t n = grid.size();
-  xyz_weights_.resize(n);
+ChromaticAdaptation::ChromaticAdaptation(const Xyz& from, const Xyz& to) : identity_(false) {
+  const Xyz s = apply(kBradford, from), d = apply(kBradford, to);
+  const Matrix scale{{{d.X / s.X, 0, 0}, {0, d.Y / s.Y, 0}, {0, 0, d.Z / s.Z}}};
+  const Matrix back{{{s.X / d.X, 0, 0}, {0, s.Y / d.Y, 0}, {0, 0, s.Z / d.Z}}};
+  const Matrix cone_to_xyz = invert(kBradford);
+  forward_ = multiply(cone_to_xyz, multiply(scale, kBradford));
+  backward_ = multiply(cone_to_xyz, multiply(back, kBradford));
+}
+Xyz ChromaticAdaptation::operator()(const Xyz& c) const { return identity_ ? c : apply(forward_, c); }
+Xyz ChromaticAdaptation::inverse(const Xyz& c) const { return identity_ ? c : apply(backward_, c); }
+
+namespace {
+// Colour-matching weights S(lambda) xbar, ybar, zbar on the grid, normalised to sum(S ybar) = 1.
+std::vector<std::array<double, 3>> xyz_weights(const WavelengthGrid& grid, const Illuminant& illuminant) {
+  std::vector<std::array<double, 3>> w(grid.size());
   double norm = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double S = d65()(grid[i]);
-    for (int c = 0; c < 3; ++c) xyz_weights_[i][static_cast<std::size_t>(c)] = S * cmf(c)(grid[i]);
-    norm += xyz_weights_[i][1];
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const double S = illuminant(grid[i]);
+    for (int c = 0; c < 3; ++c) w[i][static_cast<std::size_t>(c)] = S * cmf(c)(grid[i]);
+    norm += w[i][1];
   }
   if (!(norm > 0))
     throw InputError("wavelength grid " + std::to_string(grid.lambda_min()) + "-" +
-                     std::to_string(grid.lambda_max()) +
-                     " nm is out of range: it must overlap the visible range 360-830 nm");
-  for (auto& w : xyz_weights_)
-    for (auto& v : w) v /= norm;
-  Spectrum one(grid, 1.0);
-  white_ = xyz(one);
-  white_rgb_ = xyz_to_srgb_linear(white_);
-  weights_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Rgb w = xyz_to_srgb_linear({xyz_weights_[i][0], xyz_weights_[i][1], xyz_weights_[i][2]});
+                     std::to_string(grid.lambda_max()) + " nm is out of range: it must overlap " +
+                     "the visible range 360-830 nm (and the table of illuminant " +
+                     illuminant.name() + ", " + std::to_string(illuminant.table().x_min()) + "-" +
+                     std::to_string(illuminant.table().x_max()) + " nm)");
+  for (auto& wi : w)
+    for (auto& v : wi) v /= norm;
+  return w;
+}
+Xyz white_of(const std::vector<std::array<double, 3>>& w) {
+  Xyz c;
+  for (const auto& wi : w) {
+    c.X += wi[0];
+    c.Y += wi[1];
+    c.Z += wi[2];
+  }
+  return c;
+}
+}  // namespace
+
+Colorimetry::Colorimetry(const WavelengthGrid& grid, const Illuminant& illuminant)
+    : grid_(grid), illuminant_(&illuminant), xyz_weights_(xyz_weights(grid, illuminant)) {
+  white_ = white_of(xyz_weights_);
+  const Illuminant& d65 = find_illuminant(kDefaultIlluminant);
+  // Under D65 no adaptation at all (not a matrix that is the identity only to rounding): the
+  // numbers of the default stay what they were.
+  if (&illuminant == &d65) {
+    d65_white_ = white_;
+  } else {
+    d65_white_ = white_of(color::xyz_weights(grid, d65));
+    adaptation_ = ChromaticAdaptation(white_, d65_white_);
+  }
+  white_rgb_ = xyz_to_srgb_linear(d65_white_);
+  weights_.resize(grid.size());
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const Rgb w = xyz_to_srgb_linear(adaptation_({xyz_weights_[i][0], xyz_weights_[i][1], xyz_weights_[i][2]}));
     weights_[i] = {w.r / white_rgb_.r, w.g / white_rgb_.g, w.b / white_rgb_.b};
   }
+}
+
+Rgb Colorimetry::srgb_linear(const Xyz& c) const {
+  const Rgb v = xyz_to_srgb_linear(adaptation_(c));
+  return {v.r / white_rgb_.r, v.g / white_rgb_.g, v.b / white_rgb_.b};
+}
+
+Rgb Colorimetry::illuminant_rgb() const {
+  const Rgb w = xyz_to_srgb_linear(white_);
+  return {w.r / white_rgb_.r, w.g / white_rgb_.g, w.b / white_rgb_.b};
 }
 
 Xyz Colorimetry::xyz(const Spectrum& R) const {
@@ -173,10 +240,12 @@ double delta_e_2000(const Lab& p, const Lab& q) {
 
 ColorSummary summarize_rgb(const Colorimetry& cm, const Rgb& rgb) {
   ColorSummary s;
+  s.illuminant = cm.illuminant().name();
   s.srgb_linear = rgb;
-  // XYZ consistent with the white-balanced RGB: the grid's white maps to (1, 1, 1).
-  const Rgb w = xyz_to_srgb_linear(cm.white());
-  s.XYZ = srgb_linear_to_xyz({rgb.r * w.r, rgb.g * w.g, rgb.b * w.b});
+  // XYZ consistent with the white-balanced RGB: the grid's D65 white maps to (1, 1, 1); then the
+  // adaptation undone (none under D65).
+  const Rgb w = xyz_to_srgb_linear(cm.d65_white());
+  s.XYZ = cm.adaptation().inverse(srgb_linear_to_xyz({rgb.r * w.r, rgb.g * w.g, rgb.b * w.b}));
   s.srgb8 = srgb8(rgb);
   s.hex = hex(s.srgb8);
   s.lab = xyz_to_lab(s.XYZ, cm.white());
@@ -190,8 +259,32 @@ ColorSummary summarize(const Colorimetry& cm, const Spectrum& R) {
   return s;
 }
 
+RgbVsSpectral rgb_vs_spectral(const Colorimetry& d65, const Colorimetry& under, const Spectrum& R_d) {
+  if (!(d65.illuminant().name() == kDefaultIlluminant) || !(d65.grid() == under.grid()))
+    throw InputError("rgb_vs_spectral: the first colorimetry must be D65's, on the same grid");
+  RgbVsSpectral r;
+  r.rgb_rendering = d65.srgb_linear(R_d) * under.illuminant_rgb();
+  // The pixel's XYZ: undo the white balance (D65's white is (1, 1, 1)), then the sRGB matrix.
+  const Rgb w = xyz_to_srgb_linear(under.d65_white());
+  r.rgb = summarize_xyz(under, srgb_linear_to_xyz(r.rgb_rendering * w));
+  r.spectral = summarize(under, R_d);
+  r.delta_e_2000 = delta_e_2000(r.spectral.lab, r.rgb.lab);
+  return r;
+}
+
+ColorSummary summarize_xyz(const Colorimetry& cm, const Xyz& c) {
+  ColorSummary s;
+  s.illuminant = cm.illuminant().name();
+  s.XYZ = c;
+  s.srgb_linear = cm.srgb_linear(c);
+  s.srgb8 = srgb8(s.srgb_linear);
+  s.hex = hex(s.srgb8);
+  s.lab = xyz_to_lab(c, cm.white());
+  return s;
+}
+
 std::ostream& operator<<(std::ostream& os, const ColorSummary& c) {
-  return os << "Color{" << c.XYZ << ", srgb_linear=" << c.srgb_linear << ", " << c.hex << ", "
+  return os << "Color{" << c.illuminant << ", " << c.XYZ << ", srgb_linear=" << c.srgb_linear << ", " << c.hex << ", "
             << c.lab << '}';
 }
 

@@ -13,6 +13,7 @@
 #include <tbb/parallel_for.h>
 
 #include "scene_impl.hpp"
+#include "skin/color/color.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/input_file.hpp"
 
@@ -358,20 +359,35 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
     for (std::size_t i = 0; i < ls.size(); ++i) {
       const Reader l(ls[i], file, "lights[" + std::to_string(i) + "]");
       const std::string type = l.string("type");
+      // The light's value (a number or [r, g, b]) times the colour of the CIE illuminant it
+      // names, if any: linear sRGB of luminance 1 on the materials' wavelength grid, D65 = 1, 1, 1
+      // (color::Colorimetry::illuminant_rgb).
+      const auto value = [&l](const char* key) {
+        Rgb3 v = l.rgb(key, {1, 1, 1});
+        if (l.has("illuminant")) {
+          const std::string name = l.string("illuminant");
+          try {
+            v *= color::Colorimetry(WavelengthGrid(), color::find_illuminant(name)).illuminant_rgb();
+          } catch (const InputError& e) {
+            l.fail(e.what());
+          }
+        }
+        return v;
+      };
       if (type == "point") {
-        l.allow({"type", "position", "intensity"});
-        s.lights.emplace_back(PointLight{l.vec3("position"), l.rgb("intensity", {1, 1, 1})});
+        l.allow({"type", "position", "intensity", "illuminant"});
+        s.lights.emplace_back(PointLight{l.vec3("position"), value("intensity")});
       } else if (type == "directional") {
-        l.allow({"type", "direction", "irradiance"});
-        s.lights.emplace_back(DirectionalLight{normalize(l.vec3("direction")), l.rgb("irradiance", {1, 1, 1})});
+        l.allow({"type", "direction", "irradiance", "illuminant"});
+        s.lights.emplace_back(DirectionalLight{normalize(l.vec3("direction")), value("irradiance")});
       } else if (type == "sphere") {
-        l.allow({"type", "center", "radius", "radiance"});
-        const SphereLight L{l.vec3("center"), l.number("radius"), l.rgb("radiance", {1, 1, 1})};
+        l.allow({"type", "center", "radius", "radiance", "illuminant"});
+        const SphereLight L{l.vec3("center"), l.number("radius"), value("radiance")};
         if (!(L.radius > 0)) l.fail("'radius' must be > 0");
         s.lights.emplace_back(L);
       } else if (type == "quad") {
-        l.allow({"type", "corner", "edge_u", "edge_v", "radiance"});
-        const QuadLight L{l.vec3("corner"), l.vec3("edge_u"), l.vec3("edge_v"), l.rgb("radiance", {1, 1, 1})};
+        l.allow({"type", "corner", "edge_u", "edge_v", "radiance", "illuminant"});
+        const QuadLight L{l.vec3("corner"), l.vec3("edge_u"), l.vec3("edge_v"), value("radiance")};
         if (!(L.area() > 0)) l.fail("'edge_u' and 'edge_v' must span a non-zero area");
         s.lights.emplace_back(L);
       } else {

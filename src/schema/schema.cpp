@@ -177,12 +177,17 @@ std::vector<Column> color_columns(const color::ColorSummary& c) {
 
 std::string color_table(const color::ColorSummary& c) {
   std::ostringstream os;
-  os << "XYZ (D65, Y_white = 1)  " << num(c.XYZ.X) << "  " << num(c.XYZ.Y) << "  " << num(c.XYZ.Z) << '\n'
+  std::string xyz = "XYZ (" + c.illuminant + ", Y_white = 1)";
+  xyz += std::string(xyz.size() < 22 ? 24 - xyz.size() : 2, ' ');
+  os << xyz << num(c.XYZ.X) << "  " << num(c.XYZ.Y) << "  " << num(c.XYZ.Z) << '\n'
      << "linear sRGB             " << num(c.srgb_linear.r) << "  " << num(c.srgb_linear.g) << "  "
      << num(c.srgb_linear.b) << '\n'
      << "sRGB 8-bit              " << c.srgb8[0] << " " << c.srgb8[1] << " " << c.srgb8[2] << '\n'
      << "hex                     " << c.hex << '\n'
      << "CIELAB                  " << num(c.lab.L) << "  " << num(c.lab.a) << "  " << num(c.lab.b) << '\n';
+  if (c.illuminant != color::kDefaultIlluminant)
+    os << "sRGB and hex after the Bradford adaptation " << c.illuminant << " -> D65; CIELAB relative to "
+       << c.illuminant << "'s white\n";
   return os.str();
 }
 
@@ -269,13 +274,18 @@ Result spectrum_result(const SkinSpectrum& s, const std::string& preset) {
 }
 
 Result color_result(const SkinSpectrum& s, const std::string& preset) {
+  return color_result(s, preset, s.color);
+}
+
+Result color_result(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c) {
   Result result;
   result.document["preset"] = preset;
   result.document["parameters"] = to_json(s.parameters);
   result.document["solver"] = s.solver;
-  result.document["color"] = to_json(s.color);
-  result.columns = color_columns(s.color);
-  result.table = color_table(s.color);
+  result.document["illuminant"] = c.illuminant;
+  result.document["color"] = to_json(c);
+  result.columns = color_columns(c);
+  result.table = color_table(c);
   return result;
 }
 

@@ -82,6 +82,13 @@ class SameAsTheCommand(unittest.TestCase):
         py = ss.color("tanned", melanin=0.05)
         js = cli("color", "--preset", "tanned", "--melanin", "0.05")
         assert_same(self, py, js)
+        py = ss.color("tanned", illuminant="LED-B3", melanin=0.05)
+        js = cli("color", "--preset", "tanned", "--illuminant", "LED-B3", "--melanin", "0.05")
+        self.assertEqual(py["illuminant"], "LED-B3")
+        assert_same(self, py, js)
+        self.assertEqual(ss.illuminants()[:3], ["D65", "D50", "A"])
+        with self.assertRaisesRegex(ValueError, "illuminant = 'F2' is unknown: must be one of D65"):
+            ss.color(illuminant="F2")
 
     def test_profiles(self):
         r = np.geomspace(0.01, 8, 12)

@@ -215,5 +215,32 @@ TEST(HeadMesh, LoadsWithNormalsAndUvs) {
   EXPECT_EQ(tris, 17684u);  // PROVENANCE.md section 4
 }
 
+TEST_F(SceneInput, LightNamingAnIlluminant) {
+  // A light may name a CIE illuminant: D65 is the identity (the same image byte for byte), A
+  // colours the light (another image), an unknown name is one line naming the light.
+  write("t.obj", kTriangleObj);
+  auto scene = [this](const std::string& light) {
+    return R"({"camera": {"eye":[0.3,0.3,5], "look_at":[0.3,0.3,0], "fov": 10}, "materials": {"m": {"type":"diffuse"}},
+      "objects": [{"mesh": "t.obj", "material": "m"}], "lights": [)" + light + "]}";
+  };
+  const char* args = " --spp 1 --resolution 8x8 --threads 1 --seed 3";
+  std::string err;
+  write("plain.json", scene(R"({"type": "directional", "direction": [0,0,-1], "irradiance": 2})"));
+  write("d65.json", scene(R"({"type": "directional", "direction": [0,0,-1], "irradiance": 2, "illuminant": "D65"})"));
+  write("a.json", scene(R"({"type": "directional", "direction": [0,0,-1], "irradiance": 2, "illuminant": "a"})"));
+  ASSERT_EQ(run(std::string("plain.json -o plain.png") + args, &err), 0) << err;
+  ASSERT_EQ(run(std::string("d65.json -o d65.png") + args, &err), 0) << err;
+  ASSERT_EQ(run(std::string("a.json -o a.png") + args, &err), 0) << err;
+  auto bytes = [this](const char* f) {
+    std::stringstream ss;
+    ss << std::ifstream(dir_ / f, std::ios::binary).rdbuf();
+    return ss.str();
+  };
+  EXPECT_EQ(bytes("plain.png"), bytes("d65.png"));
+  EXPECT_NE(bytes("plain.png"), bytes("a.png"));
+  write("s.json", scene(R"({"type": "point", "position": [0,0,3], "intensity": 1, "illuminant": "D60"})"));
+  expect_rejected("s.json", {"s.json", "lights[0]", "illuminant = 'D60' is unknown: must be one of D65"});
+}
+
 }  // namespace
 }  // namespace skin::render

@@ -30,8 +30,23 @@ struct Figure {
   int width = 900, height = 560;
 };
 
+// A labelled grid of colour swatches (rows x columns, e.g. skin presets under illuminants); a
+// cell is split in two, left | right, when `right` is given, with a caption below it.
+struct SwatchGrid {
+  std::string title;
+  std::vector<std::string> rows, columns;
+  struct Cell {
+    std::array<double, 3> left{};                // sRGB-encoded 0-1
+    std::optional<std::array<double, 3>> right;  // sRGB-encoded 0-1
+    std::string caption;
+  };
+  std::vector<Cell> cells;  // row-major
+  std::string note;         // below the grid; '\n' separates lines
+};
+
 // Writes the figure to `path`, PNG or SVG chosen by the extension, atomically. Throws InputError
 // for another extension or a write failure.
 void save(const Figure& fig, const std::string& path);
+void save(const SwatchGrid& grid, const std::string& path);
 
 }  // namespace skin::plot
