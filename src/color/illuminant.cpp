@@ -111,9 +111,14 @@ std::vector<std::string> illuminant_names() {
 const Illuminant& find_illuminant(std::string_view name) {
   for (const Illuminant& i : all())
     if (same_ignoring_case(i.name(), name)) return i;
+  // The names before CIE 015:2018 (F2, F7, F11) for its FL2, FL7, FL11.
+  if (name.size() >= 2 && (name[0] == 'F' || name[0] == 'f') && name[1] >= '0' && name[1] <= '9')
+    for (const Illuminant& i : all())
+      if (same_ignoring_case(i.name(), "FL" + std::string(name.substr(1)))) return i;
   std::string allowed;
   for (const Illuminant& i : all()) allowed += (allowed.empty() ? "" : ", ") + i.name();
-  throw InputError("illuminant = '" + std::string(name) + "' is unknown: must be one of " + allowed);
+  throw InputError("illuminant = '" + std::string(name) + "' is unknown: must be one of " + allowed +
+                   " (F2, F7, F11 name FL2, FL7, FL11)");
 }
 
 }  // namespace skin::color

@@ -37,7 +37,7 @@ TEST_F(Cli, ColorUnderAnotherIlluminant) {
 }
 
 TEST_F(Cli, UnknownIlluminantIsOneLineListingTheAllowed) {
-  for (const char* args : {"color --illuminant F2", "illuminants --compare --illuminant D60"}) {
+  for (const char* args : {"color --illuminant F3", "illuminants --compare --illuminant D60"}) {
     const CmdResult r = run(args);
     EXPECT_EQ(r.code, 2) << args;
     EXPECT_EQ(r.out, "") << args;

@@ -24,13 +24,17 @@ TEST(Illuminant, NamesAndLookup) {
   for (const std::string& n : names) EXPECT_EQ(find_illuminant(n).name(), n);
   EXPECT_EQ(find_illuminant("d65").name(), "D65");
   EXPECT_EQ(find_illuminant("led-b3").name(), "LED-B3");
+  // The names before CIE 015:2018 find their successors; other F numbers are not here.
+  EXPECT_EQ(find_illuminant("F2").name(), "FL2");
+  EXPECT_EQ(find_illuminant("f11").name(), "FL11");
   try {
-    (void)find_illuminant("F2");
-    FAIL() << "F2 (the old name of FL2) was accepted";
+    (void)find_illuminant("F3");
+    FAIL() << "F3 (not tabulated) was accepted";
   } catch (const InputError& e) {
     EXPECT_EQ(std::string(e.what()),
-              "illuminant = 'F2' is unknown: must be one of D65, D50, A, FL2, FL7, FL11, LED-B1, "
-              "LED-B2, LED-B3, LED-B4, LED-B5, LED-BH1, LED-RGB1, LED-V1, LED-V2");
+              "illuminant = 'F3' is unknown: must be one of D65, D50, A, FL2, FL7, FL11, LED-B1, "
+              "LED-B2, LED-B3, LED-B4, LED-B5, LED-BH1, LED-RGB1, LED-V1, LED-V2 (F2, F7, F11 name FL2, "
+              "FL7, FL11)");
   }
 }
 

@@ -87,8 +87,10 @@ class SameAsTheCommand(unittest.TestCase):
         self.assertEqual(py["illuminant"], "LED-B3")
         assert_same(self, py, js)
         self.assertEqual(ss.illuminants()[:3], ["D65", "D50", "A"])
-        with self.assertRaisesRegex(ValueError, "illuminant = 'F2' is unknown: must be one of D65"):
-            ss.color(illuminant="F2")
+        with self.assertRaisesRegex(ValueError, "illuminant = 'F3' is unknown: must be one of D65"):
+            ss.color(illuminant="F3")
+        # The names before CIE 015:2018 find their FL successors.
+        self.assertEqual(ss.color(illuminant="F2")["illuminant"], "FL2")
 
     def test_profiles(self):
         r = np.geomspace(0.01, 8, 12)
