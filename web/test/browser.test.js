@@ -212,6 +212,10 @@ async function main() {
       console.log(`dropped ${name}, column vrhel_117, fitted: ${f.failures.length === 0 ? 'matches' : 'DIFFERS FROM'} skin fit (melanin ${fitted.parameters.melanin})`);
       await page.waitForFunction((m) => window.skinState.spectrum.parameters.melanin === m, {}, fitted.parameters.melanin);
       await compareWithCli('the fitted parameters');
+      // The fitted skin's export links, for the screenshot.
+      await page.select('#export-target', 'openpbr');
+      await page.click('#export-run');
+      await page.waitForFunction(() => window.skinState.export && window.skinState.export.target === 'openpbr');
       await page.screenshot({ path: path.join(SHOTS, 'page-fit.png') });
     }
     const outside = requests.filter((u) => !u.startsWith(`http://127.0.0.1:${server.address().port}/`) && !u.startsWith('blob:') && !u.startsWith('data:'));
