@@ -71,6 +71,8 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   // Errors: the CLI's one line.
   const bad = JSON.parse(m.run('color', JSON.stringify({ params: { melanin: 2 } })));
   if (!bad.error || !bad.error.includes('melanin (C_m) = 2 is out of range')) fail([JSON.stringify(bad)], 'error message');
+  const badTarget = JSON.parse(m.run('export', JSON.stringify({ target: 'renderman' })));
+  if (!badTarget.error || !badTarget.error.startsWith("target = 'renderman' is unknown")) fail([JSON.stringify(badTarget)], 'export error message');
 
   if (!fs.existsSync(SPECTRA)) {
     console.log(`SKIP fit: ${SPECTRA} is absent`);
