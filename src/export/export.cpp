@@ -19,6 +19,7 @@
 #include "skin/color/color.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/random_walk_table.hpp"
+#include "skin/util/charconv.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::exporting {
@@ -105,10 +106,31 @@ namespace {
 // ---------------------------------------------------------------------------------------------
 // Formatting
 
+// Every number an export writes carries 6 significant digits (num), in text and JSON alike
+// (rounded): well above float precision of the renderers, well below the noise of the last bits
+// in which two builds (compilers, libm, vectorisation: the CLI's and the web page's) differ, so
+// that the files are the same byte for byte wherever they are made. Errors that vanish when the
+// target matches exactly (a colour difference, a relative error) are rounded to 1e-6 absolutely
+// (rounded_error): their noise around zero has no significant digits.
 std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
+}
+double rounded(double v) {
+  if (!std::isfinite(v)) return v;
+  const std::string t = num(v);
+  double r = v;
+  skin::from_chars(t.data(), t.data() + t.size(), r);
+  return r + 0.0;  // no -0
+}
+double rounded_error(double v) { return std::isfinite(v) ? std::round(v * 1e6) / 1e6 + 0.0 : v; }
+// The document with every floating-point number rounded().
+json rounded(json j) {
+  if (j.is_number_float()) return rounded(j.get<double>());
+  if (j.is_structured())
+    for (auto& v : j) v = rounded(std::move(v));
+  return j;
 }
 std::string triple(const Rgb& c, const char* sep = ", ") {
   return num(c.r) + sep + num(c.g) + sep + num(c.b);
@@ -344,9 +366,10 @@ std::string header_lines(const char* prefix, const Export& e, const SkinParamete
   if (world_scale != 1.0) os << " x world scale " << num(world_scale);
   os << ".\n";
   os << prefix << " Target model: " << e.report.target_model << "\n";
-  os << prefix << " Fit: colour dE2000 " << num(e.report.delta_e_2000)
-     << ", profile L1 (R, G, B) " << triple({e.report.profile_l1[0], e.report.profile_l1[1],
-                                             e.report.profile_l1[2]})
+  const auto& l1 = e.report.profile_l1;
+  os << prefix << " Fit: colour dE2000 " << num(rounded_error(e.report.delta_e_2000))
+     << ", profile L1 (R, G, B) "
+     << triple({rounded_error(l1[0]), rounded_error(l1[1]), rounded_error(l1[2])})
      << "; full report in the .fit.json beside this file.\n";
   for (const std::string& n : e.report.notes) os << prefix << " Note: " << n << "\n";
   return os.str();
@@ -608,7 +631,7 @@ Export export_unreal(const Reference& ref, const Options& o, Unit unit) {
   j["units"] = {{"mean_free_path_distance", "cm"}, {"world_unit_scale", "cm per world unit"}};
   j["settings"] = report_values_json(e.report);
   j["settings"]["enable_burley"] = true;
-  e.files.push_back({"", j.dump(2) + "\n"});
+  e.files.push_back({"", rounded(j).dump(2) + "\n"});
   std::ostringstream s;
   s << header_lines("#", e, p, *ref.model, unit, o.world_scale);
   s << "# Run inside the Unreal Editor (Python Editor Script Plugin): creates or updates the\n"
@@ -705,7 +728,7 @@ Export export_unity(const Reference& ref, const Options& o, Unit unit) {
                 {"thickness_remap", "mm"},
                 {"world_scale", "m per world unit"}};
   j["profile"] = report_values_json(e.report);
-  e.files.push_back({".json", j.dump(2) + "\n"});
+  e.files.push_back({".json", rounded(j).dump(2) + "\n"});
   return e;
 }
 
@@ -1089,7 +1112,7 @@ Export export_realtime(const Reference& ref, const Options& o, Unit unit) {
                         for (double x2 : g.v) v.push_back(x2 * scale * scale);
                         return v;
                       }()}};
-  e.files.push_back({"", j.dump(2) + "\n"});
+  e.files.push_back({"", rounded(j).dump(2) + "\n"});
   return e;
 }
 
@@ -1135,7 +1158,7 @@ Export export_profile(const Reference& ref, const Options& o, Unit unit) {
   j["r"] = r;
   j["R"] = {{"r", R[0]}, {"g", R[1]}, {"b", R[2]}};
   e.files.push_back({"", csv.str()});
-  e.files.push_back({".json", j.dump(1) + "\n"});
+  e.files.push_back({".json", rounded(j).dump(1) + "\n"});
   ImageFile exr{".exr", std::move(planes), {}};
   e.images.push_back(std::move(exr));
   for (int c = 0; c < 3; ++c)
@@ -1150,9 +1173,13 @@ Export export_profile(const Reference& ref, const Options& o, Unit unit) {
 
 std::string fit_report_json(const FitReport& r, const SkinParameters& p, std::string_view solver,
                             const std::vector<std::string>& files) {
-  auto rgb = [](const Rgb& c) { return json{{"r", c.r}, {"g", c.g}, {"b", c.b}}; };
+  // Numbers as the files write them (rounded; errors rounded_error); the parameters as given.
+  auto rgb = [](const Rgb& c) { return rounded(json{{"r", c.r}, {"g", c.g}, {"b", c.b}}); };
   auto arr = [](const std::array<double, 3>& a) {
-    return json{{"r", a[0]}, {"g", a[1]}, {"b", a[2]}};
+    return rounded(json{{"r", a[0]}, {"g", a[1]}, {"b", a[2]}});
+  };
+  auto err = [](const std::array<double, 3>& a) {
+    return json{{"r", rounded_error(a[0])}, {"g", rounded_error(a[1])}, {"b", rounded_error(a[2])}};
   };
   json j;
   j["target"] = r.target;
@@ -1169,14 +1196,14 @@ std::string fit_report_json(const FitReport& r, const SkinParameters& p, std::st
   j["notes"] = r.notes;
   j["R_d_ours"] = rgb(r.R_d_ours);
   j["R_d_target"] = rgb(r.R_d_target);
-  j["delta_e_2000"] = r.delta_e_2000;
-  j["profile_l1"] = arr(r.profile_l1);
+  j["delta_e_2000"] = rounded_error(r.delta_e_2000);
+  j["profile_l1"] = err(r.profile_l1);
   j["mean_radius_mm"] = arr(r.mean_radius_mm);
-  j["mean_radius_error"] = arr(r.mean_radius_error);
-  j["values"] = report_values_json(r);
+  j["mean_radius_error"] = err(r.mean_radius_error);
+  j["values"] = rounded(report_values_json(r));
   if (r.texels) {
     j["texels"] = r.texels;
-    j["max_delta_e_2000"] = r.max_delta_e_2000;
+    j["max_delta_e_2000"] = rounded_error(r.max_delta_e_2000);
   }
   return j.dump(2) + "\n";
 }

@@ -244,9 +244,8 @@ void ParameterFile::apply(SkinParameters& p) const {
   for (const auto& [info, v] : values) p.*(info->member) = v;
 }
 
-Result spectrum_result(const SkinSpectrum& s, const std::string& preset) {
-  Result result;
-  json& j = result.document;
+json spectrum_document(const SkinSpectrum& s, const std::string& preset) {
+  json j;
   j["preset"] = preset;
   j["parameters"] = to_json(s.parameters);
   j["solver"] = s.solver;
@@ -259,6 +258,12 @@ Result spectrum_result(const SkinSpectrum& s, const std::string& preset) {
   j["dermis"] = {{"sigma_a", s.dermis_sigma_a.values},
                  {"sigma_s_prime", s.dermis_sigma_s_prime.values}};
   j["color"] = to_json(s.color);
+  return j;
+}
+
+Result spectrum_result(const SkinSpectrum& s, const std::string& preset) {
+  Result result;
+  result.document = spectrum_document(s, preset);
   const std::vector<std::string> header = {"wavelength_nm", "R_d", "epidermis.sigma_a",
                                            "epidermis.sigma_s_prime", "dermis.sigma_a",
                                            "dermis.sigma_s_prime"};
@@ -302,16 +307,22 @@ json profile_document(const SkinParameters& p, const std::string& preset, const 
 }
 }  // namespace
 
+json rgb_profile_document(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
+                          const std::string& solver, const transport::Validity& validity) {
+  json j = profile_document(p, preset, solver, validity);
+  j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
+  j["r_mm"] = rgb.radii.r;
+  j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
+  j["R_d"] = {{"r", rgb.R_d[0]}, {"g", rgb.R_d[1]}, {"b", rgb.R_d[2]}};
+  return j;
+}
+
 Result rgb_profile_result(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
                           const std::string& solver, const transport::Validity& validity) {
   const char* names[3] = {"r", "g", "b"};
   const RadialGrid& radii = rgb.radii;
   Result result;
-  json& j = result.document = profile_document(p, preset, solver, validity);
-  j["units"] = {{"r_mm", "mm"}, {"R", "1/mm^2"}};
-  j["r_mm"] = radii.r;
-  j["R"] = {{"r", rgb.R[0]}, {"g", rgb.R[1]}, {"b", rgb.R[2]}};
-  j["R_d"] = {{"r", rgb.R_d[0]}, {"g", rgb.R_d[1]}, {"b", rgb.R_d[2]}};
+  result.document = rgb_profile_document(rgb, p, preset, solver, validity);
   result.columns = {{"r_mm", radii.r, {}}};
   for (int c = 0; c < 3; ++c) result.columns.push_back({std::string("R.") + names[c] + " [1/mm^2]", rgb.R[c], {}});
   for (int c = 0; c < 3; ++c) result.columns.push_back(constant_column(std::string("R_d.") + names[c], rgb.R_d[c], radii.size()));

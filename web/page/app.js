@@ -15,6 +15,8 @@ const state = {
   profile: null,    // the last profile document (skin profile --rgb --format json)
   measured: null,   // {file, csv, columns: [{name, R}], wavelength_nm}
   fit: null,        // the last fit document (skin fit --format json)
+  export: null,     // the last export ({target, files: [{name, content}], images, report})
+  exportKey: '',
   strip: null,
   stripKey: '',
   timings: [],      // ms of each full update (spectrum, colour, RGB profile, drawing)
@@ -141,12 +143,16 @@ function update() {
   state.timings.push(ms);
   state.modelTimings.push(tModel);
   state.updates += 1;
-  const median = (a) => [...a].sort((x, y) => x - y)[Math.floor(a.length / 2)];
-  $('timing').textContent = `${ms.toFixed(1)} ms, model ${tModel.toFixed(1)} ms (medians ${median(state.timings).toFixed(1)}, ${median(state.modelTimings).toFixed(1)} ms of ${state.timings.length})`;
+  // This update, and the median and 10-90 % spread of the last 100.
+  const quantiles = (a) => { const s = a.slice(-100).sort((x, y) => x - y); return [0.5, 0.1, 0.9].map((f) => s[Math.min(s.length - 1, Math.floor(f * s.length))].toFixed(1)); };
+  const [m, lo, hi] = quantiles(state.timings);
+  $('timing').textContent = `${ms.toFixed(1)} ms (model ${tModel.toFixed(1)} ms); median ${m} ms, 10–90 % ${lo}–${hi} ms ` +
+    `of the last ${Math.min(state.timings.length, 100)} (model median ${quantiles(state.modelTimings)[0]} ms)`;
   const warn = profile.validity.profile ? '' : ` Profile outside the solver's validated range: ${profile.validity.reason}`;
   $('status').textContent = `Ready. ${state.solver} solver.${warn}`;
   $('status').className = warn ? 'error' : '';
   scheduleStrip();
+  checkExport();
 }
 
 function drawColour() {
@@ -159,17 +165,23 @@ function drawColour() {
   $('xyz').textContent = c.XYZ.map(num).join('  ');
 }
 
+let shownCells = [];  // the text of each coefficient cell, by column: only changed cells are written
 function drawCoefficients() {
-  // The rows are made once per grid; an update rewrites the cells' text only.
+  // The rows are made once per grid; an update rewrites the text of the cells that changed (a
+  // slider moves some columns only: melanin leaves the dermis alone).
   const s = state.spectrum, table = $('coefficients');
   const columns = [s.wavelength_nm, s.R_d, s.epidermis.sigma_a, s.epidermis.sigma_s_prime, s.dermis.sigma_a, s.dermis.sigma_s_prime];
   if (table.rows.length !== s.wavelength_nm.length + 1) {
     table.innerHTML = '<tr><th>wavelength_nm</th><th>R_d</th><th>epidermis.sigma_a</th><th>epidermis.sigma_s_prime</th><th>dermis.sigma_a</th><th>dermis.sigma_s_prime</th></tr>' +
       '<tr><td></td><td></td><td></td><td></td><td></td><td></td></tr>'.repeat(s.wavelength_nm.length);
+    shownCells = columns.map(() => []);
   }
-  for (let i = 0; i < s.wavelength_nm.length; i++) {
-    const cells = table.rows[i + 1].cells;
-    for (let c = 0; c < columns.length; c++) cells[c].textContent = c === 0 ? String(columns[0][i]) : num(columns[c][i]);
+  for (let c = 0; c < columns.length; c++) {
+    const shown = shownCells[c], column = columns[c];
+    for (let i = 0; i < column.length; i++) {
+      const text = c === 0 ? String(column[i]) : num(column[i]);
+      if (shown[i] !== text) table.rows[i + 1].cells[c].textContent = shown[i] = text;
+    }
   }
 }
 
@@ -344,6 +356,72 @@ function setUpDownloads() {
   $('dl-profile-csv').addEventListener('click', () => download('profile.csv', run('profile', request({ rgb: true, format: 'csv' })), 'text/csv'));
 }
 
+// --- Export (skin export --target T) ---------------------------------------------------------
+
+// The files of the chosen target for the current parameters, as links (each file its own
+// download, byte for byte what `skin export --target T` writes), and the fit's error. The links
+// stay valid until the parameters, the solver or the target change.
+function exportKey() { return JSON.stringify([request(), $('export-target').value]); }
+
+function runExport() {
+  for (const a of document.querySelectorAll('#export-files a')) URL.revokeObjectURL(a.href);
+  $('export-files').innerHTML = '';
+  let e;
+  try {
+    e = runJson('export', request({ target: $('export-target').value }));
+  } catch (err) {
+    $('export-result').textContent = err.message;
+    $('export-result').className = 'error';
+    return;
+  }
+  const r = e.report, pct = (v) => `${v >= 0 ? '+' : ''}${(100 * v).toFixed(1)}%`;
+  $('export-result').className = r.representable ? 'muted' : 'error';
+  $('export-result').textContent = `${e.target}: colour dE2000 ${r.delta_e_2000.toFixed(2)}; profile L1 r/g/b ` +
+    `${['r', 'g', 'b'].map((c) => r.profile_l1[c].toFixed(2)).join('/')}; mean radius ` +
+    `${['r', 'g', 'b'].map((c) => r.mean_radius_mm[c].toPrecision(3)).join('/')} mm (target ` +
+    `${['r', 'g', 'b'].map((c) => pct(r.mean_radius_error[c])).join('/')})` +
+    (r.representable ? '' : `. ${r.notes[0]}`);
+  for (const f of e.files) {
+    const li = document.createElement('li'), a = document.createElement('a');
+    a.href = URL.createObjectURL(new Blob([f.content], { type: 'application/octet-stream' }));
+    a.download = f.name;
+    a.textContent = f.name;
+    li.appendChild(a);
+    li.insertAdjacentText('beforeend', ` (${f.content.length} bytes)`);
+    $('export-files').appendChild(li);
+  }
+  for (const name of e.images) {
+    const li = document.createElement('li');
+    li.className = 'muted';
+    li.textContent = `${name}: written by the skin command only (no OpenEXR in the browser)`;
+    $('export-files').appendChild(li);
+  }
+  state.export = e;
+  state.exportKey = exportKey();
+}
+
+function checkExport() {
+  // After a change the links no longer hold the current skin: they are removed.
+  if (!state.export || state.exportKey === exportKey()) return;
+  for (const a of document.querySelectorAll('#export-files a')) URL.revokeObjectURL(a.href);
+  $('export-files').innerHTML = '';
+  $('export-result').textContent = 'The parameters changed: Export again for files of the current skin.';
+  $('export-result').className = 'muted';
+  state.export = null;
+}
+
+function setUpExport() {
+  for (const t of runJson('targets', {})) {
+    const o = document.createElement('option');
+    o.value = t.name;
+    o.textContent = `${t.name} (${t.extension})`;
+    o.title = t.description;
+    $('export-target').appendChild(o);
+  }
+  $('export-run').addEventListener('click', runExport);
+  $('export-target').addEventListener('change', checkExport);
+}
+
 // --- Start ------------------------------------------------------------------------------------
 
 createSkinModule().then((module) => {
@@ -353,6 +431,7 @@ createSkinModule().then((module) => {
   buildControls();
   setUpDrop();
   setUpDownloads();
+  setUpExport();
   applyPreset('caucasian');
   window.skinReady = true;
 }).catch((e) => { $('status').textContent = 'The model failed to load: ' + e; $('status').className = 'error'; });

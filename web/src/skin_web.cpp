@@ -8,7 +8,9 @@
 // object --params FILE.json holds: parameter keys or symbols, an optional "preset"),
 // "solver", "lambda_min", "lambda_max", "lambda_step", "format"; for profile also "rgb",
 // "radius_min", "radius_max", "samples", "spacing"; for fit "csv" (the file's text), "file"
-// (its name), "column", "free", "includes_specular", "fit_lambda_min", "fit_lambda_max".
+// (its name), "column", "free", "includes_specular", "fit_lambda_min", "fit_lambda_max"; for
+// export "target" and the options of `skin export` ("units", "world_scale", "name", "gaussians",
+// "taps", "spectra_files").
 #include <emscripten/bind.h>
 
 #include <fstream>
@@ -18,6 +20,7 @@
 
 #include "fit_schema.hpp"
 #include "schema.hpp"
+#include "skin/export/export.hpp"
 #include "skin/fit/fit.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/util/error.hpp"
@@ -107,16 +110,16 @@ Result profile(const json& req) {
 
 // The page's live update: the spectrum (R_d, layer coefficients, colour) and the RGB profile, the
 // two documents of `skin spectrum` and `skin profile --rgb`, with the transport run once per
-// wavelength (skin_appearance).
+// wavelength (skin_appearance) and the documents alone (no table text, no columns).
 json update(const json& req) {
   const SkinParameters p = parameters_of(req);
   const WavelengthGrid grid = grid_of(req);
   const transport::Model& model = model_of(req);
   const SkinAppearance a = skin_appearance(p, grid, profile_solver(radii_of(req)), model);
   const std::string preset = preset_of(req);
-  return {{"spectrum", schema::spectrum_result(a.spectrum, preset).document},
-          {"profile", schema::rgb_profile_result(a.rgb, p, preset, std::string(model.name()),
-                                                 skin_validity(p, grid, model)).document}};
+  return {{"spectrum", schema::spectrum_document(a.spectrum, preset)},
+          {"profile", schema::rgb_profile_document(a.rgb, p, preset, std::string(model.name()),
+                                                   skin_validity(p, grid, model))}};
 }
 
 // The dropped file is written to the module's in-memory file system under its own name and read
@@ -174,6 +177,42 @@ json melanin_strip(const json& req) {
   return out;
 }
 
+// `skin export --target T` in a folder of its own, without -o: the files it writes (named as it
+// names them: NAME + the target's extension, NAME + each file's suffix) with their text, and
+// NAME.fit.json. {"target", "files": [{"name", "content"}], "images": [name], "report"}: "report"
+// is the fit report (the last file, parsed). Images (the profile target's .exr) are listed, as
+// the report lists them, but not written: the module has no OpenEXR.
+json export_files(const json& req) {
+  const SkinParameters p = parameters_of(req);
+  const transport::Model& model = model_of(req);
+  const exporting::Target& target = exporting::find_target(get_or<std::string>(req, "target", ""));
+  exporting::Options opt;
+  if (const auto units = get_or<std::string>(req, "units", ""); !units.empty()) opt.unit = exporting::parse_unit(units);
+  opt.world_scale = get_or(req, "world_scale", opt.world_scale);
+  opt.name = get_or(req, "name", opt.name);
+  opt.gaussians = get_or(req, "gaussians", opt.gaussians);
+  opt.taps = get_or(req, "taps", opt.taps);
+  opt.spectra_files = get_or(req, "spectra_files", opt.spectra_files);
+  opt.stem = opt.name;
+  opt.validate();
+  const exporting::Export e = exporting::export_skin(target.name, p, model, opt);
+  json out{{"target", std::string(target.name)}, {"files", json::array()}, {"images", json::array()}};
+  std::vector<std::string> written;
+  for (const exporting::TextFile& f : e.files) {
+    written.push_back(opt.name + (f.suffix.empty() ? std::string(target.extension) : f.suffix));
+    out["files"].push_back({{"name", written.back()}, {"content", f.content}});
+  }
+  for (const exporting::ImageFile& f : e.images) {
+    written.push_back(opt.name + f.suffix);
+    out["images"].push_back(written.back());
+  }
+  written.push_back(opt.name + ".fit.json");
+  const std::string report = exporting::fit_report_json(e.report, p, model.name(), written);
+  out["files"].push_back({{"name", written.back()}, {"content", report}});
+  out["report"] = json::parse(report);
+  return out;
+}
+
 template <typename F>
 std::string guarded(const std::string& request, const F& f) {
   try {
@@ -197,6 +236,14 @@ std::string run(const std::string& command, const std::string& request) {
     if (command == "update") return update(req).dump();
     if (command == "spectra") return spectra(req).dump();
     if (command == "melanin_strip") return melanin_strip(req).dump();
+    if (command == "export") return export_files(req).dump();
+    if (command == "targets") {
+      json j = json::array();
+      for (const exporting::Target& t : exporting::targets())
+        j.push_back({{"name", std::string(t.name)}, {"description", std::string(t.description)},
+                     {"extension", std::string(t.extension)}});
+      return j.dump();
+    }
     if (command == "solvers") {
       json j = json::array();
       for (const auto& n : transport::model_names())
@@ -205,7 +252,8 @@ std::string run(const std::string& command, const std::string& request) {
       return j.dump();
     }
     throw InputError("command '" + command + "' is unknown: allowed values are spectrum, color, "
-                     "profile, fit, parameters, presets, update, spectra, melanin_strip, solvers");
+                     "profile, fit, parameters, presets, update, spectra, melanin_strip, solvers, "
+                     "export, targets");
   });
 }
 

@@ -19,6 +19,40 @@ function cli(args, params, cwd = TMP) {
   return JSON.parse(out);
 }
 
+// `skin export --target TARGET ARGS... --params FILE` run in a new folder of its own (no -o: the
+// files are named after --name, as the module names them): {file name: Buffer} of what it wrote.
+function cliExport(target, args, params) {
+  const dir = fs.mkdtempSync(path.join(TMP, `export-${target}-`));
+  const file = path.join(dir, 'params.json');
+  fs.writeFileSync(file, JSON.stringify(params));
+  execFileSync(SKIN, ['export', '--target', target, ...args, '--params', file], { cwd: dir, stdio: 'ignore' });
+  fs.rmSync(file);
+  const out = {};
+  for (const name of fs.readdirSync(dir)) out[name] = fs.readFileSync(path.join(dir, name));
+  return out;
+}
+
+// The files of the module's export (`{name: content}`, text as UTF-8) against the CLI's: the
+// same names (the CLI's images, which the module lists without writing, aside) and the same
+// bytes. Returns the differences.
+function compareExport(files, images, ref) {
+  const failures = [];
+  const expected = Object.keys(ref).filter((n) => !images.includes(n)).sort();
+  const got = Object.keys(files).sort();
+  if (JSON.stringify(got) !== JSON.stringify(expected)) failures.push(`files ${got.join(' ')} != ${expected.join(' ')}`);
+  for (const n of images) if (!(n in ref)) failures.push(`image ${n} is not written by skin export`);
+  for (const n of expected) {
+    if (!(n in files)) continue;
+    const a = Buffer.isBuffer(files[n]) ? files[n] : Buffer.from(files[n], 'utf8');
+    if (!a.equals(ref[n])) {
+      let i = 0;
+      while (i < a.length && a[i] === ref[n][i]) i++;
+      failures.push(`${n}: differs at byte ${i}: ${JSON.stringify(a.subarray(Math.max(0, i - 20), i + 20).toString())} vs ${JSON.stringify(ref[n].subarray(Math.max(0, i - 20), i + 20).toString())}`);
+    }
+  }
+  return failures;
+}
+
 // Every number of `a` against `b` (same keys, same shapes): relative difference at most `tol`
 // of the larger magnitude of the two, or of `floor` times the largest magnitude of the array
 // it sits in (values near zero in a profile's tail, where the transform's absolute accuracy
@@ -73,4 +107,4 @@ function fail(failures, what) {
   process.exitCode = 1;
 }
 
-module.exports = { ROOT, SITE, SKIN, SPECTRA, TMP, cli, compare, rng, randomParameters, fail };
+module.exports = { ROOT, SITE, SKIN, SPECTRA, TMP, cli, cliExport, compareExport, compare, rng, randomParameters, fail };

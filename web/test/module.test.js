@@ -1,12 +1,13 @@
 // The built WebAssembly module (build-web/site/skin.js) against the `skin` command: for random
 // parameter sets and both solvers, `spectrum`, `profile --rgb` and the page's `update` (both at
 // once) give the same JSON (keys, text, hex exactly; numbers to 1e-9), and the spectrum fit of
-// a Vrhel spectrum the same fit.
+// a Vrhel spectrum the same fit; `export` gives, for every target, the same files byte for byte
+// as `skin export --target T`.
 // Run: node web/test/module.test.js (after scripts/web.sh and the native build).
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { SITE, SPECTRA, TMP, cli, compare, rng, randomParameters, fail } = require('./common');
+const { SITE, SPECTRA, TMP, cli, cliExport, compareExport, compare, rng, randomParameters, fail } = require('./common');
 
 const TOL = 1e-9;
 // Profile values below 1e-9 of the profile's peak are compared absolutely at that level: the
@@ -48,9 +49,30 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   const lines = csv.trim().split('\n');
   if (lines[0] !== 'wavelength_nm,R_d,epidermis.sigma_a [1/mm],epidermis.sigma_s_prime [1/mm],dermis.sigma_a [1/mm],dermis.sigma_s_prime [1/mm]') fail(['header ' + lines[0]], 'spectrum CSV');
 
+  // Exports: every target, its files byte for byte as `skin export` writes them (random skin,
+  // both solvers, options of the CLI passed through).
+  const targets = run('targets', {});
+  targets.forEach((t, i) => {
+    const params = randomParameters(u);
+    const preset = ['caucasian', 'asian', 'african'][i % 3];
+    const solver = i % 4 === 3 ? 'multipole' : 'accurate';
+    const options = i % 2 ? { units: 'cm', world_scale: 2.5, name: 'skin_b' } : {};
+    const args = ['--preset', preset, '--solver', solver];
+    if (options.units) args.push('--units', options.units, '--world-scale', String(options.world_scale), '--name', options.name);
+    const e = run('export', { preset, params, solver, target: t.name, ...options });
+    const files = Object.fromEntries(e.files.map((f) => [f.name, f.content]));
+    const ref = cliExport(t.name, args, params);
+    fail(compareExport(files, e.images, ref), `export ${t.name} ${JSON.stringify(params)}`);
+    const report = compare(e.report, JSON.parse(ref[`${options.name || 'spectral_skin'}.fit.json`]), 0, 'report');
+    fail(report.failures, `export ${t.name}: report`);
+  });
+  console.log(`exports: ${targets.map((t) => t.name).join(', ')}: the files of skin export, byte for byte`);
+
   // Errors: the CLI's one line.
   const bad = JSON.parse(m.run('color', JSON.stringify({ params: { melanin: 2 } })));
   if (!bad.error || !bad.error.includes('melanin (C_m) = 2 is out of range')) fail([JSON.stringify(bad)], 'error message');
+  const badTarget = JSON.parse(m.run('export', JSON.stringify({ target: 'renderman' })));
+  if (!badTarget.error || !badTarget.error.startsWith("target = 'renderman' is unknown")) fail([JSON.stringify(badTarget)], 'export error message');
 
   if (!fs.existsSync(SPECTRA)) {
     console.log(`SKIP fit: ${SPECTRA} is absent`);
