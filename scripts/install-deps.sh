@@ -8,7 +8,7 @@ PKGS=(
   libcli11-dev nlohmann-json3-dev                  # command line, JSON
   libtbb-dev libembree-dev                         # threads, ray intersection (renderer, Monte Carlo)
   libtinyobjloader-dev libtinygltf-dev libstb-dev  # meshes and texture decoding
-  libopenexr-dev libpng-dev                        # image output
+  libopenexr-dev libpng-dev libjpeg62-turbo-dev    # image output; JPEG textures (libjpeg-turbo)
   libcairo2-dev                                    # plots (PNG and SVG)
   pybind11-dev python3-dev                         # Python module
   blender                                          # proves `skin export --target cycles` in Cycles
