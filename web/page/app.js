@@ -78,22 +78,18 @@ function buildControls() {
     b.addEventListener('click', () => applyPreset(pr.name));
     $('presets').appendChild(b);
   }
-  for (const s of runJson('solvers', {})) {
-    const o = document.createElement('option');
-    o.value = s.name;
-    o.textContent = `${s.name}${s.default ? ' (default)' : ''}`;
-    o.title = s.description;
-    $('solver').appendChild(o);
+  // The solver and the illuminant: a choice each from the module's list ({name, description,
+  // default}), kept in state[key].
+  for (const key of ['solver', 'illuminant']) {
+    for (const item of runJson(key + 's', {})) {
+      const o = document.createElement('option');
+      o.value = item.name;
+      o.textContent = `${item.name}${item.default ? ' (default)' : ''}`;
+      o.title = item.description;
+      $(key).appendChild(o);
+    }
+    $(key).addEventListener('change', () => { state[key] = $(key).value; scheduleUpdate(); });
   }
-  $('solver').addEventListener('change', () => { state.solver = $('solver').value; scheduleUpdate(); });
-  for (const il of runJson('illuminants', {})) {
-    const o = document.createElement('option');
-    o.value = il.name;
-    o.textContent = `${il.name}${il.default ? ' (default)' : ''}`;
-    o.title = il.description;
-    $('illuminant').appendChild(o);
-  }
-  $('illuminant').addEventListener('change', () => { state.illuminant = $('illuminant').value; scheduleUpdate(); });
   $('wide').addEventListener('change', () => { state.wide = $('wide').checked; scheduleUpdate(); });
 }
 

@@ -144,6 +144,8 @@ async function main() {
       fail(failures, 'illuminant A');
       console.log(`illuminant A: ${failures.length === 0 ? 'matches' : 'DIFFERS FROM'} skin color --illuminant A (hex ${s.hex}; ${await page.evaluate(() => window.skinState.spectrum.color.hex)} under D65)`);
     }
+    fs.mkdirSync(SHOTS, { recursive: true });
+    await page.screenshot({ path: path.join(SHOTS, 'page-illuminant-A.png') });
     await page.select('#illuminant', 'D65');
     await page.waitForFunction(() => window.skinState.color === null);
     await page.click('#wide');
