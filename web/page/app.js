@@ -10,9 +10,11 @@ const state = {
   preset: 'caucasian',
   values: {},       // current parameter values by key
   solver: 'accurate',
+  illuminant: 'D65',
   wide: false,
   spectrum: null,   // the last spectrum document (skin spectrum --format json)
   profile: null,    // the last profile document (skin profile --rgb --format json)
+  color: null,      // the last colour document under an illuminant other than D65 (skin color --illuminant NAME --format json)
   measured: null,   // {file, csv, columns: [{name, R}], wavelength_nm}
   fit: null,        // the last fit document (skin fit --format json)
   export: null,     // the last export ({target, files: [{name, content}], images, report})
@@ -76,14 +78,18 @@ function buildControls() {
     b.addEventListener('click', () => applyPreset(pr.name));
     $('presets').appendChild(b);
   }
-  for (const s of runJson('solvers', {})) {
-    const o = document.createElement('option');
-    o.value = s.name;
-    o.textContent = `${s.name}${s.default ? ' (default)' : ''}`;
-    o.title = s.description;
-    $('solver').appendChild(o);
+  // The solver and the illuminant: a choice each from the module's list ({name, description,
+  // default}), kept in state[key].
+  for (const key of ['solver', 'illuminant']) {
+    for (const item of runJson(key + 's', {})) {
+      const o = document.createElement('option');
+      o.value = item.name;
+      o.textContent = `${item.name}${item.default ? ' (default)' : ''}`;
+      o.title = item.description;
+      $(key).appendChild(o);
+    }
+    $(key).addEventListener('change', () => { state[key] = $(key).value; scheduleUpdate(); });
   }
-  $('solver').addEventListener('change', () => { state.solver = $('solver').value; scheduleUpdate(); });
   $('wide').addEventListener('change', () => { state.wide = $('wide').checked; scheduleUpdate(); });
 }
 
@@ -121,9 +127,9 @@ function scheduleUpdate() {
 // through the module, then the page redrawn. The time covers both computations and the drawing.
 function update() {
   const t0 = performance.now();
-  let spectrum, profile;
+  let spectrum, profile, color;
   try {
-    ({ spectrum, profile } = runJson('update', request()));
+    ({ spectrum, profile, color } = runJson('update', request({ illuminant: state.illuminant })));
   } catch (e) {
     $('status').textContent = e.message;
     $('status').className = 'error';
@@ -135,6 +141,7 @@ function update() {
   for (const row of document.querySelectorAll('.param')) row.classList.remove('invalid');
   state.spectrum = spectrum;
   state.profile = profile;
+  state.color = color || null;
   drawColour();
   drawSpectrum();
   drawProfile();
@@ -155,8 +162,13 @@ function update() {
   checkExport();
 }
 
+// The colour under the chosen illuminant: the spectrum's own (D65) or the update's "color"
+// document, as skin color --illuminant NAME.
 function drawColour() {
-  const c = state.spectrum.color;
+  const name = state.color ? state.color.illuminant : 'D65';
+  const c = state.color ? state.color.color : state.spectrum.color;
+  $('xyz-illuminant').textContent = name;
+  $('adaptation').textContent = state.color ? `Under ${name}: sRGB and hex after the Bradford adaptation ${name} → D65; CIELAB relative to ${name}'s white.` : '';
   $('swatch').style.background = c.hex;
   $('hex').textContent = c.hex;
   $('srgb8').textContent = c.srgb8.join(' ');

@@ -3,10 +3,11 @@
 // point takes a request as JSON text and returns the command's output as text (JSON, or CSV /
 // table with "format"), or {"error": "..."} with the one-line message the CLI would print.
 //
-// "update" returns both documents the page shows at each change ({"spectrum", "profile"}).
-// Request keys mirror the command-line options: "preset" (default caucasian), "params" (the
-// object --params FILE.json holds: parameter keys or symbols, an optional "preset"),
-// "solver", "lambda_min", "lambda_max", "lambda_step", "format"; for profile also "rgb",
+// "update" returns both documents the page shows at each change ({"spectrum", "profile"}, and
+// "color" under an illuminant other than D65). Request keys mirror the command-line options:
+// "preset" (default caucasian), "params" (the object --params FILE.json holds: parameter keys or
+// symbols, an optional "preset"), "solver", "lambda_min", "lambda_max", "lambda_step", "format";
+// for color and update also "illuminant" (default D65); for profile also "rgb",
 // "radius_min", "radius_max", "samples", "spacing"; for fit "csv" (the file's text), "file"
 // (its name), "column", "free", "includes_specular", "fit_lambda_min", "fit_lambda_max"; for
 // export "target" and the options of `skin export` ("units", "world_scale", "name", "gaussians",
@@ -22,6 +23,7 @@
 #include "schema.hpp"
 #include "skin/export/export.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/color/illuminant.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/table.hpp"
@@ -91,8 +93,22 @@ Result spectrum(const json& req) {
   return schema::spectrum_result(skin_spectrum(parameters_of(req), grid_of(req), model_of(req)), preset_of(req));
 }
 
+const color::Illuminant& illuminant_of(const json& req) {
+  return color::find_illuminant(get_or<std::string>(req, "illuminant", std::string(color::kDefaultIlluminant)));
+}
+
+// As `skin color --illuminant NAME`: the colour the spectrum holds under D65, else its R_d's
+// colour under the illuminant.
+Result color_result(const SkinSpectrum& s, const WavelengthGrid& grid, const color::Illuminant& illuminant,
+                    const std::string& preset) {
+  if (illuminant.name() == color::kDefaultIlluminant) return schema::color_result(s, preset);
+  return schema::color_result(s, preset, color::summarize(color::Colorimetry(grid, illuminant), s.R_d));
+}
+
 Result color(const json& req) {
-  return schema::color_result(skin_spectrum(parameters_of(req), grid_of(req), model_of(req)), preset_of(req));
+  const color::Illuminant& illuminant = illuminant_of(req);
+  const WavelengthGrid grid = grid_of(req);
+  return color_result(skin_spectrum(parameters_of(req), grid, model_of(req)), grid, illuminant, preset_of(req));
 }
 
 Result profile(const json& req) {
@@ -110,16 +126,22 @@ Result profile(const json& req) {
 
 // The page's live update: the spectrum (R_d, layer coefficients, colour) and the RGB profile, the
 // two documents of `skin spectrum` and `skin profile --rgb`, with the transport run once per
-// wavelength (skin_appearance) and the documents alone (no table text, no columns).
+// wavelength (skin_appearance) and the documents alone (no table text, no columns). Under an
+// illuminant other than D65, also "color": the document of `skin color --illuminant NAME`, from
+// the same R_d.
 json update(const json& req) {
+  const color::Illuminant& illuminant = illuminant_of(req);
   const SkinParameters p = parameters_of(req);
   const WavelengthGrid grid = grid_of(req);
   const transport::Model& model = model_of(req);
   const SkinAppearance a = skin_appearance(p, grid, profile_solver(radii_of(req)), model);
   const std::string preset = preset_of(req);
-  return {{"spectrum", schema::spectrum_document(a.spectrum, preset)},
-          {"profile", schema::rgb_profile_document(a.rgb, p, preset, std::string(model.name()),
-                                                   skin_validity(p, grid, model))}};
+  json out{{"spectrum", schema::spectrum_document(a.spectrum, preset)},
+           {"profile", schema::rgb_profile_document(a.rgb, p, preset, std::string(model.name()),
+                                                    skin_validity(p, grid, model))}};
+  if (illuminant.name() != color::kDefaultIlluminant)
+    out["color"] = color_result(a.spectrum, grid, illuminant, preset).document;
+  return out;
 }
 
 // The dropped file is written to the module's in-memory file system under its own name and read
@@ -244,6 +266,13 @@ std::string run(const std::string& command, const std::string& request) {
                      {"extension", std::string(t.extension)}});
       return j.dump();
     }
+    if (command == "illuminants") {
+      json j = json::array();
+      for (const auto& n : color::illuminant_names())
+        j.push_back({{"name", n}, {"description", color::find_illuminant(n).description()},
+                     {"default", n == color::kDefaultIlluminant}});
+      return j.dump();
+    }
     if (command == "solvers") {
       json j = json::array();
       for (const auto& n : transport::model_names())
@@ -253,7 +282,7 @@ std::string run(const std::string& command, const std::string& request) {
     }
     throw InputError("command '" + command + "' is unknown: allowed values are spectrum, color, "
                      "profile, fit, parameters, presets, update, spectra, melanin_strip, solvers, "
-                     "export, targets");
+                     "illuminants, export, targets");
   });
 }
 

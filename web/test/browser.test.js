@@ -1,7 +1,8 @@
 // The page in a real browser: headless Chromium (Debian's chromium) driven by puppeteer-core
 // loads build-web/site from a local server, moves sliders, picks a preset and the solver, drops a
 // Vrhel spectrum and fits it, reads the values the page displays and compares them with the
-// `skin` command for the same parameters (hex exactly, numbers to 1e-9), measures the update
+// `skin` command for the same parameters (hex exactly, numbers to 1e-9), as it does the colour
+// under illuminant A (`skin color --illuminant A`), measures the update
 // time over slider moves, downloads the export files of two targets and compares them byte for
 // byte with `skin export`, and saves screenshots to build-web/screenshots.
 // Run: node web/test/browser.test.js (after scripts/web.sh, the native build and npm ci in web/).
@@ -118,6 +119,35 @@ async function main() {
     await page.click('#wide');
     await page.waitForFunction(() => window.skinState.spectrum.wavelength_nm[0] === 380);
     await compareWithCli('380-780 nm');
+    // The colour under illuminant A: the displayed swatch, hex, sRGB, CIELAB and XYZ are those of
+    // `skin color --illuminant A` (hex exactly, numbers to 1e-9), with the adaptation noted.
+    await page.select('#illuminant', 'A');
+    await page.waitForFunction(() => window.skinState.color && window.skinState.color.illuminant === 'A');
+    {
+      const s = await shown();
+      const ref = cli(['color', '--preset', s.preset, '--solver', s.solver, '--illuminant', 'A', '--lambda-min', '380', '--lambda-max', '780'], s.values);
+      const extra = await page.evaluate(() => ({
+        swatch: getComputedStyle(document.getElementById('swatch')).backgroundColor,
+        xyzLabel: document.getElementById('xyz-illuminant').textContent,
+        note: document.getElementById('adaptation').textContent,
+      }));
+      const hex = ref.color.hex, rgb = `rgb(${[1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16)).join(', ')})`;
+      const failures = [];
+      if (s.hex !== hex) failures.push(`hex ${s.hex} != ${hex}`);
+      if (extra.swatch !== rgb) failures.push(`swatch ${extra.swatch} != ${rgb}`);
+      if (s.srgb8 !== ref.color.srgb8.join(' ')) failures.push(`srgb8 ${s.srgb8} != ${ref.color.srgb8.join(' ')}`);
+      const numbers = (t) => t.trim().split(/\s+/).map(Number);
+      failures.push(...compare(numbers(s.lab), ref.color.lab, 1e-9, 'lab').failures);
+      failures.push(...compare(numbers(s.xyz), ref.color.XYZ, 1e-9, 'XYZ').failures);
+      failures.push(...compare(numbers(s.srgb_linear), ref.color.srgb_linear, 1e-9, 'srgb_linear').failures);
+      if (extra.xyzLabel !== 'A' || !extra.note.includes('Bradford') || !extra.note.includes("A's white")) failures.push(`labels ${extra.xyzLabel} / ${extra.note}`);
+      fail(failures, 'illuminant A');
+      console.log(`illuminant A: ${failures.length === 0 ? 'matches' : 'DIFFERS FROM'} skin color --illuminant A (hex ${s.hex}; ${await page.evaluate(() => window.skinState.spectrum.color.hex)} under D65)`);
+    }
+    fs.mkdirSync(SHOTS, { recursive: true });
+    await page.screenshot({ path: path.join(SHOTS, 'page-illuminant-A.png') });
+    await page.select('#illuminant', 'D65');
+    await page.waitForFunction(() => window.skinState.color === null);
     await page.click('#wide');
     await page.waitForFunction(() => window.skinState.spectrum.wavelength_nm[0] === 400);
     await page.select('#solver', 'accurate');

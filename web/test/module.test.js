@@ -1,13 +1,14 @@
 // The built WebAssembly module (build-web/site/skin.js) against the `skin` command: for random
 // parameter sets and both solvers, `spectrum`, `profile --rgb` and the page's `update` (both at
-// once) give the same JSON (keys, text, hex exactly; numbers to 1e-9), and the spectrum fit of
+// once) give the same JSON (keys, text, hex exactly; numbers to 1e-9), as do `color` and
+// `update` under illuminants A and LED-B3 (`skin color --illuminant X`), and the spectrum fit of
 // a Vrhel spectrum the same fit; `export` gives, for every target, the same files byte for byte
 // as `skin export --target T`.
 // Run: node web/test/module.test.js (after scripts/web.sh and the native build).
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { SITE, SPECTRA, TMP, cli, cliExport, compareExport, compare, rng, randomParameters, fail } = require('./common');
+const { SITE, SKIN, SPECTRA, TMP, cli, cliExport, compareExport, compare, rng, randomParameters, fail } = require('./common');
 
 const TOL = 1e-9;
 // Profile values below 1e-9 of the profile's peak are compared absolutely at that level: the
@@ -44,6 +45,32 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   }
   console.log(`module vs skin: ${cases} spectrum/profile pairs, largest relative difference ${worst.toExponential(2)}`);
 
+  // Illuminants: the CLI's list, D65 first; `color` and `update` under A and LED-B3 give the
+  // document of `skin color --illuminant X` (update: from its own R_d, besides the other two).
+  const names = run('illuminants', {}).map((il) => il.name);
+  const refNames = JSON.parse(require('child_process').execFileSync(SKIN, ['illuminants', '--format', 'json'], { encoding: 'utf8' })).map((il) => il.name);
+  if (JSON.stringify(names) !== JSON.stringify(refNames) || names[0] !== 'D65') fail([`${names} != ${refNames}`], 'illuminants');
+  let worstColor = 0, colorCases = 0;
+  for (let i = 0; i < 3; i++) {
+    const params = randomParameters(u);
+    const preset = ['caucasian', 'asian', 'african'][i % 3];
+    const solver = i === 2 ? 'multipole' : 'accurate';
+    for (const illuminant of ['A', 'LED-B3']) {
+      const ref = cli(['color', '--preset', preset, '--solver', solver, '--illuminant', illuminant], params);
+      if (ref.illuminant !== illuminant) fail([`skin color gave illuminant ${ref.illuminant}`], 'skin color --illuminant');
+      const c = compare(run('color', { preset, params, solver, illuminant }), ref, TOL, 'color');
+      fail(c.failures, `color ${illuminant} ${solver} ${JSON.stringify(params)}`);
+      const up = run('update', { preset, params, solver, illuminant });
+      const cu = compare(up.color, ref, TOL, 'update.color');
+      fail(cu.failures, `update ${illuminant} ${solver} ${JSON.stringify(params)}`);
+      if (!up.spectrum || !up.profile) fail(['spectrum or profile missing'], `update ${illuminant}`);
+      worstColor = Math.max(worstColor, c.worst, cu.worst);
+      colorCases += 1;
+    }
+  }
+  if ('color' in run('update', { illuminant: 'd65' })) fail(['a color key under D65'], 'update D65');
+  console.log(`color and update under A, LED-B3 vs skin color --illuminant: ${colorCases} cases, largest relative difference ${worstColor.toExponential(2)}`);
+
   // CSV: the same columns (headers exactly), numbers to 1e-9.
   const csv = m.run('spectrum', JSON.stringify({ preset: 'tanned', format: 'csv' }));
   const lines = csv.trim().split('\n');
@@ -72,6 +99,8 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   const bad = JSON.parse(m.run('color', JSON.stringify({ params: { melanin: 2 } })));
   if (!bad.error || !bad.error.includes('melanin (C_m) = 2 is out of range')) fail([JSON.stringify(bad)], 'error message');
   const badTarget = JSON.parse(m.run('export', JSON.stringify({ target: 'renderman' })));
+  const badIlluminant = JSON.parse(m.run('color', JSON.stringify({ illuminant: 'F13' })));
+  if (!badIlluminant.error || !badIlluminant.error.startsWith("illuminant = 'F13' is unknown: must be one of D65, D50, A,")) fail([JSON.stringify(badIlluminant)], 'illuminant error message');
   if (!badTarget.error || !badTarget.error.startsWith("target = 'renderman' is unknown")) fail([JSON.stringify(badTarget)], 'export error message');
 
   if (!fs.existsSync(SPECTRA)) {
