@@ -90,8 +90,11 @@ def main():
             print(f"run {k + 1}: MCML    {cpu * per_m:7.2f} CPU s/1e6  R_d_incident "
                   f"{mcml_rd(os.path.join(tmp, 'out.mco')):.5f}", flush=True)
     s, m = statistics.median(times["skin mc"]), statistics.median(times["MCML"])
+    pairs = [b / a for a, b in zip(times["skin mc"], times["MCML"])]
     print(f"median CPU s per 10^6 photons ({a.preset}, {a.wavelength:g} nm, one thread, "
-          f"{a.photons} photons x {a.repeat}): skin mc {s:.2f}, MCML {m:.2f}, ratio {m / s:.2f}x")
+          f"{a.photons} photons x {a.repeat}): skin mc {s:.2f}, MCML {m:.2f}, ratio {m / s:.2f}x "
+          f"(run by run {min(pairs):.2f}-{max(pairs):.2f}x); load average "
+          f"{os.getloadavg()[0]:.1f}")
 
 
 if __name__ == "__main__":

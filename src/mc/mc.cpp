@@ -62,7 +62,7 @@ const AzimuthTable kAzimuthTable;
   const double d =
       static_cast<double>(static_cast<std::int64_t>((bits >> 3) & ((1ULL << 53) - 1))) * kScale;
   const double d2 = d * d;
-  const double cd = 1.0 + d2 * (-1.0 / 2 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 / 40320)));
+  const double cd = 1.0 + d2 * (-1.0 / 2 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 * (1.0 / 40320))));
   const double sd = d * (1.0 + d2 * (-1.0 / 6 + d2 * (1.0 / 120 + d2 * (-1.0 / 5040))));
   const double c = kAzimuthTable.c[i], s = kAzimuthTable.s[i];
   return {c * cd - s * sd, s * cd + c * sd};
@@ -171,6 +171,18 @@ std::vector<Slab> prepare(const LayerStack& stack) {
   return slabs;
 }
 
+// The angles of one scattering: cos(theta) from the phase function of asymmetry g, and
+// sin(theta) cos(phi), sin(theta) sin(phi) with a uniform azimuth phi.
+struct Turn {
+  double cos_t, st_cp, st_sp;
+};
+[[gnu::always_inline]] inline Turn draw_turn(const HenyeyGreenstein& phase, Rng& rng) {
+  const double cos_t = phase.sample_cos(rng.uniform());
+  const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
+  const Azimuth phi = azimuth_inline(rng.next_u64());
+  return {cos_t, sin_t * phi.cos_phi, sin_t * phi.sin_phi};
+}
+
 // Traces `count` packets, drawing from `rng`, into `tally`.
 // The generator is a local copy, so that its state stays in registers.
 void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng rng, double inv_dr,
@@ -266,10 +278,8 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng rng, double 
       z = z_next;
       tau_left = 0;
       w *= s.albedo;
-      const double cos_t = s.phase.sample_cos(rng.uniform());
-      const double sin_t = std::sqrt(std::max(0.0, 1.0 - cos_t * cos_t));
-      const Azimuth phi = azimuth_inline(rng.next_u64());
-      scatter_direction(ux, uy, uz, cos_t, sin_t * phi.cos_phi, sin_t * phi.sin_phi);
+      const Turn turn = draw_turn(s.phase, rng);
+      scatter_direction(ux, uy, uz, turn.cos_t, turn.st_cp, turn.st_sp);
       if (w < kWeightThreshold) {
         if (rng.uniform() < kSurvival) {
           w /= kSurvival;

@@ -58,22 +58,24 @@ Azimuth azimuth(std::uint64_t bits);
 // The direction (ux, uy, uz) (unit) after scattering by the polar angle theta and the azimuth
 // phi, given cos(theta) and the products sin(theta) cos(phi), sin(theta) sin(phi):
 // u' = cos(theta) u + sin(theta) (cos(phi) e1 + sin(phi) e2), with (e1, e2, u) the orthonormal
-// frame of Duff et al. 2017 ("Building an orthonormal basis, revisited", JCGT 6(1)): one division,
-// no square root, no special case near the poles. The frame differs from MCML's (eq. 3.25), but
-// phi is uniform, so the distribution of u' is the same; the division is the only long-latency
-// operation on the chain from one direction to the next.
+// frame of Duff et al. 2017 ("Building an orthonormal basis, revisited", JCGT 6(1)),
+// s = sign(uz), a = -1 / (s + uz): e1 = (1 + s ux^2 a, s ux uy a, -s ux), e2 = (ux uy a,
+// s + uy^2 a, -uy). Collected, with m = s ux sin(theta) cos(phi) + uy sin(theta) sin(phi):
+//   u'x = ux cos(theta) + sin(theta) cos(phi) - m ux / (s + uz),
+//   u'y = uy cos(theta) + s sin(theta) sin(phi) - m uy / (s + uz),   u'z = uz cos(theta) - m:
+// one division (|s + uz| >= 1), no square root, no special case near the poles, and a short
+// chain of dependent operations from one direction to the next (the photon loop's bottleneck).
+// The frame differs from MCML's (eq. 3.25), but phi is uniform, so u' has the same distribution.
 inline void scatter_direction(double& ux, double& uy, double& uz, double cos_t, double st_cp,
                               double st_sp) {
   const double sign = std::copysign(1.0, uz);
-  const double a = -1.0 / (sign + uz);
-  const double b = ux * uy * a;
-  // e1 = (1 + sign ux^2 a, sign b, -sign ux), e2 = (b, sign + uy^2 a, -uy)
-  const double nx = ux * cos_t + st_cp * (1.0 + sign * ux * ux * a) + st_sp * b;
-  const double ny = uy * cos_t + st_cp * sign * b + st_sp * (sign + uy * uy * a);
-  const double nz = uz * cos_t - st_cp * sign * ux - st_sp * uy;
+  const double m = sign * st_cp * ux + st_sp * uy;
+  const double h = m / (sign + uz);
+  const double nx = (ux * cos_t + st_cp) - h * ux;
+  const double ny = (uy * cos_t + sign * st_sp) - h * uy;
+  uz = uz * cos_t - m;
   ux = nx;
   uy = ny;
-  uz = nz;
 }
 
 // Exponential free path in optical depth: tau = -ln(u), u in (0, 1]; pdf exp(-tau);
