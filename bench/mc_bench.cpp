@@ -23,7 +23,7 @@ void run(benchmark::State& state, const skin::LayerStack& stack, std::uint64_t p
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   const double total = static_cast<double>(state.iterations()) * static_cast<double>(photons);
   state.SetItemsProcessed(static_cast<std::int64_t>(total));  // wall-clock photons per second
-  // CPU seconds per million photons (per core; MCML 1.2 needs ~140 s for the pale 650 nm case).
+  // CPU seconds per million photons (per core). MCML 1.2.2 side by side: bench/mc_vs_mcml.py.
   state.counters["cpu_s_per_Mphoton"] = cpu / (total / 1e6);
 }
 

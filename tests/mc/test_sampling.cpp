@@ -2,6 +2,8 @@
 // chi-square goodness of fit with fixed seeds, and the Fresnel helper against the core one.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -92,6 +94,114 @@ TEST(OpticalDepth, MatchedSetAndChiSquare) {
     return 1.0 - invert_optical_depth(tau);  // the CDF of tau, uniform if tau ~ exp(-tau)
   });
   EXPECT_LT(chi2, kChi2_49_p001);
+}
+
+TEST(HenyeyGreenstein, PreparedSamplerIsTheSameFormula) {
+  for (double g : {-0.5, 0.0, 1e-7, 0.3, 0.9, 0.99}) {
+    const HenyeyGreenstein hg(g);
+    for (double u : {0.0, 1e-9, 0.01, 0.2, 0.5, 0.77, 0.999, 1.0 - 0x1p-53})
+      EXPECT_NEAR(hg.sample_cos(u), hg_sample_cos(g, u), 1e-12) << "g=" << g << " u=" << u;
+  }
+  // And its samples follow the pdf: through the exact CDF they are uniform.
+  const HenyeyGreenstein hg(0.9);
+  Rng rng(5, 1);
+  EXPECT_LT(chi_square_equiprobable(200000, 50,
+                                    [&] { return hg_invert_cos(0.9, hg.sample_cos(rng.uniform())); }),
+            kChi2_49_p001);
+}
+
+// The ziggurat draws of the photon loop follow exp(-tau): the CDF transform is uniform (body),
+// and the tail beyond tau = 7.7 (the ziggurat's base strip, drawn by its own branch) holds
+// exp(-7.7) of the samples: 2^21 draws expect 951 +- 31 there.
+TEST(OpticalDepth, ZigguratIsExponentialIncludingTheTail) {
+  Rng rng(11, 2);
+  const std::size_t n = 1 << 21;
+  std::size_t tail = 0, deep = 0;
+  const double chi2 = chi_square_equiprobable(n, 50, [&] {
+    const double tau = sample_optical_depth(rng);
+    tail += tau > 7.7;
+    deep += tau > 10.0;
+    return 1.0 - invert_optical_depth(tau);
+  });
+  EXPECT_LT(chi2, kChi2_49_p001);
+  const double expected = static_cast<double>(n) * std::exp(-7.7);
+  EXPECT_NEAR(static_cast<double>(tail), expected, 4 * std::sqrt(expected));
+  const double expected_deep = static_cast<double>(n) * std::exp(-10.0);  // 95: beyond the base
+  EXPECT_NEAR(static_cast<double>(deep), expected_deep, 4 * std::sqrt(expected_deep));
+  // Mean 1 and variance 1: standard errors 1/sqrt(n) and sqrt(8/n).
+  Rng r2(12, 0);
+  double m1 = 0, m2 = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = sample_optical_depth(r2);
+    m1 += t;
+    m2 += t * t;
+  }
+  m1 /= static_cast<double>(n);
+  m2 /= static_cast<double>(n);
+  EXPECT_NEAR(m1, 1.0, 4 / std::sqrt(static_cast<double>(n)));
+  EXPECT_NEAR(m2 - m1 * m1, 1.0, 4 * std::sqrt(8 / static_cast<double>(n)));
+}
+
+TEST(Azimuth, MatchesTrigonometryAndIsUniform) {
+  Rng rng(13, 0);
+  double worst = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const std::uint64_t bits = rng.next_u64();
+    const Azimuth a = azimuth(bits);
+    // phi on the generator's 2^-61 grid, as the table method reads it
+    const double phi = 2.0 * M_PI * static_cast<double>(bits >> 3) * 0x1p-61;
+    worst = std::max({worst, std::abs(a.cos_phi - std::cos(phi)), std::abs(a.sin_phi - std::sin(phi))});
+  }
+  // The reference phi is itself rounded (half an ulp of 2 pi is 4.4e-16), and the table method
+  // rounds a few times: 2e-15 bounds both.
+  EXPECT_LT(worst, 2e-15);
+  // Sector edges and the last value before 2 pi.
+  EXPECT_NEAR(azimuth(0).cos_phi, 1.0, 1e-16);
+  EXPECT_NEAR(azimuth(0).sin_phi, 0.0, 1e-16);
+  EXPECT_NEAR(azimuth(~0ULL).sin_phi, 0.0, 1e-15);
+  EXPECT_NEAR(azimuth(1ULL << 62).cos_phi, 0.0, 1e-16);  // phi = pi / 2
+  EXPECT_NEAR(azimuth(1ULL << 62).sin_phi, 1.0, 1e-16);
+  Rng r2(14, 0);
+  EXPECT_LT(chi_square_equiprobable(200000, 50, [&] {
+              const Azimuth a = azimuth(r2.next_u64());
+              const double phi = std::atan2(a.sin_phi, a.cos_phi);
+              return (phi < 0 ? phi + 2 * M_PI : phi) / (2 * M_PI);
+            }),
+            kChi2_49_p001);
+}
+
+// The scattered direction is a unit vector at angle theta from the old one, and its azimuth
+// about the old one is uniform (measured in an independent frame), for old directions anywhere,
+// the poles included.
+TEST(ScatterDirection, UnitAngleThetaAndUniformAzimuth) {
+  Rng rng(15, 0);
+  for (const auto& u0 : std::vector<std::array<double, 3>>{
+           {0, 0, 1}, {0, 0, -1}, {0.6, 0, 0.8}, {0.48, -0.6, -0.64}, {1, 0, 0}, {0, 1e-9, -1}}) {
+    const double norm = std::sqrt(u0[0] * u0[0] + u0[1] * u0[1] + u0[2] * u0[2]);
+    const double vx = u0[0] / norm, vy = u0[1] / norm, vz = u0[2] / norm;
+    // An independent frame (p, q) perpendicular to v: p from the cross product with the axis least
+    // aligned with v.
+    double px = 0, py = 0, pz = 0;
+    if (std::abs(vx) < 0.5) {  // p = x_hat x v, normalised
+      px = 0; py = -vz; pz = vy;
+    } else {  // p = z_hat x v
+      px = -vy; py = vx; pz = 0;
+    }
+    const double pn = std::sqrt(px * px + py * py + pz * pz);
+    px /= pn; py /= pn; pz /= pn;
+    const double qx = vy * pz - vz * py, qy = vz * px - vx * pz, qz = vx * py - vy * px;
+    const double cos_t = 0.3, sin_t = std::sqrt(1 - cos_t * cos_t);
+    const double chi2 = chi_square_equiprobable(50000, 50, [&] {
+      const Azimuth a = azimuth(rng.next_u64());
+      double ux = vx, uy = vy, uz = vz;
+      scatter_direction(ux, uy, uz, cos_t, sin_t * a.cos_phi, sin_t * a.sin_phi);
+      EXPECT_NEAR(ux * ux + uy * uy + uz * uz, 1.0, 1e-14);
+      EXPECT_NEAR(ux * vx + uy * vy + uz * vz, cos_t, 1e-14);
+      const double phi = std::atan2(ux * qx + uy * qy + uz * qz, ux * px + uy * py + uz * pz);
+      return (phi < 0 ? phi + 2 * M_PI : phi) / (2 * M_PI);
+    });
+    EXPECT_LT(chi2, kChi2_49_p001) << vx << ' ' << vy << ' ' << vz;
+  }
 }
 
 TEST(Rng, UniformRangesAndStreamsDiffer) {
