@@ -69,12 +69,22 @@ RandomWalkTable RandomWalkTable::from_csv(std::string_view text, const std::stri
   for (std::size_t i = 0; i < t.alpha.size(); ++i) {
     if (!(t.alpha[i] > 0 && t.alpha[i] < 1) || (i && !(t.alpha[i] > t.alpha[i - 1])))
       throw InputError(source + ": 'alpha' must increase within (0, 1)");
+    // (found by fuzzing: a negative R_d was read and gave a negative reflectance)
+    if (!(t.R_d[i] >= 0 && t.R_d[i] <= 1) || !(t.R_d_se[i] >= 0 && std::isfinite(t.R_d_se[i])))
+      throw InputError(source + ": row " + std::to_string(i + 1) +
+                       ": R_d must be in [0, 1] and R_d_se finite and >= 0");
     std::vector<double> f(bins);
+    double sum = 0;
     for (std::size_t b = 0; b < bins; ++b) {
       f[b] = data.data[3 + b][i];
       if (!(f[b] >= 0)) throw InputError(source + ": a negative or missing fraction in row " +
                                          std::to_string(i + 1));
+      sum += f[b];
     }
+    // The annuli hold part of what leaves: at most R_d (to the 7 digits the table is written with).
+    if (!(sum <= t.R_d[i] * (1 + 1e-5) + 1e-9))
+      throw InputError(source + ": row " + std::to_string(i + 1) + ": the annuli's fractions add up to " +
+                       format_number(sum) + ", more than R_d = " + format_number(t.R_d[i]));
     t.fraction.push_back(std::move(f));
   }
   return t;

@@ -68,6 +68,13 @@ TEST(ExportModels, RandomWalkTableRoundTripsThroughCsv) {
   ASSERT_EQ(u.alpha.size(), t.alpha.size());
   for (std::size_t i = 0; i < t.alpha.size(); ++i) EXPECT_NEAR(u.R_d[i], t.R_d[i], 1e-6);
   EXPECT_THROW(transport::RandomWalkTable::from_csv("# g: 0\nalpha,R_d\n0.5,0.2\n", "bad"), InputError);
+  // Physically impossible rows (the fuzzer found a negative R_d read as it was): R_d outside
+  // [0, 1], annuli holding more than R_d.
+  const std::string head = "# provenance: test\n# g: 0\n# rho_edges: 0,0.1,1,10\nalpha,R_d,R_d_se,f_0,f_1,f_2\n0.05,0.01,1e-5,0.001,0.001,0.001\n";
+  EXPECT_NO_THROW(transport::RandomWalkTable::from_csv(head + "0.9,0.5,1e-4,0.1,0.2,0.1\n", "good"));
+  for (const char* row : {"0.9,-0.5,1e-4,0.1,0.2,0.1\n", "0.9,1.5,1e-4,0.1,0.2,0.1\n", "0.9,0.5,-1,0.1,0.2,0.1\n",
+                          "0.9,0.3,1e-4,0.1,0.2,0.1\n"})
+    EXPECT_THROW(transport::RandomWalkTable::from_csv(head + row, "bad"), InputError) << row;
 }
 
 TEST(Export, EveryTargetForEveryPresetFitsTheColourAndMeanRadius) {
