@@ -54,8 +54,8 @@ RandomWalkTable RandomWalkTable::from_csv(std::string_view text, const std::stri
   if (t.rho_edges.size() < 3 || t.rho_edges.front() != 0.0)
     throw InputError(source + ": 'rho_edges' must start at 0 and hold at least 3 edges");
   for (std::size_t i = 1; i < t.rho_edges.size(); ++i)
-    if (!(t.rho_edges[i] > t.rho_edges[i - 1]))
-      throw InputError(source + ": 'rho_edges' must increase");
+    if (!(t.rho_edges[i] > t.rho_edges[i - 1]) || !(t.rho_edges[i] <= 1e6))
+      throw InputError(source + ": 'rho_edges' must increase, up to at most 1e6 mean free paths");
   const Table data = parse_csv(text, source);
   const std::size_t bins = t.rho_edges.size() - 1;
   if (data.columns.size() != 3 + bins)

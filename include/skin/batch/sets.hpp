@@ -39,7 +39,8 @@ struct Sets {
   std::string source;  // for messages: the file, or "--sweep"
 
   SkinParameters at(std::size_t i) const;
-  // Validates sets [first, end): InputError "<source>: set i: ..." for the first bad one.
+  // Validates sets [first, end): InputError "<source>: set i: ..." for the first bad one
+  // (Cancelled when cancellation is requested: skin/util/cancel.hpp).
   void validate(std::size_t first, std::size_t end) const;
 };
 
