@@ -428,47 +428,45 @@ Export export_materialx(bool openpbr, const Reference& ref, const Options& o, Un
     x << "    <input name=\"" << name << "\" type=\"" << type << "\" nodename=\"" << node
       << "\" />\n";
   };
-  if (openpbr) {
-    x << "  <open_pbr_surface name=\"" << shader << "\" type=\"surfaceshader\">\n";
-    input("base_weight", "float", "1");
-    if (mf) connect("base_color", "color3", o.name + "_subsurface_color_map");
-    else input("base_color", "color3", triple(w.A));
-    input("specular_weight", "float", num(p.oiliness));
-    input("specular_roughness", "float", num(perceptual_roughness(p)));
-    input("specular_ior", "float", num(p.eta));
-    input("subsurface_weight", "float", "1");
-    if (mf) {
-      connect("subsurface_color", "color3", o.name + "_subsurface_color_map");
-      input("subsurface_radius", "float", "1", dist);
-      connect("subsurface_radius_scale", "color3", o.name + "_subsurface_radius_map");
-    } else {
-      input("subsurface_color", "color3", triple(w.A));
-      input("subsurface_radius", "float", num(d_max), dist);
-      input("subsurface_radius_scale", "color3", triple(d_rel));
-    }
-    input("subsurface_scatter_anisotropy", "float", "0");
-    x << "  </open_pbr_surface>\n";
+  // The two schemas take the same inputs under their own names; the radius is a scalar (with the
+  // distance unit) times a colour in both, in opposite roles (OpenPBR: subsurface_radius is the
+  // scalar, Standard Surface: subsurface_scale is).
+  struct Schema {
+    const char *node, *base, *specular, *ior, *subsurface, *anisotropy, *radius_scalar,
+        *radius_colour;
+    bool scalar_first;
+  };
+  const Schema s = openpbr
+                       ? Schema{"open_pbr_surface", "base_weight", "specular_weight", "specular_ior",
+                                "subsurface_weight", "subsurface_scatter_anisotropy",
+                                "subsurface_radius", "subsurface_radius_scale", true}
+                       : Schema{"standard_surface", "base", "specular", "specular_IOR",
+                                "subsurface", "subsurface_anisotropy", "subsurface_scale",
+                                "subsurface_radius", false};
+  x << "  <" << s.node << " name=\"" << shader << "\" type=\"surfaceshader\">\n";
+  input(s.base, "float", "1");
+  if (mf) connect("base_color", "color3", o.name + "_subsurface_color_map");
+  else input("base_color", "color3", triple(w.A));
+  input(s.specular, "float", num(p.oiliness));
+  input("specular_roughness", "float", num(perceptual_roughness(p)));
+  input(s.ior, "float", num(p.eta));
+  input(s.subsurface, "float", "1");
+  if (mf) connect("subsurface_color", "color3", o.name + "_subsurface_color_map");
+  else input("subsurface_color", "color3", triple(w.A));
+  auto scalar = [&] { input(s.radius_scalar, "float", mf ? "1" : num(d_max), dist); };
+  auto colour = [&] {
+    if (mf) connect(s.radius_colour, "color3", o.name + "_subsurface_radius_map");
+    else input(s.radius_colour, "color3", triple(d_rel));
+  };
+  if (s.scalar_first) {
+    scalar();
+    colour();
   } else {
-    x << "  <standard_surface name=\"" << shader << "\" type=\"surfaceshader\">\n";
-    input("base", "float", "1");
-    if (mf) connect("base_color", "color3", o.name + "_subsurface_color_map");
-    else input("base_color", "color3", triple(w.A));
-    input("specular", "float", num(p.oiliness));
-    input("specular_roughness", "float", num(perceptual_roughness(p)));
-    input("specular_IOR", "float", num(p.eta));
-    input("subsurface", "float", "1");
-    if (mf) {
-      connect("subsurface_color", "color3", o.name + "_subsurface_color_map");
-      connect("subsurface_radius", "color3", o.name + "_subsurface_radius_map");
-      input("subsurface_scale", "float", "1", dist);
-    } else {
-      input("subsurface_color", "color3", triple(w.A));
-      input("subsurface_radius", "color3", triple(d_rel));
-      input("subsurface_scale", "float", num(d_max), dist);
-    }
-    input("subsurface_anisotropy", "float", "0");
-    x << "  </standard_surface>\n";
+    colour();
+    scalar();
   }
+  input(s.anisotropy, "float", "0");
+  x << "  </" << s.node << ">\n";
   x << "  <surfacematerial name=\"" << o.name << "\" type=\"material\">\n"
     << "    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"" << shader
     << "\" />\n  </surfacematerial>\n</materialx>\n";
