@@ -8,8 +8,10 @@
 #include <cmath>
 
 #include "sampler_checks.hpp"
+#include "scene_data.hpp"
 #include "skin/render/bssrdf.hpp"
 #include "skin/render/microfacet.hpp"
+#include "spectral.hpp"
 
 namespace skin::render {
 namespace {
@@ -33,6 +35,21 @@ double r_max_mm() {
   return r;
 }
 
+// Spectral rendering: the caucasian preset's per-wavelength tables (10 nm grid), and the four
+// channels of a sample whose wavelengths all fall between grid nodes (441.1, 516.1, 591.1,
+// 666.1 nm: each channel a mix of two tables).
+const SpectralSkin& caucasian_spectral() {
+  static const std::shared_ptr<const SpectralSkin> s = [] {
+    Material m;
+    prepare_skin_material(m, find_preset("caucasian").parameters);
+    return make_spectral_skin(m);
+  }();
+  return *s;
+}
+const SampledWavelengths kWl = SampledWavelengths::hero(0.137);
+SpectralBssrdf spectral_bssrdf() {
+  return SpectralBssrdf(caucasian_spectral().channels(kWl), 0, nullptr, kXo, kNo, kMm);
+}
 template <int N>
 double r_max_mm(const BasicBssrdf<N>& b) {
   double r = 0;
@@ -202,6 +219,32 @@ TEST(Bssrdf, ProbeHitsOnPlanesFollowTheMisPdf) {
   EXPECT_NEAR(hit, Bssrdf::kAxisProbability[2], 1e-3);  // midpoint rule near r = 0
 }
 
+TEST(Bssrdf, SpectralProbeHitsOnPlanesFollowTheMisPdf) {
+  // The same with four wavelength channels, each a mix of two tables: the pdf is the one-sample
+  // MIS over the axes and the four wavelengths (balance heuristic), each wavelength's density
+  // the mix of its two tables'.
+  const SpectralBssrdf b = spectral_bssrdf();
+  SCOPED_TRACE(::testing::Message() << b);
+  for (int c = 0; c < 4; ++c) ASSERT_TRUE(b.channel(c).mixed()) << c;
+  double hit = 0;
+  const Vec3 m = tilted(b);
+  EXPECT_GT(plane_chi_square(b, m, [&](const Vec3& x) { return b.pdf_probe(x, m); }, 36, &hit), 1e-3);
+  EXPECT_GT(hit, 0.8);
+  EXPECT_GT(plane_chi_square(b, kNo, [&](const Vec3& x) { return b.pdf_probe(x, kNo); }, 37, &hit), 1e-3);
+  EXPECT_NEAR(hit, Bssrdf::kAxisProbability[2], 1e-3);
+}
+
+TEST(Bssrdf, SpectralChiSquareDetectsTheHeroOnlyPdf) {
+  // Dividing by the hero wavelength's density alone (no MIS over the four) is rejected: the
+  // probes are drawn from all four wavelengths' profiles.
+  const SpectralBssrdf b = spectral_bssrdf();
+  const std::array<ProfileChannel, 4> hero{b.channel(0), b.channel(0), b.channel(0), b.channel(0)};
+  const SpectralBssrdf only_hero(hero, 0, nullptr, kXo, kNo, kMm);
+  double hit = 0;
+  const Vec3 m = tilted(b);
+  EXPECT_LT(plane_chi_square(b, m, [&](const Vec3& x) { return only_hero.pdf_probe(x, m); }, 38, &hit), 1e-3);
+}
+
 TEST(Bssrdf, ChiSquareDetectsAProbePdfWithTheWrongOrientation) {
   // The test must be able to fail: hits on the tilted plane checked against the pdf of points
   // facing the exit normal instead (the |n_i . axis| factors of a flat neighbourhood) are
@@ -247,6 +290,11 @@ TEST(Bssrdf, ProbeWeightAveragesToRd) {
   // standard errors (about 4e-3 R_d). A pdf that counted a channel's term beyond the sphere its
   // probes reach made the red channel 2.7e-3 (3 standard errors) low on the tilted plane.
   probe_weight_averages_to_R_d(Bssrdf(caucasian(), 0, nullptr, kXo, kNo, kMm));
+}
+
+TEST(Bssrdf, SpectralProbeWeightAveragesToRd) {
+  // The same for the four wavelength channels (each R_d the mix of its two tables' R_d).
+  probe_weight_averages_to_R_d(spectral_bssrdf());
 }
 
 TEST(Bssrdf, TransmissionIsOneMinusTheSurfaceAlbedo) {
