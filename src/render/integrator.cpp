@@ -115,7 +115,8 @@ class Integrator {
   Vec3 offset(const Vec3& p, const Vec3& n, const Vec3& w) const { return p + n * (dot(w, n) > 0 ? eps_ : -eps_); }
   // Entry points of one probe per channel (stratified over the channels) and every candidate on
   // each: the multi-sample MIS estimator sum_c f(x_c) / sum_c' pdf_c'(x_c), i.e. the mean of the
-  // three one-sample weights, spread over all candidates (each weighted 1, not x their count).
+  // N one-sample weights (3 channels, or 4 wavelengths), spread over all candidates (each
+  // weighted 1, not x their count).
   template <class Value>
   struct Entry {
     Surface x;

@@ -86,13 +86,6 @@ class BasicBssrdf {
   // mm_per_unit: the scene's scale.
   BasicBssrdf(const std::array<ProfileChannel, N>& profile, double rho_s, const SpecularAlbedo* albedo,
               const Vec3& x_o, const Vec3& n_o, double mm_per_unit);
-  // RGB: the material's three channel tables.
-  BasicBssrdf(const std::array<TabulatedProfile, 3>& profile, double rho_s, const SpecularAlbedo* albedo,
-              const Vec3& x_o, const Vec3& n_o, double mm_per_unit)
-    requires(N == 3)
-      : BasicBssrdf(std::array<ProfileChannel, 3>{ProfileChannel(profile[0]), ProfileChannel(profile[1]),
-                                                  ProfileChannel(profile[2])},
-                    rho_s, albedo, x_o, n_o, mm_per_unit) {}
 
   // --- The profile: R(r) [1/mm^2] at r [mm] (signed; integrates to R_d over the plane), the
   // radius sampler of one channel and its density per unit radius [1/mm].
@@ -129,14 +122,6 @@ class BasicBssrdf {
   // the number of candidate points the probe found (one of which was picked uniformly). False
   // where the pdf vanishes. weight: N values.
   bool probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, double* weight) const;
-  bool probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, Rgb3* weight) const
-    requires(N == 3)
-  {
-    double w[3];
-    if (!probe_weight(x_i, n_i, candidates, w)) return false;
-    *weight = {w[0], w[1], w[2]};
-    return true;
-  }
 
   const Frame& frame() const { return frame_; }
   const Vec3& x_o() const { return x_o_; }
@@ -153,8 +138,21 @@ class BasicBssrdf {
 template <int N>
 std::ostream& operator<<(std::ostream& os, const BasicBssrdf<N>& b);
 
-// RGB rendering (the paper's method): one profile per linear sRGB channel.
-using Bssrdf = BasicBssrdf<3>;
+// RGB rendering (the paper's method): one profile per linear sRGB channel, the material's tables.
+class Bssrdf : public BasicBssrdf<3> {
+ public:
+  Bssrdf(const std::array<TabulatedProfile, 3>& profile, double rho_s, const SpecularAlbedo* albedo, const Vec3& x_o,
+         const Vec3& n_o, double mm_per_unit)
+      : BasicBssrdf<3>({ProfileChannel(profile[0]), ProfileChannel(profile[1]), ProfileChannel(profile[2])}, rho_s,
+                       albedo, x_o, n_o, mm_per_unit) {}
+  using BasicBssrdf<3>::probe_weight;
+  bool probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, Rgb3* weight) const {
+    double w[3];
+    if (!probe_weight(x_i, n_i, candidates, w)) return false;
+    *weight = {w[0], w[1], w[2]};
+    return true;
+  }
+};
 // Spectral rendering: one profile per sampled wavelength (hero wavelength + 3, Wilkie et al. 2014).
 using SpectralBssrdf = BasicBssrdf<4>;
 
