@@ -6,3 +6,11 @@ if(TARGET skin_render)
   add_executable(render_bench ${CMAKE_CURRENT_LIST_DIR}/render_bench.cpp)
   target_link_libraries(render_bench PRIVATE skin::render benchmark::benchmark benchmark::benchmark_main)
 endif()
+# spectral_compare: RGB against spectral rendering (slabs of every preset and a scene under D65
+# and A, CIEDE2000; CPU time per sample of each mode). Not a Google Benchmark: a measurement
+# for docs/renderer.md. Run: build/bin/spectral_compare examples/head.json docs/figures/spectral-vs-rgb.png
+if(TARGET skin_render)
+  add_executable(spectral_compare ${CMAKE_CURRENT_LIST_DIR}/spectral_compare.cpp)
+  target_link_libraries(spectral_compare PRIVATE skin::render)
+  target_include_directories(spectral_compare PRIVATE ${PROJECT_SOURCE_DIR}/src/render)
+endif()

@@ -20,7 +20,7 @@ struct RenderOpts {
   int spp = 0, max_depth = -1, figure = 0;
   RunOptions run;
   double time_budget = 0, exposure = 0, target_error = 0;
-  bool exposure_given = false, diffuse = false;
+  bool exposure_given = false, diffuse = false, spectral = false;
   SolverOption solver;
   ParameterOptions params;  // render only: changes the skin materials
 };
@@ -127,6 +127,9 @@ void register_render(CLI::App& app) {
       "then change it; without --preset they change each material's own set)");
   sub->add_option("--resolution", o->resolution, "Image size WxH (default: the scene's)");
   sub->add_flag("--diffuse", o->diffuse, "Replace every translucent material by a diffuse one of the same R_d (comparison)");
+  sub->add_flag("--spectral", o->spectral,
+                "Spectral rendering: hero wavelength (4 per sample, 400-700 nm), per-wavelength profiles, light "
+                "spectra (default: the scene's render.spectral, else RGB, the paper's method)");
   sub->callback([o, sub] {
     check_output(o->output);
     if (!o->resolution.empty()) {
@@ -140,6 +143,7 @@ void register_render(CLI::App& app) {
     if (change) scene.update_skin_parameters(change);
     if (sub->count("--solver") > 0) scene.set_solver(o->solver.model());  // else the scene's
     if (o->diffuse) scene.make_translucent_diffuse();
+    if (o->spectral) scene.set_spectral(true);
     run(*o, scene, nullptr);
   });
 

@@ -61,6 +61,8 @@ Matrix invert(const Matrix& m) {  // by cofactors; the callers' matrices are wel
 constexpr Matrix kBradford{{{0.8951, 0.2664, -0.1614}, {-0.7502, 1.7135, 0.0367}, {0.0389, -0.0685, 1.0296}}};
 }  // namespace
 
+Xyz color_matching(double lambda_nm) { return {cmf(0)(lambda_nm), cmf(1)(lambda_nm), cmf(2)(lambda_nm)}; }
+
 Rgb xyz_to_srgb_linear(const Xyz& c) {
   return {3.2404542 * c.X - 1.5371385 * c.Y - 0.4985314 * c.Z,
           -0.9692660 * c.X + 1.8760108 * c.Y + 0.0415560 * c.Z,

@@ -9,13 +9,15 @@
 
 namespace skin::render {
 
-Bssrdf::Bssrdf(const std::array<TabulatedProfile, 3>& profile, double rho_s, const SpecularAlbedo* albedo,
-               const Vec3& x_o, const Vec3& n_o, double mm_per_unit)
+template <int N>
+BasicBssrdf<N>::BasicBssrdf(const std::array<ProfileChannel, N>& profile, double rho_s, const SpecularAlbedo* albedo,
+                            const Vec3& x_o, const Vec3& n_o, double mm_per_unit)
     : profile_(profile), rho_s_(rho_s), albedo_(albedo), x_o_(x_o), frame_(Frame::from_normal(n_o)), mm_(mm_per_unit) {
   assert(rho_s == 0 || albedo != nullptr);  // built per shading point: a debug check only
 }
 
-bool Bssrdf::sample_probe(double u_axis, double u_channel, double u_r, double u_phi, ProbeSegment* seg) const {
+template <int N>
+bool BasicBssrdf<N>::sample_probe(double u_axis, double u_channel, double u_r, double u_phi, ProbeSegment* seg) const {
   // The axis, and the two directions spanning the plane perpendicular to it.
   Vec3 axis, ta, tb;
   if (u_axis < kAxisProbability[2]) {
@@ -25,8 +27,8 @@ bool Bssrdf::sample_probe(double u_axis, double u_channel, double u_r, double u_
   } else {
     seg->axis = 1; axis = frame_.t; ta = frame_.n; tb = frame_.s;
   }
-  seg->channel = static_cast<int>(std::min(static_cast<std::size_t>(u_channel * 3.0), std::size_t{2}));
-  const TabulatedProfile& prof = profile_[static_cast<std::size_t>(seg->channel)];
+  seg->channel = static_cast<int>(std::min(static_cast<std::size_t>(u_channel * N), std::size_t{N - 1}));
+  const ProfileChannel& prof = profile_[static_cast<std::size_t>(seg->channel)];
   if (prof.empty()) return false;
   const double r_max_mm = prof.r_max();
   seg->r = prof.sample_radius(u_r);
@@ -41,7 +43,8 @@ bool Bssrdf::sample_probe(double u_axis, double u_channel, double u_r, double u_
   return true;
 }
 
-double Bssrdf::pdf_probe(const Vec3& x_i, const Vec3& n_i) const {
+template <int N>
+double BasicBssrdf<N>::pdf_probe(const Vec3& x_i, const Vec3& n_i) const {
   const Vec3 dl = frame_.to_local(x_i - x_o_);
   const Vec3 nl = frame_.to_local(n_i);
   const double r_proj[3] = {std::sqrt(dl.y * dl.y + dl.z * dl.z), std::sqrt(dl.x * dl.x + dl.z * dl.z),
@@ -51,24 +54,32 @@ double Bssrdf::pdf_probe(const Vec3& x_i, const Vec3& n_i) const {
   const double dist_mm = length(x_i - x_o_) * mm_;
   double pdf = 0;  // per unit area [1/unit^2]
   for (std::size_t ax = 0; ax < 3; ++ax)
-    for (std::size_t ch = 0; ch < 3; ++ch)
+    for (std::size_t ch = 0; ch < N; ++ch)
       if (dist_mm <= profile_[ch].r_max())
-        pdf += kAxisProbability[ax] * n_abs[ax] * (1.0 / 3.0) * profile_[ch].pdf_area(r_proj[ax] * mm_) * mm_ * mm_;
+        pdf += kAxisProbability[ax] * n_abs[ax] * (1.0 / N) * profile_[ch].pdf_area(r_proj[ax] * mm_) * mm_ * mm_;
   return pdf;
 }
 
-bool Bssrdf::probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, Rgb3* weight) const {
+template <int N>
+bool BasicBssrdf<N>::probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, double* weight) const {
   const double pdf = pdf_probe(x_i, n_i);
   if (!(pdf > 0)) return false;
   const double dist_mm = length(x_i - x_o_) * mm_;
-  for (int ch = 0; ch < 3; ++ch) (*weight)[ch] = R(ch, dist_mm) * mm_ * mm_ * candidates / pdf;
+  for (int ch = 0; ch < N; ++ch) weight[ch] = R(ch, dist_mm) * mm_ * mm_ * candidates / pdf;
   return true;
 }
 
-std::ostream& operator<<(std::ostream& os, const Bssrdf& b) {
-  return os << "Bssrdf{x_o=" << b.x_o() << ", n_o=" << b.frame().n << ", rho_dr(1)=" << b.rho_dr(1.0) << ", R_d=("
-            << b.R_d(0) << ", " << b.R_d(1) << ", " << b.R_d(2) << ")}";
+template <int N>
+std::ostream& operator<<(std::ostream& os, const BasicBssrdf<N>& b) {
+  os << "Bssrdf{x_o=" << b.x_o() << ", n_o=" << b.frame().n << ", rho_dr(1)=" << b.rho_dr(1.0) << ", R_d=(";
+  for (int c = 0; c < N; ++c) os << (c ? ", " : "") << b.R_d(c);
+  return os << ")}";
 }
+
+template class BasicBssrdf<3>;
+template class BasicBssrdf<4>;
+template std::ostream& operator<<(std::ostream&, const BasicBssrdf<3>&);
+template std::ostream& operator<<(std::ostream&, const BasicBssrdf<4>&);
 
 std::ostream& operator<<(std::ostream& os, const ProbeSegment& s) {
   return os << "ProbeSegment{axis=" << s.axis << ", channel=" << s.channel << ", r=" << s.r << " mm, start=" << s.start

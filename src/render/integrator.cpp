@@ -13,6 +13,8 @@
 // rays along the normal and the two tangents, combined with MIS over axes and channels; the
 // profiles, the probes, their pdf and F_t are one object, Bssrdf (skin/render/bssrdf.hpp). Every
 // light pairs its sampler with its pdf (lights.hpp).
+// The path carries RGB (the paper's method) or the values at four sampled wavelengths (spectral
+// rendering): the Shading policies below are all that differs.
 #include <tbb/blocked_range2d.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -25,6 +27,7 @@
 
 #include "scene_impl.hpp"
 #include "skin/render/bssrdf.hpp"
+#include "spectral.hpp"
 #include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
@@ -41,13 +44,57 @@ struct Surface {
   std::size_t mesh = 0;
 };
 
+// What a path carries and how the scene's RGB data turns into it. RGB rendering: linear sRGB,
+// the material's three channel profiles, the data as they are.
+struct RgbShading {
+  using Value = Rgb3;
+  using Bssrdf = render::Bssrdf;
+  static constexpr int kChannels = 3;
+  static Value one() { return {1, 1, 1}; }
+  Bssrdf bssrdf(const Material& m, const Vec3& x, const Vec3& n, double mm) const {
+    return Bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), x, n, mm);
+  }
+  // A light's RGB radiance (light: its index, lights.size() for the environment).
+  const Value& emitted(const Rgb3& L, std::size_t) const { return L; }
+  const Value& reflectance(const Rgb3& albedo) const { return albedo; }
+  // The albedo texture's modulation of the subsurface term: texture / R_d(reference).
+  Value texture(const Material& m, const Rgb3& texel) const { return texel * m.texture_normalisation; }
+  static Value from(const double* w) { return {w[0], w[1], w[2]}; }
+};
+
+// Spectral rendering: the values at the camera sample's four wavelengths; lights, albedos and
+// textures upsampled (spectral.hpp), skin profiles per wavelength.
+struct SpectralShading {
+  using Value = SampledSpectrum;
+  using Bssrdf = SpectralBssrdf;
+  static constexpr int kChannels = kWavelengths;
+  const std::vector<SpectralEmission>* emission;  // per light, then the environment
+  SampledWavelengths wl;
+  static Value one() { return Value::constant(1); }
+  Bssrdf bssrdf(const Material& m, const Vec3& x, const Vec3& n, double mm) const {
+    return Bssrdf(m.spectral->channels(wl), m.rho_s, m.specular_albedo.get(), x, n, mm);
+  }
+  Value emitted(const Rgb3& L, std::size_t light) const { return (*emission)[light](L, wl); }
+  Value reflectance(const Rgb3& albedo) const { return RgbUpsampling::get()(albedo, wl); }
+  Value texture(const Material& m, const Rgb3& texel) const {
+    Value t = RgbUpsampling::get()(texel, wl);
+    for (int j = 0; j < kWavelengths; ++j) {
+      const double ref = m.spectral->texture_reference(wl.lambda[static_cast<std::size_t>(j)]);
+      t[j] = ref > 1e-6 ? t[j] / ref : 0.0;
+    }
+    return t;
+  }
+  static Value from(const double* w) { return {{w[0], w[1], w[2], w[3]}}; }
+};
+
 class Integrator {
  public:
   Integrator(const SceneData& s, const Accel& a, int max_depth)
       : s_(s), a_(a), max_depth_(max_depth), eps_(1e-5 * a.extent()) {}
 
   // *translucent (if given): whether the first surface the ray meets is translucent.
-  Rgb3 Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent = nullptr) const;
+  template <class Shading>
+  typename Shading::Value Li(Vec3 o, Vec3 d, Rng& rng, const Shading& sh, bool* translucent = nullptr) const;
 
  private:
   // face_ray: turn the normals toward -d (two-sided shading of what a ray sees); otherwise keep
@@ -57,24 +104,30 @@ class Integrator {
   // them, rather than one picked at random: scenes have few lights, and the shadow rays are
   // cheap next to the variance a random pick adds), each weighted by MIS against the BSDF.
   // f(wi) returns the BSDF value times cos(theta_i), pdf(wi) its sampling density.
-  template <class F, class P>
-  Rgb3 direct(const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng, F f, P pdf) const;
-  // Area light hit along a ray before t_max: radiance and the light's solid-angle pdf for MIS
-  // (n: normal at the ray's origin, as the light's pdf takes it).
-  bool hit_area_light(const Vec3& o, const Vec3& n, const Vec3& d, double t_max, Rgb3* Le, double* pdf) const;
+  template <class Shading, class F, class P>
+  typename Shading::Value direct(const Shading& sh, const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng, F f,
+                                 P pdf) const;
+  // Area light hit along a ray before t_max: radiance, the light's index and its solid-angle pdf
+  // for MIS (n: normal at the ray's origin, as the light's pdf takes it).
+  bool hit_area_light(const Vec3& o, const Vec3& n, const Vec3& d, double t_max, Rgb3* Le, std::size_t* index,
+                      double* pdf) const;
   bool visible(const Vec3& p, const Vec3& n, const Vec3& wi, double dist) const;
   Vec3 offset(const Vec3& p, const Vec3& n, const Vec3& w) const { return p + n * (dot(w, n) > 0 ? eps_ : -eps_); }
   // Entry points of one probe per channel (stratified over the channels) and every candidate on
   // each: the multi-sample MIS estimator sum_c f(x_c) / sum_c' pdf_c'(x_c), i.e. the mean of the
-  // three one-sample weights, spread over all candidates (each weighted 1, not x their count).
+  // N one-sample weights (3 channels, or 4 wavelengths), spread over all candidates (each
+  // weighted 1, not x their count).
+  template <class Value>
   struct Entry {
     Surface x;
-    Rgb3 weight;
+    Value weight;
   };
-  static constexpr int kMaxEntries = 3 * 8;
+  static constexpr int kMaxHits = 8;  // candidates per probe
   // With all_channels false, one probe of a random channel (its one-sample weight): for the
   // deeper vertices of a path, where the split costs more than it gains.
-  int sample_entries(const Surface& xo, const Bssrdf& bssrdf, Rng& rng, bool all_channels, Entry* out) const;
+  template <class Shading>
+  int sample_entries(const Surface& xo, const typename Shading::Bssrdf& bssrdf, Rng& rng, bool all_channels,
+                     Entry<typename Shading::Value>* out) const;
 
   const SceneData& s_;
   const Accel& a_;
@@ -117,7 +170,8 @@ bool Integrator::visible(const Vec3& p, const Vec3& n, const Vec3& wi, double di
   return t_max > eps_ && !a_.occluded(o, wi, 0.0, t_max);
 }
 
-bool Integrator::hit_area_light(const Vec3& o, const Vec3& n, const Vec3& d, double t_max, Rgb3* Le, double* pdf) const {
+bool Integrator::hit_area_light(const Vec3& o, const Vec3& n, const Vec3& d, double t_max, Rgb3* Le,
+                                std::size_t* index, double* pdf) const {
   const Light* nearest = nullptr;
   double best = t_max;
   for (const Light& l : s_.lights) {
@@ -128,15 +182,17 @@ bool Integrator::hit_area_light(const Vec3& o, const Vec3& n, const Vec3& d, dou
     }
   }
   if (!nearest) return false;
+  *index = static_cast<std::size_t>(nearest - s_.lights.data());
   *Le = nearest->Le();
   *pdf = nearest->pdf(o, n, d);
   return true;
 }
 
-template <class F, class P>
-Rgb3 Integrator::direct(const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng, F f, P pdf) const {
-  Rgb3 L;
-  const auto add = [&](const auto& light) {
+template <class Shading, class F, class P>
+typename Shading::Value Integrator::direct(const Shading& sh, const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng,
+                                           F f, P pdf) const {
+  typename Shading::Value L{};
+  const auto add = [&](const auto& light, std::size_t index) {
     const Vec2 u{rng.uniform(), rng.uniform()};
     const LightSample ls = light.sample(p, ns, u);
     if (!(ls.pdf > 0) || ls.L.is_black()) return;
@@ -144,34 +200,38 @@ Rgb3 Integrator::direct(const Vec3& p, const Vec3& ns, const Vec3& ng, Rng& rng,
     const double fc = f(ls.wi);
     if (!(fc > 0) || !visible(p, ng, ls.wi, ls.dist)) return;
     const double w = ls.delta ? 1.0 : power_heuristic(ls.pdf, pdf(ls.wi));
-    L += ls.L * (fc * w / ls.pdf);
+    L += sh.emitted(ls.L, index) * (fc * w / ls.pdf);
   };
-  for (const Light& l : s_.lights) add(l);
-  if (!s_.environment.black()) add(s_.environment);
+  for (std::size_t i = 0; i < s_.lights.size(); ++i) add(s_.lights[i], i);
+  if (!s_.environment.black()) add(s_.environment, s_.lights.size());
   return L;
 }
 
 // The points x_i where light enters for light leaving at x_o (King et al. 2013): one probe
 // segment per channel from the BSSRDF, and every surface point of the same material on it (up to
 // kMaxHits), each weighed by the BSSRDF's MIS pdf; the channels' one-sample weights averaged.
-int Integrator::sample_entries(const Surface& xo, const Bssrdf& bssrdf, Rng& rng, bool all_channels, Entry* out) const {
+template <class Shading>
+int Integrator::sample_entries(const Surface& xo, const typename Shading::Bssrdf& bssrdf, Rng& rng, bool all_channels,
+                               Entry<typename Shading::Value>* out) const {
+  constexpr int N = Shading::kChannels;
   int n = 0;
-  const int probes = all_channels ? 3 : 1;
+  const int probes = all_channels ? N : 1;
   for (int ch = 0; ch < probes; ++ch) {
     const double u_axis = rng.uniform(), u_r = rng.uniform(), u_phi = rng.uniform();
-    const double u_channel = all_channels ? (ch + 0.5) / 3.0 : rng.uniform();
+    const double u_channel = all_channels ? (ch + 0.5) / static_cast<double>(N) : rng.uniform();
     ProbeSegment seg;
     if (!bssrdf.sample_probe(u_axis, u_channel, u_r, u_phi, &seg)) continue;
-    constexpr int kMaxHits = 8;
     double t = 0;
     for (int count = 0; count < kMaxHits; ++count) {
       RayHit h;
       if (!a_.intersect(seg.start, seg.dir, t, seg.length, &h)) break;
       t = h.t + std::max(eps_, 1e-7 * seg.length);
       if (s_.meshes[h.mesh].material == s_.meshes[xo.mesh].material) {
-        Entry& e = out[n];
+        auto& e = out[n];
         e.x = surface(h, seg.dir, false);
-        if (bssrdf.probe_weight(e.x.p, e.x.ng, 1, &e.weight)) {
+        double w[N];
+        if (bssrdf.probe_weight(e.x.p, e.x.ng, 1, w)) {
+          e.weight = Shading::from(w);
           e.weight = e.weight / static_cast<double>(probes);
           ++n;
         }
@@ -182,8 +242,11 @@ int Integrator::sample_entries(const Surface& xo, const Bssrdf& bssrdf, Rng& rng
   return n;
 }
 
-Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
-  Rgb3 L, beta{1, 1, 1};
+template <class Shading>
+typename Shading::Value Integrator::Li(Vec3 o, Vec3 d, Rng& rng, const Shading& sh, bool* translucent) const {
+  using Value = typename Shading::Value;
+  constexpr int N = Shading::kChannels;
+  Value L{}, beta = Shading::one();
   double prev_pdf = 0;     // solid-angle pdf of the direction that produced this ray
   bool prev_delta = true;  // camera ray: no MIS against lights
   Vec3 prev_n;             // shading normal at the vertex the ray left (environment pdf)
@@ -193,10 +256,11 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
     const double t_hit = hit ? h.t : kInf;
     {
       Rgb3 Le;
+      std::size_t light = 0;
       double lpdf = 0;
-      if (hit_area_light(o, prev_n, d, t_hit, &Le, &lpdf)) {
+      if (hit_area_light(o, prev_n, d, t_hit, &Le, &light, &lpdf)) {
         const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
-        L += beta * Le * w;
+        L += beta * sh.emitted(Le, light) * w;
         break;
       }
     }
@@ -204,7 +268,7 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
       if (!s_.environment.black()) {
         const double lpdf = s_.environment.pdf(o, prev_n, d);
         const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
-        L += beta * s_.environment.radiance(d) * w;
+        L += beta * sh.emitted(s_.environment.radiance(d), s_.lights.size()) * w;
       }
       break;
     }
@@ -215,10 +279,9 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
     if (depth == 0 && translucent) *translucent = m.translucent();
     const Vec3 wo = -d;
     if (!m.translucent()) {
-      Rgb3 albedo = m.albedo;
-      if (m.albedo_map && x.has_uv) albedo = m.albedo_map->lookup(x.uv.x, x.uv.y);
+      const Value albedo = sh.reflectance(m.albedo_map && x.has_uv ? m.albedo_map->lookup(x.uv.x, x.uv.y) : m.albedo);
       const auto lambert = [&](const Vec3& wi) { return std::max(0.0, dot(wi, x.ns)) / kPi; };
-      L += beta * albedo * direct(x.p, x.ns, x.ng, rng, lambert, lambert);
+      L += beta * albedo * direct(sh, x.p, x.ns, x.ng, rng, lambert, lambert);
       const Frame f = Frame::from_normal(x.ns);
       const Vec3 wi = f.to_world(sample_cosine_hemisphere({rng.uniform(), rng.uniform()}));
       if (dot(wi, x.ng) <= 0) break;
@@ -229,7 +292,7 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
       o = offset(x.p, x.ng, wi);
       d = wi;
     } else {
-      const Bssrdf bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), x.p, x.ns, s_.mm_per_unit);
+      const auto bssrdf = sh.bssrdf(m, x.p, x.ns, s_.mm_per_unit);
       const Frame& f = bssrdf.frame();
       const Vec3 wo_l = f.to_local(wo);
       const double cos_o = std::max(wo_l.z, 1e-4);
@@ -237,29 +300,32 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
       // Surface term: direct light with MIS.
       const Vec3 wo_c{wo_l.x, wo_l.y, cos_o};
       if (m.rho_s > 0) {
-        L += beta * direct(x.p, x.ns, x.ng, rng,
+        L += beta * direct(sh, x.p, x.ns, x.ng, rng,
                            [&](const Vec3& wi) { const Vec3 l = f.to_local(wi); return lobe.f(wo_c, l) * l.z; },
                            [&](const Vec3& wi) { return lobe.pdf(wo_c, f.to_local(wi)); });
       }
       // Subsurface term: entry points x_i (one probe per channel, every candidate), direct light
       // at each with MIS; the path continues from one of them, picked by its weight.
       const double Ft_o = bssrdf.F_t(cos_o);
-      Entry entries[kMaxEntries];
-      const int n_entries = sample_entries(x, bssrdf, rng, depth == 0, entries);
+      constexpr int kMaxEntries = N * kMaxHits;
+      Entry<Value> entries[kMaxEntries];
+      const int n_entries = sample_entries<Shading>(x, bssrdf, rng, depth == 0, entries);
       const bool entered = n_entries > 0;
-      Rgb3 beta_ss;
+      Value beta_ss;
       Surface xi;
       if (entered) {
-        Rgb3 tex{1, 1, 1};
-        if (m.albedo_map && x.has_uv) tex = m.albedo_map->lookup(x.uv.x, x.uv.y) * m.texture_normalisation;
-        const Rgb3 beta_o = beta * tex * Ft_o;
+        Value tex = Shading::one();
+        if (m.albedo_map && x.has_uv) tex = sh.texture(m, m.albedo_map->lookup(x.uv.x, x.uv.y));
+        const Value beta_o = beta * tex * Ft_o;
         double total = 0, pick_w[kMaxEntries];
         for (int k = 0; k < n_entries; ++k) {
-          const Entry& e = entries[k];
-          L += beta_o * e.weight * direct(e.x.p, e.x.ns, e.x.ng, rng,
+          const auto& e = entries[k];
+          L += beta_o * e.weight * direct(sh, e.x.p, e.x.ns, e.x.ng, rng,
                                           [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, e.x.ns)); },
                                           [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, e.x.ns)); });
-          pick_w[k] = std::abs(e.weight.r) + std::abs(e.weight.g) + std::abs(e.weight.b) + 1e-12;
+          double sum_abs = 0;
+          for (int c = 0; c < N; ++c) sum_abs += std::abs(e.weight[c]);
+          pick_w[k] = sum_abs + 1e-12;
           total += pick_w[k];
         }
         // One entry carries the path on: picked in proportion to its weight, divided by that.
@@ -283,7 +349,7 @@ Rgb3 Integrator::Li(Vec3 o, Vec3 d, Rng& rng, bool* translucent) const {
         prev_pdf = pdf;
         prev_delta = false;
         prev_n = x.ns;
-          o = offset(x.p, x.ng, wi);
+        o = offset(x.p, x.ng, wi);
         d = wi;
       } else {
         if (!entered || p_spec >= 1) break;
@@ -374,6 +440,15 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
     throw InputError("target-error = " + std::to_string(settings.target_error) +
                      " is out of range: must be in [0, 1) (a relative error; 0 = off)");
   const Integrator integ(s, accel, max_depth);
+  // Spectral rendering: each light's emission spectrum, then the environment's (D65-referred RGB).
+  std::vector<SpectralEmission> emission;
+  if (s.spectral) {
+    for (const Light& l : s.lights) emission.emplace_back(l.illuminant());
+    emission.emplace_back(s.environment.illuminant);
+    for (const Material& m : s.materials)
+      SKIN_ASSERT(m.kind != MaterialKind::skin || m.spectral, "spectral render without the spectral profiles");
+  }
+  const bool spectral = s.spectral;
 
   // Pinhole camera: vertical field of view, looking from eye to target.
   const Camera& cam = s.camera;
@@ -447,7 +522,13 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
                   const double px = (x + rng.uniform()) / W, py = (y + rng.uniform()) / H;
                   const Vec3 dir = normalize(fwd + right * ((2 * px - 1) * tan_half * aspect) + up * ((1 - 2 * py) * tan_half));
                   bool translucent = false;
-                  const Rgb3 c = integ.Li(cam.eye, dir, rng, &translucent);
+                  Rgb3 c;
+                  if (spectral) {
+                    const SpectralShading sh{&emission, SampledWavelengths::hero(rng.uniform())};
+                    c = film_srgb_linear(integ.Li(cam.eye, dir, rng, sh, &translucent), sh.wl);
+                  } else {
+                    c = integ.Li(cam.eye, dir, rng, RgbShading{}, &translucent);
+                  }
                   hits += translucent ? 1 : 0;
                   if (std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) {
                     acc += c;

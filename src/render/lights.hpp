@@ -24,6 +24,11 @@
 namespace skin::render {
 
 struct Texture;
+}  // namespace skin::render
+namespace skin::color {
+class Illuminant;
+}
+namespace skin::render {
 
 struct LightSample {
   Rgb3 L;      // incident radiance; delta lights: intensity / d^2 (point) or irradiance
@@ -110,9 +115,14 @@ class Light {
     return std::visit([](const auto& l) { return l.Le(); }, shape_);
   }
   const Shape& shape() const { return shape_; }
+  // The CIE illuminant the scene named for it (null: none, the value is D65-referred RGB); the
+  // spectral render emits its spectrum (spectral.hpp, SpectralEmission).
+  const color::Illuminant* illuminant() const { return illuminant_; }
+  void set_illuminant(const color::Illuminant* i) { illuminant_ = i; }
 
  private:
   Shape shape_;
+  const color::Illuminant* illuminant_ = nullptr;
 };
 std::ostream& operator<<(std::ostream& os, const Light& l);
 
@@ -125,6 +135,7 @@ struct Environment {
   std::shared_ptr<const Texture> map;      // lat-long map (multiplies `scale`), optional
   double scale = 1.0;
   double rotation_deg = 0.0;               // about +y
+  const color::Illuminant* illuminant = nullptr;  // named in the scene (constant radiance only)
   Distribution2D distribution;             // map importance (luminance x sin theta)
   bool has_map() const { return map != nullptr; }
   bool black() const { return !map && constant.is_black(); }

@@ -13,19 +13,19 @@
 #include "skin/util/error.hpp"
 
 namespace skin::render {
-namespace {
-
 // r = 0, then logarithmic from 1 um to 20 mm: dense where the profile is peaked, reaching far
 // enough for the red channel of pale skin (its 1/sigma_tr is a few mm; at 20 mm R(r) is below
 // 1e-6 of R(0)). The transform's cost grows with the largest radius (panels no wider than a
 // period of J0 there), so the grid stops where the tail no longer matters; the truncated tail's
 // energy is restored by TabulatedProfile's rescaling to the exact R_d.
-RadialGrid profile_radii() {
+RadialGrid skin_profile_radii() {
   std::vector<double> r{0.0};
   const RadialGrid g = RadialGrid::logarithmic(1e-3, 20.0, 128);
   r.insert(r.end(), g.r.begin(), g.r.end());
   return RadialGrid::from(std::move(r));
 }
+
+namespace {
 
 std::shared_ptr<const SpecularAlbedo> specular_albedo(double roughness, double eta) {
   static std::mutex mutex;
@@ -42,10 +42,11 @@ void prepare_skin_material(Material& m, const SkinParameters& p) {
   p.validate();
   m.kind = MaterialKind::skin;
   m.parameters = p;
+  m.spectral = nullptr;  // stale: prepare_spectral rebuilds it
   m.rho_s = p.oiliness;
   m.roughness = p.roughness;
   m.eta = p.eta;
-  ProfileSolver solver(profile_radii());
+  ProfileSolver solver(skin_profile_radii());
   // The shape of each channel's profile from a 10 nm grid (the spectra are smooth at that scale
   // and the transform costs in proportion to the number of wavelengths), its total from the
   // paper's 2 nm grid (exact at k = 0 and cheap), so that R_d matches `skin color` exactly.
@@ -70,6 +71,7 @@ void set_texture_reference(Material& m, const SkinParameters& reference) {
   const auto rgb = skin_spectrum(reference).color.srgb_linear;
   for (int c = 0; c < 3; ++c) m.texture_normalisation[c] = rgb[c] > 1e-6 ? 1.0 / rgb[c] : 0.0;
   m.texture_reference_fixed = true;
+  m.texture_reference = reference;
 }
 
 void prepare_parameter_maps(Material& m, const SkinParameters& p) {
@@ -96,6 +98,7 @@ void prepare_parameter_maps(Material& m, const SkinParameters& p) {
     if (m.texture_reference_fixed) {
       n.texture_normalisation = m.texture_normalisation;
       n.texture_reference_fixed = true;
+      n.texture_reference = m.texture_reference;
     }
   }
 }
@@ -123,10 +126,25 @@ const Material& Material::node_at(double u, double v, double xi) const {
   return nodes[index];
 }
 
+void prepare_spectral(SceneData& s) {
+  std::vector<Material*> todo;
+  for (auto& m : s.materials) {
+    if (m.kind == MaterialKind::layered)
+      throw InputError("spectral: material '" + m.name +
+                       "' is layered (its stacks are given per RGB channel); spectral rendering needs skin or "
+                       "diffuse materials");
+    if (m.kind != MaterialKind::skin) continue;
+    if (!m.spectral) todo.push_back(&m);
+    for (auto& n : m.nodes)
+      if (!n.spectral) todo.push_back(&n);
+  }
+  tbb::parallel_for(std::size_t{0}, todo.size(), [&](std::size_t i) { todo[i]->spectral = make_spectral_skin(*todo[i]); });
+}
+
 void prepare_layered_material(Material& m, const std::array<LayerStack, 3>& stacks) {
   m.kind = MaterialKind::layered;
   m.stacks = stacks;
-  const RadialGrid radii = profile_radii();
+  const RadialGrid radii = skin_profile_radii();
   ProfileSolver solver(radii);
   for (int c = 0; c < 3; ++c) {
     const auto ci = static_cast<std::size_t>(c);

@@ -305,8 +305,9 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
   }
   if (r.has("render")) {
     const Reader q(r.raw("render"), file, "render");
-    q.allow({"spp", "max_depth", "exposure"});
+    q.allow({"spp", "max_depth", "exposure", "spectral"});
     s.spp = q.integer("spp", s.spp);
+    s.spectral = q.boolean("spectral", false);
     s.max_depth = q.integer("max_depth", s.max_depth);
     s.exposure = q.number("exposure", 0.0);
     if (s.spp < 1) q.fail("'spp' must be >= 1");
@@ -393,12 +394,23 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
       } else {
         l.fail("unknown light type '" + type + "' (known: point, directional, sphere, quad)");
       }
+      if (l.has("illuminant")) s.lights.back().set_illuminant(&color::find_illuminant(l.string("illuminant")));
     }
   }
   if (r.has("environment")) {
     const Reader e(r.raw("environment"), file, "environment");
-    e.allow({"radiance", "map", "scale", "rotation"});
+    e.allow({"radiance", "map", "scale", "rotation", "illuminant"});
     s.environment.constant = e.rgb("radiance", {});
+    if (e.has("illuminant")) {  // as for lights: the value times the illuminant's colour
+      if (e.has("map")) e.fail("'illuminant' needs a constant 'radiance', not a 'map'");
+      try {
+        s.environment.illuminant = &color::find_illuminant(e.string("illuminant"));
+        s.environment.constant *=
+            color::Colorimetry(WavelengthGrid(), *s.environment.illuminant).illuminant_rgb();
+      } catch (const InputError& x) {
+        e.fail(x.what());
+      }
+    }
     s.environment.scale = e.number("scale", 1.0);
     s.environment.rotation_deg = e.number("rotation", 0.0);
     if (e.has("map")) {
@@ -406,6 +418,7 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
       s.environment.build_distribution();
     }
   }
+  if (s.spectral) with_context(file, "render.spectral", [&] { prepare_spectral(s); return 0; });
   return s;
 }
 
@@ -505,10 +518,19 @@ void Scene::update_skin_parameters(
       m.eta = fresh.eta;
       m.specular_albedo = fresh.specular_albedo;
       m.validity = fresh.validity;
+      m.spectral = fresh.spectral;  // none yet: rebuilt below if spectral
       if (!m.texture_reference_fixed) m.texture_normalisation = fresh.texture_normalisation;
       prepare_parameter_maps(m, p);  // mapped parameters keep their maps
     }
+  if (impl_->data.spectral) prepare_spectral(impl_->data);
 }
+
+void Scene::set_spectral(bool spectral) {
+  if (spectral) prepare_spectral(impl_->data);
+  impl_->data.spectral = spectral;
+}
+
+bool Scene::spectral() const { return impl_->data.spectral; }
 
 void Scene::make_translucent_diffuse() {
   for (auto& m : impl_->data.materials)
@@ -532,6 +554,7 @@ void Scene::set_solver(const transport::Model& solver) {
       prepare_layered_material(m, m.stacks);
     }
   }
+  if (impl_->data.spectral) prepare_spectral(impl_->data);
 }
 
 std::vector<Scene::MaterialValidity> Scene::validity() const {

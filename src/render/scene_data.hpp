@@ -15,6 +15,7 @@
 #include "skin/render/microfacet.hpp"
 #include "skin/render/profile_sampler.hpp"
 #include "skin/render/sampling.hpp"
+#include "spectral.hpp"
 
 namespace skin::render {
 
@@ -46,6 +47,9 @@ struct Material {
   Rgb3 R_d;                                   // totals per channel
   Rgb3 texture_normalisation{1, 1, 1};        // 1 / R_d colour of the assumed chromophores
   bool texture_reference_fixed = false;       // normalisation set by texture_reference
+  SkinParameters texture_reference;           // its parameters, when fixed
+  // Spectral rendering (skin only): per-wavelength profiles, built by prepare_spectral.
+  std::shared_ptr<const SpectralSkin> spectral;
   double rho_s = 0, roughness = 0.35, eta = 1.4;
   std::shared_ptr<const SpecularAlbedo> specular_albedo;
   bool translucent() const { return kind != MaterialKind::diffuse; }
@@ -96,8 +100,15 @@ struct SceneData {
   Environment environment;
   int spp = 16, max_depth = 5;
   double exposure = 0.0;  // stops, applied to PNG output
+  bool spectral = false;  // spectral rendering (the scene key render.spectral, --spectral)
 };
 
+// Spectral rendering: builds the spectral profiles of every skin material (and parameter-map
+// node) that has none. InputError for a layered material (its stacks are RGB).
+void prepare_spectral(SceneData& s);
+
+// The radii of the renderer's profile tables [mm].
+RadialGrid skin_profile_radii();
 // Builds the diffusion profiles, specular albedo and normalisation of a translucent material
 // from a LayerStack per channel (layered) or from skin parameters; `name` for messages.
 void prepare_skin_material(Material& m, const SkinParameters& p);

@@ -8,8 +8,10 @@
 #include <cmath>
 
 #include "sampler_checks.hpp"
+#include "scene_data.hpp"
 #include "skin/render/bssrdf.hpp"
 #include "skin/render/microfacet.hpp"
+#include "spectral.hpp"
 
 namespace skin::render {
 namespace {
@@ -30,6 +32,28 @@ const Vec3 kNo = normalize(Vec3{0.2, -0.3, 0.93});
 double r_max_mm() {
   double r = 0;
   for (const auto& p : caucasian()) r = std::max(r, p.r_max());
+  return r;
+}
+
+// Spectral rendering: the caucasian preset's per-wavelength tables (10 nm grid), and the four
+// channels of a sample whose wavelengths all fall between grid nodes (441.1, 516.1, 591.1,
+// 666.1 nm: each channel a mix of two tables).
+const SpectralSkin& caucasian_spectral() {
+  static const std::shared_ptr<const SpectralSkin> s = [] {
+    Material m;
+    prepare_skin_material(m, find_preset("caucasian").parameters);
+    return make_spectral_skin(m);
+  }();
+  return *s;
+}
+const SampledWavelengths kWl = SampledWavelengths::hero(0.137);
+SpectralBssrdf spectral_bssrdf() {
+  return SpectralBssrdf(caucasian_spectral().channels(kWl), 0, nullptr, kXo, kNo, kMm);
+}
+template <int N>
+double r_max_mm(const BasicBssrdf<N>& b) {
+  double r = 0;
+  for (int c = 0; c < N; ++c) r = std::max(r, b.channel(c).r_max());
   return r;
 }
 
@@ -135,10 +159,11 @@ TEST(Bssrdf, ProbePdfIntegratesToOneOverThreeOrthogonalPlanes) {
 // in the plane, angle), against `pdf` (per unit area) integrated over each bin by the midpoint
 // rule; one more bin for the probes that miss (probability 1 - the integral of the pdf over the
 // disc of radius r_max, where a plane through x_o meets the probes).
-double plane_chi_square(const Bssrdf& b, const Vec3& m, const std::function<double(const Vec3&)>& pdf, std::uint64_t seed,
-                        double* hit_probability) {
+template <int N>
+double plane_chi_square(const BasicBssrdf<N>& b, const Vec3& m, const std::function<double(const Vec3&)>& pdf,
+                        std::uint64_t seed, double* hit_probability) {
   constexpr int kR = 20, kPhi = 8, kN = 400000;
-  const double r_top = r_max_mm() / kMm;
+  const double r_top = r_max_mm(b) / kMm;
   std::vector<double> edges{0.0};
   for (int i = 0; i < kR; ++i) edges.push_back(5e-3 * std::pow(r_top / 5e-3, static_cast<double>(i) / (kR - 1)));
   const Frame pf = Frame::from_normal(m);
@@ -177,7 +202,8 @@ double plane_chi_square(const Bssrdf& b, const Vec3& m, const std::function<doub
 }
 
 // A plane through x_o tilted against all three axes of the exit frame.
-Vec3 tilted(const Bssrdf& b) { return b.frame().to_world(normalize(Vec3{0.45, -0.5, 0.74})); }
+template <int N>
+Vec3 tilted(const BasicBssrdf<N>& b) { return b.frame().to_world(normalize(Vec3{0.45, -0.5, 0.74})); }
 
 TEST(Bssrdf, ProbeHitsOnPlanesFollowTheMisPdf) {
   // On the tilted plane every probe line crosses it once, so each hit point is reachable along
@@ -193,6 +219,32 @@ TEST(Bssrdf, ProbeHitsOnPlanesFollowTheMisPdf) {
   EXPECT_NEAR(hit, Bssrdf::kAxisProbability[2], 1e-3);  // midpoint rule near r = 0
 }
 
+TEST(Bssrdf, SpectralProbeHitsOnPlanesFollowTheMisPdf) {
+  // The same with four wavelength channels, each a mix of two tables: the pdf is the one-sample
+  // MIS over the axes and the four wavelengths (balance heuristic), each wavelength's density
+  // the mix of its two tables'.
+  const SpectralBssrdf b = spectral_bssrdf();
+  SCOPED_TRACE(::testing::Message() << b);
+  for (int c = 0; c < 4; ++c) ASSERT_TRUE(b.channel(c).mixed()) << c;
+  double hit = 0;
+  const Vec3 m = tilted(b);
+  EXPECT_GT(plane_chi_square(b, m, [&](const Vec3& x) { return b.pdf_probe(x, m); }, 36, &hit), 1e-3);
+  EXPECT_GT(hit, 0.8);
+  EXPECT_GT(plane_chi_square(b, kNo, [&](const Vec3& x) { return b.pdf_probe(x, kNo); }, 37, &hit), 1e-3);
+  EXPECT_NEAR(hit, Bssrdf::kAxisProbability[2], 1e-3);
+}
+
+TEST(Bssrdf, SpectralChiSquareDetectsTheHeroOnlyPdf) {
+  // Dividing by the hero wavelength's density alone (no MIS over the four) is rejected: the
+  // probes are drawn from all four wavelengths' profiles.
+  const SpectralBssrdf b = spectral_bssrdf();
+  const std::array<ProfileChannel, 4> hero{b.channel(0), b.channel(0), b.channel(0), b.channel(0)};
+  const SpectralBssrdf only_hero(hero, 0, nullptr, kXo, kNo, kMm);
+  double hit = 0;
+  const Vec3 m = tilted(b);
+  EXPECT_LT(plane_chi_square(b, m, [&](const Vec3& x) { return only_hero.pdf_probe(x, m); }, 38, &hit), 1e-3);
+}
+
 TEST(Bssrdf, ChiSquareDetectsAProbePdfWithTheWrongOrientation) {
   // The test must be able to fail: hits on the tilted plane checked against the pdf of points
   // facing the exit normal instead (the |n_i . axis| factors of a flat neighbourhood) are
@@ -202,6 +254,34 @@ TEST(Bssrdf, ChiSquareDetectsAProbePdfWithTheWrongOrientation) {
   EXPECT_LT(plane_chi_square(b, tilted(b), [&](const Vec3& x) { return b.pdf_probe(x, kNo); }, 34, &hit), 1e-3);
 }
 
+template <int N>
+void probe_weight_averages_to_R_d(const BasicBssrdf<N>& b) {
+  SCOPED_TRACE(::testing::Message() << b);
+  for (const Vec3& m : {kNo, tilted(b)}) {
+    SCOPED_TRACE(::testing::Message() << "plane normal " << m);
+    Rng rng(35, 1);
+    std::array<double, N> sum{}, sum2{};
+    constexpr int kN = 200000;
+    for (int k = 0; k < kN; ++k) {
+      ProbeSegment seg;
+      Vec3 x;
+      double w[N];
+      if (!b.sample_probe(rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), &seg) || !probe_plane(seg, m, &x) ||
+          !b.probe_weight(x, m, 1, w))
+        continue;
+      for (std::size_t c = 0; c < N; ++c) {
+        sum[c] += w[c];
+        sum2[c] += w[c] * w[c];
+      }
+    }
+    for (int c = 0; c < N; ++c) {
+      const auto ci = static_cast<std::size_t>(c);
+      const double mean = sum[ci] / kN, se = std::sqrt(std::max(0.0, sum2[ci] / kN - mean * mean) / kN);
+      EXPECT_NEAR(mean, b.R_d(c), 4 * se) << "channel " << c << " se " << se;
+    }
+  }
+}
+
 TEST(Bssrdf, ProbeWeightAveragesToRd) {
   // Unbiasedness of the whole estimator: a plane through x_o meets the ball of radius r_max in a
   // disc centred on x_o, over which the profile integrates to R_d (the tables are rescaled so);
@@ -209,29 +289,12 @@ TEST(Bssrdf, ProbeWeightAveragesToRd) {
   // (only normal probes hit) and on a tilted one (all three axes, MIS-weighted), within 4
   // standard errors (about 4e-3 R_d). A pdf that counted a channel's term beyond the sphere its
   // probes reach made the red channel 2.7e-3 (3 standard errors) low on the tilted plane.
-  const Bssrdf b(caucasian(), 0, nullptr, kXo, kNo, kMm);
-  SCOPED_TRACE(::testing::Message() << b);
-  for (const Vec3& m : {kNo, tilted(b)}) {
-    SCOPED_TRACE(::testing::Message() << "plane normal " << m);
-    Rng rng(35, 1);
-    Rgb3 sum, sum2;
-    constexpr int kN = 200000;
-    for (int k = 0; k < kN; ++k) {
-      ProbeSegment seg;
-      Vec3 x;
-      Rgb3 w;
-      if (!b.sample_probe(rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), &seg) || !probe_plane(seg, m, &x) ||
-          !b.probe_weight(x, m, 1, &w))
-        continue;
-      sum += w;
-      sum2 += w * w;
-    }
-    for (int c = 0; c < 3; ++c) {
-      const double mean = sum[c] / kN, se = std::sqrt(std::max(0.0, sum2[c] / kN - mean * mean) / kN);
-      const double R_d = b.R_d(c);
-      EXPECT_NEAR(mean, R_d, 4 * se) << "channel " << c << " se " << se;
-    }
-  }
+  probe_weight_averages_to_R_d(Bssrdf(caucasian(), 0, nullptr, kXo, kNo, kMm));
+}
+
+TEST(Bssrdf, SpectralProbeWeightAveragesToRd) {
+  // The same for the four wavelength channels (each R_d the mix of its two tables' R_d).
+  probe_weight_averages_to_R_d(spectral_bssrdf());
 }
 
 TEST(Bssrdf, TransmissionIsOneMinusTheSurfaceAlbedo) {

@@ -53,6 +53,27 @@ class SceneInput : public ::testing::Test {
 
 const char* kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
 
+TEST_F(SceneInput, SpectralNeedsSkinOrDiffuseMaterials) {
+  // Layered materials are given per RGB channel: no spectrum to render, from the scene key or
+  // from --spectral. A wrong type of the key, or an illuminant on an environment map, is named.
+  const std::string layered = R"({"type":"layered","layers":[{"sigma_a":0.1,"sigma_s_prime":2}]})";
+  std::string js = scene_with(R"({"sphere": {"center":[0,0,0], "radius":1}, "material": "m"})", layered);
+  write("flag.json", js);
+  std::string err;
+  EXPECT_EQ(run("flag.json -o out.png --spp 1 --resolution 8x8 --spectral", &err), 2) << err;
+  EXPECT_NE(err.find("material 'm' is layered"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir_ / "out.png"));
+  js.insert(js.size() - 1, R"(, "render": {"spectral": true})");
+  write("key.json", js);
+  expect_rejected("key.json", {"key.json", "render.spectral", "material 'm' is layered"});
+  std::string diffuse = scene_with(R"({"sphere": {"center":[0,0,0], "radius":1}, "material": "m"})");
+  write("bad.json", diffuse.substr(0, diffuse.size() - 1) + R"(, "render": {"spectral": "yes"}})");
+  expect_rejected("bad.json", {"bad.json", "spectral", "true or false"});
+  const std::string env = R"("environment": {"radiance": 1})";
+  write("env.json", diffuse.replace(diffuse.find(env), env.size(), R"("environment": {"map": "sky.exr", "illuminant": "A"})"));
+  expect_rejected("env.json", {"env.json", "illuminant", "constant"});
+}
+
 TEST_F(SceneInput, MissingMesh) {
   write("s.json", scene_with(R"({"mesh": "nothere.obj", "material": "m"})"));
   expect_rejected("s.json", {"s.json", "nothere.obj", "not found"});

@@ -80,6 +80,10 @@ class Colorimetry {
   Rgb white_rgb_;  // D65's white in linear sRGB: the white balance
 };
 
+// The CIE 1931 2-degree colour-matching functions xbar, ybar, zbar at lambda [nm]
+// (data/cie1931_2deg_xyz.csv, 1 nm steps, linearly interpolated; 0 outside 360-830 nm).
+Xyz color_matching(double lambda_nm);
+
 Rgb xyz_to_srgb_linear(const Xyz& c);   // IEC 61966-2-1 matrix (D65 white)
 Xyz srgb_linear_to_xyz(const Rgb& c);
 double srgb_encode(double linear);      // transfer curve, input clamped to [0, 1]

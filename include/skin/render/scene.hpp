@@ -80,6 +80,11 @@ class Scene {
     transport::Validity validity;
   };
   std::vector<MaterialValidity> validity() const;
+  // Spectral rendering (hero wavelength, spectral profiles and lights; docs/renderer.md) instead
+  // of RGB (the paper's method, the default); the scene key render.spectral. Turning it on
+  // computes the per-wavelength profiles of every skin material; InputError for a layered one.
+  void set_spectral(bool spectral);
+  bool spectral() const;
   // Turns every translucent material into a `diffuse` one of the same R_d (for benchmarks).
   void make_translucent_diffuse();
   int width() const;
