@@ -201,11 +201,7 @@ Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, doubl
   stack[top++] = 0;
   while (top > 0) {
     const Node& nd = node_[stack[--top]];
-    // Distance from x to the box (0 inside).
-    const double dx = std::max({nd.lo.x - x.x, 0.0, x.x - nd.hi.x});
-    const double dy = std::max({nd.lo.y - x.y, 0.0, x.y - nd.hi.y});
-    const double dz = std::max({nd.lo.z - x.z, 0.0, x.z - nd.hi.z});
-    const double d_box2 = dx * dx + dy * dy + dz * dz;
+    const double d_box2 = distance2(nd, x);
     if (d_box2 > r_max * r_max) continue;
     if (nd.leaf) {
       for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
@@ -226,6 +222,14 @@ Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, doubl
   return sum;
 }
 
+// Squared distance from x to a node's box (0 inside).
+double PointCloud::distance2(const Node& nd, const Vec3& x) {
+  const double dx = std::max({nd.lo.x - x.x, 0.0, x.x - nd.hi.x});
+  const double dy = std::max({nd.lo.y - x.y, 0.0, x.y - nd.hi.y});
+  const double dz = std::max({nd.lo.z - x.z, 0.0, x.z - nd.hi.z});
+  return dx * dx + dy * dy + dz * dz;
+}
+
 template <class F>
 void PointCloud::for_each_within(const Vec3& x, double h, F f) const {
   if (node_.empty()) return;
@@ -235,10 +239,7 @@ void PointCloud::for_each_within(const Vec3& x, double h, F f) const {
   stack[top++] = 0;
   while (top > 0) {
     const Node& nd = node_[stack[--top]];
-    const double dx = std::max({nd.lo.x - x.x, 0.0, x.x - nd.hi.x});
-    const double dy = std::max({nd.lo.y - x.y, 0.0, x.y - nd.hi.y});
-    const double dz = std::max({nd.lo.z - x.z, 0.0, x.z - nd.hi.z});
-    if (dx * dx + dy * dy + dz * dz >= h2) continue;
+    if (distance2(nd, x) >= h2) continue;
     if (!nd.leaf) {
       for (std::uint32_t c = nd.first; c < nd.first + nd.count; ++c) stack[top++] = c;
       continue;

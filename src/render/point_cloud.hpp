@@ -104,6 +104,7 @@ class PointCloud {
     bool leaf = true;
   };
   void build(std::uint32_t slot, std::uint32_t begin, std::uint32_t end, int depth);
+  static double distance2(const Node& nd, const Vec3& x);
   // f(index, squared distance) for every point within radius h of x.
   template <class F>
   void for_each_within(const Vec3& x, double h, F f) const;
