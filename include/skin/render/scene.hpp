@@ -50,8 +50,8 @@ struct RenderStats {
   // spread: sqrt(mean over skin pixels and channels of the variance of the pixel's mean) / the
   // mean over skin pixels and channels (NaN when fewer than 2 samples per pixel or no skin).
   double estimated_error = 0;
-  // Subsurface from points: the cloud's size and the CPU-independent wall time of building it
-  // (distribution, irradiance, octree), included in `seconds`.
+  // Subsurface from points: the cloud's size and the wall time of building it (distribution,
+  // irradiance, octree, exitance cache), included in `seconds` and in a --time-budget.
   std::size_t points = 0;
   double point_seconds = 0;
   double samples_per_second() const { return seconds > 0 ? static_cast<double>(camera_samples) / seconds : 0; }
