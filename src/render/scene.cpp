@@ -305,13 +305,23 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
   }
   if (r.has("render")) {
     const Reader q(r.raw("render"), file, "render");
-    q.allow({"spp", "max_depth", "exposure", "spectral"});
+    q.allow({"spp", "max_depth", "exposure", "spectral", "subsurface", "point_spacing",
+             "point_solid_angle"});
     s.spp = q.integer("spp", s.spp);
     s.spectral = q.boolean("spectral", false);
     s.max_depth = q.integer("max_depth", s.max_depth);
     s.exposure = q.number("exposure", 0.0);
     if (s.spp < 1) q.fail("'spp' must be >= 1");
     if (s.max_depth < 0 || s.max_depth > 1000) q.fail("'max_depth' must be in [0, 1000]");
+    if (q.has("subsurface")) {
+      const std::string v = q.string("subsurface");
+      if (v != "probes" && v != "points") q.fail("'subsurface' = '" + v + "' is not allowed: probes or points");
+      s.subsurface_points = v == "points";
+    }
+    s.point_spacing = q.number("point_spacing", s.point_spacing);
+    s.point_solid_angle = q.number("point_solid_angle", s.point_solid_angle);
+    if (!(s.point_spacing > 0)) q.fail("'point_spacing' = " + format_number(s.point_spacing) + " is out of range: must be > 0 mm");
+    if (!(s.point_solid_angle >= 0)) q.fail("'point_solid_angle' = " + format_number(s.point_solid_angle) + " is out of range: must be >= 0 sr");
   }
   std::map<std::string, std::size_t> mat_index;
   {
@@ -427,7 +437,11 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
 std::ostream& operator<<(std::ostream& os, const RenderSettings& s) {
   return os << "RenderSettings{spp=" << s.spp << ", seed=" << s.seed << ", threads=" << s.threads
             << ", max_depth=" << s.max_depth << ", time_budget=" << s.time_budget << " s, " << s.width << "x"
-            << s.height << '}';
+            << s.height << ", subsurface="
+            << (s.subsurface == RenderSettings::Subsurface::points   ? "points"
+                : s.subsurface == RenderSettings::Subsurface::probes ? "probes"
+                                                                     : "scene")
+            << ", point_spacing=" << s.point_spacing << " mm, point_solid_angle=" << s.point_solid_angle << '}';
 }
 
 std::ostream& operator<<(std::ostream& os, const RenderStats& s) {

@@ -99,6 +99,11 @@ struct SceneData {
   std::vector<Light> lights;
   Environment environment;
   int spp = 16, max_depth = 5;
+  // The subsurface term (RenderSettings::subsurface): probes, or the point cloud with its spacing
+  // [mm] and tree threshold [sr] (the scene's `render` keys subsurface, point_spacing,
+  // point_solid_angle).
+  bool subsurface_points = false;
+  double point_spacing = 0.5, point_solid_angle = 0.05;
   double exposure = 0.0;  // stops, applied to PNG output
   bool spectral = false;  // spectral rendering (the scene key render.spectral, --spectral)
 };

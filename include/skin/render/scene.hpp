@@ -27,6 +27,14 @@ struct RenderSettings {
   // its estimated standard error is at most target_error x the mean of the skin pixels, and the
   // render once every pixel has stopped (or at spp, then the most a pixel takes; 0 = 65536).
   double target_error = 0;
+  // The subsurface term: probe rays from each exit point (docs/renderer.md), or a point cloud
+  // over the translucent meshes with the irradiance entering at each point, summed through an
+  // octree (Jensen & Buhler 2002). `scene`: the scene's `subsurface` key (default probes).
+  enum class Subsurface { scene, probes, points };
+  Subsurface subsurface = Subsurface::scene;
+  double point_spacing = 0;       // [mm] sqrt(area per point) of the cloud; 0 = the scene's
+  double point_solid_angle = -1;  // [sr] largest A_node / d^2 a tree node stands in for its
+                                  // points at; < 0 = the scene's (0 = every point summed)
 };
 
 struct RenderStats {
@@ -42,6 +50,10 @@ struct RenderStats {
   // spread: sqrt(mean over skin pixels and channels of the variance of the pixel's mean) / the
   // mean over skin pixels and channels (NaN when fewer than 2 samples per pixel or no skin).
   double estimated_error = 0;
+  // Subsurface from points: the cloud's size and the wall time of building it (distribution,
+  // irradiance, octree, exitance cache), included in `seconds` and in a --time-budget.
+  std::size_t points = 0;
+  double point_seconds = 0;
   double samples_per_second() const { return seconds > 0 ? static_cast<double>(camera_samples) / seconds : 0; }
 };
 
