@@ -25,6 +25,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "skin/transport/top_layer_table.hpp"
 #include "skin/physics/layer.hpp"
@@ -78,6 +79,19 @@ class Cache {
 Totals adding_doubling(const LayerStack& stack, const Options& options, const Cache& cache);
 // With a cache of its own (the same numbers; each call fills the table nodes it needs).
 Totals adding_doubling(const LayerStack& stack, const Options& options = {});
+
+// Radiative transfer in the spatial-frequency domain (docs/accurate-solver.md, sec. 5): R(k), the
+// 2D Fourier transform of the radial profile R(r) of the flux that leaves through the top surface
+// (per power that entered, as R_d), for a pencil beam at normal incidence, at each k [rad/mm]
+// (>= 0). The same streams, delta-M phase function, layers and interfaces as adding_doubling();
+// the azimuthal dependence of the radiance is expanded in cos(a phi), a = 0..azimuthal_orders-1.
+// R(0) is adding_doubling()'s R_d computed without its tables (they agree to ~1e-6).
+struct FrequencyOptions {
+  Options totals;            // quadrature points (as for the totals)
+  int azimuthal_orders = 8;  // allowed: [1, 64]
+};
+std::vector<double> frequency_response(const LayerStack& stack, const std::vector<double>& k,
+                                       const FrequencyOptions& options = {});
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
 // the profile integrates to it exactly. Two shapes (docs/accurate-solver.md, sec. 3):
