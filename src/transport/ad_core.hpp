@@ -78,6 +78,20 @@ Vec under_surface(const LayerStack& stack, const Streams& st, int blocks, const 
 // Transmission of the top surface per stream (flux that escapes upwards).
 Vec escape_weights(const Streams& st, const LayerStack& stack);
 
+// Azimuthal orders of the frequency-domain solver at frequency k (options, or automatic:
+// 3 + ceil(4 sqrt(kappa)), kappa = k / scaled_extinction of the layer of least
+// extinction, at most kMaxAutomaticOrders; docs/accurate-solver.md, sec. 5).
+// scaled_extinction: sigma_a + sigma_s (1 - g^16), close to the delta-M scaled extinction of the
+// default quadrature (it sets only how many orders and nodes are used).
+double scaled_extinction(const Layer& l);
+inline constexpr int kMaxAutomaticOrders = 8;
+int azimuthal_orders(const LayerStack& stack, double k, const FrequencyOptions& options);
+
+// Single scattering in the top layer that leaves directly, as the frequency-domain solver
+// discretises it (sfd.cpp), at each k [rad/mm].
+std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,
+                                        const FrequencyOptions& options);
+
 // adding_doubling() with the choice of how layers are computed (tables or direct doubling).
 Totals solve(const LayerStack& stack, const Options& options, bool tabulate, const Cache& cache);
 

@@ -122,11 +122,37 @@ class Accurate final : public Model {
   mutable std::vector<std::pair<double, accurate::FresnelMoments>> moments_;
 };
 
+// Adding-doubling totals, profiles by radiative transfer in the spatial-frequency domain
+// (accurate::FrequencyStack): no tables, any stack.
+class Frequency final : public Model {
+ public:
+  std::string_view name() const override { return "sfd"; }
+  std::string_view description() const override {
+    return "adding-doubling radiative transfer, profiles in the spatial-frequency domain";
+  }
+  Totals totals(const LayerStack& stack) const override {
+    return accurate::adding_doubling(stack, {}, cache_);
+  }
+  std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
+    return std::make_unique<accurate::FrequencyStack>(stack, accurate::FrequencyProfileOptions{},
+                                                      cache_);
+  }
+  Validity validity(const LayerStack& stack) const override {
+    stack.validate();
+    return {};
+  }
+
+ private:
+  accurate::Cache cache_;
+};
+
 // The models, the default first.
-const std::array<const Model*, 2>& registry() {
+const std::array<const Model*, 3>& registry() {
   static const Accurate accurate_model;
   static const Multipole multipole_model;
-  static const std::array<const Model*, 2> models = {&accurate_model, &multipole_model};
+  static const Frequency frequency_model;
+  static const std::array<const Model*, 3> models = {&accurate_model, &multipole_model,
+                                                     &frequency_model};
   return models;
 }
 

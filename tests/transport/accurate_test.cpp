@@ -482,6 +482,44 @@ TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
     EXPECT_NEAR(R[i], closed, 5e-4 * closed) << "kappa = " << kappa[i];
   }
   EXPECT_THROW(skin::accurate::frequency_response(s, {-1.0}, o), skin::InputError);
-  o.azimuthal_orders = 0;
+  o.azimuthal_orders = -1;
   EXPECT_THROW(skin::accurate::frequency_response(s, {1.0}, o), skin::InputError);
+}
+
+// The exact single scattering of the top layer in space integrates to its closed-form total
+// (2 pi int R_1(r) r dr, Simpson on a log grid from 1e-7 to 200 mm): the two formulas of
+// FrequencyStack agree (Fresnel exit above the critical angle, a finite and a semi-infinite
+// top, g = 0 and 0.9).
+TEST(FrequencyStack, SingleScatteringInSpaceIntegratesToItsTotal) {
+  for (const LayerStack& s : {slab(0.1, 1, 0.0, skin::kInfinity, 1.0), slab(0.5, 4, 0.9, 0.1, 1.4)}) {
+    skin::accurate::FrequencyProfileOptions o;
+    o.k_hi = 1;  // few nodes: only the single scattering is used here
+    const skin::accurate::FrequencyStack fs(s, o);
+    const int n = 20000;
+    const double a = std::log(1e-7), b = std::log(200.0), h = (b - a) / n;
+    double sum = 0;
+    for (int i = 0; i <= n; ++i) {
+      const double r = std::exp(a + h * i);
+      const double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+      sum += w * fs.single_scattering(r) * r * r;  // dr = r du
+    }
+    const double integral = 2 * std::numbers::pi * sum * h / 3;
+    EXPECT_NEAR(integral, fs.single_scattering_total(), 2e-4 * fs.single_scattering_total()) << s;
+  }
+}
+
+// The profile of the frequency-domain response integrates to the adding-doubling R_d (R(k = 0)
+// is scaled to it; the brute-force integral checks the singular part and the transform too),
+// for a slab in air with an index step below and a dark-over-bright pair.
+TEST(FrequencyStack, ProfileIntegratesToTheAddingDoublingTotal) {
+  LayerStack dark;
+  dark.layers = {Layer{3.0, 4, 0.1, 1.4, 0.9}, Layer{0.05, 2, skin::kInfinity, 1.4, 0.9}};
+  LayerStack glass = slab(0.2, 3, 0.8, 0.4, 1.33, 1.0);
+  glass.eta_below = 1.5;
+  for (const LayerStack& s : {dark, glass}) {
+    const skin::accurate::FrequencyStack fs(s);
+    const double R_d = adding_doubling(s).R_d;
+    EXPECT_EQ(fs.total(), R_d);
+    EXPECT_NEAR(skin::test::integrated_profile(fs), R_d, 0.005 * R_d) << s;
+  }
 }

@@ -88,10 +88,51 @@ Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 // R(0) is adding_doubling()'s R_d computed without its tables (they agree to ~1e-6).
 struct FrequencyOptions {
   Options totals;            // quadrature points (as for the totals)
-  int azimuthal_orders = 8;  // allowed: [1, 64]
+  // Orders at k > 0: 0 = automatic (more at higher k; docs/accurate-solver.md, sec. 5), else
+  // [1, 64].
+  int azimuthal_orders = 0;
 };
 std::vector<double> frequency_response(const LayerStack& stack, const std::vector<double>& k,
                                        const FrequencyOptions& options = {});
+
+// The radial response of any stack from frequency_response() (docs/accurate-solver.md, sec. 5):
+// R(k) is computed at nodes k_j = k0 sinh(j du) up to k_hi (a multiple of the largest delta-M
+// scaled extinction of the stack's layers). The singular part is the light scattered once in the
+// top layer, exactly (Henyey-Greenstein phase function, Fresnel exit), in space (its 1/r near
+// the beam; evaluated at r >= 1e-6 / sigma_t of the top layer); the remainder is R(k) minus the
+// solver's own single scattering (delta-M, discrete), interpolated between the nodes (4-point
+// Lagrange in u = asinh(k / k0)), zero beyond k_hi, and scaled so that the profile integrates
+// to adding_doubling()'s R_d.
+struct FrequencyProfileOptions {
+  FrequencyOptions transport;
+  double k_hi = 6;   // top node, in units of the largest delta-M scaled extinction
+  double du = 0.25;  // node spacing in u
+  double k0 = 0.3;   // [rad/mm]
+};
+class FrequencyStack final : public RadialResponse {
+ public:
+  explicit FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options = {});
+  FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options,
+                 const Cache& cache);
+  double total() const override { return totals_.R_d; }
+  double singular(double r) const override;
+  double residual_k(double k) const override;
+  const Totals& totals() const { return totals_; }
+  // The nodes and the solver's R(k) there (its R(0) is the untabulated total).
+  const std::vector<double>& k_nodes() const { return k_; }
+  const std::vector<double>& R_nodes() const { return R_; }
+  // Single scattering in the top layer, exactly: in space [1/mm^2], and its total.
+  double single_scattering(double r) const;
+  double single_scattering_total() const;
+
+ private:
+  Totals totals_;
+  double k0_ = 0.3, du_ = 0.25;
+  std::vector<double> k_, R_, G_;  // nodes, R(k_j), remainder at k_j
+  double sigma_s_ = 0, sigma_t_ = 1, g_ = 0, d_ = 0, n_ = 1, n_above_ = 1, mu_c_ = 0;
+  double r_floor_ = 0;
+  double A_ = 0, b_ = 1;  // the rest's 1 / k^2 tail: A / (k^2 + b^2)
+};
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
 // the profile integrates to it exactly. Two shapes (docs/accurate-solver.md, sec. 3):
