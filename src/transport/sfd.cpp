@@ -151,6 +151,32 @@ std::vector<double> single_scattering_k(const LayerStack& stack, const std::vect
   return out;
 }
 
+// Light that comes back along the beam without scattering (in the delta-M picture: the forward
+// peak counts as unscattered): the normal stream 0 never couples to other orders or streams;
+// it is attenuated by exp(-sigma_t d) per layer and reflected by the Fresnel reflectance at
+// normal incidence of every interface. 1D adding from the bottom up.
+double ballistic_return(const LayerStack& stack, const FrequencyOptions& options) {
+  const int points = quadrature_points(stack, options.totals);
+  const Streams st = make_streams(stack, points);
+  const auto& ls = stack.layers;
+  auto fresnel0 = [](double a, double b) { return fresnel_dielectric(1.0, a, b); };
+  double R = stack.semi_infinite() ? 0.0 : fresnel0(ls.back().eta, stack.eta_below);
+  for (std::size_t i = ls.size(); i-- > 0;) {
+    const Layer& l = ls[i];
+    if (!l.semi_infinite()) {
+      const double f = angular(st, l.eta, l.g, 1).f;
+      const double e = std::exp(-(l.sigma_a + l.sigma_s() * (1 - f)) * l.thickness);
+      R *= e * e;
+    }
+    if (i > 0) {
+      const double r = fresnel0(ls[i - 1].eta, l.eta);
+      R = r + (1 - r) * (1 - r) * R / (1 - r * R);
+    }
+  }
+  const double r_top = fresnel0(stack.eta_above, ls.front().eta);
+  return (1 - r_top) * R / (1 - r_top * R);
+}
+
 }  // namespace detail
 
 double detail::scaled_extinction(const Layer& l) {
@@ -261,9 +287,13 @@ FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOp
       du_(options.du) {
   // The largest delta-M scaled extinction of the stack (delta-M with the totals' number of
   // moments is close to sigma_s (1 - g^16) + sigma_a; this sets only the extent of the nodes).
-  double sigma_t = 0;
-  for (const auto& l : stack.layers) sigma_t = std::max(sigma_t, detail::scaled_extinction(l));
-  const double k_hi = options.k_hi * sigma_t;
+  // The scale of the finest structure: a mean free path, or the thinnest layer.
+  double sigma_t = 0, finest = 0;
+  for (const auto& l : stack.layers) {
+    sigma_t = std::max(sigma_t, detail::scaled_extinction(l));
+    finest = std::max({finest, detail::scaled_extinction(l), 1 / l.thickness});
+  }
+  const double k_hi = options.k_hi * finest;
   const auto n = static_cast<std::size_t>(std::ceil(std::asinh(k_hi / k0_) / du_)) + 1;
   k_.resize(n);
   for (std::size_t j = 0; j < n; ++j) k_[j] = k0_ * std::sinh(du_ * static_cast<double>(j));
@@ -281,21 +311,28 @@ FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOp
   mu_c_ = n_above_ < n_ ? std::sqrt(1 - (n_above_ / n_) * (n_above_ / n_)) : 0.0;
   r_floor_ = 1e-6 / sigma_t_;
   const auto R1 = detail::single_scattering_k(stack, k_, options.transport);
-  const double rest0 = R_[0] - R1[0];
-  const double scale = rest0 != 0 ? (totals_.R_d - single_scattering_total()) / rest0 : 0.0;
+  // Light back along the beam unscattered (a slab's bottom reflects the beam): a delta at r = 0
+  // in the solver, the same at every k; shown as a Gaussian of width w = 6 / k_hi (below the
+  // resolution of the nodes; exp(-k^2 w^2 / 4) has fallen to 1e-4 at k_hi).
+  B_ = detail::ballistic_return(stack, options.transport);
+  w_ = 6 / k_.back();
+  const double rest0 = R_[0] - R1[0] - B_;
+  const double scale = rest0 != 0 ? (totals_.R_d - single_scattering_total() - B_) / rest0 : 0.0;
   // The rest falls like 1 / k^2 at high k (double scattering): its tail beyond k_hi is the pair
-  // A / (k^2 + b^2) <-> A K0(b r) / (2 pi) with A matching the rest at k_hi (b: the top layer's
-  // extinction), so that the numerical remainder ends at zero there instead of ringing.
-  b_ = sigma_t_;
-  A_ = scale * (R_.back() - R1.back()) * (k_.back() * k_.back() + b_ * b_);
+  // A / (k^2 + b^2) <-> A K0(b r) / (2 pi) with A matching the rest at k_hi and b = k_hi / 2
+  // (flat below k_hi, so that it does not move the rest at low k), so that the numerical
+  // remainder ends at zero there instead of ringing.
+  b_ = 0.5 * k_.back();
+  A_ = scale * (R_.back() - R1.back() - B_) * (k_.back() * k_.back() + b_ * b_);
   G_.resize(n);
   for (std::size_t j = 0; j < n; ++j)
-    G_[j] = scale * (R_[j] - R1[j]) - A_ / (k_[j] * k_[j] + b_ * b_);
+    G_[j] = scale * (R_[j] - R1[j] - B_) - A_ / (k_[j] * k_[j] + b_ * b_);
 }
 
 double FrequencyStack::singular(double r) const {
   const double rr = std::max(r, r_floor_);
-  return single_scattering(r) + A_ * std::cyl_bessel_k(0.0, b_ * rr) / (2 * std::numbers::pi);
+  return single_scattering(r) + A_ * std::cyl_bessel_k(0.0, b_ * rr) / (2 * std::numbers::pi) +
+         B_ * std::exp(-(r * r) / (w_ * w_)) / (std::numbers::pi * w_ * w_);
 }
 
 double FrequencyStack::residual_k(double k) const {

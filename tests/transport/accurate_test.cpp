@@ -314,47 +314,19 @@ TEST(Input, TypesPrintThemselves) {
 // g = 0.7; the transport top layer is tested in top_layer_table_test.cpp).
 // The profile integrated by brute force is the adding-doubling R_d of the stack (computed here
 // on its own, not read from the AccurateStack), within the 0.5 % of the integration grid.
-TEST(AccurateStack, ProfileIntegratesToTheAddingDoublingTotal) {
-  for (const char* name : {"caucasian", "african"}) {
-    auto params = skin::find_preset(name).parameters;
-    params.g = 0.7;
-    const auto st = skin::skin_layer_stack(params, 550);
-    const skin::accurate::AccurateStack acc(st);
-    ASSERT_FALSE(acc.transport_top());
-    const double R_d = adding_doubling(st).R_d;
-    EXPECT_NEAR(skin::test::integrated_profile(acc), R_d, 0.005 * R_d) << name << " " << acc;
-    // R(k = 0) of the corrected response is the total, so the profile integrates to the
-    // adding-doubling R_d exactly (no integration error at all).
-    const double R0 = acc.c_top() * acc.diffusion_top_R_k(0) +
-                      acc.c_deep() * (acc.diffusion_R_k(0) - acc.diffusion_top_R_k(0));
-    EXPECT_NEAR(R0, acc.total(), 1e-12);
-    EXPECT_GT(acc.c_top(), 0);
-    EXPECT_GT(acc.c_deep(), 0);
-  }
-}
-
-// The partial-current dipole (fluence and flux) in space against its transform: for one
-// semi-infinite layer of the diffusion shape (g = 0.7: outside the transport tables) the whole
-// response is the singular part, so its brute-force integral 2 pi int R(r) r dr (Simpson on a
-// log grid from 1e-7 to 200 mm) must give the total.
-TEST(AccurateStack, SpaceDomainDipoleIntegratesToTheTotal) {
-  for (double n : {1.0, 1.4}) {
-    LayerStack s;
-    s.layers = {Layer{0.05, 1.2, skin::kInfinity, n, 0.7}};
-    const skin::accurate::AccurateStack acc(s);
-    ASSERT_FALSE(acc.transport_top());
-    EXPECT_NEAR(acc.residual_k(0.0), 0.0, 1e-15);
-    const int m = 20000;  // even
-    const double a = std::log(1e-7), b = std::log(200.0), h = (b - a) / m;
-    double sum = 0;
-    for (int i = 0; i <= m; ++i) {
-      const double r = std::exp(a + i * h);
-      const double f = acc.singular(r) * r * r;  // r dr = r^2 d(ln r)
-      sum += (i == 0 || i == m ? 1 : (i % 2 ? 4 : 2)) * f;
-    }
-    const double integral = 2 * std::numbers::pi * sum * h / 3;
-    EXPECT_NEAR(integral / acc.total(), 1.0, 1e-6) << "n=" << n << " " << acc;
-  }
+// Outside the transport tables (skin with g = 0.7) the profile is the frequency-domain one,
+// and it integrates to the adding-doubling total.
+TEST(AccurateStack, OutsideTheTablesTheProfileIsTheFrequencyDomainOne) {
+  auto params = skin::find_preset("caucasian").parameters;
+  params.g = 0.7;
+  const auto st = skin::skin_layer_stack(params, 550);
+  const skin::accurate::AccurateStack acc(st);
+  ASSERT_FALSE(acc.transport_top());
+  const skin::accurate::FrequencyStack fs(st);
+  for (double k : {0.0, 0.7, 30.0}) EXPECT_EQ(acc.residual_k(k), fs.residual_k(k)) << k;
+  for (double r : {0.0, 0.01, 1.0}) EXPECT_EQ(acc.singular(r), fs.singular(r)) << r;
+  EXPECT_EQ(acc.total(), adding_doubling(st).R_d);
+  EXPECT_NEAR(skin::test::integrated_profile(acc), acc.total(), 0.005 * acc.total()) << acc;
 }
 
 // The profile solver inverts the response into positive, decreasing profiles for the presets
@@ -376,8 +348,8 @@ TEST(AccurateStack, ProfilesOfThePresetsArePositiveAndDecreasing) {
 }
 
 // A top layer far thinner than a transport mean free path (below the transport tables' range,
-// with diffusion's source z_r below it): the diffusion shape turns negative there, and the
-// response falls back to a positive one that still integrates to the adding-doubling total.
+// where diffusion's source z_r lay below it and its shape turned negative): the frequency-domain
+// profile is positive (down to 2e-4 of its value at 1 um: the transform's ringing).
 TEST(AccurateStack, ThinTopLayersStayPositive) {
   LayerStack one;
   one.layers = {Layer{0.3, 0.2, 0.05, 1.4, 0.9}};  // 0.025 mean free paths, air below
@@ -388,27 +360,10 @@ TEST(AccurateStack, ThinTopLayersStayPositive) {
   for (const auto& s : {one, two}) {
     const skin::accurate::AccurateStack acc(s);
     EXPECT_FALSE(acc.transport_top()) << s;
-    EXPECT_GE(acc.c_top(), 0) << acc;
-    EXPECT_GE(acc.c_deep(), 0) << acc;
     const auto R = solver.profile(acc);
-    for (double v : R) EXPECT_GE(v, -1e-8 * R[0]) << acc;
+    for (double v : R) EXPECT_GE(v, -2e-4 * R[0]) << acc;
     EXPECT_GT(acc.singular(1e-3), 0) << acc;
   }
-}
-
-// One layer under the diffusion shape (g = 0.7): the top layer is the whole stack, so the
-// uncorrected response and its top part coincide at every k (the two correction factors then
-// multiply the same function), and the profile integrates to the adding-doubling R_d.
-TEST(AccurateStack, OneLayerIsTheTopLayerAndIntegratesToTheTotal) {
-  LayerStack s;
-  s.layers = {Layer{0.02, 1.5, 2.0, 1.4, 0.7}};
-  const skin::accurate::AccurateStack acc(s);
-  ASSERT_FALSE(acc.transport_top());
-  for (double k : {0.0, 0.5, 3.0, 20.0})
-    EXPECT_NEAR(acc.diffusion_top_R_k(k), acc.diffusion_R_k(k), 1e-12 * acc.diffusion_R_k(0)) << k;
-  EXPECT_GT(acc.c_top(), 0);
-  const double R_d = adding_doubling(s).R_d;
-  EXPECT_NEAR(skin::test::integrated_profile(acc), R_d, 0.005 * R_d) << acc;
 }
 
 }  // namespace
