@@ -16,6 +16,7 @@
 // layer) added to A. Only order 0 carries flux out of the surface; at k = 0 the orders decouple
 // and order 0 is the totals' problem.
 #include <Eigen/Dense>
+#include <boost/math/special_functions/bessel.hpp>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -331,7 +332,7 @@ FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOp
 
 double FrequencyStack::singular(double r) const {
   const double rr = std::max(r, r_floor_);
-  return single_scattering(r) + A_ * std::cyl_bessel_k(0.0, b_ * rr) / (2 * std::numbers::pi) +
+  return single_scattering(r) + A_ * boost::math::cyl_bessel_k(0, b_ * rr) / (2 * std::numbers::pi) +
          B_ * std::exp(-(r * r) / (w_ * w_)) / (std::numbers::pi * w_ * w_);
 }
 
