@@ -120,3 +120,33 @@ static void BM_MultipoleRgbProfile(benchmark::State& state) {
   state.counters["nodes"] = static_cast<double>(solver.nodes_used());
 }
 BENCHMARK(BM_MultipoleRgbProfile)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// Radiative transfer in the spatial-frequency domain (accurate::FrequencyStack, the model "sfd";
+// the accurate model's profile outside its tables): one stack (a preset at 550 nm), and an RGB
+// profile of a preset from 7 wavelengths (400-700 nm every 50 nm; the 151 wavelengths
+// cost ~21x this, nothing is cached between wavelengths). Iterations(1): each takes seconds.
+static void BM_FrequencyStack(benchmark::State& state) {
+  const auto stack = skin_layer_stack(params(static_cast<int>(state.range(0))), 550);
+  for (auto _ : state) benchmark::DoNotOptimize(accurate::FrequencyStack(stack).total());
+  state.SetLabel(label(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_FrequencyStack)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2);
+
+static void BM_FrequencyRgbProfile(benchmark::State& state) {
+  const WavelengthGrid grid(400, 700, 50);
+  const auto& p = params(static_cast<int>(state.range(0)));
+  ProfileSolver solver(RadialGrid::logarithmic(1e-3, 16.0, 512));
+  const auto weights = color::Colorimetry(grid).srgb_weights();
+  const transport::Model& model = transport::find_model("sfd");
+  for (auto _ : state) {
+    std::vector<std::unique_ptr<RadialResponse>> stacks;
+    std::vector<const RadialResponse*> ptrs;
+    for (std::size_t i = 0; i < grid.size(); ++i) {
+      stacks.push_back(model.response(skin_layer_stack(p, grid[i])));
+      ptrs.push_back(stacks.back().get());
+    }
+    benchmark::DoNotOptimize(solver.rgb(ptrs, weights));
+  }
+  state.SetLabel(label(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_FrequencyRgbProfile)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1);

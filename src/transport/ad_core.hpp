@@ -2,6 +2,7 @@
 // Internals of the adding-doubling solver, exposed to the tests of this part only (not installed,
 // not a public header: it uses Eigen).
 #include <Eigen/Dense>
+#include <functional>
 #include <vector>
 
 #include "skin/transport/accurate.hpp"
@@ -28,6 +29,24 @@ Streams make_streams(const LayerStack& stack, int points);
 // Number of streams that propagate in a medium of index n (they are the leading ones).
 int propagating(const Streams& st, double n);
 
+using Mat = Eigen::MatrixXd;
+using Vec = Eigen::VectorXd;
+
+// Quadrature points per panel for a stack (Options, or automatic); validates both.
+int quadrature_points(const LayerStack& stack, const Options& options);
+
+// Angular data of one medium (index n, anisotropy g) on a stream set: cosines mu, sines s (of
+// the angle from the normal, in that medium), c = a / (4 mu), the delta-M forward fraction f and
+// the redistribution matrices of azimuthal orders 0..modes-1: Pplus[a](i, j) = p_a(mu_i, mu_j),
+// Pminus[a](i, j) = p_a(-mu_i, mu_j) (order 0 renormalised to conserve energy).
+struct Angular {
+  int m = 0;
+  Vec mu, s, c;
+  std::vector<Mat> Pplus, Pminus;
+  double f = 0;
+};
+Angular angular(const Streams& st, double n, double g, int modes);
+
 struct LayerRT {
   Eigen::MatrixXd R, T;  // m x m, m = propagating(st, layer.eta)
 };
@@ -39,6 +58,39 @@ struct Boundary {
   Eigen::VectorXd r, t;  // diagonal reflection and transmission per stream (flux)
 };
 Boundary boundary(const Streams& st, double n_a, double n_b);
+
+// The diamond-initialised thin layer for the layer equations (A, B), and one doubling.
+LayerRT diamond(const Mat& A, const Mat& B, double dtau);
+void double_once(LayerRT& rt);
+
+// Everything below a plane, seen from above: R (and T unless semi-infinite).
+struct Below {
+  Mat R, T;
+};
+// Puts a symmetric element (R_e, T_e) on top of `b` (adding); T only if need_T.
+void add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T);
+// The whole stack below its top surface, from the bottom up: layers (layer(i): the i-th layer's
+// R and T on its propagating streams, `blocks` blocks of them) and the Fresnel interfaces.
+Below add_stack(const LayerStack& stack, const Streams& st, int blocks,
+                const std::function<LayerRT(std::size_t)>& layer);
+// The downward flux just under the top surface for the unit beam in stream 0 of block 0.
+Vec under_surface(const LayerStack& stack, const Streams& st, int blocks, const Below& below);
+// Transmission of the top surface per stream (flux that escapes upwards).
+Vec escape_weights(const Streams& st, const LayerStack& stack);
+
+// Azimuthal orders of the frequency-domain solver at frequency k (options, or automatic:
+// 3 + ceil(4 sqrt(kappa)), kappa = k / scaled_extinction of the layer of least
+// extinction, at most kMaxAutomaticOrders; docs/accurate-solver.md, sec. 5).
+// scaled_extinction: sigma_a + sigma_s (1 - g^16), close to the delta-M scaled extinction of the
+// default quadrature (it sets only how many orders and nodes are used).
+double scaled_extinction(const Layer& l);
+inline constexpr int kMaxAutomaticOrders = 8;
+int azimuthal_orders(const LayerStack& stack, double k, const FrequencyOptions& options);
+
+// Single scattering in the top layer that leaves directly, as the frequency-domain solver
+// discretises it (sfd.cpp), at each k [rad/mm].
+std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,
+                                        const FrequencyOptions& options);
 
 // adding_doubling() with the choice of how layers are computed (tables or direct doubling).
 Totals solve(const LayerStack& stack, const Options& options, bool tabulate, const Cache& cache);

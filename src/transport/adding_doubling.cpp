@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <array>
 #include <deque>
+#include <functional>
 #include <cmath>
 #include <map>
 #include <memory>
@@ -142,15 +143,9 @@ struct SlabTable {
   std::unique_ptr<std::once_flag[]> filled = std::make_unique<std::once_flag[]>((kX + 1) * (kTau + 1));
 };
 
-// Angular data of one medium (index n, anisotropy g) on a stream set: cosines, weights and the
-// delta-M redistribution matrices, and the layer tables on them. Kept in a Cache (a spectrum
-// repeats the same geometry).
-struct Geometry {
-  int m = 0;
-  Vec mu;       // cosines of the propagating streams
-  Vec c;        // a / (4 mu)
-  Mat Pplus, Pminus;  // p0(mu_i, mu_j), p0(-mu_i, mu_j), renormalised
-  double f = 0;       // delta-M forward fraction g^(2m)
+// Angular data of one medium with the layer tables on it. Kept in a Cache (a spectrum repeats
+// the same geometry).
+struct Geometry : Angular {
   mutable SemiInfiniteTable table;
   mutable SlabTable slab_table;
 };
@@ -162,16 +157,20 @@ struct GeometryKey {
   bool operator==(const GeometryKey&) const = default;
 };
 
-Geometry build_geometry(const Streams& st, double n, double g) {
-  Geometry geo;
+}  // namespace
+
+Angular angular(const Streams& st, double n, double g, int modes) {
+  Angular geo;
   const int m = propagating(st, n);
   geo.m = m;
   geo.mu.resize(m);
   geo.c.resize(m);
+  geo.s.resize(m);
   const double scale = (st.n_ref / n) * (st.n_ref / n);
   for (int i = 0; i < m; ++i) {
     const auto si = static_cast<std::size_t>(i);
     geo.mu(i) = std::sqrt(std::max(0.0, 1.0 - st.s2[si] / (n * n)));
+    geo.s(i) = std::sqrt(st.s2[si]) / n;
     geo.c(i) = scale * st.a_ref[si] / (4.0 * geo.mu(i));
   }
   // Delta-M (Wiscombe 1977): the HG moments g^l are kept for l < 2m; the forward peak beyond
@@ -184,40 +183,58 @@ Geometry build_geometry(const Streams& st, double n, double g) {
   const int L = std::max(2, std::min(2 * m, static_cast<int>(std::floor(2 * st.escape_density))));
   geo.f = std::pow(g, L);
   if (std::abs(g) < 1e-300) geo.f = 0;
-  // Legendre polynomials at the cosines: Pl(i, l).
-  Mat Pl(m, L);
-  for (int i = 0; i < m; ++i) {
-    const double x = geo.mu(i);
-    double p0 = 1, p1 = x;
-    Pl(i, 0) = 1;
-    if (L > 1) Pl(i, 1) = x;
-    for (int l = 2; l < L; ++l) {
-      const double dl = static_cast<double>(l);
-      const double p2 = ((2 * dl - 1) * x * p1 - (dl - 1) * p0) / dl;
-      Pl(i, l) = p2;
-      p0 = p1;
-      p1 = p2;
-    }
-  }
-  Vec wplus(L), wminus(L);
+  Vec chi(L);
   double gl = 1;
   for (int l = 0; l < L; ++l) {
-    const double chi = (gl - geo.f) / (1 - geo.f);
-    wplus(l) = (2 * l + 1) * chi;
-    wminus(l) = (l % 2 == 0 ? 1.0 : -1.0) * wplus(l);  // P_l(-x) = (-1)^l P_l(x)
+    chi(l) = (gl - geo.f) / (1 - geo.f);
     gl *= g;
   }
-  geo.Pplus = Pl * wplus.asDiagonal() * Pl.transpose();
-  geo.Pminus = Pl * wminus.asDiagonal() * Pl.transpose();
+  // Azimuthal order a of the redistribution (a = 0: the azimuthal average that totals need):
+  // p_a(mu, mu') = sum_{l >= a} (2l + 1) chi_l Pbar_l^a(mu) Pbar_l^a(mu'), with the normalised
+  // associated Legendre functions Pbar_l^a = sqrt((l - a)! / (l + a)!) P_l^a (addition theorem;
+  // order a of cos(a (phi - phi')) enters the radiance's order a with the same factor 1/2 as
+  // order 0). Pbar_l^a(-x) = (-1)^(l + a) Pbar_l^a(x).
+  for (int a = 0; a < modes; ++a) {
+    Mat Pl = Mat::Zero(m, L);
+    for (int i = 0; i < m; ++i) {
+      const double x = geo.mu(i), sx = std::sqrt(std::max(0.0, 1.0 - x * x));
+      double pmm = 1;  // Pbar_a^a
+      for (int k = 1; k <= a; ++k) pmm *= std::sqrt((2.0 * k - 1) / (2.0 * k)) * sx;
+      if (a >= L) break;
+      Pl(i, a) = pmm;
+      if (a + 1 < L) Pl(i, a + 1) = x * std::sqrt(2.0 * a + 1) * pmm;
+      for (int l = a + 2; l < L; ++l) {
+        const double dl = l;
+        Pl(i, l) = ((2 * dl - 1) * x * Pl(i, l - 1) -
+                    std::sqrt((dl - 1) * (dl - 1) - double(a) * a) * Pl(i, l - 2)) /
+                   std::sqrt(dl * dl - double(a) * a);
+      }
+    }
+    Vec wplus(L), wminus(L);
+    for (int l = 0; l < L; ++l) {
+      wplus(l) = l < a ? 0.0 : (2 * l + 1) * chi(l);
+      wminus(l) = ((l + a) % 2 == 0 ? 1.0 : -1.0) * wplus(l);
+    }
+    geo.Pplus.push_back(Pl * wplus.asDiagonal() * Pl.transpose());
+    geo.Pminus.push_back(Pl * wminus.asDiagonal() * Pl.transpose());
+  }
   // Renormalise each incident direction so that the quadrature conserves energy exactly
-  // (Wiscombe 1976): sum_i c_i (P+ + P-)(i, j) = 1.
+  // (Wiscombe 1976): sum_i c_i (P+ + P-)(i, j) = 1. Order 0 only (the others carry no energy).
   for (int j = 0; j < m; ++j) {
-    const double sum = geo.c.dot(geo.Pplus.col(j) + geo.Pminus.col(j));
+    const double sum = geo.c.dot(geo.Pplus[0].col(j) + geo.Pminus[0].col(j));
     if (sum > 0) {
-      geo.Pplus.col(j) /= sum;
-      geo.Pminus.col(j) /= sum;
+      geo.Pplus[0].col(j) /= sum;
+      geo.Pminus[0].col(j) /= sum;
     }
   }
+  return geo;
+}
+
+namespace {
+
+Geometry build_geometry(const Streams& st, double n, double g) {
+  Geometry geo;
+  static_cast<Angular&>(geo) = angular(st, n, g, 1);
   return geo;
 }
 
@@ -258,8 +275,6 @@ std::shared_ptr<const Geometry> geometry(const Cache& cache, const Streams& st, 
 
 }  // namespace
 
-namespace {
-
 // The diamond-initialised thin layer of optical thickness dtau (Wiscombe 1976; Prahl 1995,
 // section 3): derivatives at the layer's midplane, solved with the sum and difference of the
 // two flux directions, X = (P - C)^-1 (Q + C), Y = (P + C)^-1 (Q - C), R = (X - Y) / 2,
@@ -285,11 +300,13 @@ void double_once(LayerRT& rt) {
   rt.T = rt.T * Xs;
 }
 
+namespace {
+
 void scattering_matrices(const Geometry& geo, double omega, Mat& A, Mat& B) {
   const Vec inv_mu = geo.mu.cwiseInverse();
-  A = -omega * geo.c.asDiagonal() * geo.Pplus * inv_mu.asDiagonal();
+  A = -omega * geo.c.asDiagonal() * geo.Pplus[0] * inv_mu.asDiagonal();
   A.diagonal() += inv_mu;
-  B = omega * geo.c.asDiagonal() * geo.Pminus * inv_mu.asDiagonal();
+  B = omega * geo.c.asDiagonal() * geo.Pminus[0] * inv_mu.asDiagonal();
 }
 
 // Semi-infinite reflection by doubling until the transmitted flux is negligible: what lies deeper
@@ -443,14 +460,11 @@ void validate_options(const Options& o) {
                      " is out of range: must be 0 (automatic) or in [2, 64]");
 }
 
-// Everything below a plane, seen from above: R (and T unless semi-infinite), N x N.
-struct Below {
-  Mat R, T;
-};
+}  // namespace
 
 // Puts a symmetric element (R_e, T_e) on top of `b` (van de Hulst's adding equations):
 //   X = (I - R_e R_b)^-1 T_e,  R = R_e + T_e R_b X,  T = T_b X.
-void add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T) {
+void detail::add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T) {
   const auto N = b.R.rows();
   const Mat X = (Mat::Identity(N, N) - Re * b.R).partialPivLu().solve(Te);
   Mat R = Re + Te * b.R * X;
@@ -458,64 +472,93 @@ void add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T) {
   b.R = std::move(R);
 }
 
-}  // namespace
-
-Totals detail::solve(const LayerStack& stack, const Options& options, bool options_tabulate,
-                     const Cache& cache) {
+int detail::quadrature_points(const LayerStack& stack, const Options& options) {
   stack.validate();
   validate_options(options);
   bool index_steps = false;
   for (const auto& l : stack.layers) index_steps = index_steps || l.eta != stack.layers.front().eta;
-  const int points = options.quadrature_points != 0 ? options.quadrature_points
-                     : index_steps                  ? kIndexStepQuadraturePoints
-                                                    : kDefaultQuadraturePoints;
-  const detail::Streams st = detail::make_streams(stack, points);
-  const int N = st.N;
+  return options.quadrature_points != 0 ? options.quadrature_points
+         : index_steps                  ? kIndexStepQuadraturePoints
+                                        : kDefaultQuadraturePoints;
+}
+
+// Matrices of `blocks` blocks of the stream set (block-major: entry b * N + i is stream i of
+// block b; the azimuthal orders of the frequency-domain solver, sfd.cpp): a layer's m x m blocks
+// go to the leading streams of each block, a boundary's diagonal repeats in every block.
+namespace {
+Mat embed(const Mat& small, int N, int blocks) {
+  const auto m = small.rows() / blocks;
+  Mat big = Mat::Zero(N * blocks, N * blocks);
+  for (int a = 0; a < blocks; ++a)
+    for (int b = 0; b < blocks; ++b)
+      big.block(a * N, b * N, m, m) = small.block(a * m, b * m, m, m);
+  return big;
+}
+Vec repeat(const Vec& v, int blocks) { return v.replicate(blocks, 1); }
+}  // namespace
+
+Vec detail::escape_weights(const Streams& st, const LayerStack& stack) {
+  return boundary(st, stack.eta_above, stack.layers.front().eta).t;
+}
+
+detail::Below detail::add_stack(const LayerStack& stack, const Streams& st, int blocks,
+                                const std::function<LayerRT(std::size_t)>& layer) {
+  const int N = st.N, NB = N * blocks;
   const auto& ls = stack.layers;
   const bool semi = stack.semi_infinite();
-
-  Below below;
-  below.R = Mat::Zero(N, N);
-  below.T = Mat::Zero(N, N);
-  std::size_t i = ls.size();
-  auto embed = [N](const Mat& small) {
-    Mat big = Mat::Zero(N, N);
-    big.topLeftCorner(small.rows(), small.cols()) = small;
-    return big;
+  auto add_boundary = [&](Below& below, double n_a, double n_b, bool need_T) {
+    const auto b = boundary(st, n_a, n_b);
+    add_on_top(below, Mat(repeat(b.r, blocks).asDiagonal()),
+               Mat(repeat(b.t, blocks).asDiagonal()), need_T);
   };
+  Below below;
+  below.R = Mat::Zero(NB, NB);
+  below.T = Mat::Zero(NB, NB);
+  std::size_t i = ls.size();
   if (semi) {
     --i;
-    below.R = embed(detail::layer_rt(st, ls[i], points, options_tabulate, cache).R);
-    if (i > 0 && ls[i - 1].eta != ls[i].eta) {  // the interface above the half-space
-      const auto b = detail::boundary(st, ls[i - 1].eta, ls[i].eta);
-      add_on_top(below, Mat(b.r.asDiagonal()), Mat(b.t.asDiagonal()), false);
-    }
+    below.R = embed(layer(i).R, N, blocks);
+    if (i > 0 && ls[i - 1].eta != ls[i].eta)  // the interface above the half-space
+      add_boundary(below, ls[i - 1].eta, ls[i].eta, false);
   } else {
-    const auto b = detail::boundary(st, ls.back().eta, stack.eta_below);
-    below.R = b.r.asDiagonal();
-    below.T = b.t.asDiagonal();
+    const auto b = boundary(st, ls.back().eta, stack.eta_below);
+    below.R = repeat(b.r, blocks).asDiagonal();
+    below.T = repeat(b.t, blocks).asDiagonal();
   }
   while (i > 0) {
     --i;
-    const auto rt = detail::layer_rt(st, ls[i], points, options_tabulate, cache);
-    add_on_top(below, embed(rt.R), embed(rt.T), !semi);
-    if (i > 0 && ls[i - 1].eta != ls[i].eta) {
-      const auto b = detail::boundary(st, ls[i - 1].eta, ls[i].eta);
-      add_on_top(below, Mat(b.r.asDiagonal()), Mat(b.t.asDiagonal()), !semi);
-    }
+    const auto rt = layer(i);
+    add_on_top(below, embed(rt.R, N, blocks), embed(rt.T, N, blocks), !semi);
+    if (i > 0 && ls[i - 1].eta != ls[i].eta) add_boundary(below, ls[i - 1].eta, ls[i].eta, !semi);
   }
-  // The top surface: the beam enters stream 0 (mu = 1) with unit flux; light reflected back up
-  // is partly reflected down again by the surface (diagonal r), the rest escapes (t):
-  //   D = (I - r R_below)^-1 e_0,  R_d = t . (R_below D),  T_d = sum(T_below D).
-  const auto top = detail::boundary(st, stack.eta_above, ls.front().eta);
-  Totals out;
-  out.R_specular = fresnel_dielectric(1.0, stack.eta_above, ls.front().eta);
-  Vec e0 = Vec::Zero(N);
+  return below;
+}
+
+Vec detail::under_surface(const LayerStack& stack, const Streams& st, int blocks,
+                          const Below& below) {
+  // The beam enters stream 0 (mu = 1) of block 0 with unit flux; light reflected back up is
+  // partly reflected down again by the surface (diagonal r): D = (I - r R_below)^-1 e_0.
+  const auto top = boundary(st, stack.eta_above, stack.layers.front().eta);
+  const auto NB = below.R.rows();
+  Vec e0 = Vec::Zero(NB);
   e0(0) = 1;
-  const Mat M = Mat::Identity(N, N) - top.r.asDiagonal() * below.R;
-  const Vec D = M.partialPivLu().solve(e0);
-  out.R_d = top.t.dot(below.R * D);
-  out.T_d = semi ? 0.0 : (below.T * D).sum();
+  const Mat M = Mat::Identity(NB, NB) - repeat(top.r, blocks).asDiagonal() * below.R;
+  return M.partialPivLu().solve(e0);
+}
+
+Totals detail::solve(const LayerStack& stack, const Options& options, bool options_tabulate,
+                     const Cache& cache) {
+  const int points = quadrature_points(stack, options);
+  const Streams st = make_streams(stack, points);
+  const Below below = add_stack(stack, st, 1, [&](std::size_t i) {
+    return layer_rt(st, stack.layers[i], points, options_tabulate, cache);
+  });
+  // Light that escapes: R_d = t . (R_below D),  T_d = sum(T_below D).
+  const Vec D = under_surface(stack, st, 1, below);
+  Totals out;
+  out.R_specular = fresnel_dielectric(1.0, stack.eta_above, stack.layers.front().eta);
+  out.R_d = escape_weights(st, stack).dot(below.R * D);
+  out.T_d = stack.semi_infinite() ? 0.0 : (below.T * D).sum();
   return out;
 }
 

@@ -79,10 +79,10 @@ class Multipole final : public Model {
   }
 };
 
-// Adding-doubling totals, transport-table profiles (include/skin/transport/accurate.hpp). Its
-// caches: the solver's (accurate::Cache), and the Fresnel moments of the top surface (4000
-// Fresnel evaluations), which depend on its index alone; a spectrum asks for the same ones at
-// every wavelength. Both are shared by every caller and thread.
+// Adding-doubling totals; profiles from the transport tables of the top layer where they apply,
+// from radiative transfer in the spatial-frequency domain elsewhere
+// (include/skin/transport/accurate.hpp). Its cache (accurate::Cache) is shared by every caller
+// and thread.
 class Accurate final : public Model {
  public:
   std::string_view name() const override { return "accurate"; }
@@ -93,40 +93,48 @@ class Accurate final : public Model {
     return accurate::adding_doubling(stack, {}, cache_);
   }
   std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
-    stack.validate();  // before the index of its top layer is used
-    return std::make_unique<accurate::AccurateStack>(
-        stack, accurate::Options{}, moments(stack.layers.front().eta / stack.eta_above), cache_);
+    return std::make_unique<accurate::AccurateStack>(stack, accurate::Options{}, cache_);
   }
   Validity validity(const LayerStack& stack) const override {
-    Validity v;
-    v.reason = accurate::transport_table_gap(stack);
-    if (!v.reason.empty()) {
-      v.profile = false;
-      v.exact = "R_d and T_d (adding-doubling)";
-    }
-    return v;
+    stack.validate();
+    return {};  // profiles from the tables where they apply, from radiative transfer elsewhere
   }
 
  private:
-  accurate::FresnelMoments moments(double eta) const {
-    const std::lock_guard lock(mutex_);
-    for (const auto& [e, m] : moments_)
-      if (e == eta) return m;
-    const auto m = accurate::FresnelMoments::of(eta);
-    if (moments_.size() >= 64) moments_.clear();  // bounds memory for callers sweeping eta
-    moments_.emplace_back(eta, m);
-    return m;
-  }
   accurate::Cache cache_;
-  mutable std::mutex mutex_;
-  mutable std::vector<std::pair<double, accurate::FresnelMoments>> moments_;
+};
+
+// Adding-doubling totals, profiles by radiative transfer in the spatial-frequency domain for
+// every stack (accurate::FrequencyStack), skin included: no tables, ~0.1-1 CPU-s per stack.
+class Frequency final : public Model {
+ public:
+  std::string_view name() const override { return "sfd"; }
+  std::string_view description() const override {
+    return "adding-doubling radiative transfer, profiles in the spatial-frequency domain";
+  }
+  Totals totals(const LayerStack& stack) const override {
+    return accurate::adding_doubling(stack, {}, cache_);
+  }
+  std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
+    return std::make_unique<accurate::FrequencyStack>(stack, accurate::FrequencyProfileOptions{},
+                                                      cache_);
+  }
+  Validity validity(const LayerStack& stack) const override {
+    stack.validate();
+    return {};
+  }
+
+ private:
+  accurate::Cache cache_;
 };
 
 // The models, the default first.
-const std::array<const Model*, 2>& registry() {
+const std::array<const Model*, 3>& registry() {
   static const Accurate accurate_model;
   static const Multipole multipole_model;
-  static const std::array<const Model*, 2> models = {&accurate_model, &multipole_model};
+  static const Frequency frequency_model;
+  static const std::array<const Model*, 3> models = {&accurate_model, &multipole_model,
+                                                     &frequency_model};
   return models;
 }
 

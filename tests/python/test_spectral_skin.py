@@ -2,6 +2,7 @@
 arrays with named axes, for one parameter set or arrays of them."""
 import json
 import math
+import warnings
 import os
 import subprocess
 import tempfile
@@ -228,7 +229,7 @@ class Bindings(unittest.TestCase):
     def test_docstrings_give_units_from_the_table(self):
         for f in (ss.spectrum, ss.color, ss.rgb_profile, ss.fit_spectrum):
             self.assertIn("epidermis_thickness [mm] in (0, inf), default 0.25", f.__doc__)
-            self.assertIn("accurate, multipole", f.__doc__)
+            self.assertIn("accurate, multipole, sfd", f.__doc__)
 
     def test_semi_infinite_layer_is_the_classic_dipole(self):
         # alpha' = 1 / 1.01, A(1.4) = 3.2507: Jensen et al. 2001 closed form.
@@ -261,17 +262,17 @@ class Bindings(unittest.TestCase):
 
     def test_validity_outside_the_accurate_tables(self):
         # A dark top layer (alpha' = 0.038, below the transport tables' 0.0975) over a bright
-        # half-space: the profile is flagged (with a RuntimeWarning), R_d stays exact.
+        # half-space, and skin with g = 0.7: radiative transfer in the spatial-frequency domain,
+        # inside the model's range (no warning).
         layers = [{"sigma_a": 50.0, "sigma_s_prime": 2.0, "thickness": 0.05},
                   {"sigma_a": 0.001, "sigma_s_prime": 10.0}]
-        with self.assertWarnsRegex(RuntimeWarning, "solver accurate: profile outside"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
             r = ss.layers(layers, r_mm=[0.3, 3.0])
-        self.assertEqual(r["validity"]["profile"], False)
-        self.assertEqual(r["validity"]["totals"], True)
-        with self.assertWarnsRegex(RuntimeWarning, "g = 0.7"):
-            p = ss.rgb_profile("caucasian", r_mm=[0.3, 3.0], g=0.7)
-        self.assertEqual(p["validity"]["profile"], False)
-        self.assertEqual(ss.rgb_profile("caucasian", r_mm=[0.3])["validity"]["profile"], True)
+            p = ss.rgb_profile("caucasian", r_mm=[0.3, 3.0], g=0.7, lambda_step=150)
+        self.assertEqual(r["validity"]["profile"], True)
+        self.assertEqual(p["validity"]["profile"], True)
+        self.assertGreater(r["profile"]["R"][0] if "profile" in r else r["R"][0], 0)
 
     def test_fit_texture_of_a_uniform_image(self):
         target = ss.color("tanned")["color"]["srgb_linear"]
@@ -294,7 +295,7 @@ class Bindings(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, r"melanin \(C_m\) = 1.5 is out of range"):
             ss.spectrum(melanin=1.5)
         self.assertIn("ear", ss.presets())
-        with self.assertRaisesRegex(ValueError, "^solver = 'diffusion' is unknown: allowed values are accurate, multipole$"):
+        with self.assertRaisesRegex(ValueError, "^solver = 'diffusion' is unknown: allowed values are accurate, multipole, sfd$"):
             ss.color(solver="diffusion")
 
 
@@ -352,7 +353,7 @@ class ParameterKeywords(unittest.TestCase):
         thickness = next(p for p in table if p["key"] == "epidermis_thickness")
         self.assertIsNone(thickness["max"])
         self.assertEqual(thickness["flag"], "--epidermis-thickness")
-        self.assertEqual(ss.solvers(), ["accurate", "multipole"])
+        self.assertEqual(ss.solvers(), ["accurate", "multipole", "sfd"])
 
     def test_every_key_is_a_keyword(self):
         preset = self.spectrum()["parameters"]

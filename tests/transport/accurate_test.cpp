@@ -314,47 +314,19 @@ TEST(Input, TypesPrintThemselves) {
 // g = 0.7; the transport top layer is tested in top_layer_table_test.cpp).
 // The profile integrated by brute force is the adding-doubling R_d of the stack (computed here
 // on its own, not read from the AccurateStack), within the 0.5 % of the integration grid.
-TEST(AccurateStack, ProfileIntegratesToTheAddingDoublingTotal) {
-  for (const char* name : {"caucasian", "african"}) {
-    auto params = skin::find_preset(name).parameters;
-    params.g = 0.7;
-    const auto st = skin::skin_layer_stack(params, 550);
-    const skin::accurate::AccurateStack acc(st);
-    ASSERT_FALSE(acc.transport_top());
-    const double R_d = adding_doubling(st).R_d;
-    EXPECT_NEAR(skin::test::integrated_profile(acc), R_d, 0.005 * R_d) << name << " " << acc;
-    // R(k = 0) of the corrected response is the total, so the profile integrates to the
-    // adding-doubling R_d exactly (no integration error at all).
-    const double R0 = acc.c_top() * acc.diffusion_top_R_k(0) +
-                      acc.c_deep() * (acc.diffusion_R_k(0) - acc.diffusion_top_R_k(0));
-    EXPECT_NEAR(R0, acc.total(), 1e-12);
-    EXPECT_GT(acc.c_top(), 0);
-    EXPECT_GT(acc.c_deep(), 0);
-  }
-}
-
-// The partial-current dipole (fluence and flux) in space against its transform: for one
-// semi-infinite layer of the diffusion shape (g = 0.7: outside the transport tables) the whole
-// response is the singular part, so its brute-force integral 2 pi int R(r) r dr (Simpson on a
-// log grid from 1e-7 to 200 mm) must give the total.
-TEST(AccurateStack, SpaceDomainDipoleIntegratesToTheTotal) {
-  for (double n : {1.0, 1.4}) {
-    LayerStack s;
-    s.layers = {Layer{0.05, 1.2, skin::kInfinity, n, 0.7}};
-    const skin::accurate::AccurateStack acc(s);
-    ASSERT_FALSE(acc.transport_top());
-    EXPECT_NEAR(acc.residual_k(0.0), 0.0, 1e-15);
-    const int m = 20000;  // even
-    const double a = std::log(1e-7), b = std::log(200.0), h = (b - a) / m;
-    double sum = 0;
-    for (int i = 0; i <= m; ++i) {
-      const double r = std::exp(a + i * h);
-      const double f = acc.singular(r) * r * r;  // r dr = r^2 d(ln r)
-      sum += (i == 0 || i == m ? 1 : (i % 2 ? 4 : 2)) * f;
-    }
-    const double integral = 2 * std::numbers::pi * sum * h / 3;
-    EXPECT_NEAR(integral / acc.total(), 1.0, 1e-6) << "n=" << n << " " << acc;
-  }
+// Outside the transport tables (skin with g = 0.7) the profile is the frequency-domain one,
+// and it integrates to the adding-doubling total.
+TEST(AccurateStack, OutsideTheTablesTheProfileIsTheFrequencyDomainOne) {
+  auto params = skin::find_preset("caucasian").parameters;
+  params.g = 0.7;
+  const auto st = skin::skin_layer_stack(params, 550);
+  const skin::accurate::AccurateStack acc(st);
+  ASSERT_FALSE(acc.transport_top());
+  const skin::accurate::FrequencyStack fs(st);
+  for (double k : {0.0, 0.7, 30.0}) EXPECT_EQ(acc.residual_k(k), fs.residual_k(k)) << k;
+  for (double r : {0.0, 0.01, 1.0}) EXPECT_EQ(acc.singular(r), fs.singular(r)) << r;
+  EXPECT_EQ(acc.total(), adding_doubling(st).R_d);
+  EXPECT_NEAR(skin::test::integrated_profile(acc), acc.total(), 0.005 * acc.total()) << acc;
 }
 
 // The profile solver inverts the response into positive, decreasing profiles for the presets
@@ -376,8 +348,8 @@ TEST(AccurateStack, ProfilesOfThePresetsArePositiveAndDecreasing) {
 }
 
 // A top layer far thinner than a transport mean free path (below the transport tables' range,
-// with diffusion's source z_r below it): the diffusion shape turns negative there, and the
-// response falls back to a positive one that still integrates to the adding-doubling total.
+// where diffusion's source z_r lay below it and its shape turned negative): the frequency-domain
+// profile is positive (down to 2e-4 of its value at 1 um: the transform's ringing).
 TEST(AccurateStack, ThinTopLayersStayPositive) {
   LayerStack one;
   one.layers = {Layer{0.3, 0.2, 0.05, 1.4, 0.9}};  // 0.025 mean free paths, air below
@@ -388,27 +360,10 @@ TEST(AccurateStack, ThinTopLayersStayPositive) {
   for (const auto& s : {one, two}) {
     const skin::accurate::AccurateStack acc(s);
     EXPECT_FALSE(acc.transport_top()) << s;
-    EXPECT_GE(acc.c_top(), 0) << acc;
-    EXPECT_GE(acc.c_deep(), 0) << acc;
     const auto R = solver.profile(acc);
-    for (double v : R) EXPECT_GE(v, -1e-8 * R[0]) << acc;
+    for (double v : R) EXPECT_GE(v, -2e-4 * R[0]) << acc;
     EXPECT_GT(acc.singular(1e-3), 0) << acc;
   }
-}
-
-// One layer under the diffusion shape (g = 0.7): the top layer is the whole stack, so the
-// uncorrected response and its top part coincide at every k (the two correction factors then
-// multiply the same function), and the profile integrates to the adding-doubling R_d.
-TEST(AccurateStack, OneLayerIsTheTopLayerAndIntegratesToTheTotal) {
-  LayerStack s;
-  s.layers = {Layer{0.02, 1.5, 2.0, 1.4, 0.7}};
-  const skin::accurate::AccurateStack acc(s);
-  ASSERT_FALSE(acc.transport_top());
-  for (double k : {0.0, 0.5, 3.0, 20.0})
-    EXPECT_NEAR(acc.diffusion_top_R_k(k), acc.diffusion_R_k(k), 1e-12 * acc.diffusion_R_k(0)) << k;
-  EXPECT_GT(acc.c_top(), 0);
-  const double R_d = adding_doubling(s).R_d;
-  EXPECT_NEAR(skin::test::integrated_profile(acc), R_d, 0.005 * R_d) << acc;
 }
 
 }  // namespace
@@ -436,4 +391,90 @@ TEST(Cache, SharedAcrossThreadsGivesTheSameNumbers) {
   t2.join();
   EXPECT_EQ(a, fresh);
   EXPECT_EQ(b, fresh);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Spatial-frequency domain (sfd.cpp).
+
+TEST(FrequencyResponse, ZeroFrequencyIsTheAddingDoublingTotal) {
+  // Skin-like two layers, a slab in air, index steps at every interface.
+  LayerStack two;
+  two.layers = {Layer{0.5, 4, 0.1, 1.4, 0.9}, Layer{0.02, 2, skin::kInfinity, 1.4, 0.8}};
+  LayerStack steps;
+  steps.layers = {Layer{0.2, 1, 0.3, 1.33, 0.5}, Layer{0.05, 3, 0.5, 1.5, 0.95},
+                  Layer{0.1, 1, 0.4, 1.4, 0}};
+  steps.eta_below = 1.2;
+  for (const LayerStack& s : {two, slab(0.1, 10, 0.75, 0.2, 1.4), steps}) {
+    const double direct = skin::accurate::detail::solve(s, {}, false, skin::accurate::Cache()).R_d;
+    skin::accurate::FrequencyOptions o;
+    o.azimuthal_orders = 4;
+    const auto R = skin::accurate::frequency_response(s, {0.0, 1e-9}, o);
+    EXPECT_NEAR(R[0], direct, 1e-12 * direct) << s;
+    EXPECT_NEAR(R[1], direct, 1e-10 * direct) << s;  // continuous at k = 0
+    EXPECT_NEAR(R[0], adding_doubling(s).R_d, 1e-4 * direct) << s;  // the tables' accuracy
+  }
+}
+
+TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
+  // Isotropic half-space at n = 1 with albedo omega -> 0: only single scattering, whose transform
+  // is R(k) = (omega / 2) int_0^1 mu / sqrt((1 + mu)^2 + kappa^2 (1 - mu^2)) dmu, kappa = k /
+  // sigma_t (the azimuthal integral of 1 / (1 + mu + i kappa sin(theta) cos(phi)) in closed
+  // form). 16 orders resolve kappa <= 10 to 4e-4 (8: 5 % at kappa = 10; the streams, 1e-4).
+  const double omega = 1e-4;
+  const LayerStack s = slab(1 - omega, omega, 0.0, skin::kInfinity, 1.0);
+  skin::accurate::FrequencyOptions o;
+  o.azimuthal_orders = 16;
+  const std::vector<double> kappa{0, 1, 3, 10};
+  const auto R = skin::accurate::frequency_response(s, kappa, o);
+  for (std::size_t i = 0; i < kappa.size(); ++i) {
+    double closed = 0;
+    constexpr int n = 20000;
+    for (int j = 0; j < n; ++j) {
+      const double mu = (j + 0.5) / n;
+      closed += 0.5 * omega * mu /
+                std::sqrt((1 + mu) * (1 + mu) + kappa[i] * kappa[i] * (1 - mu * mu)) / n;
+    }
+    EXPECT_NEAR(R[i], closed, 5e-4 * closed) << "kappa = " << kappa[i];
+  }
+  EXPECT_THROW(skin::accurate::frequency_response(s, {-1.0}, o), skin::InputError);
+  o.azimuthal_orders = -1;
+  EXPECT_THROW(skin::accurate::frequency_response(s, {1.0}, o), skin::InputError);
+}
+
+// The exact single scattering of the top layer in space integrates to its closed-form total
+// (2 pi int R_1(r) r dr, Simpson on a log grid from 1e-7 to 200 mm): the two formulas of
+// FrequencyStack agree (Fresnel exit above the critical angle, a finite and a semi-infinite
+// top, g = 0 and 0.9).
+TEST(FrequencyStack, SingleScatteringInSpaceIntegratesToItsTotal) {
+  for (const LayerStack& s : {slab(0.1, 1, 0.0, skin::kInfinity, 1.0), slab(0.5, 4, 0.9, 0.1, 1.4)}) {
+    skin::accurate::FrequencyProfileOptions o;
+    o.k_hi = 1;  // few nodes: only the single scattering is used here
+    const skin::accurate::FrequencyStack fs(s, o);
+    const int n = 20000;
+    const double a = std::log(1e-7), b = std::log(200.0), h = (b - a) / n;
+    double sum = 0;
+    for (int i = 0; i <= n; ++i) {
+      const double r = std::exp(a + h * i);
+      const double w = (i == 0 || i == n) ? 1 : (i % 2 ? 4 : 2);
+      sum += w * fs.single_scattering(r) * r * r;  // dr = r du
+    }
+    const double integral = 2 * std::numbers::pi * sum * h / 3;
+    EXPECT_NEAR(integral, fs.single_scattering_total(), 2e-4 * fs.single_scattering_total()) << s;
+  }
+}
+
+// The profile of the frequency-domain response integrates to the adding-doubling R_d (R(k = 0)
+// is scaled to it; the brute-force integral checks the singular part and the transform too),
+// for a slab in air with an index step below and a dark-over-bright pair.
+TEST(FrequencyStack, ProfileIntegratesToTheAddingDoublingTotal) {
+  LayerStack dark;
+  dark.layers = {Layer{3.0, 4, 0.1, 1.4, 0.9}, Layer{0.05, 2, skin::kInfinity, 1.4, 0.9}};
+  LayerStack glass = slab(0.2, 3, 0.8, 0.4, 1.33, 1.0);
+  glass.eta_below = 1.5;
+  for (const LayerStack& s : {dark, glass}) {
+    const skin::accurate::FrequencyStack fs(s);
+    const double R_d = adding_doubling(s).R_d;
+    EXPECT_EQ(fs.total(), R_d);
+    EXPECT_NEAR(skin::test::integrated_profile(fs), R_d, 0.005 * R_d) << s;
+  }
 }

@@ -35,7 +35,7 @@ LayerStack dark_over_bright() {
 }  // namespace
 
 TEST(ModelRegistry, NamesDefaultAndUnknown) {
-  EXPECT_EQ(transport::model_names(), (std::vector<std::string>{"accurate", "multipole"}));
+  EXPECT_EQ(transport::model_names(), (std::vector<std::string>{"accurate", "multipole", "sfd"}));
   EXPECT_EQ(transport::default_model().name(), transport::kDefaultModel);
   EXPECT_EQ(transport::kDefaultModel, "accurate");
   EXPECT_EQ(transport::find_model("multipole").name(), "multipole");
@@ -44,7 +44,7 @@ TEST(ModelRegistry, NamesDefaultAndUnknown) {
     FAIL() << "no InputError";
   } catch (const skin::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("'diffusion' is unknown"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("accurate, multipole"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("accurate, multipole, sfd"), std::string::npos) << e.what();
   }
 }
 
@@ -78,38 +78,30 @@ TEST(ModelValidity, SkinPresetsAreInsideBothModels) {
   }
 }
 
-// Another g: the tables cover g in [0.8, 0.95]; at g = 0.7 the profile is the fallback, the
-// totals stay exact (adding-doubling) at every wavelength.
+// Another g: the tables cover g in [0.8, 0.95]; at g = 0.7 the profile is radiative transfer
+// in the spatial-frequency domain: the model stays inside its validated range.
 TEST(ModelValidity, AccurateOutsideTablesForAnotherG) {
   skin::SkinParameters p = skin::find_preset("caucasian").parameters;
   p.g = 0.7;
   const skin::WavelengthGrid grid(400, 700, 100);
-  const auto v = skin::skin_validity(p, grid, transport::find_model("accurate"));
-  EXPECT_TRUE(v.totals);
-  EXPECT_FALSE(v.profile);
-  EXPECT_NE(v.reason.find("g = 0.7"), std::string::npos) << v;
-  EXPECT_EQ(v.reason.rfind("at 400 nm .. 700 nm (4 of 4): top layer g = 0.7", 0), 0u) << v;
-  EXPECT_EQ(v.exact, "R_d and T_d (adding-doubling)");
-  for (const auto& s : skin::skin_layer_stacks(p, grid))
-    EXPECT_FALSE(skin::accurate::AccurateStack(s).transport_top());
+  EXPECT_TRUE(skin::skin_validity(p, grid, transport::find_model("accurate")).ok());
+  const auto s = skin::skin_layer_stack(p, 500);
+  EXPECT_NE(skin::accurate::transport_table_gap(s).find("g = 0.7"), std::string::npos);
+  EXPECT_FALSE(skin::accurate::AccurateStack(s).transport_top());
   // The multipole does not depend on g.
   EXPECT_TRUE(skin::skin_validity(p, grid, transport::find_model("multipole")).ok());
 }
 
+// Dark over bright (below the tables' albedo) and a thin dark top (below their thickness): no
+// table, and no complaint.
 TEST(ModelValidity, AccurateDarkOverBright) {
-  const auto v = transport::find_model("accurate").validity(dark_over_bright());
-  EXPECT_TRUE(v.totals);
-  EXPECT_FALSE(v.profile);
-  EXPECT_NE(v.reason.find("alpha' = 0.0385"), std::string::npos) << v;
-  // The clamped table's shape is far from the transport one here: the top layer's correction
-  // factor (the adding-doubling reflectance of the layer over the table's) is about 1/3.
-  const skin::accurate::AccurateStack a(dark_over_bright());
-  EXPECT_LT(a.c_top(), 0.5) << a;
-  // A thin dark top layer (0.14 transport mean free paths) is below the tables' thickness range.
+  EXPECT_TRUE(transport::find_model("accurate").validity(dark_over_bright()).ok());
+  EXPECT_NE(skin::accurate::transport_table_gap(dark_over_bright()).find("alpha' = 0.0385"),
+            std::string::npos);
   const LayerStack thin = two_layers(Layer{5.0, 2.0, 0.02, 1.4, 0.9}, Layer{0.001, 10.0, kInfinity, 1.4, 0.9});
-  const auto vt = transport::find_model("accurate").validity(thin);
-  EXPECT_FALSE(vt.profile);
-  EXPECT_NE(vt.reason.find("0.14 transport mean free paths"), std::string::npos) << vt;
+  EXPECT_TRUE(transport::find_model("accurate").validity(thin).ok());
+  EXPECT_NE(skin::accurate::transport_table_gap(thin).find("0.14 transport mean free paths"),
+            std::string::npos);
 }
 
 TEST(ModelValidity, MultipoleLayerThinnerThanZr) {
@@ -125,9 +117,8 @@ TEST(ModelValidity, MultipoleLayerThinnerThanZr) {
   EXPECT_TRUE(mp.validity(thick).ok());
 }
 
-// The check and the constructor agree: over random stacks, the accurate profile is flagged
-// whenever AccurateStack does not use the transport tables (and the tables are used whenever the
-// only complaint is none).
+// Over random stacks the accurate model is inside its range (tables or radiative transfer), and
+// both kinds of stack occur.
 TEST(ModelValidity, AccurateCheckMatchesTheShapeUsed) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -148,17 +139,11 @@ TEST(ModelValidity, AccurateCheckMatchesTheShapeUsed) {
     const int n = 1 + static_cast<int>(u(rng) * 2);
     for (int k = 0; k < n; ++k) s.layers.push_back(layer(k + 1 == n));
     const auto v = acc.validity(s);
-    const skin::accurate::AccurateStack a(s);
-    SCOPED_TRACE(::testing::Message() << s << " " << v << " " << a);
-    EXPECT_TRUE(v.totals);
-    if (!a.transport_top()) {
-      EXPECT_FALSE(v.profile);
-    }
-    if (v.profile) {
-      EXPECT_TRUE(a.transport_top());
-    }
-    flagged += v.profile ? 0 : 1;
-    table += a.transport_top() ? 1 : 0;
+    SCOPED_TRACE(::testing::Message() << s << " " << v);
+    EXPECT_TRUE(v.ok());
+    const bool gap = !skin::accurate::transport_table_gap(s).empty();
+    flagged += gap ? 1 : 0;
+    table += gap ? 0 : 1;
   }
   // Both kinds occur, so the checks above are exercised.
   EXPECT_GT(flagged, 20);

@@ -25,6 +25,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "skin/transport/top_layer_table.hpp"
 #include "skin/physics/layer.hpp"
@@ -79,8 +80,64 @@ Totals adding_doubling(const LayerStack& stack, const Options& options, const Ca
 // With a cache of its own (the same numbers; each call fills the table nodes it needs).
 Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 
+// Radiative transfer in the spatial-frequency domain (docs/accurate-solver.md, sec. 5): R(k), the
+// 2D Fourier transform of the radial profile R(r) of the flux that leaves through the top surface
+// (per power that entered, as R_d), for a pencil beam at normal incidence, at each k [rad/mm]
+// (>= 0). The same streams, delta-M phase function, layers and interfaces as adding_doubling();
+// the azimuthal dependence of the radiance is expanded in cos(a phi), a = 0..azimuthal_orders-1.
+// R(0) is adding_doubling()'s R_d computed without its tables (they agree to ~1e-6).
+struct FrequencyOptions {
+  Options totals;            // quadrature points (as for the totals)
+  // Orders at k > 0: 0 = automatic (more at higher k; docs/accurate-solver.md, sec. 5), else
+  // [1, 64].
+  int azimuthal_orders = 0;
+};
+std::vector<double> frequency_response(const LayerStack& stack, const std::vector<double>& k,
+                                       const FrequencyOptions& options = {});
+
+// The radial response of any stack from frequency_response() (docs/accurate-solver.md, sec. 5):
+// R(k) is computed at nodes k_j = k0 sinh(j du) up to k_hi (a multiple of the largest delta-M
+// scaled extinction of the stack's layers or inverse layer thickness). The singular part is the light scattered once in the
+// top layer, exactly (Henyey-Greenstein phase function, Fresnel exit), in space (its 1/r near
+// the beam; evaluated at r >= 1e-6 / sigma_t of the top layer); the remainder is R(k) minus the
+// solver's own single scattering (delta-M, discrete), interpolated between the nodes (4-point
+// Lagrange in u = asinh(k / k0)), zero beyond k_hi (its 1/k^2 tail is a K0 pair), and scaled so
+// that the profile integrates to adding_doubling()'s R_d. Light that comes back along the beam
+// unscattered (reflected by a slab's bottom) is a Gaussian of width 6 / k_hi at the origin.
+struct FrequencyProfileOptions {
+  FrequencyOptions transport;
+  double k_hi = 6;   // top node, in units of the largest delta-M extinction or 1 / thickness
+  double du = 0.125;  // node spacing in u
+  double k0 = 0.3;   // [rad/mm]
+};
+class FrequencyStack final : public RadialResponse {
+ public:
+  explicit FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options = {});
+  FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options,
+                 const Cache& cache);
+  double total() const override { return totals_.R_d; }
+  double singular(double r) const override;
+  double residual_k(double k) const override;
+  const Totals& totals() const { return totals_; }
+  // The nodes and the solver's R(k) there (its R(0) is the untabulated total).
+  const std::vector<double>& k_nodes() const { return k_; }
+  const std::vector<double>& R_nodes() const { return R_; }
+  // Single scattering in the top layer, exactly: in space [1/mm^2], and its total.
+  double single_scattering(double r) const;
+  double single_scattering_total() const;
+
+ private:
+  Totals totals_;
+  double k0_ = 0.3, du_ = 0.125;
+  std::vector<double> k_, R_, G_;  // nodes, R(k_j), remainder at k_j
+  double sigma_s_ = 0, sigma_t_ = 1, g_ = 0, d_ = 0, n_ = 1, n_above_ = 1, mu_c_ = 0;
+  double r_floor_ = 0;
+  double A_ = 0, b_ = 1;  // the rest's 1 / k^2 tail: A / (k^2 + b^2)
+  double B_ = 0, w_ = 1;  // light back along the beam unscattered, as a Gaussian of width w
+};
+
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
-// the profile integrates to it exactly. Two shapes (docs/accurate-solver.md, sec. 3):
+// the profile integrates to it exactly. Two shapes (docs/accurate-solver.md, sec. 3 and 5):
 // - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its
 //   index and the index above it are the table's, and it is either finite with the same index
 //   below it and a reduced optical thickness in the table's range, or a half-space, which is
@@ -90,38 +147,19 @@ Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 //   R_up are the top layer's Monte Carlo transport (R_e in space, the others in the frequency
 //   domain), R_below is the multipole of the layers below it (diffusion, accurate there: they
 //   are thick and bright), c_top = R_top^AD / int R_e (the adding-doubling reflectance of the
-//   top layer alone over its index) and c_deep makes R(0) the adding-doubling R_d;
-// - otherwise, diffusion (multipole, DJ05) with two changes:
-//   1. light leaving through the top surface is the partial current of the diffuse radiance,
-//      R = C_phi phi + C_j j (fluence and flux, Kienle & Patterson 1997), with the extrapolation
-//      distance from the same exact Fresnel moments, A = (1 + 3 C2) / (1 - 2 C1);
-//   2. the totals are the adding-doubling ones, corrected per component:
-//      R(k) = c_top R_top(k) + c_deep (R_stack(k) - R_top(k)), R_top the top layer alone (over
-//      the index of what lies below it), c_top = R_top^AD / R_top(0), c_deep making R(0) the
-//      adding-doubling R_d. The singular part is c_top times the top layer's nearest image pair.
-//
-// The stack is outside the shapes' validated range (the table does not describe its top layer,
-// or its top layer is darker than the table's darkest node, alpha' < 0.0975, where the clamped
-// shape's total is already 3x the adding-doubling one at alpha' = 0.04) when
-// transport_table_gap() says why; the totals stay exact. The model "accurate" of the registry (skin/transport/model.hpp) reports it.
+//   top layer alone over its index) and c_deep makes R(0) the adding-doubling R_d. Fast (the
+//   tables are read, not solved);
+// - every other stack: radiative transfer in the spatial-frequency domain (FrequencyStack), no
+//   tables, any stack (~0.1-1 CPU-s per stack).
+// transport_table_gap() says why a stack is outside the tables (empty when they apply).
 std::string transport_table_gap(const LayerStack& stack);
-
-// Fresnel moments of a boundary seen from inside a medium of relative index eta = n_in / n_out:
-// C1 = int_0^1 F(mu) mu dmu, C2 = int_0^1 F(mu) mu^2 dmu (midpoint rule on 4000 cells; the
-// integrand has only a square-root kink at the critical angle: error < 1e-6).
-struct FresnelMoments {
-  double C1 = 0, C2 = 0;
-  static FresnelMoments of(double eta);
-};
 
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const LayerStack& stack, const Options& options = {});
-  // With the Fresnel moments of the top surface (eta = top layer's index / index above) known
-  // and the solver's cache: the model of the registry keeps both (a spectrum has the same index
-  // and geometry throughout).
-  AccurateStack(const LayerStack& stack, const Options& options, const FresnelMoments& top,
-                const Cache& cache);
+  // With the solver's cache (the model of the registry keeps one).
+  AccurateStack(const LayerStack& stack, const Options& options, const Cache& cache);
+  ~AccurateStack() override;
 
   double total() const override { return totals_.R_d; }
   double singular(double r) const override;
@@ -131,29 +169,22 @@ class AccurateStack final : public RadialResponse {
   double T_d() const { return totals_.T_d; }
   double R_specular() const { return totals_.R_specular; }
   const Totals& totals() const { return totals_; }
-  // True when the top layer's transport comes from the built-in TopLayerTable.
+  // True when the top layer's transport comes from the built-in TopLayerTable (otherwise the
+  // profile is FrequencyStack's).
   bool transport_top() const { return table_ != nullptr; }
-  // The correction factors (1 where the shape already has the transport total).
+  // The correction factors of the table shape (1 otherwise).
   double c_top() const { return c_top_; }
   double c_deep() const { return c_deep_; }
-  // The uncorrected diffusion response with the partial-current top surface: total, and R(k).
-  double diffusion_R_k(double k) const;
-  double diffusion_top_R_k(double k) const;
 
  private:
-  double top_dipole_k(double k) const;
-  double diffusion_R_k_given_top(double k, double R_top) const;
   double coupling_k(double k) const;  // transport top layer: the light from below it
-  void use_dipole_only();             // diffusion shape unusable (thin top layer): dipole alone
   Totals totals_;
   const TopLayerTable* table_ = nullptr;  // set when the transport top layer is used
   TopLayerTable::Sample top_sample_;
   double sigma_t_prime_ = 1;              // of the top layer [1/mm]
-  DiffusionSlab top_, top_up_;        // top layer seen from above / from below
-  double C_phi_ = 0.25, C_j_ = 0.5;   // partial-current coefficients of the top surface
-  std::optional<DiffusionStack> rest_;  // the layers below the top one (none for one layer)
+  std::optional<DiffusionStack> rest_;    // the layers below the top one (none for one layer)
   double c_top_ = 1, c_deep_ = 1;
-  bool dipole_only_ = false;
+  std::unique_ptr<FrequencyStack> frequency_;  // set outside the tables
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);
 

@@ -1,0 +1,350 @@
+// Radiative transfer in the spatial-frequency domain (docs/accurate-solver.md, section 5).
+//
+// The 2D Fourier transform over the surface (frequency k along x) turns the transport equation of
+// a pencil beam into one per k:  mu dL/dz = -(sigma_t + i k sin(theta) cos(phi)) L + sigma_s int p L.
+// The beam is symmetric about the x axis, so L = sum_a L_a(z, mu) cos(a phi) (orders a = 0..M);
+// Henyey-Greenstein scattering keeps each order (the redistribution p_a of the addition theorem,
+// Angular in ad_core.hpp) and the k term couples order a to a +- 1:
+//   (cos(phi) L)_0 = L_1 / 2,  (cos(phi) L)_1 = L_0 + L_2 / 2,  (cos(phi) L)_a = (L_(a-1) + L_(a+1)) / 2.
+// With L_a = i^a Lambda_a the system is real:
+//   mu dLambda_a/dz = -sigma_t Lambda_a - k sin(theta) (K Lambda)_a + sigma_s (p_a Lambda_a),
+//   K(0, 1) = -1/2, K(1, 0) = 1, K(a, a + 1) = -1/2, K(a, a - 1) = 1/2 (a >= 2).
+// A homogeneous layer still looks the same from above and from below (z -> -z leaves sin(theta)
+// cos(phi) alone), Fresnel interfaces stay diagonal (they keep phi and Snell's invariant, which
+// labels the streams), so the adding-doubling machinery of adding_doubling.cpp carries over with
+// matrices of (M + 1) blocks of streams, the term k sin(theta) / mu (sin(theta) = s / n in each
+// layer) added to A. Only order 0 carries flux out of the surface; at k = 0 the orders decouple
+// and order 0 is the totals' problem.
+#include <Eigen/Dense>
+#include <boost/math/special_functions/bessel.hpp>
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <cstdlib>
+#include <numbers>
+#include <vector>
+
+#include "ad_core.hpp"
+#include "skin/transport/accurate.hpp"
+#include "skin/util/error.hpp"
+#include "skin/util/interpolation.hpp"
+#include "skin/util/quadrature.hpp"
+#include "skin/physics/fresnel.hpp"
+
+namespace skin::accurate {
+
+namespace detail {
+namespace {
+
+// The layer equations (flux form, as in adding_doubling.cpp) of one layer at dimensionless
+// frequency kappa = k / sigma_t (delta-M scaled sigma_t), block-major over the orders.
+void frequency_matrices(const Angular& geo, double omega, double kappa, int orders, Mat& A,
+                        Mat& B) {
+  const int m = geo.m, n = m * orders;
+  A = Mat::Zero(n, n);
+  B = Mat::Zero(n, n);
+  const Vec inv_mu = geo.mu.cwiseInverse();
+  for (int a = 0; a < orders; ++a) {
+    A.block(a * m, a * m, m, m) = -omega * geo.c.asDiagonal() * geo.Pplus[static_cast<std::size_t>(a)] * inv_mu.asDiagonal();
+    A.block(a * m, a * m, m, m).diagonal() += inv_mu;
+    B.block(a * m, a * m, m, m) = omega * geo.c.asDiagonal() * geo.Pminus[static_cast<std::size_t>(a)] * inv_mu.asDiagonal();
+  }
+  if (kappa == 0.0) return;
+  const Vec drift = kappa * geo.s.cwiseProduct(inv_mu);  // kappa sin(theta) / mu
+  auto couple = [&](int a, int b, double K) {
+    if (b < 0 || b >= orders) return;  // truncation: order M + 1 is dropped
+    A.block(a * m, b * m, m, m).diagonal() += K * drift;
+  };
+  for (int a = 0; a < orders; ++a) {
+    if (a == 0) {
+      couple(0, 1, -0.5);
+    } else if (a == 1) {
+      couple(1, 0, 1.0);
+      couple(1, 2, -0.5);
+    } else {
+      couple(a, a - 1, 0.5);
+      couple(a, a + 1, -0.5);
+    }
+  }
+}
+
+LayerRT frequency_layer(const Angular& geo, const Layer& layer, double k, int orders) {
+  const double sigma_s = layer.sigma_s() * (1 - geo.f);  // delta-M scaled [1/mm]
+  const double sigma_t = layer.sigma_a + sigma_s;
+  const double omega = sigma_s / sigma_t;
+  const double kappa = k / sigma_t;
+  Mat A, B;
+  frequency_matrices(geo, omega, kappa, orders, A, B);
+  // The thin layer's error is second order in its depth times the fastest rate, which the drift
+  // raises by up to kappa: the initial depth shrinks with it.
+  const double thinnest = kThinnest / (1.0 + kappa);
+  auto transmitted = [](const LayerRT& rt) { return rt.T.cwiseAbs().colwise().sum().maxCoeff(); };
+  if (layer.semi_infinite()) {
+    LayerRT rt = diamond(A, B, thinnest);
+    for (int i = 0; i < 64 && transmitted(rt) >= kSemiInfiniteT; ++i) double_once(rt);
+    rt.T.setZero();
+    return rt;
+  }
+  const double tau = sigma_t * layer.thickness;
+  int doublings = 0;
+  double dtau = tau;
+  while (dtau > thinnest) {
+    dtau *= 0.5;
+    ++doublings;
+  }
+  LayerRT rt = diamond(A, B, dtau);
+  for (int i = 0; i < doublings && transmitted(rt) >= 1e-30; ++i) double_once(rt);
+  return rt;
+}
+
+}  // namespace
+
+// Light scattered once in the top layer that leaves directly (no other scattering or reflection)
+// in the solver's discretisation (streams, orders, delta-M phase function), R_1(k): the beam
+// (stream 0, order 0) decays as exp(-tau'), scatters into the upward stream i (order 0 only:
+// p_a(-mu_i, 1) = 0 for a > 0), which climbs with the order coupling G_i = (I + kappa s_i K) /
+// mu_i and escapes with t_i:
+//   R_1 = sum_i t_i omega c_i P-_0(i, 0) [(I + G_i)^-1 (I - exp(-tau (I + G_i)))]_00,
+// evaluated in the eigenbasis of K (its eigenvalues are imaginary: K is similar to an
+// antisymmetric matrix), so that each stream costs M + 1 complex divisions.
+std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,
+                                        const FrequencyOptions& options) {
+  const int points = quadrature_points(stack, options.totals);
+  const Streams st = make_streams(stack, points);
+  const Layer& top = stack.layers.front();
+  const Angular geo = angular(st, top.eta, top.g, 1);
+  const Vec t = escape_weights(st, stack);
+  const double sigma_s = top.sigma_s() * (1 - geo.f), sigma_t = top.sigma_a + sigma_s;
+  const double omega = sigma_s / sigma_t, tau = sigma_t * top.thickness;
+  std::vector<double> out;
+  int last = 0;
+  Eigen::VectorXcd lambda;
+  Eigen::MatrixXcd V, W;
+  for (double ki : k) {
+    const int orders = azimuthal_orders(stack, ki, options);
+    if (orders != last) {
+      Mat K = Mat::Zero(orders, orders);
+      for (int a = 0; a + 1 < orders; ++a) {
+        K(a, a + 1) = -0.5;
+        K(a + 1, a) = a == 0 ? 1.0 : 0.5;
+      }
+      const Eigen::EigenSolver<Mat> es(K);
+      lambda = es.eigenvalues();
+      V = es.eigenvectors();
+      W = V.inverse();
+      last = orders;
+    }
+    const double kappa = ki / sigma_t;
+    double R = 0;
+    for (int i = 0; i < geo.m; ++i) {
+      if (t(i) == 0) continue;
+      std::complex<double> sum = 0;
+      for (int j = 0; j < orders; ++j) {
+        const std::complex<double> z = 1.0 + (1.0 + kappa * geo.s(i) * lambda(j)) / geo.mu(i);
+        const std::complex<double> depth = std::isfinite(tau) ? 1.0 - std::exp(-tau * z) : 1.0;
+        sum += V(0, j) * W(j, 0) * depth / z;
+      }
+      R += t(i) * omega * geo.c(i) * geo.Pminus[0](i, 0) * sum.real();
+    }
+    out.push_back(R);
+  }
+  return out;
+}
+
+// Light that comes back along the beam without scattering (in the delta-M picture: the forward
+// peak counts as unscattered): the normal stream 0 never couples to other orders or streams;
+// it is attenuated by exp(-sigma_t d) per layer and reflected by the Fresnel reflectance at
+// normal incidence of every interface. 1D adding from the bottom up.
+double ballistic_return(const LayerStack& stack, const FrequencyOptions& options) {
+  const int points = quadrature_points(stack, options.totals);
+  const Streams st = make_streams(stack, points);
+  const auto& ls = stack.layers;
+  auto fresnel0 = [](double a, double b) { return fresnel_dielectric(1.0, a, b); };
+  double R = stack.semi_infinite() ? 0.0 : fresnel0(ls.back().eta, stack.eta_below);
+  for (std::size_t i = ls.size(); i-- > 0;) {
+    const Layer& l = ls[i];
+    if (!l.semi_infinite()) {
+      const double f = angular(st, l.eta, l.g, 1).f;
+      const double e = std::exp(-(l.sigma_a + l.sigma_s() * (1 - f)) * l.thickness);
+      R *= e * e;
+    }
+    if (i > 0) {
+      const double r = fresnel0(ls[i - 1].eta, l.eta);
+      R = r + (1 - r) * (1 - r) * R / (1 - r * R);
+    }
+  }
+  const double r_top = fresnel0(stack.eta_above, ls.front().eta);
+  return (1 - r_top) * R / (1 - r_top * R);
+}
+
+}  // namespace detail
+
+double detail::scaled_extinction(const Layer& l) {
+  return l.sigma_a + l.sigma_s() * (1 - std::pow(l.g, 16));
+}
+
+int detail::azimuthal_orders(const LayerStack& stack, double k, const FrequencyOptions& options) {
+  if (options.azimuthal_orders != 0) return k == 0.0 ? 1 : options.azimuthal_orders;
+  if (k == 0.0) return 1;  // the orders decouple: order 0 alone is the answer
+  // The coupling is strongest in the layer of least extinction (kappa = k / sigma_t there).
+  double sigma_t = kInfinity;
+  for (const auto& l : stack.layers) sigma_t = std::min(sigma_t, scaled_extinction(l));
+  const double kappa = k / sigma_t;
+  return std::min(kMaxAutomaticOrders, 3 + static_cast<int>(std::ceil(4 * std::sqrt(kappa))));
+}
+
+std::vector<double> frequency_response(const LayerStack& stack, const std::vector<double>& k,
+                                       const FrequencyOptions& options) {
+  const int points = detail::quadrature_points(stack, options.totals);
+  if (options.azimuthal_orders < 0 || options.azimuthal_orders > 64)
+    throw InputError("azimuthal-orders = " + std::to_string(options.azimuthal_orders) +
+                     " is out of range: must be 0 (automatic) or in [1, 64]");
+  for (double ki : k)
+    if (!(ki >= 0 && std::isfinite(ki)))
+      throw InputError("k = " + std::to_string(ki) + " rad/mm is out of range: must be >= 0");
+  const detail::Streams st = detail::make_streams(stack, points);
+  int most = 1;
+  for (double ki : k) most = std::max(most, detail::azimuthal_orders(stack, ki, options));
+  std::vector<detail::Angular> geo;
+  for (const auto& l : stack.layers) geo.push_back(detail::angular(st, l.eta, l.g, most));
+  const detail::Vec t = detail::escape_weights(st, stack);
+  std::vector<double> out;
+  out.reserve(k.size());
+  for (double ki : k) {
+    const int orders = detail::azimuthal_orders(stack, ki, options);
+    const detail::Below below = detail::add_stack(stack, st, orders, [&](std::size_t i) {
+      return detail::frequency_layer(geo[i], stack.layers[i], ki, orders);
+    });
+    const detail::Vec D = detail::under_surface(stack, st, orders, below);
+    out.push_back(t.dot((below.R * D).head(st.N)));
+  }
+  return out;
+}
+
+}  // namespace skin::accurate
+
+namespace skin::accurate {
+
+FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options)
+    : FrequencyStack(stack, options, Cache()) {}
+
+namespace {
+
+// Henyey-Greenstein phase function (normalised to int p dOmega / (4 pi) = 1).
+double hg(double g, double cos_theta) {
+  const double d = 1 + g * g - 2 * g * cos_theta;
+  return (1 - g * g) / (d * std::sqrt(d));
+}
+
+}  // namespace
+
+double FrequencyStack::single_scattering(double r) const {
+  // R_1(r) = sigma_s / (4 pi) int_0^d exp(-sigma_t (z + l)) p(-z / l) T(z / l) z / l^3 dz,
+  // l = sqrt(r^2 + z^2); with z = r tan(t): sigma_s / (4 pi r) int sin(t) exp(-sigma_t r (tan t +
+  // sec t)) p(-sin t) T(sin t) dt over t from the critical angle's asin(mu_c) (no light escapes
+  // below mu_c) to atan(d / r), cut where the exponent has fallen by 40 (tan t + sec t =
+  // tan(pi / 4 + t / 2)).
+  r = std::max(r, r_floor_);
+  const double x = 1 + 40 / (sigma_t_ * r);
+  const double t_hi = std::min(std::atan(d_ / r), 2 * std::atan(x) - std::numbers::pi / 2);
+  const double t_lo = std::asin(mu_c_);
+  if (!(t_hi > t_lo)) return 0;
+  const QuadratureRule& rule = gauss_legendre(24);
+  double sum = 0;
+  constexpr int kPanels = 4;
+  const double h = (t_hi - t_lo) / kPanels;
+  for (int p = 0; p < kPanels; ++p) {
+    for (std::size_t q = 0; q < rule.x.size(); ++q) {
+      const double tt = t_lo + h * (p + 0.5 * (1 + rule.x[q]));
+      const double mu = std::sin(tt);
+      const double e = std::exp(-sigma_t_ * r * (std::tan(tt) + 1 / std::cos(tt)));
+      sum += 0.5 * h * rule.w[q] * mu * e * hg(g_, -mu) *
+             (1 - fresnel_dielectric(mu, n_, n_above_));
+    }
+  }
+  return sigma_s_ * sum / (4 * std::numbers::pi * r);
+}
+
+double FrequencyStack::single_scattering_total() const {
+  // R_1(k = 0) = (sigma_s / 2) int_mu_c^1 p(-mu) T(mu) (1 - exp(-sigma_t d (1 + 1 / mu))) /
+  // (sigma_t (1 + 1 / mu)) dmu.
+  const QuadratureRule& rule = gauss_legendre(64);
+  double sum = 0;
+  const double half = 0.5 * (1 - mu_c_);
+  for (std::size_t q = 0; q < rule.x.size(); ++q) {
+    const double mu = mu_c_ + half * (1 + rule.x[q]);
+    const double a = sigma_t_ * (1 + 1 / mu);
+    const double depth = std::isfinite(d_) ? -std::expm1(-a * d_) : 1.0;
+    sum += half * rule.w[q] * hg(g_, -mu) * (1 - fresnel_dielectric(mu, n_, n_above_)) * depth / a;
+  }
+  return 0.5 * sigma_s_ * sum;
+}
+
+FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options,
+                               const Cache& cache)
+    : totals_(adding_doubling(stack, options.transport.totals, cache)),
+      k0_(options.k0),
+      du_(options.du) {
+  // The largest delta-M scaled extinction of the stack (delta-M with the totals' number of
+  // moments is close to sigma_s (1 - g^16) + sigma_a; this sets only the extent of the nodes).
+  // The scale of the finest structure: a mean free path, or the thinnest layer.
+  double sigma_t = 0, finest = 0;
+  for (const auto& l : stack.layers) {
+    sigma_t = std::max(sigma_t, detail::scaled_extinction(l));
+    finest = std::max({finest, detail::scaled_extinction(l), 1 / l.thickness});
+  }
+  const double k_hi = options.k_hi * finest;
+  const auto n = static_cast<std::size_t>(std::ceil(std::asinh(k_hi / k0_) / du_)) + 1;
+  k_.resize(n);
+  for (std::size_t j = 0; j < n; ++j) k_[j] = k0_ * std::sinh(du_ * static_cast<double>(j));
+  R_ = frequency_response(stack, k_, options.transport);
+  // Single scattering in the top layer, exactly (Henyey-Greenstein, in space) and as the solver
+  // sees it (delta-M, discrete, in k): the profile is the exact one plus the solver's rest
+  // (Nakajima & Tanaka 1988, TMS), scaled so that the total is the adding-doubling R_d.
+  const Layer& top = stack.layers.front();
+  sigma_s_ = top.sigma_s();
+  sigma_t_ = top.sigma_a + sigma_s_;
+  g_ = top.g;
+  d_ = top.thickness;
+  n_ = top.eta;
+  n_above_ = stack.eta_above;
+  mu_c_ = n_above_ < n_ ? std::sqrt(1 - (n_above_ / n_) * (n_above_ / n_)) : 0.0;
+  r_floor_ = 1e-6 / sigma_t_;
+  const auto R1 = detail::single_scattering_k(stack, k_, options.transport);
+  // Light back along the beam unscattered (a slab's bottom reflects the beam): a delta at r = 0
+  // in the solver, the same at every k; shown as a Gaussian of width w = 6 / k_hi (below the
+  // resolution of the nodes; exp(-k^2 w^2 / 4) has fallen to 1e-4 at k_hi).
+  B_ = detail::ballistic_return(stack, options.transport);
+  w_ = 6 / k_.back();
+  const double rest0 = R_[0] - R1[0] - B_;
+  const double scale = rest0 != 0 ? (totals_.R_d - single_scattering_total() - B_) / rest0 : 0.0;
+  // The rest falls like 1 / k^2 at high k (double scattering): its tail beyond k_hi is the pair
+  // A / (k^2 + b^2) <-> A K0(b r) / (2 pi) with A matching the rest at k_hi and b = k_hi / 2
+  // (flat below k_hi, so that it does not move the rest at low k), so that the numerical
+  // remainder ends at zero there instead of ringing.
+  b_ = 0.5 * k_.back();
+  A_ = scale * (R_.back() - R1.back() - B_) * (k_.back() * k_.back() + b_ * b_);
+  G_.resize(n);
+  for (std::size_t j = 0; j < n; ++j)
+    G_[j] = scale * (R_[j] - R1[j] - B_) - A_ / (k_[j] * k_[j] + b_ * b_);
+}
+
+double FrequencyStack::singular(double r) const {
+  const double rr = std::max(r, r_floor_);
+  return single_scattering(r) + A_ * boost::math::cyl_bessel_k(0, b_ * rr) / (2 * std::numbers::pi) +
+         B_ * std::exp(-(r * r) / (w_ * w_)) / (std::numbers::pi * w_ * w_);
+}
+
+double FrequencyStack::residual_k(double k) const {
+  if (k >= k_.back()) return 0.0;
+  const double u = std::asinh(std::abs(k) / k0_) / du_;
+  const long last = static_cast<long>(k_.size()) - 1;
+  const long m0 = std::min(static_cast<long>(std::floor(u)) - 1, last - 3);
+  const std::array<double, 4> w = lagrange4_weights(u - static_cast<double>(m0));
+  double out = 0;
+  for (int a = 0; a < 4; ++a) out += w[static_cast<std::size_t>(a)] * G_[static_cast<std::size_t>(std::labs(m0 + a))];  // mirror: G(-u) = G(u)
+  return out;
+}
+
+}  // namespace skin::accurate
