@@ -10,6 +10,7 @@
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/model.hpp"
 #include "skin/physics/skin_parameters.hpp"
+#include "skin/image/image.hpp"
 #include "lights.hpp"
 #include "skin/render/math.hpp"
 #include "skin/render/microfacet.hpp"
@@ -96,6 +97,7 @@ struct SceneData {
   Environment environment;
   int spp = 16, max_depth = 5;
   double exposure = 0.0;  // stops, applied to PNG output
+  image::ToneMap tone_map = image::ToneMap::clip;  // PNG output
 };
 
 // Builds the diffusion profiles, specular albedo and normalisation of a translucent material
