@@ -181,7 +181,16 @@ void register_render(CLI::App& app) {
       "face (cheek and nose, one crop per parameter set), Fig. 10 as its four views of the head; "
       "spheres when the mesh is absent");
   fig->add_option("number", f->figure, "Figure number: 3, 4, 5, 6, 7, 8 or 10")
-      ->check(CLI::IsMember(render::figure_numbers()))
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            std::string allowed;
+            for (int n : render::figure_numbers()) {
+              if (v == std::to_string(n)) return {};
+              allowed += (allowed.empty() ? "" : ", ") + std::to_string(n);
+            }
+            return v + " is out of range: must be one of " + allowed;
+          },
+          "FIGURE"))
       ->required();
   add_common(fig, f.get());
   f->params.add_to(*fig);
