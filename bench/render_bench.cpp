@@ -1,13 +1,208 @@
-// Renderer benchmarks: samples per second on the default scene, skin against diffuse side by
-// side (the same geometry, lights and path depth; only the materials differ), and setup costs.
+// Renderer benchmarks: the hot paths one by one (BSSRDF probe sampling, its MIS pdf and weight;
+// the profile table; the surface term and its rho_dr table; light sampling), camera samples per
+// second on the head scene (skipped without the mesh), and on the default scene skin against
+// diffuse side by side (the same geometry, lights and path depth; only the materials differ),
+// and setup costs. Each micro-benchmark runs a batch of 1024 calls on precomputed random numbers
+// so that the generator is not what is measured; items = calls.
 #include <benchmark/benchmark.h>
 
+#include <array>
+#include <filesystem>
+#include <vector>
+
+#include "lights.hpp"
+#include "scene_data.hpp"
+#include "skin/render/bssrdf.hpp"
 #include "skin/render/scene.hpp"
 
 namespace {
 
-using skin::render::RenderSettings;
-using skin::render::Scene;
+using namespace skin::render;  // NOLINT(google-build-using-namespace)
+constexpr int kBatch = 1024;
+
+// The caucasian preset's material (profiles, specular albedo), built once.
+const Material& caucasian() {
+  static const Material m = [] {
+    Material x;
+    x.name = "caucasian";
+    prepare_skin_material(x, skin::find_preset("caucasian").parameters);
+    return x;
+  }();
+  return m;
+}
+
+std::vector<double> uniforms(std::size_t n, std::uint64_t seed) {
+  Rng rng(seed, 7);
+  std::vector<double> u(n);
+  for (auto& x : u) x = rng.uniform();
+  return u;
+}
+
+Bssrdf flat_bssrdf() {
+  const Material& m = caucasian();
+  // A flat exit point at the origin, normal +z, 1 mm per unit.
+  return Bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), {0, 0, 0}, {0, 0, 1}, 1.0);
+}
+
+// Entry points on the plane z = 0 at radii drawn from the red profile (where probes land).
+std::vector<Vec3> entry_points() {
+  const Bssrdf b = flat_bssrdf();
+  const auto u = uniforms(2 * kBatch, 3);
+  std::vector<Vec3> p(kBatch);
+  for (int i = 0; i < kBatch; ++i) {
+    const double r = b.sample_r(0, u[2 * i]), phi = 2 * kPi * u[2 * i + 1];
+    p[static_cast<std::size_t>(i)] = {r * std::cos(phi), r * std::sin(phi), 0};
+  }
+  return p;
+}
+
+void BM_ProbeSample(benchmark::State& state) {
+  const Bssrdf b = flat_bssrdf();
+  const auto u = uniforms(4 * kBatch, 1);
+  for (auto _ : state)
+    for (int i = 0; i < kBatch; ++i) {
+      ProbeSegment seg;
+      const double* q = &u[static_cast<std::size_t>(4 * i)];
+      benchmark::DoNotOptimize(b.sample_probe(q[0], q[1], q[2], q[3], &seg));
+      benchmark::DoNotOptimize(seg);
+    }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_ProbeSample);
+
+void BM_ProbePdf(benchmark::State& state) {
+  const Bssrdf b = flat_bssrdf();
+  const auto p = entry_points();
+  for (auto _ : state)
+    for (const Vec3& x : p) benchmark::DoNotOptimize(b.pdf_probe(x, {0, 0, 1}));
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_ProbePdf);
+
+void BM_ProbeWeight(benchmark::State& state) {
+  const Bssrdf b = flat_bssrdf();
+  const auto p = entry_points();
+  for (auto _ : state)
+    for (const Vec3& x : p) {
+      Rgb3 w;
+      benchmark::DoNotOptimize(b.probe_weight(x, {0, 0, 1}, 1, &w));
+      benchmark::DoNotOptimize(w);
+    }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_ProbeWeight);
+
+// The profile table of the red channel: radius sampling (inverse CDF), its pdf, the profile.
+void BM_ProfileSampleRadius(benchmark::State& state) {
+  const TabulatedProfile& t = caucasian().profile[0];
+  const auto u = uniforms(kBatch, 2);
+  for (auto _ : state)
+    for (double x : u) benchmark::DoNotOptimize(t.sample_radius(x));
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_ProfileSampleRadius);
+
+void BM_ProfilePdfAndEval(benchmark::State& state) {
+  const TabulatedProfile& t = caucasian().profile[0];
+  std::vector<double> r;
+  for (double x : uniforms(kBatch, 4)) r.push_back(t.sample_radius(x));
+  for (auto _ : state)
+    for (double x : r) {
+      benchmark::DoNotOptimize(t.pdf_radius(x));
+      benchmark::DoNotOptimize(t.eval(x));
+    }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_ProfilePdfAndEval);
+
+// The surface term: f_s and its pdf for sampled directions, sampling, and the rho_dr table.
+void BM_MicrofacetEval(benchmark::State& state) {
+  const TorranceSparrow ts(0.3, 0.35, 1.4);
+  const auto u = uniforms(4 * kBatch, 5);
+  std::vector<std::pair<Vec3, Vec3>> dirs;
+  for (int i = 0; i < kBatch; ++i) {
+    const std::size_t k = static_cast<std::size_t>(4 * i);
+    const Vec3 wo = sample_uniform_sphere({u[k], u[k + 1]}), wi = sample_uniform_sphere({u[k + 2], u[k + 3]});
+    dirs.push_back({{wo.x, wo.y, std::abs(wo.z)}, {wi.x, wi.y, std::abs(wi.z)}});
+  }
+  for (auto _ : state)
+    for (const auto& [wo, wi] : dirs) {
+      benchmark::DoNotOptimize(ts.f(wo, wi));
+      benchmark::DoNotOptimize(ts.pdf(wo, wi));
+    }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_MicrofacetEval);
+
+void BM_MicrofacetSample(benchmark::State& state) {
+  const TorranceSparrow ts(0.3, 0.35, 1.4);
+  const auto u = uniforms(2 * kBatch, 6);
+  const Vec3 wo = normalize(Vec3{0.3, 0.1, 0.9});
+  for (auto _ : state)
+    for (int i = 0; i < kBatch; ++i) {
+      Vec3 wi;
+      double pdf = 0;
+      benchmark::DoNotOptimize(ts.sample(wo, {u[static_cast<std::size_t>(2 * i)], u[static_cast<std::size_t>(2 * i + 1)]}, &wi, &pdf));
+      benchmark::DoNotOptimize(pdf);
+    }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_MicrofacetSample);
+
+void BM_RhoDrLookup(benchmark::State& state) {
+  const SpecularAlbedo& a = *caucasian().specular_albedo;
+  const auto u = uniforms(kBatch, 8);
+  for (auto _ : state)
+    for (double c : u) benchmark::DoNotOptimize(a.rho_dr(c));
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+BENCHMARK(BM_RhoDrLookup);
+
+// Light sampling from points near the origin: sample + pdf, by type (0 sphere, 1 quad).
+void BM_LightSample(benchmark::State& state) {
+  const Light light = state.range(0) == 0 ? Light(SphereLight{{14, 10, 16}, 2.5, {30, 27, 24}})
+                                          : Light(QuadLight{{-2, 8, -2}, {4, 0, 0}, {0, 0, 4}, {10, 10, 10}});
+  const auto u = uniforms(5 * kBatch, 9);
+  for (auto _ : state)
+    for (int i = 0; i < kBatch; ++i) {
+      const double* q = &u[static_cast<std::size_t>(5 * i)];
+      const Vec3 p{q[0] - 0.5, q[1] - 0.5, q[2] - 0.5};
+      const LightSample s = light.sample(p, {0, 1, 0}, {q[3], q[4]});
+      benchmark::DoNotOptimize(s);
+      benchmark::DoNotOptimize(light.pdf(p, {0, 1, 0}, s.wi));
+    }
+  state.SetItemsProcessed(state.iterations() * kBatch);
+  state.SetLabel(state.range(0) == 0 ? "sphere" : "quad");
+}
+BENCHMARK(BM_LightSample)->Arg(0)->Arg(1);
+
+// Camera samples on examples/head.json (the Lee Perry-Smith head, three sphere lights) at
+// 64 x 64, 4 spp, one thread; skipped when the mesh is absent (run from the source directory,
+// the scene finds it in ../shared/data).
+void BM_HeadCameraSample(benchmark::State& state) {
+  const std::string path = SKIN_SOURCE_DIR "/examples/head.json";
+  const std::string mesh = SKIN_SOURCE_DIR "/../shared/data/meshes/LeePerrySmith/LeePerrySmith.glb";
+  if (!std::filesystem::exists(mesh)) {
+    state.SkipWithError("no head mesh (../shared/data/meshes/LeePerrySmith)");
+    for (auto _ : state) {
+    }
+    return;
+  }
+  const Scene scene = Scene::load(path);
+  RenderSettings rs;
+  rs.width = 64;
+  rs.height = 64;
+  rs.spp = 4;
+  rs.threads = 1;
+  std::int64_t samples = 0;
+  for (auto _ : state) {
+    RenderStats stats;
+    benchmark::DoNotOptimize(render(scene, rs, &stats));
+    samples += static_cast<std::int64_t>(stats.camera_samples);
+  }
+  state.SetItemsProcessed(samples);
+}
+BENCHMARK(BM_HeadCameraSample)->Unit(benchmark::kMillisecond);
 
 // Renders the default scene at 192 x 128, `spp` samples; threads from the argument.
 void render_default(benchmark::State& state, bool diffuse) {
@@ -20,8 +215,8 @@ void render_default(benchmark::State& state, bool diffuse) {
   rs.threads = static_cast<int>(state.range(0));
   std::int64_t samples = 0;
   for (auto _ : state) {
-    skin::render::RenderStats stats;
-    benchmark::DoNotOptimize(skin::render::render(scene, rs, &stats));
+    RenderStats stats;
+    benchmark::DoNotOptimize(render(scene, rs, &stats));
     samples += static_cast<std::int64_t>(stats.camera_samples);
   }
   state.SetItemsProcessed(samples);
