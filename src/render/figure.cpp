@@ -136,9 +136,9 @@ void set_up(Rig rig, SceneData& s, std::size_t backdrop) {
     case Rig::crop:
       // Cheek and nose from the front right; a warm key light above left whose reflection the
       // cheek and the nose show (the surface term), a weak cool fill from the right.
-      s.camera = {{4.0, 1.0, 12.0}, {0.5, 0.7, 1.9}, {0, 1, 0}, 13.0, 128, 128};
+      s.camera = {{4.0, 0.8, 12.0}, {0.5, 0.5, 1.9}, {0, 1, 0}, 13.0, 128, 128};
       s.lights.emplace_back(SphereLight{{-12, 14, 8}, 3, {70, 67, 63}});
-      s.lights.emplace_back(SphereLight{{12, -2, 10}, 4, {0.8, 0.85, 0.95}});
+      s.lights.emplace_back(SphereLight{{12, -2, 10}, 4, {3.5, 3.7, 4.1}});
       s.meshes.push_back(make_quad({-60, -60, -12}, {120, 0, 0}, {0, 120, 0}, backdrop));
       s.environment.constant = {0.02, 0.02, 0.02};
       break;
@@ -253,7 +253,7 @@ Figure make_figure(int number, const std::string& mesh_path, const std::string& 
     if (fig.on_mesh) {
       s.meshes = head;
     } else if (rig == Rig::crop) {
-      s.meshes.push_back(make_sphere({0.5, 0.7, 1.9}, 1.0, 48, 96, 0));  // 44 mm across
+      s.meshes.push_back(make_sphere({0.5, 0.5, 1.9}, 1.0, 48, 96, 0));  // 44 mm across
     } else {
       // A head-sized sphere and a thin fin (3.5 mm) where the right ear is.
       s.meshes.push_back(make_sphere({0, 0.8, 0}, 1.6, 48, 96, 0));
