@@ -99,8 +99,8 @@ void run(const RenderOpts& o, const Target& target) {
     // figure: its cells are rendered one after another).
     render::RenderCost cost = render::render_cost(scene, rs);
     cost.samples *= static_cast<double>(target.scenes.size());
-    check_request("a render of " + std::to_string(target.scenes.size()) + " x " +
-                      std::to_string(rs.width > 0 ? rs.width : scene.width()) + "x" +
+    const std::string cells = target.layout ? std::to_string(target.scenes.size()) + " cells of " : "";
+    check_request("a render of " + cells + std::to_string(rs.width > 0 ? rs.width : scene.width()) + "x" +
                       std::to_string(rs.height > 0 ? rs.height : scene.height()) + " pixels, " +
                       format_number(cost.samples) + " samples",
                   o.time_budget > 0 ? 0.0 : cost.samples, kRenderSamplesPerSecond, rs.threads, cost.bytes);
