@@ -38,6 +38,14 @@ std::vector<double> uniforms(std::size_t n, std::uint64_t seed) {
   return u;
 }
 
+// Runs f(i) for i in [0, kBatch) per iteration; items = calls.
+template <class F>
+void batch(benchmark::State& state, F&& f) {
+  for (auto _ : state)
+    for (int i = 0; i < kBatch; ++i) f(static_cast<std::size_t>(i));
+  state.SetItemsProcessed(state.iterations() * kBatch);
+}
+
 Bssrdf flat_bssrdf() {
   const Material& m = caucasian();
   // A flat exit point at the origin, normal +z, 1 mm per unit.
@@ -59,36 +67,30 @@ std::vector<Vec3> entry_points() {
 void BM_ProbeSample(benchmark::State& state) {
   const Bssrdf b = flat_bssrdf();
   const auto u = uniforms(4 * kBatch, 1);
-  for (auto _ : state)
-    for (int i = 0; i < kBatch; ++i) {
-      ProbeSegment seg;
-      const double* q = &u[static_cast<std::size_t>(4 * i)];
-      benchmark::DoNotOptimize(b.sample_probe(q[0], q[1], q[2], q[3], &seg));
-      benchmark::DoNotOptimize(seg);
-    }
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) {
+    ProbeSegment seg;
+    const double* q = &u[4 * i];
+    benchmark::DoNotOptimize(b.sample_probe(q[0], q[1], q[2], q[3], &seg));
+    benchmark::DoNotOptimize(seg);
+  });
 }
 BENCHMARK(BM_ProbeSample);
 
 void BM_ProbePdf(benchmark::State& state) {
   const Bssrdf b = flat_bssrdf();
   const auto p = entry_points();
-  for (auto _ : state)
-    for (const Vec3& x : p) benchmark::DoNotOptimize(b.pdf_probe(x, {0, 0, 1}));
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) { benchmark::DoNotOptimize(b.pdf_probe(p[i], {0, 0, 1})); });
 }
 BENCHMARK(BM_ProbePdf);
 
 void BM_ProbeWeight(benchmark::State& state) {
   const Bssrdf b = flat_bssrdf();
   const auto p = entry_points();
-  for (auto _ : state)
-    for (const Vec3& x : p) {
-      Rgb3 w;
-      benchmark::DoNotOptimize(b.probe_weight(x, {0, 0, 1}, 1, &w));
-      benchmark::DoNotOptimize(w);
-    }
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) {
+    Rgb3 w;
+    benchmark::DoNotOptimize(b.probe_weight(p[i], {0, 0, 1}, 1, &w));
+    benchmark::DoNotOptimize(w);
+  });
 }
 BENCHMARK(BM_ProbeWeight);
 
@@ -96,9 +98,7 @@ BENCHMARK(BM_ProbeWeight);
 void BM_ProfileSampleRadius(benchmark::State& state) {
   const TabulatedProfile& t = caucasian().profile[0];
   const auto u = uniforms(kBatch, 2);
-  for (auto _ : state)
-    for (double x : u) benchmark::DoNotOptimize(t.sample_radius(x));
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) { benchmark::DoNotOptimize(t.sample_radius(u[i])); });
 }
 BENCHMARK(BM_ProfileSampleRadius);
 
@@ -106,12 +106,10 @@ void BM_ProfilePdfAndEval(benchmark::State& state) {
   const TabulatedProfile& t = caucasian().profile[0];
   std::vector<double> r;
   for (double x : uniforms(kBatch, 4)) r.push_back(t.sample_radius(x));
-  for (auto _ : state)
-    for (double x : r) {
-      benchmark::DoNotOptimize(t.pdf_radius(x));
-      benchmark::DoNotOptimize(t.eval(x));
-    }
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) {
+    benchmark::DoNotOptimize(t.pdf_radius(r[i]));
+    benchmark::DoNotOptimize(t.eval(r[i]));
+  });
 }
 BENCHMARK(BM_ProfilePdfAndEval);
 
@@ -125,12 +123,10 @@ void BM_MicrofacetEval(benchmark::State& state) {
     const Vec3 wo = sample_uniform_sphere({u[k], u[k + 1]}), wi = sample_uniform_sphere({u[k + 2], u[k + 3]});
     dirs.push_back({{wo.x, wo.y, std::abs(wo.z)}, {wi.x, wi.y, std::abs(wi.z)}});
   }
-  for (auto _ : state)
-    for (const auto& [wo, wi] : dirs) {
-      benchmark::DoNotOptimize(ts.f(wo, wi));
-      benchmark::DoNotOptimize(ts.pdf(wo, wi));
-    }
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) {
+    benchmark::DoNotOptimize(ts.f(dirs[i].first, dirs[i].second));
+    benchmark::DoNotOptimize(ts.pdf(dirs[i].first, dirs[i].second));
+  });
 }
 BENCHMARK(BM_MicrofacetEval);
 
@@ -138,23 +134,19 @@ void BM_MicrofacetSample(benchmark::State& state) {
   const TorranceSparrow ts(0.3, 0.35, 1.4);
   const auto u = uniforms(2 * kBatch, 6);
   const Vec3 wo = normalize(Vec3{0.3, 0.1, 0.9});
-  for (auto _ : state)
-    for (int i = 0; i < kBatch; ++i) {
-      Vec3 wi;
-      double pdf = 0;
-      benchmark::DoNotOptimize(ts.sample(wo, {u[static_cast<std::size_t>(2 * i)], u[static_cast<std::size_t>(2 * i + 1)]}, &wi, &pdf));
-      benchmark::DoNotOptimize(pdf);
-    }
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) {
+    Vec3 wi;
+    double pdf = 0;
+    benchmark::DoNotOptimize(ts.sample(wo, {u[2 * i], u[2 * i + 1]}, &wi, &pdf));
+    benchmark::DoNotOptimize(pdf);
+  });
 }
 BENCHMARK(BM_MicrofacetSample);
 
 void BM_RhoDrLookup(benchmark::State& state) {
   const SpecularAlbedo& a = *caucasian().specular_albedo;
   const auto u = uniforms(kBatch, 8);
-  for (auto _ : state)
-    for (double c : u) benchmark::DoNotOptimize(a.rho_dr(c));
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) { benchmark::DoNotOptimize(a.rho_dr(u[i])); });
 }
 BENCHMARK(BM_RhoDrLookup);
 
@@ -163,18 +155,33 @@ void BM_LightSample(benchmark::State& state) {
   const Light light = state.range(0) == 0 ? Light(SphereLight{{14, 10, 16}, 2.5, {30, 27, 24}})
                                           : Light(QuadLight{{-2, 8, -2}, {4, 0, 0}, {0, 0, 4}, {10, 10, 10}});
   const auto u = uniforms(5 * kBatch, 9);
-  for (auto _ : state)
-    for (int i = 0; i < kBatch; ++i) {
-      const double* q = &u[static_cast<std::size_t>(5 * i)];
-      const Vec3 p{q[0] - 0.5, q[1] - 0.5, q[2] - 0.5};
-      const LightSample s = light.sample(p, {0, 1, 0}, {q[3], q[4]});
-      benchmark::DoNotOptimize(s);
-      benchmark::DoNotOptimize(light.pdf(p, {0, 1, 0}, s.wi));
-    }
-  state.SetItemsProcessed(state.iterations() * kBatch);
+  batch(state, [&](std::size_t i) {
+    const double* q = &u[5 * i];
+    const Vec3 p{q[0] - 0.5, q[1] - 0.5, q[2] - 0.5};
+    const LightSample s = light.sample(p, {0, 1, 0}, {q[3], q[4]});
+    benchmark::DoNotOptimize(s);
+    benchmark::DoNotOptimize(light.pdf(p, {0, 1, 0}, s.wi));
+  });
   state.SetLabel(state.range(0) == 0 ? "sphere" : "quad");
 }
 BENCHMARK(BM_LightSample)->Arg(0)->Arg(1);
+
+// Renders `scene` at w x h, 4 spp, per iteration; items = camera samples.
+std::int64_t render_samples(benchmark::State& state, const Scene& scene, int w, int h, int threads) {
+  RenderSettings rs;
+  rs.width = w;
+  rs.height = h;
+  rs.spp = 4;
+  rs.threads = threads;
+  std::int64_t samples = 0;
+  for (auto _ : state) {
+    RenderStats stats;
+    benchmark::DoNotOptimize(render(scene, rs, &stats));
+    samples += static_cast<std::int64_t>(stats.camera_samples);
+  }
+  state.SetItemsProcessed(samples);
+  return samples;
+}
 
 // Camera samples on examples/head.json (the Lee Perry-Smith head, three sphere lights) at
 // 64 x 64, 4 spp, one thread; skipped when the mesh is absent (run from the source directory,
@@ -188,19 +195,7 @@ void BM_HeadCameraSample(benchmark::State& state) {
     }
     return;
   }
-  const Scene scene = Scene::load(path);
-  RenderSettings rs;
-  rs.width = 64;
-  rs.height = 64;
-  rs.spp = 4;
-  rs.threads = 1;
-  std::int64_t samples = 0;
-  for (auto _ : state) {
-    RenderStats stats;
-    benchmark::DoNotOptimize(render(scene, rs, &stats));
-    samples += static_cast<std::int64_t>(stats.camera_samples);
-  }
-  state.SetItemsProcessed(samples);
+  render_samples(state, Scene::load(path), 64, 64, 1);
 }
 BENCHMARK(BM_HeadCameraSample)->Unit(benchmark::kMillisecond);
 
@@ -208,18 +203,7 @@ BENCHMARK(BM_HeadCameraSample)->Unit(benchmark::kMillisecond);
 void render_default(benchmark::State& state, bool diffuse) {
   Scene scene = Scene::default_scene();
   if (diffuse) scene.make_translucent_diffuse();
-  RenderSettings rs;
-  rs.width = 192;
-  rs.height = 128;
-  rs.spp = 4;
-  rs.threads = static_cast<int>(state.range(0));
-  std::int64_t samples = 0;
-  for (auto _ : state) {
-    RenderStats stats;
-    benchmark::DoNotOptimize(render(scene, rs, &stats));
-    samples += static_cast<std::int64_t>(stats.camera_samples);
-  }
-  state.SetItemsProcessed(samples);
+  const std::int64_t samples = render_samples(state, scene, 192, 128, static_cast<int>(state.range(0)));
   state.counters["samples/s"] = benchmark::Counter(static_cast<double>(samples), benchmark::Counter::kIsRate);
 }
 
