@@ -154,7 +154,7 @@ void set_up(Rig rig, SceneData& s, std::size_t backdrop) {
       // The right ear from the front right, a small light behind it (hidden by the head) and a
       // dim front light.
       s.camera = {{7.0, 1.6, 5.0}, {1.5, 1.1, -0.4}, {0, 1, 0}, 20.0, 192, 192};
-      s.lights.emplace_back(SphereLight{{2.6, 1.4, -2.4}, 0.25, {150, 150, 150}});
+      s.lights.emplace_back(SphereLight{{2.6, 1.4, -2.4}, 0.25, {60, 60, 60}});
       s.lights.emplace_back(SphereLight{{10, 9, 14}, 3, {0.6, 0.56, 0.52}});
       s.meshes.push_back(make_quad({-80, -60, -16}, {160, 0, 0}, {0, 120, 0}, backdrop));
       s.environment.constant = {0.02, 0.02, 0.02};
@@ -239,7 +239,7 @@ Figure make_figure(int number, const std::string& mesh_path, const std::string& 
     s.spp = 32;
     s.max_depth = rig == Rig::crop ? 3 : 4;
     Material m = std::move(skin[i]);
-    if (rig == Rig::face && texture) {
+    if (rig != Rig::crop && texture) {
       // The texture's colour where the parameters are caucasian (DJ06 section 3.6), as
       // examples/head.json.
       m.albedo_map = texture;

@@ -40,7 +40,7 @@ struct Figure {
 };
 // Builds the cells on the face mesh `mesh_path` (OBJ, glTF, GLB; placed by its bounding box in
 // the frame of the Lee Perry-Smith head, 22 mm per unit as examples/head.json), or on spheres
-// when `mesh_path` is empty. `albedo_texture` (Fig. 10's faces only; empty: none) is the mesh's
+// when `mesh_path` is empty. `albedo_texture` (Fig. 10 only; empty: none) is the mesh's
 // colour texture, normalised by the R_d colour of caucasian skin (DJ06 section 3.6).
 Figure make_figure(int number, const std::string& mesh_path, const std::string& albedo_texture = "",
                    const std::function<SkinParameters(const SkinParameters&)>& change = {});
