@@ -3,9 +3,16 @@
 // as model-notes section 7 lists them (written out here, not taken from the code); the command
 // line's parameter changes keep each sweep's own parameter.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <sys/wait.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -139,6 +146,33 @@ TEST(Figure, EveryFigureRendersOnSpheres) {
 TEST(Figure, EveryFigureRendersOnTheHead) {
   if (!std::filesystem::exists(kHead)) GTEST_SKIP() << "no head mesh at " << kHead;
   for (int n : figure_numbers()) expect_tiny_render(n, kHead);
+}
+
+// Without ../shared/data (a fresh directory), `skin figure` renders spheres and says so in one
+// line; --mesh naming a missing file is an error (exit 2, nothing written).
+TEST(Figure, CommandFallsBackToSpheresWithANote) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("skin_figure_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "work");
+  const auto run = [&](const std::string& args, std::string* err) {
+    const std::string cmd = "cd '" + (dir / "work").string() + "' && '" SKIN_BINARY "' figure " + args +
+                            " > /dev/null 2> ../err.txt";
+    const int status = std::system(cmd.c_str());
+    std::stringstream ss;
+    ss << std::ifstream(dir / "err.txt").rdbuf();
+    *err = ss.str();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  };
+  std::string err;
+  EXPECT_EQ(run("8 --resolution 2x2 --spp 1 -o f.png", &err), 0) << err;
+  EXPECT_NE(err.find("note: no head mesh at ../shared/data/meshes/LeePerrySmith/LeePerrySmith.glb: rendering spheres"),
+            std::string::npos) << err;
+  EXPECT_EQ(std::count(err.begin(), err.end(), '\n'), 1) << err;
+  EXPECT_TRUE(fs::exists(dir / "work" / "f.png"));
+  EXPECT_EQ(run("8 --mesh absent.glb --resolution 2x2 --spp 1 -o g.png", &err), 2) << err;
+  EXPECT_NE(err.find("absent.glb"), std::string::npos) << err;
+  EXPECT_FALSE(fs::exists(dir / "work" / "g.png"));
+  fs::remove_all(dir);
 }
 
 TEST(Figure, AMissingMeshIsAnInputError) {
