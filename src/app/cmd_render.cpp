@@ -68,7 +68,16 @@ void add_common(CLI::App* sub, RenderOpts* o) {
   sub->add_option("--tone-map", o->tone_map,
                   "PNG tone curve: clip (plain sRGB, values above 1 clipped) or filmic (Hable's curve, "
                   "highlights compressed; docs/renderer.md) (default: the scene's, else clip)")
-      ->check(CLI::IsMember({"clip", "filmic"}));
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            try {
+              (void)image::tone_map_from_name(v);
+              return {};
+            } catch (const InputError&) {
+              return "'" + v + "' is not one of clip, filmic";
+            }
+          },
+          "clip|filmic"));
 }
 
 // What is rendered: one scene, or the cells of a figure.
