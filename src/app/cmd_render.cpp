@@ -30,7 +30,7 @@ struct RenderOpts {
   double time_budget = 0, exposure = 0, target_error = 0;
   bool exposure_given = false, diffuse = false, spheres = false;
   SolverOption solver;
-  ParameterOptions params;  // render only: changes the skin materials
+  ParameterOptions params;  // changes the skin materials (render) or every cell (figure)
 };
 
 void parse_resolution(const std::string& s, render::RenderSettings* rs) {

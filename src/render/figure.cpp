@@ -260,6 +260,7 @@ Figure make_figure(int number, const std::string& mesh_path, const std::string& 
       s.meshes.push_back(make_ellipsoid({1.9, 1.1, -0.3}, {0.35, 0.6, 0.08}, 32, 64, 0));
     }
     set_up(rig, s, 1);
+    if (number == 7) s.camera.width = s.camera.height = 160;  // room for the long labels
     fig.cells.push_back(make_scene(std::move(s)));
   }
   return fig;
