@@ -3,6 +3,8 @@
 #include <cmath>
 #include <optional>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <iostream>
 
 #include "common.hpp"
@@ -15,15 +17,21 @@
 namespace skin::cli {
 namespace {
 
+// The head mesh `skin figure` uses unless --mesh names another: where examples/head.json finds it,
+// from the project's directory (../shared/data, as the measured spectra of `skin fit`).
+constexpr const char* kDefaultHeadMesh = "../shared/data/meshes/LeePerrySmith/LeePerrySmith.glb";
+// Its colour texture (Fig. 10's faces), looked for beside the mesh.
+constexpr const char* kHeadTexture = "Map-COL.jpg";
+
 struct RenderOpts {
-  std::string scene, output, resolution, mesh, reference;
+  std::string scene, output, resolution, mesh, reference, tone_map;
   int spp = 0, max_depth = -1, figure = 0;
   RunOptions run;
   double time_budget = 0, exposure = 0, target_error = 0, point_spacing = 0, point_solid_angle = -1;
   std::string subsurface;
-  bool exposure_given = false, diffuse = false, spectral = false;
+  bool exposure_given = false, diffuse = false, spheres = false, spectral = false;
   SolverOption solver;
-  ParameterOptions params;  // render only: changes the skin materials
+  ParameterOptions params;  // changes the skin materials (render) or every cell (figure)
 };
 
 void parse_resolution(const std::string& s, render::RenderSettings* rs) {
@@ -69,11 +77,36 @@ void add_common(CLI::App* sub, RenderOpts* o) {
                   "With --subsurface points: the largest solid angle A_node / d^2 in sr at which a tree node stands "
                   "in for its points (0 = sum every point; default: the scene's, else 0.05)")
       ->check(CLI::NonNegativeNumber);
+  sub->add_flag("--spectral", o->spectral,
+                "Spectral rendering: hero wavelength (4 per sample, 400-700 nm), per-wavelength profiles, light "
+                "spectra (default: the scene's render.spectral, else RGB, the paper's method)");
   sub->add_option("--exposure", o->exposure, "PNG exposure in stops (default: the scene's)")
       ->each([o](const std::string&) { o->exposure_given = true; });
+  sub->add_option("--tone-map", o->tone_map,
+                  "PNG tone curve: clip (plain sRGB, values above 1 clipped) or filmic (Hable's curve, "
+                  "highlights compressed; docs/renderer.md) (default: the scene's, else clip)")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            try {
+              (void)image::tone_map_from_name(v);
+              return {};
+            } catch (const InputError&) {
+              return "'" + v + "' is not one of clip, filmic";
+            }
+          },
+          "clip|filmic"));
 }
 
-void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* layout) {
+// What is rendered: one scene, or the cells of a figure.
+struct Target {
+  std::vector<const render::Scene*> scenes;
+  std::function<render::Image(const render::RenderSettings&, render::RenderStats*, const render::Progress&)> render;
+  const render::FigureLayout* layout = nullptr;
+};
+
+void run(const RenderOpts& o, const Target& target) {
+  const render::Scene& scene = *target.scenes.front();
+  const render::FigureLayout* layout = target.layout;
   check_output(o.output);
   render::RenderSettings rs;
   rs.spp = o.spp;
@@ -89,12 +122,16 @@ void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* 
   rs.point_solid_angle = o.point_solid_angle;
   if (!o.resolution.empty()) parse_resolution(o.resolution, &rs);
   if (o.spp < 0) throw InputError("spp = " + std::to_string(o.spp) + " is out of range: must be >= 1");
-  for (const auto& v : scene.validity())
-    warn_validity(transport::find_model(v.solver), v.validity, "material '" + v.material + "'");
+  for (const render::Scene* sc : target.scenes)
+    for (const auto& v : sc->validity())
+      warn_validity(transport::find_model(v.solver), v.validity, "material '" + v.material + "'");
   {
-    // A time budget bounds the time already; the memory is checked either way.
-    const render::RenderCost cost = render::render_cost(scene, rs);
-    check_request("a render of " + std::to_string(rs.width > 0 ? rs.width : scene.width()) + "x" +
+    // A time budget bounds the time already; the memory is checked either way (per cell of a
+    // figure: its cells are rendered one after another).
+    render::RenderCost cost = render::render_cost(scene, rs);
+    cost.samples *= static_cast<double>(target.scenes.size());
+    const std::string cells = target.layout ? std::to_string(target.scenes.size()) + " cells of " : "";
+    check_request("a render of " + cells + std::to_string(rs.width > 0 ? rs.width : scene.width()) + "x" +
                       std::to_string(rs.height > 0 ? rs.height : scene.height()) + " pixels, " +
                       format_number(cost.samples) + " samples",
                   o.time_budget > 0 ? 0.0 : cost.samples, kRenderSamplesPerSecond, rs.threads, cost.bytes);
@@ -107,10 +144,11 @@ void run(const RenderOpts& o, render::Scene& scene, const render::FigureLayout* 
     reference = render::read_image(o.reference);
   }
   render::RenderStats stats;
-  render::Image img = render::render(scene, rs, &stats, progress_fraction_bar());
+  render::Image img = target.render(rs, &stats, progress_fraction_bar());
   const double reference_error = reference ? render::relative_rms_error(img, *reference, stats.skin_mask) : 0.0;
   if (layout) img = render::annotate_figure(img, *layout);
-  render::write_image(o.output, img, o.exposure_given ? o.exposure : scene.exposure());
+  render::write_image(o.output, img, o.exposure_given ? o.exposure : scene.exposure(),
+                      o.tone_map.empty() ? scene.tone_map() : image::tone_map_from_name(o.tone_map));
   const double mean_spp = static_cast<double>(stats.camera_samples) / (static_cast<double>(img.width) * img.height);
   if (o.target_error > 0)
     std::printf("wrote %s: %dx%d, %.3g spp on average (at most %d), %.1f s (%.3g samples/s)\n", o.output.c_str(),
@@ -151,9 +189,6 @@ void register_render(CLI::App& app) {
       "then change it; without --preset they change each material's own set)");
   sub->add_option("--resolution", o->resolution, "Image size WxH (default: the scene's)");
   sub->add_flag("--diffuse", o->diffuse, "Replace every translucent material by a diffuse one of the same R_d (comparison)");
-  sub->add_flag("--spectral", o->spectral,
-                "Spectral rendering: hero wavelength (4 per sample, 400-700 nm), per-wavelength profiles, light "
-                "spectra (default: the scene's render.spectral, else RGB, the paper's method)");
   sub->callback([o, sub] {
     check_output(o->output);
     if (!o->resolution.empty()) {
@@ -168,21 +203,81 @@ void register_render(CLI::App& app) {
     if (sub->count("--solver") > 0) scene.set_solver(o->solver.model());  // else the scene's
     if (o->diffuse) scene.make_translucent_diffuse();
     if (o->spectral) scene.set_spectral(true);
-    run(*o, scene, nullptr);
+    Target t;
+    t.scenes = {&scene};
+    t.render = [&scene](const render::RenderSettings& rs, render::RenderStats* st, const render::Progress& p) {
+      return render::render(scene, rs, st, p);
+    };
+    run(*o, t);
   });
 
   auto f = std::make_shared<RenderOpts>();
   CLI::App* fig = app.add_subcommand(
-      "figure", "Render a parameter sweep of the paper (Fig. 3, 4, 5, 6, 7 or 8) as a labelled grid of skin patches");
-  fig->add_option("number", f->figure, "Figure number: 3, 4, 5, 6, 7 or 8")->check(whole_number(3, 8))->required();
+      "figure",
+      "Render a figure of the paper: the parameter sweeps of Figs 3-8 as close-ups of the Lee Perry-Smith "
+      "face (cheek and nose, one crop per parameter set), Fig. 10 as its four views of the head; "
+      "spheres when the mesh is absent");
+  fig->add_option("number", f->figure, "Figure number: 3, 4, 5, 6, 7, 8 or 10")
+      ->check(CLI::Validator(
+          [](std::string& v) -> std::string {
+            std::string allowed;
+            for (int n : render::figure_numbers()) {
+              if (v == std::to_string(n)) return {};
+              allowed += (allowed.empty() ? "" : ", ") + std::to_string(n);
+            }
+            return v + " is out of range: must be one of " + allowed;
+          },
+          "FIGURE"))
+      ->required();
   add_common(fig, f.get());
-  fig->add_option("--mesh", f->mesh, "Render each patch on this mesh (OBJ, glTF, GLB) instead of a sphere");
-  fig->callback([f] {
+  f->params.add_to(*fig);
+  f->params.preset_option->description(
+      "Start every cell from this parameter set (parameter flags and --params then change it); the "
+      "swept parameters keep the paper's values of their cells");
+  fig->add_option("--resolution", f->resolution,
+                  "Size of one cell WxH (default 128x128; 160x160 for Fig. 7, 192x192 for Fig. 10)");
+  fig->add_option("--mesh", f->mesh,
+                  std::string("The face mesh (OBJ, glTF, GLB; framed by its bounding box as the Lee Perry-Smith "
+                              "head) (default: ") + kDefaultHeadMesh + " from the current directory, spheres if absent)");
+  fig->add_flag("--spheres", f->spheres, "Render spheres (and a thin fin for the ear) instead of the face");
+  fig->callback([f, fig] {
     check_output(f->output);
-    const render::FigureLayout layout = render::figure_layout(f->figure);
-    render::Scene scene = render::Scene::figure(f->figure, f->mesh);
-    scene.set_solver(f->solver.model());
-    run(*f, scene, &layout);
+    if (!f->resolution.empty()) {
+      render::RenderSettings tmp;
+      parse_resolution(f->resolution, &tmp);
+    }
+    if (f->spheres && !f->mesh.empty()) throw InputError("--spheres and --mesh exclude each other");
+    std::function<SkinParameters(const SkinParameters&)> change;
+    if (f->params.given()) change = f->params.change();
+    std::string mesh = f->mesh;
+    if (mesh.empty() && !f->spheres) {
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(kDefaultHeadMesh, ec)) {
+        mesh = kDefaultHeadMesh;
+      } else {
+        std::fprintf(stderr, "skin: note: no head mesh at %s: rendering spheres (--mesh PATH names one)\n",
+                     kDefaultHeadMesh);
+      }
+    }
+    // Fig. 10's faces wear the colour texture beside the mesh, when there is one.
+    std::string texture;
+    if (!mesh.empty()) {
+      const std::filesystem::path t = std::filesystem::path(mesh).parent_path() / kHeadTexture;
+      std::error_code ec;
+      if (std::filesystem::is_regular_file(t, ec)) texture = t.string();
+    }
+    auto figure = std::make_shared<render::Figure>(render::make_figure(f->figure, mesh, texture, change));
+    if (fig->count("--solver") > 0)
+      for (auto& cell : figure->cells) cell.set_solver(f->solver.model());
+    if (f->spectral)
+      for (auto& cell : figure->cells) cell.set_spectral(true);
+    Target t;
+    for (const auto& cell : figure->cells) t.scenes.push_back(&cell);
+    t.layout = &figure->layout;
+    t.render = [figure](const render::RenderSettings& rs, render::RenderStats* st, const render::Progress& p) {
+      return render::render_figure(*figure, rs, st, p);
+    };
+    run(*f, t);
   });
 }
 

@@ -45,10 +45,34 @@ std::ostream& operator<<(std::ostream& os, const Image& img) {
   return os << "Image{" << img.width << "x" << img.height << '}';
 }
 
+ToneMap tone_map_from_name(const std::string& name) {
+  if (name == "clip") return ToneMap::clip;
+  if (name == "filmic") return ToneMap::filmic;
+  throw InputError("tone-map = '" + name + "' is not one of clip, filmic");
+}
+
+const char* tone_map_name(ToneMap t) { return t == ToneMap::filmic ? "filmic" : "clip"; }
+
+double tone_curve(ToneMap t, double v) {
+  if (t == ToneMap::clip) return std::clamp(v, 0.0, 1.0);
+  // Hable 2010 (image.hpp): shoulder strength A, linear strength B, linear angle C, toe strength
+  // D, toe numerator E, toe denominator F, linear white point W; exposure bias 2.
+  constexpr double A = 0.15, B = 0.50, C = 0.10, D = 0.20, E = 0.02, F = 0.30, W = 11.2;
+  const auto H = [](double x) { return (x * (A * x + C * B) + D * E) / (x * (A * x + B) + D * F) - E / F; };
+  static const double white = H(W);
+  if (!(v > 0)) return 0.0;
+  return std::min(H(2 * v) / white, 1.0);
+}
+
+int encode_8bit(ToneMap t, double v) {
+  if (!std::isfinite(v)) return 0;
+  return static_cast<int>(std::lround(255.0 * color::srgb_encode(tone_curve(t, v))));
+}
+
 namespace {
 
 // Writes to `tmp`; messages name `path`, the file the user asked for.
-void write_png(const std::string& tmp, const std::string& path, const Image& img, double exposure) {
+void write_png(const std::string& tmp, const std::string& path, const Image& img, double exposure, ToneMap tone_map) {
   std::FILE* fp = std::fopen(tmp.c_str(), "wb");
   if (!fp) throw InputError("output = '" + path + "': cannot open for writing: " + std::strerror(errno));
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
@@ -71,8 +95,7 @@ void write_png(const std::string& tmp, const std::string& path, const Image& img
       const Rgb c = img.at(x, y);
       for (int k = 0; k < 3; ++k) {
         const double v = std::isfinite(c[k]) ? c[k] * gain : 0.0;
-        row[static_cast<std::size_t>(x * 3 + k)] =
-            static_cast<png_byte>(std::lround(255.0 * color::srgb_encode(v)));
+        row[static_cast<std::size_t>(x * 3 + k)] = static_cast<png_byte>(encode_8bit(tone_map, v));
       }
     }
     png_write_row(png, row.data());
@@ -276,13 +299,13 @@ Image read_exr(const std::string& path) {
 
 }  // namespace
 
-void write_image(const std::string& path, const Image& img, double exposure) {
+void write_image(const std::string& path, const Image& img, double exposure, ToneMap tone_map) {
   require_finite("exposure", exposure);
   const std::string ext = io::extension(path);
   if (ext != "png" && ext != "exr")
     throw InputError("output = '" + path + "': unknown image format '." + ext + "', use .png or .exr");
   io::write_via_temporary(path, [&](const std::string& tmp) {
-    if (ext == "png") write_png(tmp, path, img, exposure);
+    if (ext == "png") write_png(tmp, path, img, exposure, tone_map);
     else write_exr(tmp, path, img);
   });
 }

@@ -1,5 +1,6 @@
-// `skin figure N`: the paper's parameter sweeps (model-notes section 7) as a grid of patches,
-// each a sphere (or a given mesh) of skin with one parameter set, labelled underneath.
+// `skin figure N`: the paper's figures (model-notes section 7) as a grid of cells, each a scene of
+// its own: close-up crops of a face for the sweeps (Figs 3-8), the four views of Fig. 10; spheres
+// (and a thin fin for the ear) without a mesh. Each cell is labelled underneath.
 #if defined(__GNUC__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wconversion"
@@ -12,7 +13,10 @@
 #pragma GCC diagnostic pop
 #endif
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -24,10 +28,19 @@
 namespace skin::render {
 namespace {
 
-struct Cell {
+// The head mesh's frame: the Lee Perry-Smith scan's bounding box is 7.9451 units tall and
+// centred at the origin (within 1e-5 units); any mesh is scaled and moved onto that box, so the
+// cameras and lights below frame its face. 22 mm per unit, as examples/head.json.
+constexpr double kHeadHeight = 7.9450934;
+constexpr double kMmPerUnit = 22;
+
+struct CellSpec {
   SkinParameters p;
   std::string label;
+  std::vector<double SkinParameters::*> swept;  // the sweep's own parameters (kept under `change`)
 };
+
+enum class Rig { crop, face, ear, lights };
 
 std::string pct(double x) {
   char b[32];
@@ -49,116 +62,265 @@ SkinParameters params(double cm, double bm, double ch, double rs) {
   return p;
 }
 
-// The sweeps of DJ06 Figs 3-8 (model-notes section 7).
-std::vector<Cell> cells(int number, int* columns, std::string* title) {
-  std::vector<Cell> c;
+// The paper's four numbers of `p` other than the swept ones, for the title.
+std::string fixed_text(const SkinParameters& p, const std::vector<double SkinParameters::*>& swept) {
+  const std::vector<std::pair<double SkinParameters::*, std::string>> shown = {
+      {&SkinParameters::melanin, "C_m " + pct(p.melanin)},
+      {&SkinParameters::melanin_blend, "beta_m " + num(p.melanin_blend)},
+      {&SkinParameters::hemoglobin, "C_h " + pct(p.hemoglobin)},
+      {&SkinParameters::oiliness, "rho_s " + num(p.oiliness)}};
+  std::string s;
+  for (const auto& [m, text] : shown)
+    if (std::find(swept.begin(), swept.end(), m) == swept.end()) s += (s.empty() ? "" : ", ") + text;
+  return s;
+}
+
+// The sweeps of DJ06 Figs 3-8 and the views of Fig. 10 (model-notes section 7), with the
+// paper's parameters.
+std::vector<CellSpec> cell_specs(int number, int* columns, std::string* title_head) {
+  using P = SkinParameters;
+  std::vector<CellSpec> c;
   *columns = 6;
   switch (number) {
     case 3:
-      *title = "Fig. 3: melanin fraction C_m (beta_m 0.7, C_h 0.5%, rho_s 0.5)";
-      for (double v : {0.001, 0.01, 0.05, 0.1, 0.25, 0.5}) c.push_back({params(v, 0.7, 0.005, 0.5), "C_m " + pct(v)});
+      *title_head = "Fig. 3: melanin fraction C_m";
+      for (double v : {0.001, 0.01, 0.05, 0.1, 0.25, 0.5}) c.push_back({params(v, 0.7, 0.005, 0.5), "C_m " + pct(v), {&P::melanin}});
       break;
     case 4:
-      *title = "Fig. 4: blood fraction C_h (C_m 1%, beta_m 0.5, rho_s 0.5)";
-      for (double v : {0.001, 0.005, 0.01, 0.05, 0.1, 0.2}) c.push_back({params(0.01, 0.5, v, 0.5), "C_h " + pct(v)});
+      *title_head = "Fig. 4: blood fraction C_h";
+      for (double v : {0.001, 0.005, 0.01, 0.05, 0.1, 0.2}) c.push_back({params(0.01, 0.5, v, 0.5), "C_h " + pct(v), {&P::hemoglobin}});
       break;
     case 5:
-      *title = "Fig. 5: melanin blend beta_m (C_m 50%, C_h 0.1%, rho_s 0.5)";
-      for (double v : {0.0, 0.2, 0.4, 0.6, 0.8, 1.0}) c.push_back({params(0.5, v, 0.001, 0.5), "beta_m " + num(v)});
+      *title_head = "Fig. 5: melanin blend beta_m";
+      for (double v : {0.0, 0.2, 0.4, 0.6, 0.8, 1.0}) c.push_back({params(0.5, v, 0.001, 0.5), "beta_m " + num(v), {&P::melanin_blend}});
       break;
     case 6:
-      *title = "Fig. 6: oiliness rho_s (Caucasian, sigma 0.35)";
-      for (double v : {0.0, 0.2, 0.4, 0.6, 0.8, 1.0}) c.push_back({params(0.005, 0.7, 0.005, v), "rho_s " + num(v)});
+      *title_head = "Fig. 6: oiliness rho_s";
+      for (double v : {0.0, 0.2, 0.4, 0.6, 0.8, 1.0}) c.push_back({params(0.005, 0.7, 0.005, v), "rho_s " + num(v), {&P::oiliness}});
       break;
     case 7:
-      *title = "Fig. 7: rows beta_m/C_h = 1/0.1%, 0.7/1%, 0.3/5%, 0/10%; columns C_m (rho_s 0.4)";
+      *title_head = "Fig. 7: rows beta_m/C_h = 1/0.1%, 0.7/1%, 0.3/5%, 0/10%; columns C_m";
       *columns = 5;
       for (auto [bm, ch] : {std::pair{1.0, 0.001}, {0.7, 0.01}, {0.3, 0.05}, {0.0, 0.1}})
         for (double cm : {0.001, 0.005, 0.03, 0.2, 0.5})
-          c.push_back({params(cm, bm, ch, 0.4), "C_m " + pct(cm) + " b " + num(bm) + " C_h " + pct(ch)});
+          c.push_back({params(cm, bm, ch, 0.4), "C_m " + pct(cm) + " b " + num(bm) + " C_h " + pct(ch),
+                       {&P::melanin, &P::melanin_blend, &P::hemoglobin}});
       break;
     case 8:
-      *title = "Fig. 8: Caucasian, Asian, African";
+      *title_head = "Fig. 8: Caucasian, Asian, African";
       *columns = 3;
-      for (const char* n : {"caucasian", "asian", "african"}) c.push_back({find_preset(n).parameters, n});
+      for (const char* n : {"caucasian", "asian", "african"}) c.push_back({find_preset(n).parameters, n, {}});
+      break;
+    case 10:
+      *title_head = "Fig. 10: pale, tanned, the ear lit from behind, several lights";
+      *columns = 4;
+      c.push_back({find_preset("pale").parameters, "pale Caucasian", {}});
+      c.push_back({find_preset("tanned").parameters, "tanned Caucasian", {}});
+      c.push_back({find_preset("ear").parameters, "ear, lit from behind", {}});
+      c.push_back({find_preset("ear").parameters, "several lights", {}});
       break;
     default:
-      throw InputError("figure = " + std::to_string(number) + " is out of range: one of 3, 4, 5, 6, 7, 8");
+      throw InputError("figure = " + std::to_string(number) + " is out of range: one of 3, 4, 5, 6, 7, 8, 10");
   }
   return c;
 }
 
+Rig rig_of(int number, std::size_t cell) {
+  if (number != 10) return Rig::crop;
+  return cell < 2 ? Rig::face : cell == 2 ? Rig::ear : Rig::lights;
+}
+
+// Camera, lights and backdrop of a cell (head frame, scene units of 22 mm).
+void set_up(Rig rig, SceneData& s, std::size_t backdrop) {
+  switch (rig) {
+    case Rig::crop:
+      // Cheek and nose from the front right; a warm key light above left whose reflection the
+      // cheek and the nose show (the surface term), a weak cool fill from the right.
+      s.camera = {{4.0, 0.8, 12.0}, {0.5, 0.5, 1.9}, {0, 1, 0}, 13.0, 128, 128};
+      s.lights.emplace_back(SphereLight{{-12, 14, 8}, 3, {70, 67, 63}});
+      s.lights.emplace_back(SphereLight{{12, -2, 10}, 4, {3.5, 3.7, 4.1}});
+      s.meshes.push_back(make_quad({-60, -60, -12}, {120, 0, 0}, {0, 120, 0}, backdrop));
+      s.environment.constant = {0.02, 0.02, 0.02};
+      break;
+    case Rig::face:  // examples/head.json
+      s.camera = {{5.5, 1.5, 17.5}, {0.3, 0.2, 0}, {0, 1, 0}, 29.0, 192, 192};
+      s.lights.emplace_back(SphereLight{{14, 10, 16}, 2.5, {30, 27, 24}});
+      s.lights.emplace_back(SphereLight{{-18, 4, 10}, 4, {2.4, 2.6, 3.0}});
+      s.lights.emplace_back(SphereLight{{-3, 3, -9}, 1.5, {90, 90, 90}});
+      s.meshes.push_back(make_quad({-60, -60, -12}, {120, 0, 0}, {0, 120, 0}, backdrop));
+      s.environment.constant = {0.03, 0.03, 0.03};
+      break;
+    case Rig::ear:
+      // The right ear from the front right, a small light behind it (hidden by the head) and a
+      // dim front light.
+      s.camera = {{7.0, 1.6, 5.0}, {1.5, 1.1, -0.4}, {0, 1, 0}, 20.0, 192, 192};
+      s.lights.emplace_back(SphereLight{{2.6, 1.4, -2.4}, 0.25, {60, 60, 60}});
+      s.lights.emplace_back(SphereLight{{10, 9, 14}, 3, {0.6, 0.56, 0.52}});
+      s.meshes.push_back(make_quad({-80, -60, -16}, {160, 0, 0}, {0, 120, 0}, backdrop));
+      s.environment.constant = {0.02, 0.02, 0.02};
+      break;
+    case Rig::lights:  // examples/head-several-lights.json
+      s.camera = {{12.0, 1.5, 11.5}, {1.0, 0.6, 0}, {0, 1, 0}, 30.0, 192, 192};
+      s.lights.emplace_back(SphereLight{{10, 9, 14}, 3, {4.5, 4.2, 3.9}});
+      s.lights.emplace_back(SphereLight{{-16, 3, 12}, 4, {1.2, 1.3, 1.5}});
+      s.lights.emplace_back(SphereLight{{4.6, 1.2, -2.6}, 0.5, {700, 680, 660}});
+      s.meshes.push_back(make_quad({-80, -60, -16}, {160, 0, 0}, {0, 120, 0}, backdrop));
+      s.environment.constant = {0.02, 0.02, 0.02};
+      break;
+  }
+}
+
+// The mesh moved and scaled onto the head frame (its bounding box kHeadHeight tall, centred).
+std::vector<Mesh> head_mesh(const std::string& path) {
+  std::vector<Mesh> meshes = load_mesh_file(path, 0);
+  Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+  for (const auto& m : meshes)
+    for (const auto& p : m.position) {
+      lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+      hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+    }
+  if (!(hi.y > lo.y)) throw InputError("mesh = '" + path + "': has no height (empty or flat in y)");
+  const double scale = kHeadHeight / (hi.y - lo.y);
+  const Vec3 mid = (lo + hi) * 0.5;
+  for (auto& m : meshes)
+    for (auto& p : m.position) p = (p - mid) * scale;
+  return meshes;
+}
+
 }  // namespace
 
-FigureLayout figure_layout(int number) {
+const std::vector<int>& figure_numbers() {
+  static const std::vector<int> n{3, 4, 5, 6, 7, 8, 10};
+  return n;
+}
+
+FigureLayout figure_layout(int number, const std::function<SkinParameters(const SkinParameters&)>& change) {
   FigureLayout f;
-  const auto c = cells(number, &f.columns, &f.title);
-  f.rows = static_cast<int>((c.size() + static_cast<std::size_t>(f.columns) - 1) / static_cast<std::size_t>(f.columns));
-  for (const auto& x : c) f.labels.push_back(x.label);
+  f.number = number;
+  std::string head;
+  const auto specs = cell_specs(number, &f.columns, &head);
+  f.rows = static_cast<int>((specs.size() + static_cast<std::size_t>(f.columns) - 1) / static_cast<std::size_t>(f.columns));
+  for (const auto& c : specs) {
+    SkinParameters p = change ? change(c.p) : c.p;
+    for (auto m : c.swept) p.*m = c.p.*m;
+    p.validate();
+    f.labels.push_back(c.label);
+    f.parameters.push_back(p);
+  }
+  // Sweeps name the parameters they keep fixed, with the values used.
+  f.title = head;
+  if (!specs.front().swept.empty()) {
+    f.title += " (" + fixed_text(f.parameters.front(), specs.front().swept);
+    if (number == 6) f.title += ", sigma " + num(f.parameters.front().roughness);
+    f.title += ")";
+  }
   return f;
 }
 
-Scene Scene::figure(int number, const std::string& mesh_path) {
-  int columns = 1;
-  std::string title;
-  const auto list = cells(number, &columns, &title);
-  const int rows = static_cast<int>((list.size() + static_cast<std::size_t>(columns) - 1) / static_cast<std::size_t>(columns));
-  // Cells 60 mm apart; patches of radius 24 mm (or the mesh scaled to 48 mm high).
-  constexpr double kCell = 60, kRadius = 24;
-  std::vector<Mesh> proto;
-  if (!mesh_path.empty()) {
-    proto = load_mesh_file(mesh_path, 0);
-    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
-    for (const auto& m : proto)
-      for (const auto& p : m.position) {
-        lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
-        hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
-      }
-    const double size = std::max({hi.x - lo.x, hi.y - lo.y, 1e-12});
-    const Vec3 mid = (lo + hi) * 0.5;
-    for (auto& m : proto)
-      for (auto& p : m.position) p = (p - mid) * (2 * kRadius / size);
-  }
-  SceneData s;
-  s.source = "figure " + std::to_string(number);
-  // Spheres are 48 mm across; a mesh is drawn 48 units tall at 4 mm per unit (about 190 mm, the
-  // height of a head), so that the diffusion profiles act on it at a lifelike scale.
-  s.mm_per_unit = proto.empty() ? 1.0 : 4.0;
-  s.materials.resize(list.size());
-  tbb::parallel_for(std::size_t{0}, list.size(), [&](std::size_t i) {  // independent profiles
-    s.materials[i].name = list[i].label;
-    prepare_skin_material(s.materials[i], list[i].p);
+Figure make_figure(int number, const std::string& mesh_path, const std::string& albedo_texture,
+                   const std::function<SkinParameters(const SkinParameters&)>& change) {
+  Figure fig;
+  fig.layout = figure_layout(number, change);
+  fig.on_mesh = !mesh_path.empty();
+  const std::vector<Mesh> head = fig.on_mesh ? head_mesh(mesh_path) : std::vector<Mesh>{};
+  std::shared_ptr<const Texture> texture;
+  if (fig.on_mesh && !albedo_texture.empty()) texture = load_texture(albedo_texture, true);
+  const std::size_t n = fig.layout.labels.size();
+  std::vector<Material> skin(n);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {  // independent profiles
+    skin[i].name = fig.layout.labels[i];
+    prepare_skin_material(skin[i], fig.layout.parameters[i]);
   });
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    const int col = static_cast<int>(i) % columns, row = static_cast<int>(i) / columns;
-    const Vec3 centre{(col - (columns - 1) / 2.0) * kCell, ((rows - 1) / 2.0 - row) * kCell, 0};
-    if (proto.empty()) {
-      s.meshes.push_back(make_sphere(centre, kRadius, 48, 96, i));
+  for (std::size_t i = 0; i < n; ++i) {
+    const Rig rig = rig_of(number, i);
+    SceneData s;
+    s.source = "figure " + std::to_string(number) + ", " + fig.layout.labels[i];
+    s.mm_per_unit = kMmPerUnit;
+    s.spp = 32;
+    s.max_depth = rig == Rig::crop ? 3 : 4;
+    Material m = std::move(skin[i]);
+    if (rig != Rig::crop && texture) {
+      // The texture's colour where the parameters are caucasian (DJ06 section 3.6), as
+      // examples/head.json.
+      m.albedo_map = texture;
+      set_texture_reference(m, find_preset("caucasian").parameters);
+    }
+    s.materials.push_back(std::move(m));
+    Material back;
+    back.name = "backdrop";
+    back.albedo = {0.05, 0.05, 0.05};
+    s.materials.push_back(back);
+    if (fig.on_mesh) {
+      s.meshes = head;
+    } else if (rig == Rig::crop) {
+      s.meshes.push_back(make_sphere({0.5, 0.5, 1.9}, 1.0, 48, 96, 0));  // 44 mm across
     } else {
-      for (Mesh m2 : proto) {
-        for (auto& p : m2.position) p = p + centre;
-        m2.material = i;
-        s.meshes.push_back(std::move(m2));
+      // A head-sized sphere and a thin fin (3.5 mm) where the right ear is.
+      s.meshes.push_back(make_sphere({0, 0.8, 0}, 1.6, 48, 96, 0));
+      s.meshes.push_back(make_ellipsoid({1.9, 1.1, -0.3}, {0.35, 0.6, 0.08}, 32, 64, 0));
+    }
+    set_up(rig, s, 1);
+    if (number == 7) s.camera.width = s.camera.height = 160;  // room for the long labels
+    fig.cells.push_back(make_scene(std::move(s)));
+  }
+  return fig;
+}
+
+Image render_figure(const Figure& figure, const RenderSettings& settings, RenderStats* stats,
+                    const Progress& progress) {
+  const std::size_t n = figure.cells.size();
+  const int columns = figure.layout.columns, rows = figure.layout.rows;
+  RenderSettings rs = settings;
+  if (settings.time_budget > 0) rs.time_budget = settings.time_budget / static_cast<double>(n);
+  Image grid;
+  RenderStats total;
+  total.spp_done = std::numeric_limits<int>::max();
+  // For the error over all cells: per cell, skin pixels x the mean variance of a pixel's mean
+  // ((E M)^2, E the cell's estimate and M its skin mean) and skin pixels x M.
+  double var_sum = 0, mean_sum = 0;
+  bool error_known = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    RenderStats st;
+    const Progress cell_progress = progress ? Progress([&progress, i, n](double f) {
+      progress((static_cast<double>(i) + f) / static_cast<double>(n));
+    })
+                                            : Progress();
+    const Image img = render(figure.cells[i], rs, &st, cell_progress);
+    const int W = img.width, H = img.height;
+    if (i == 0) {
+      grid = Image(W * columns, H * rows);
+      total.skin_mask.assign(static_cast<std::size_t>(grid.width) * static_cast<std::size_t>(grid.height), 0);
+    }
+    const int x0 = static_cast<int>(i) % columns * W, y0 = static_cast<int>(i) / columns * H;
+    double skin_sum = 0;
+    for (int y = 0; y < H; ++y)
+      for (int x = 0; x < W; ++x) {
+        const Rgb c = img.at(x, y);
+        grid.set(x0 + x, y0 + y, c);
+        const std::uint8_t skin = st.skin_mask[static_cast<std::size_t>(y) * W + x];
+        total.skin_mask[static_cast<std::size_t>(y0 + y) * static_cast<std::size_t>(grid.width) + (x0 + x)] = skin;
+        if (skin) skin_sum += (c.r + c.g + c.b) / 3;
       }
+    total.seconds += st.seconds;
+    total.spp_done = std::min(total.spp_done, st.spp_done);
+    total.camera_samples += st.camera_samples;
+    total.invalid_samples += st.invalid_samples;
+    total.skin_pixels += st.skin_pixels;
+    if (st.skin_pixels > 0) {
+      const double N = static_cast<double>(st.skin_pixels), M = skin_sum / N;
+      if (!std::isfinite(st.estimated_error)) error_known = false;
+      var_sum += N * (st.estimated_error * M) * (st.estimated_error * M);
+      mean_sum += N * M;
     }
   }
-  Material back;
-  back.name = "backdrop";
-  back.albedo = {0.12, 0.12, 0.12};
-  s.materials.push_back(back);
-  s.meshes.push_back(make_quad({-1000, -1000, -60}, {2000, 0, 0}, {0, 2000, 0}, s.materials.size() - 1));
-  // Orthographic-looking view from far away: each cell is 128 px (160 px for the long labels of
-  // Fig. 7).
-  const double half_h = rows * kCell / 2;
-  const double dist = 2000;
-  const int cell_px = number == 7 ? 160 : 128;
-  s.camera = {{0, 0, dist}, {0, 0, 0}, {0, 1, 0}, 2 * std::atan(half_h / dist) * 180 / kPi, cell_px * columns, cell_px * rows};
-  s.spp = 32;
-  s.max_depth = 3;
-  // Irradiance about pi x 60 x (120 / 2300)^2 = 0.5.
-  s.lights.emplace_back(SphereLight{{-900, 900, 1500}, 120, {60, 60, 60}});
-  s.environment.constant = {0.12, 0.12, 0.12};
-  return make_scene(std::move(s));
+  if (total.skin_pixels > 0 && error_known && mean_sum > 0) {
+    const double N = static_cast<double>(total.skin_pixels);
+    total.estimated_error = std::sqrt(var_sum / N) / (mean_sum / N);
+  } else {
+    total.estimated_error = std::numeric_limits<double>::quiet_NaN();
+  }
+  if (stats) *stats = std::move(total);
+  return grid;
 }
 
 Image annotate_figure(const Image& img, const FigureLayout& layout) {

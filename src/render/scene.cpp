@@ -305,12 +305,14 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
   }
   if (r.has("render")) {
     const Reader q(r.raw("render"), file, "render");
-    q.allow({"spp", "max_depth", "exposure", "spectral", "subsurface", "point_spacing",
+    q.allow({"spp", "max_depth", "exposure", "tone_map", "spectral", "subsurface", "point_spacing",
              "point_solid_angle"});
     s.spp = q.integer("spp", s.spp);
     s.spectral = q.boolean("spectral", false);
     s.max_depth = q.integer("max_depth", s.max_depth);
     s.exposure = q.number("exposure", 0.0);
+    if (q.has("tone_map"))
+      s.tone_map = with_context(file, q.path("tone_map"), [&] { return image::tone_map_from_name(q.string("tone_map")); });
     if (s.spp < 1) q.fail("'spp' must be >= 1");
     if (s.max_depth < 0 || s.max_depth > 1000) q.fail("'max_depth' must be in [0, 1000]");
     if (q.has("subsurface")) {
@@ -582,6 +584,7 @@ std::vector<Scene::MaterialValidity> Scene::validity() const {
 int Scene::width() const { return impl_->data.camera.width; }
 int Scene::height() const { return impl_->data.camera.height; }
 double Scene::exposure() const { return impl_->data.exposure; }
+ToneMap Scene::tone_map() const { return impl_->data.tone_map; }
 
 std::string Scene::summary() const {
   std::size_t tris = 0;

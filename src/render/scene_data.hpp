@@ -10,6 +10,7 @@
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/model.hpp"
 #include "skin/physics/skin_parameters.hpp"
+#include "skin/image/image.hpp"
 #include "lights.hpp"
 #include "skin/render/math.hpp"
 #include "skin/render/microfacet.hpp"
@@ -106,6 +107,7 @@ struct SceneData {
   double point_spacing = 0.5, point_solid_angle = 0.05;
   double exposure = 0.0;  // stops, applied to PNG output
   bool spectral = false;  // spectral rendering (the scene key render.spectral, --spectral)
+  image::ToneMap tone_map = image::ToneMap::clip;  // PNG output
 };
 
 // Spectral rendering: builds the spectral profiles of every skin material (and parameter-map

@@ -107,6 +107,65 @@ TEST_F(ImageFiles, BadInputNamesTheFileAndLeavesTargetsUntouched) {
   EXPECT_EQ(s.str(), "old");
 }
 
+// The tone curves of PNG output (image.hpp): both map 0 to 0, never decrease and stay in
+// [0, 1]; clip is the identity on [0, 1]; filmic takes Hable's published constants (A 0.15,
+// B 0.50, C 0.10, D 0.20, E 0.02, F 0.30, W 11.2, exposure bias 2): the values below are that
+// formula evaluated independently (Python, double precision).
+TEST(ToneMap, CurvesAreMonotonicAndFixZero) {
+  for (ToneMap t : {ToneMap::clip, ToneMap::filmic}) {
+    SCOPED_TRACE(tone_map_name(t));
+    EXPECT_EQ(tone_curve(t, 0.0), 0.0);
+    EXPECT_EQ(tone_curve(t, -1.0), 0.0);
+    EXPECT_EQ(encode_8bit(t, 0.0), 0);
+    EXPECT_EQ(encode_8bit(t, std::nan("")), 0);
+    double prev = 0;
+    for (int i = 1; i <= 4000; ++i) {
+      const double v = i * 0.005, y = tone_curve(t, v);
+      EXPECT_GE(y, prev) << "at v = " << v;
+      EXPECT_LE(y, 1.0);
+      prev = y;
+    }
+    EXPECT_EQ(tone_curve(t, 100.0), 1.0);
+    EXPECT_EQ(encode_8bit(t, 100.0), 255);
+    EXPECT_EQ(tone_map_from_name(tone_map_name(t)), t);
+  }
+  EXPECT_THROW(tone_map_from_name("aces"), InputError);
+}
+
+TEST(ToneMap, ClipIsPlainSrgb) {
+  EXPECT_EQ(tone_curve(ToneMap::clip, 0.25), 0.25);
+  EXPECT_EQ(encode_8bit(ToneMap::clip, 1.0), 255);
+  EXPECT_EQ(encode_8bit(ToneMap::clip, 2.0), 255);
+  EXPECT_EQ(encode_8bit(ToneMap::clip, 0.18), 118);  // 255 x (1.055 x 0.18^(1/2.4) - 0.055)
+  EXPECT_EQ(encode_8bit(ToneMap::clip, 0.5), 188);
+}
+
+TEST(ToneMap, FilmicKnownValues) {
+  EXPECT_NEAR(tone_curve(ToneMap::filmic, 0.01), 0.007663655153138008, 1e-12);
+  EXPECT_NEAR(tone_curve(ToneMap::filmic, 0.18), 0.12833844885562762, 1e-12);
+  EXPECT_NEAR(tone_curve(ToneMap::filmic, 0.5), 0.304300561467247, 1e-12);
+  EXPECT_NEAR(tone_curve(ToneMap::filmic, 1.0), 0.49291854599116447, 1e-12);
+  EXPECT_NEAR(tone_curve(ToneMap::filmic, 2.0), 0.7132380109726539, 1e-12);
+  EXPECT_NEAR(tone_curve(ToneMap::filmic, 4.0), 0.9180300792727346, 1e-12);
+  EXPECT_NEAR(tone_curve(ToneMap::filmic, 5.6), 1.0, 1e-12);  // the white point W / 2
+  EXPECT_EQ(tone_curve(ToneMap::filmic, 10.0), 1.0);           // H keeps rising past W: clamped
+  // Slope at 0: B (C - E / F) / (D F) x 2 / H(W) = 0.7661.
+  EXPECT_NEAR(tone_curve(ToneMap::filmic, 1e-9) / 1e-9, 0.7661468, 1e-6);
+  EXPECT_EQ(encode_8bit(ToneMap::filmic, 0.18), 100);
+  EXPECT_EQ(encode_8bit(ToneMap::filmic, 1.0), 186);
+}
+
+TEST_F(ImageFiles, PngFollowsTheToneCurve) {
+  Image img(2, 1);
+  img.set(0, 0, {1.0, 0.18, 4.0});
+  img.set(1, 0, {0.0, 0.5, 20.0});
+  write_image(path("f.png"), img, 0.0, ToneMap::filmic);
+  const Image back = read_image(path("f.png"), false);
+  const double codes[] = {186, 100, static_cast<double>(encode_8bit(ToneMap::filmic, 4.0)), 0,
+                          static_cast<double>(encode_8bit(ToneMap::filmic, 0.5)), 255};
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(back.rgb[static_cast<std::size_t>(i)] * 255.0, codes[i], 1e-3) << i;
+}
+
 TEST(Image, MeanAndPrinting) {
   Image img(2, 2);
   img.set(0, 0, {1, 0, 0});

@@ -271,7 +271,8 @@ def needed_files(command, shared):
         if name in command:
             src = os.path.join(shared, rel)
             (links.__setitem__(name, src) if os.path.exists(src) else missing.append(src))
-    if "examples/head" in command:
+    # `skin figure` renders on the head mesh found in ../shared/data (spheres without it).
+    if "examples/head" in command or "skin figure" in command:
         mesh = os.path.join(shared, HEAD_MESH)
         if not os.path.exists(mesh):
             missing.append(mesh)

@@ -90,6 +90,25 @@ TEST_F(SceneInput, MalformedJson) {
   expect_rejected("s.json", {"s.json", "malformed JSON"});
 }
 
+TEST_F(SceneInput, ToneMapKey) {
+  // render.tone_map: clip or filmic (the same names as --tone-map); another name is refused.
+  const std::string sphere = R"({"sphere": {"center": [0, 0, 0], "radius": 1}, "material": "m"})";
+  std::string scene = scene_with(sphere);
+  scene.insert(1, R"("render": {"tone_map": "filmic"}, )");
+  EXPECT_EQ(Scene::parse(scene, "", "s.json").tone_map(), ToneMap::filmic);
+  EXPECT_EQ(Scene::parse(scene_with(sphere), "", "s.json").tone_map(), ToneMap::clip);
+  std::string bad = scene_with(sphere);
+  bad.insert(1, R"("render": {"tone_map": "aces"}, )");
+  write("s.json", bad);
+  expect_rejected("s.json", {"s.json", "render.tone_map", "'aces' is not one of clip, filmic"});
+  // --tone-map overrides the scene's; an unknown name is refused by the command line.
+  write("s.json", scene);
+  std::string err;
+  EXPECT_EQ(run("s.json -o out.png --spp 1 --resolution 4x4 --tone-map clip", &err), 0) << err;
+  EXPECT_NE(run("s.json -o out2.png --spp 1 --resolution 4x4 --tone-map aces", &err), 0);
+  EXPECT_FALSE(fs::exists(dir_ / "out2.png"));
+}
+
 TEST_F(SceneInput, MissingSceneFile) { expect_rejected("absent.json", {"absent.json", "not found"}); }
 
 TEST_F(SceneInput, UnknownMaterialReference) {

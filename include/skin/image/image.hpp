@@ -38,9 +38,29 @@ struct Image {
 };
 std::ostream& operator<<(std::ostream& os, const Image& img);
 
-// Writes by extension: .exr (linear float RGB) or .png (sRGB 8-bit, value x 2^exposure).
-// Throws InputError for another extension or a failed write; the target is untouched then.
-void write_image(const std::string& path, const Image& img, double exposure = 0.0);
+// Tone curves of PNG output (docs/renderer.md, "Output"): a linear value v (after the exposure)
+// to a display value in [0, 1], which is then sRGB-encoded to 8 bits. One name everywhere (the
+// CLI's --tone-map, the scene key "tone_map"):
+//   clip    min(max(v, 0), 1), the plain sRGB encoding;
+//   filmic  J. Hable's filmic curve ("Filmic Tonemapping Operators", 2010, Uncharted 2):
+//           H(x) = (x (A x + C B) + D E) / (x (A x + B) + D F) - E / F with A = 0.15, B = 0.50,
+//           C = 0.10, D = 0.20, E = 0.02, F = 0.30 and white point W = 11.2, applied to 2 v (his
+//           exposure bias) and normalised: min(H(2 v) / H(W), 1). H(0) = 0, it rises
+//           monotonically with slope 0.77 at 0 (mid-grey 0.18 -> 0.128, 1 -> 0.493) and reaches 1
+//           at v = W / 2 = 5.6, compressing highlights instead of clipping them.
+enum class ToneMap { clip, filmic };
+// "clip" or "filmic"; anything else: InputError "tone-map = 'x' is not one of clip, filmic".
+ToneMap tone_map_from_name(const std::string& name);
+const char* tone_map_name(ToneMap t);
+double tone_curve(ToneMap t, double v);
+// The 8-bit code of a linear value (after the exposure): round(255 srgb_encode(tone_curve(v)));
+// non-finite values give 0.
+int encode_8bit(ToneMap t, double v);
+
+// Writes by extension: .exr (linear float RGB) or .png (sRGB 8-bit of value x 2^exposure through
+// the tone curve). Throws InputError for another extension or a failed write; the target is
+// untouched then.
+void write_image(const std::string& path, const Image& img, double exposure = 0.0, ToneMap tone_map = ToneMap::clip);
 
 // Reads .exr, .hdr (linear) or 8- and 16-bit .png / .jpg / .tga / .bmp (grey expanded to RGB,
 // alpha dropped; the sRGB transfer curve decoded to linear when `srgb`). Throws InputError naming

@@ -8,5 +8,6 @@ namespace skin::render {
 using image::Image;
 using image::read_image;
 using image::write_image;
+using image::ToneMap;
 
 }  // namespace skin::render

@@ -70,10 +70,6 @@ class Scene {
   // The built-in scene: the three Fig. 8 skin types on rounded shapes and a thin ear-like fin,
   // key light in front, back light behind the fin. Needs no file.
   static Scene default_scene();
-  // The paper's parameter sweeps (Figs 3-8, model-notes section 7) as a grid of patches,
-  // optionally on a mesh instead of spheres. Throws InputError for an unknown figure number.
-  static Scene figure(int number, const std::string& mesh_path = "");
-
   Scene(Scene&&) noexcept;
   Scene& operator=(Scene&&) noexcept;
   ~Scene();
@@ -102,6 +98,7 @@ class Scene {
   int width() const;
   int height() const;
   double exposure() const;  // stops, for PNG output
+  ToneMap tone_map() const;  // the tone curve of PNG output (the scene key render.tone_map)
   std::string summary() const;  // one line: source, triangles, materials, lights
 
   struct Impl;
@@ -130,13 +127,5 @@ struct RenderCost {
   double bytes = 0;    // memory of the image sums
 };
 RenderCost render_cost(const Scene& scene, const RenderSettings& settings);
-
-// Layout of `Scene::figure(number)`: grid size, the label of each patch (row-major), title.
-struct FigureLayout {
-  int columns = 1, rows = 1;
-  std::vector<std::string> labels;
-  std::string title;
-};
-FigureLayout figure_layout(int number);
 
 }  // namespace skin::render
