@@ -122,9 +122,10 @@ void run(const RenderOpts& o, const Target& target) {
   rs.point_solid_angle = o.point_solid_angle;
   if (!o.resolution.empty()) parse_resolution(o.resolution, &rs);
   if (o.spp < 0) throw InputError("spp = " + std::to_string(o.spp) + " is out of range: must be >= 1");
+  std::set<std::string> said;  // a figure's cells share their materials' names: each line once
   for (const render::Scene* sc : target.scenes)
     for (const auto& v : sc->validity())
-      warn_validity(transport::find_model(v.solver), v.validity, "material '" + v.material + "'");
+      warn_validity(transport::find_model(v.solver), v.validity, "material '" + v.material + "'", &said);
   {
     // A time budget bounds the time already; the memory is checked either way (per cell of a
     // figure: its cells are rendered one after another).

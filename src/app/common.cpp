@@ -182,8 +182,11 @@ CLI::Option* IlluminantOption::add_to(CLI::App& app, const std::string& help) {
 }
 
 void warn_validity(const transport::Model& model, const transport::Validity& v,
-                   const std::string& what) {
-  if (!v.ok()) std::cerr << "skin: warning: " << transport::warning_text(model.name(), v, what) << '\n';
+                   const std::string& what, std::set<std::string>* said) {
+  if (v.ok()) return;
+  const std::string text = transport::warning_text(model.name(), v, what);
+  if (said && !said->insert(text).second) return;
+  std::cerr << "skin: warning: " << text << '\n';
 }
 
 void RunOptions::add_to(CLI::App& app, const std::string& seed_help, const std::string& group) {

@@ -5,6 +5,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -118,9 +119,9 @@ struct IlluminantOption {
 CLI::Validator illuminant_name();
 
 // When `v` is not ok: one line on stderr naming the solver (and `what` it was for, if given),
-// the reason and what stays exact.
+// the reason and what stays exact. With `said`: not a line already said (its text is kept there).
 void warn_validity(const transport::Model& model, const transport::Validity& v,
-                   const std::string& what = "");
+                   const std::string& what = "", std::set<std::string>* said = nullptr);
 
 // The enumerator `json` names the format, the alias above the library: both read naturally at
 // their use (Format::json, json j), so the shadowing warning is silenced here only.
