@@ -79,53 +79,48 @@ class Multipole final : public Model {
   }
 };
 
-// Adding-doubling totals; profiles from the transport tables of the top layer where they apply,
-// from radiative transfer in the spatial-frequency domain elsewhere
-// (include/skin/transport/accurate.hpp). Its cache (accurate::Cache) is shared by every caller
-// and thread.
-class Accurate final : public Model {
+// Adding-doubling totals (include/skin/transport/accurate.hpp) with the cache (accurate::Cache)
+// shared by every caller and thread; valid for every valid stack. The two models below differ
+// only in their profiles.
+class AddingDoublingModel : public Model {
  public:
-  std::string_view name() const override { return "accurate"; }
-  std::string_view description() const override {
-    return "adding-doubling radiative transfer, within Monte Carlo noise";
-  }
   Totals totals(const LayerStack& stack) const override {
     return accurate::adding_doubling(stack, {}, cache_);
-  }
-  std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
-    return std::make_unique<accurate::AccurateStack>(stack, accurate::Options{}, cache_);
-  }
-  Validity validity(const LayerStack& stack) const override {
-    stack.validate();
-    return {};  // profiles from the tables where they apply, from radiative transfer elsewhere
-  }
-
- private:
-  accurate::Cache cache_;
-};
-
-// Adding-doubling totals, profiles by radiative transfer in the spatial-frequency domain for
-// every stack (accurate::FrequencyStack), skin included: no tables, ~0.1-1 CPU-s per stack.
-class Frequency final : public Model {
- public:
-  std::string_view name() const override { return "sfd"; }
-  std::string_view description() const override {
-    return "adding-doubling radiative transfer, profiles in the spatial-frequency domain";
-  }
-  Totals totals(const LayerStack& stack) const override {
-    return accurate::adding_doubling(stack, {}, cache_);
-  }
-  std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
-    return std::make_unique<accurate::FrequencyStack>(stack, accurate::FrequencyProfileOptions{},
-                                                      cache_);
   }
   Validity validity(const LayerStack& stack) const override {
     stack.validate();
     return {};
   }
 
- private:
+ protected:
   accurate::Cache cache_;
+};
+
+// Profiles from the transport tables of the top layer where they apply, from radiative transfer
+// in the spatial-frequency domain elsewhere.
+class Accurate final : public AddingDoublingModel {
+ public:
+  std::string_view name() const override { return "accurate"; }
+  std::string_view description() const override {
+    return "adding-doubling radiative transfer, within Monte Carlo noise";
+  }
+  std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
+    return std::make_unique<accurate::AccurateStack>(stack, accurate::Options{}, cache_);
+  }
+};
+
+// Profiles by radiative transfer in the spatial-frequency domain for every stack
+// (accurate::FrequencyStack), skin included: no tables, ~0.1-1 CPU-s per stack.
+class Frequency final : public AddingDoublingModel {
+ public:
+  std::string_view name() const override { return "sfd"; }
+  std::string_view description() const override {
+    return "adding-doubling radiative transfer, profiles in the spatial-frequency domain";
+  }
+  std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
+    return std::make_unique<accurate::FrequencyStack>(stack, accurate::FrequencyProfileOptions{},
+                                                      cache_);
+  }
 };
 
 // The models, the default first.
