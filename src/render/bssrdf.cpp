@@ -17,18 +17,19 @@ BasicBssrdf<N>::BasicBssrdf(const std::array<ProfileChannel, N>& profile, double
 }
 
 template <int N>
-bool BasicBssrdf<N>::sample_probe(double u_axis, double u_channel, double u_r, double u_phi, ProbeSegment* seg) const {
+bool BasicBssrdf<N>::probe(int axis_index, int channel, double u_r, double u_phi, ProbeSegment* seg) const {
   // The axis, and the two directions spanning the plane perpendicular to it.
   Vec3 axis, ta, tb;
-  if (u_axis < kAxisProbability[2]) {
-    seg->axis = 2; axis = frame_.n; ta = frame_.s; tb = frame_.t;
-  } else if (u_axis < kAxisProbability[2] + kAxisProbability[0]) {
-    seg->axis = 0; axis = frame_.s; ta = frame_.t; tb = frame_.n;
+  if (axis_index == 2) {
+    axis = frame_.n; ta = frame_.s; tb = frame_.t;
+  } else if (axis_index == 0) {
+    axis = frame_.s; ta = frame_.t; tb = frame_.n;
   } else {
-    seg->axis = 1; axis = frame_.t; ta = frame_.n; tb = frame_.s;
+    axis = frame_.t; ta = frame_.n; tb = frame_.s;
   }
-  seg->channel = static_cast<int>(std::min(static_cast<std::size_t>(u_channel * N), std::size_t{N - 1}));
-  const ProfileChannel& prof = profile_[static_cast<std::size_t>(seg->channel)];
+  seg->axis = axis_index;
+  seg->channel = channel;
+  const ProfileChannel& prof = profile_[static_cast<std::size_t>(channel)];
   if (prof.empty()) return false;
   const double r_max_mm = prof.r_max();
   seg->r = prof.sample_radius(u_r);
@@ -43,8 +44,27 @@ bool BasicBssrdf<N>::sample_probe(double u_axis, double u_channel, double u_r, d
   return true;
 }
 
+namespace {
+int channel_of(double u, int n) { return static_cast<int>(std::min(static_cast<std::size_t>(u * n), static_cast<std::size_t>(n - 1))); }
+}  // namespace
+
 template <int N>
-double BasicBssrdf<N>::pdf_probe(const Vec3& x_i, const Vec3& n_i) const {
+bool BasicBssrdf<N>::sample_probe(double u_axis, double u_channel, double u_r, double u_phi, ProbeSegment* seg) const {
+  const int axis = u_axis < kAxisProbability[2] ? 2 : u_axis < kAxisProbability[2] + kAxisProbability[0] ? 0 : 1;
+  return probe(axis, channel_of(u_channel, N), u_r, u_phi, seg);
+}
+
+template <int N>
+bool BasicBssrdf<N>::sample_set_probe(int j, double u_a, double u_r, double u_phi, ProbeSegment* seg) const {
+  if (j < N) return probe(2, j, u_r, u_phi, seg);
+  // The tangent probe: the lower half of u_a picks s, the upper t; stretched back to [0, 1), the
+  // channel.
+  const int axis = u_a < 0.5 ? 0 : 1;
+  return probe(axis, channel_of(u_a < 0.5 ? 2 * u_a : 2 * u_a - 1, N), u_r, u_phi, seg);
+}
+
+template <int N>
+void BasicBssrdf<N>::axis_channel_pdfs(const Vec3& x_i, const Vec3& n_i, std::array<std::array<double, N>, 3>* out) const {
   const Vec3 dl = frame_.to_local(x_i - x_o_);
   const Vec3 nl = frame_.to_local(n_i);
   const double r_proj[3] = {std::sqrt(dl.y * dl.y + dl.z * dl.z), std::sqrt(dl.x * dl.x + dl.z * dl.z),
@@ -52,11 +72,20 @@ double BasicBssrdf<N>::pdf_probe(const Vec3& x_i, const Vec3& n_i) const {
   const double n_abs[3] = {std::abs(nl.x), std::abs(nl.y), std::abs(nl.z)};
   // A channel's probes are chords of its sphere of radius r_max: they reach no point beyond it.
   const double dist_mm = length(x_i - x_o_) * mm_;
-  double pdf = 0;  // per unit area [1/unit^2]
   for (std::size_t ax = 0; ax < 3; ++ax)
     for (std::size_t ch = 0; ch < N; ++ch)
-      if (dist_mm <= profile_[ch].r_max())
-        pdf += kAxisProbability[ax] * n_abs[ax] * (1.0 / N) * profile_[ch].pdf_area(r_proj[ax] * mm_) * mm_ * mm_;
+      (*out)[ax][ch] = dist_mm <= profile_[ch].r_max()
+                           ? n_abs[ax] * profile_[ch].pdf_area(r_proj[ax] * mm_) * mm_ * mm_
+                           : 0.0;
+}
+
+template <int N>
+double BasicBssrdf<N>::pdf_probe(const Vec3& x_i, const Vec3& n_i) const {
+  std::array<std::array<double, N>, 3> p;
+  axis_channel_pdfs(x_i, n_i, &p);
+  double pdf = 0;  // per unit area [1/unit^2]
+  for (std::size_t ax = 0; ax < 3; ++ax)
+    for (std::size_t ch = 0; ch < N; ++ch) pdf += kAxisProbability[ax] * (1.0 / N) * p[ax][ch];
   return pdf;
 }
 
@@ -66,6 +95,34 @@ bool BasicBssrdf<N>::probe_weight(const Vec3& x_i, const Vec3& n_i, int candidat
   if (!(pdf > 0)) return false;
   const double dist_mm = length(x_i - x_o_) * mm_;
   for (int ch = 0; ch < N; ++ch) weight[ch] = R(ch, dist_mm) * mm_ * mm_ * candidates / pdf;
+  return true;
+}
+
+template <int N>
+double BasicBssrdf<N>::pdf_set_probe(int j, const Vec3& x_i, const Vec3& n_i) const {
+  std::array<std::array<double, N>, 3> p;
+  axis_channel_pdfs(x_i, n_i, &p);
+  if (j < N) return p[2][static_cast<std::size_t>(j)];
+  double pdf = 0;
+  for (std::size_t ch = 0; ch < N; ++ch) pdf += (0.5 / N) * (p[0][ch] + p[1][ch]);
+  return pdf;
+}
+
+template <int N>
+double BasicBssrdf<N>::pdf_probe_set(const Vec3& x_i, const Vec3& n_i) const {
+  std::array<std::array<double, N>, 3> p;
+  axis_channel_pdfs(x_i, n_i, &p);
+  double pdf = 0;
+  for (std::size_t ch = 0; ch < N; ++ch) pdf += p[2][ch] + (0.5 / N) * (p[0][ch] + p[1][ch]);
+  return pdf;
+}
+
+template <int N>
+bool BasicBssrdf<N>::probe_set_weight(const Vec3& x_i, const Vec3& n_i, double* weight) const {
+  const double pdf = pdf_probe_set(x_i, n_i);
+  if (!(pdf > 0)) return false;
+  const double dist_mm = length(x_i - x_o_) * mm_;
+  for (int ch = 0; ch < N; ++ch) weight[ch] = R(ch, dist_mm) * mm_ * mm_ / pdf;
   return true;
 }
 

@@ -119,3 +119,86 @@ double Distribution2D::pdf(Vec2 p) const {
 }
 
 }  // namespace skin::render
+
+namespace skin::render {
+
+namespace {
+std::uint32_t reverse_bits(std::uint32_t v) {
+  v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+  v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+  v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
+  v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
+  return (v >> 16) | (v << 16);
+}
+// A bijection of 32-bit integers in which bit j of the result depends only on bits 0..j of the
+// argument (an addition, and xors with products by even constants, carry information upward
+// only): applied to bit-reversed fractions, a nested uniform (Owen) scramble. Constants: Burley
+// 2020, sec. 3 (his variant of the Laine-Karras permutation).
+std::uint32_t laine_karras(std::uint32_t x, std::uint32_t seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+// The Sobol sequence's second dimension is linear over GF(2) in the index bits: the xor of one
+// table entry per index byte.
+constexpr std::uint32_t sobol1_bits(std::uint32_t i) {
+  // Direction numbers of the primitive polynomial x + 1: v_1 = 1/2, v_{k+1} = v_k xor v_k / 2
+  // (m_k = 1, 3, 5, 15, 17, ...).
+  std::uint32_t r = 0;
+  for (std::uint32_t v = 1u << 31; i != 0; i >>= 1, v ^= v >> 1)
+    if (i & 1u) r ^= v;
+  return r;
+}
+struct Sobol1Table {
+  std::uint32_t t[4][256] = {};
+  constexpr Sobol1Table() {
+    for (std::uint32_t k = 0; k < 4; ++k)
+      for (std::uint32_t b = 0; b < 256; ++b) t[k][b] = sobol1_bits(b << (8 * k));
+  }
+};
+constexpr Sobol1Table kSobol1;
+constexpr double kFraction = 0x1p-32;
+// Seeds of the coordinates of a dimension, apart from its index shuffle's.
+constexpr std::uint32_t kSeedX = 0xa511e9b3u, kSeedY = 0x63d83595u;
+}  // namespace
+
+std::uint32_t sobol_dimension0(std::uint32_t i) { return reverse_bits(i); }  // van der Corput
+
+std::uint32_t sobol_dimension1(std::uint32_t i) {
+  return kSobol1.t[0][i & 0xffu] ^ kSobol1.t[1][(i >> 8) & 0xffu] ^ kSobol1.t[2][(i >> 16) & 0xffu] ^
+         kSobol1.t[3][i >> 24];
+}
+
+std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
+  return reverse_bits(laine_karras(reverse_bits(v), seed));
+}
+
+Sampler::Sampler(std::uint64_t seed, std::uint64_t stream, std::uint32_t index)
+    : rng_(Pcg32::for_sample(seed, stream, index)), base_(mix64(seed ^ mix64(stream ^ 0x5bd1e995u))), key_(base_),
+      reversed_index_(reverse_bits(index)), quasi_(true) {}
+
+// Dimension with seed s: the sample's index shuffled, i = owen_scramble(index, s), is
+// reverse_bits(laine_karras(reversed index, s)), so its first Sobol coordinate (the bit reversal
+// of i) is laine_karras(reversed index, s) itself.
+double Sampler::uniform() {
+  if (!quasi_ || dim_ >= kQuasiDimensions) return rng_.uniform();
+  const std::uint32_t s = next_seed();
+  const std::uint32_t x = laine_karras(reversed_index_, s);
+  return owen_scramble(x, s ^ kSeedX) * kFraction;
+}
+
+Vec2 Sampler::uniform2() {
+  if (!quasi_ || dim_ >= kQuasiDimensions) {
+    const double a = rng_.uniform();
+    return {a, rng_.uniform()};
+  }
+  const std::uint32_t s = next_seed();
+  const std::uint32_t x = laine_karras(reversed_index_, s);
+  const std::uint32_t y = sobol_dimension1(reverse_bits(x));
+  return {owen_scramble(x, s ^ kSeedX) * kFraction, owen_scramble(y, s ^ kSeedY) * kFraction};
+}
+
+}  // namespace skin::render

@@ -2,6 +2,7 @@
 // seeds), pdfs integrating to one, inversions round-tripping.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "sampler_checks.hpp"
@@ -179,6 +180,112 @@ TEST(Rng, ReproducibleAndUniform) {
   Rng r(9, 1);
   for (int i = 0; i < 64000; ++i) counts[static_cast<std::size_t>(r.uniform() * 32)] += 1;
   EXPECT_GT(chi_square_p(counts, prob, 64000), 1e-3);
+}
+
+// The quasi-random sampler (Sampler, Burley 2020's padded Owen-scrambled Sobol sequence).
+
+TEST(Sampler, SobolDimensionsAreTheKnownSequences) {
+  // The first points of Sobol's first two dimensions in index order (x_i = xor of the direction
+  // numbers v_k of the set bits of i; van der Corput, and m_k = 1, 3, 5: v = 1/2, 3/4, 5/8). In
+  // Gray-code order (Antonov & Saleev) the same sets of 2^k points come in another order.
+  const double x[8] = {0, 0.5, 0.25, 0.75, 0.125, 0.625, 0.375, 0.875};
+  const double y[8] = {0, 0.5, 0.75, 0.25, 0.625, 0.125, 0.375, 0.875};
+  for (std::uint32_t i = 0; i < 8; ++i) {
+    EXPECT_EQ(sobol_dimension0(i) * 0x1p-32, x[i]) << i;
+    EXPECT_EQ(sobol_dimension1(i) * 0x1p-32, y[i]) << i;
+  }
+}
+
+TEST(Sampler, OwenScrambleIsABijectionThatKeepsElementaryIntervals) {
+  // A nested uniform scramble permutes the 2^k intervals of length 2^-k among themselves for every
+  // k: two fractions with the same first k bits keep a common first k bits, and 16-bit inputs
+  // map one to one.
+  std::vector<std::uint32_t> seen;
+  for (std::uint32_t v = 0; v < 65536; ++v) seen.push_back(owen_scramble(v << 16, 0x1234567u) >> 16);
+  std::sort(seen.begin(), seen.end());
+  EXPECT_EQ(std::unique(seen.begin(), seen.end()) - seen.begin(), 65536);
+  for (std::uint32_t k : {1u, 4u, 9u}) {
+    const std::uint32_t a = 0x9abcdef0u, b = (a & ~((1u << (32 - k)) - 1)) | 0x155u;  // same first k bits
+    EXPECT_EQ(owen_scramble(a, 77u) >> (32 - k), owen_scramble(b, 77u) >> (32 - k)) << k;
+  }
+}
+
+// Points of one dimension (1D: y = 0) over the first n samples of a stream.
+std::vector<Vec2> sampler_points(std::uint64_t stream, int n, int dim, bool two_d) {
+  std::vector<Vec2> out;
+  for (int i = 0; i < n; ++i) {
+    Sampler s(7, stream, static_cast<std::uint32_t>(i));
+    for (int d = 0; d < dim; ++d) two_d ? (void)s.uniform2() : (void)s.uniform();
+    out.push_back(two_d ? s.uniform2() : Vec2{s.uniform(), 0});
+  }
+  return out;
+}
+
+TEST(Sampler, FirstPowerOfTwoSamplesAreStratifiedInEveryDimension) {
+  // The first 2^k samples of a stream: one in each interval of length 2^-k in a 1D dimension, and
+  // in a 2D dimension one in each elementary box of area 2^-k (2^a x 2^(k-a) boxes, every a): a
+  // (0, k, 2)-net, for dimensions 0, 5 and 40 and two streams.
+  for (std::uint64_t stream : {3u, 1000u})
+    for (int dim : {0, 5, 40}) {
+      SCOPED_TRACE(::testing::Message() << "stream " << stream << " dimension " << dim);
+      for (int k : {4, 6}) {
+        const int n = 1 << k;
+        std::vector<int> bins(static_cast<std::size_t>(n), 0);
+        for (const Vec2& p : sampler_points(stream, n, dim, false)) ++bins[static_cast<std::size_t>(p.x * n)];
+        EXPECT_EQ(*std::min_element(bins.begin(), bins.end()), 1) << "1D, 2^" << k;
+        const std::vector<Vec2> pts = sampler_points(stream, n, dim, true);
+        for (int a = 0; a <= k; ++a) {
+          const int nx = 1 << a, ny = 1 << (k - a);
+          std::vector<int> box(static_cast<std::size_t>(n), 0);
+          for (const Vec2& p : pts) ++box[static_cast<std::size_t>(static_cast<int>(p.y * ny) * nx + static_cast<int>(p.x * nx))];
+          EXPECT_EQ(*std::min_element(box.begin(), box.end()), 1) << "2D, 2^" << k << ", " << nx << " x " << ny;
+        }
+      }
+    }
+}
+
+TEST(Sampler, UniformAcrossStreamsAndDimensionsIndependent) {
+  // Any one number over many streams is uniform, and two dimensions of one sample are independent:
+  // chi-square of (dimension 2 x, dimension 3 x) on 16 x 16 bins over 64 samples of 400 streams,
+  // and of one 1D dimension on 64 bins. A sampler that reused one dimension's scramble for the
+  // next (the points on a diagonal) fails the joint test.
+  std::vector<double> joint(256, 0.0), joint_prob(256, 1.0 / 256), one(64, 0.0), one_prob(64, 1.0 / 64),
+      same(256, 0.0);
+  constexpr int kStreams = 400, kSamples = 64;
+  for (int st = 0; st < kStreams; ++st)
+    for (int i = 0; i < kSamples; ++i) {
+      Sampler s(11, static_cast<std::uint64_t>(st), static_cast<std::uint32_t>(i));
+      (void)s.uniform2();
+      (void)s.uniform();
+      const double a = s.uniform2().x, b = s.uniform2().x;
+      joint[static_cast<std::size_t>(static_cast<int>(a * 16) * 16 + static_cast<int>(b * 16))] += 1;
+      one[static_cast<std::size_t>(b * 64)] += 1;
+      Sampler t(11, static_cast<std::uint64_t>(st), static_cast<std::uint32_t>(i)), u = t;
+      const double c = t.uniform2().x;
+      const double d = u.uniform2().x;  // the same dimension again
+      same[static_cast<std::size_t>(static_cast<int>(c * 16) * 16 + static_cast<int>(d * 16))] += 1;
+    }
+  EXPECT_GT(chi_square_p(joint, joint_prob, kStreams * kSamples), 1e-3);
+  EXPECT_GT(chi_square_p(one, one_prob, kStreams * kSamples), 1e-3);
+  EXPECT_LT(chi_square_p(same, joint_prob, kStreams * kSamples), 1e-3);
+}
+
+TEST(Sampler, BlocksRestartTheirDimensionsAndTheRandomModeIsPcg) {
+  // start_block(b) gives the same numbers whatever was drawn before it.
+  Sampler a(5, 9, 3), b(5, 9, 3);
+  (void)a.uniform();
+  for (int i = 0; i < 7; ++i) (void)b.uniform2();
+  a.start_block(12);
+  b.start_block(12);
+  EXPECT_EQ(a.uniform(), b.uniform());
+  EXPECT_EQ(a.uniform2().y, b.uniform2().y);
+  // Past kQuasiDimensions the numbers are PCG32's, as in the random mode.
+  Sampler r(Rng(4, 2));
+  Rng g(4, 2);
+  EXPECT_EQ(r.uniform(), g.uniform());
+  const Vec2 v = r.uniform2();
+  EXPECT_EQ(v.x, g.uniform());
+  EXPECT_EQ(v.y, g.uniform());
 }
 
 }  // namespace

@@ -18,6 +18,45 @@ struct Vec2 {
   double x = 0, y = 0;
 };
 
+// The numbers of one camera sample (docs/renderer.md, "Sampler"): each call takes one dimension,
+// 1D (uniform) or 2D (uniform2). Quasi-random mode: sample `index` of a stream (a pixel's
+// replicate) of a padded, Owen-scrambled Sobol sequence (Burley 2020, "Practical Hash-based Owen
+// Scrambling"): each dimension is the first Sobol dimension (1D) or the first two (2D) at the
+// sample's index shuffled by a nested uniform scramble seeded per (stream, dimension), its
+// coordinates Owen-scrambled with seeds of their own. So the first 2^k samples of a stream are a
+// (0, k, 2)-net in every dimension (stratified in each, and in each 2D pair, on its own),
+// different dimensions are decorrelated, and every number is uniform on [0, 1): estimates stay
+// unbiased. Dimensions past kQuasiDimensions of a block, and the random mode, draw from PCG32.
+class Sampler {
+ public:
+  static constexpr std::uint32_t kQuasiDimensions = 64;
+  // Random mode: independent numbers from a generator.
+  explicit Sampler(const Pcg32& rng) : rng_(rng) {}
+  // Quasi-random mode: sample `index` of stream `stream` of an image seeded with `seed`.
+  Sampler(std::uint64_t seed, std::uint64_t stream, std::uint32_t index);
+  double uniform();
+  Vec2 uniform2();
+  // Start block `block` of dimensions: the following calls take its dimensions from 0, the same
+  // ones in every sample of the stream whatever the calls before took (so that a path's later
+  // decisions stay stratified when earlier ones took a varying number of dimensions).
+  void start_block(std::uint32_t block) {
+    key_ = mix64(base_ + block);
+    dim_ = 0;
+  }
+
+ private:
+  std::uint32_t next_seed() { return static_cast<std::uint32_t>(mix64(key_ + dim_++)); }
+  Pcg32 rng_;
+  std::uint64_t base_ = 0, key_ = 0;
+  std::uint32_t reversed_index_ = 0, dim_ = 0;
+  bool quasi_ = false;
+};
+// Parts of the sampler, exposed for tests: the Sobol sequence's first two dimensions at index i
+// (32-bit fractions) and the nested uniform (Owen) scramble of a 32-bit fraction.
+std::uint32_t sobol_dimension0(std::uint32_t i);
+std::uint32_t sobol_dimension1(std::uint32_t i);
+std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed);
+
 // Cosine-weighted hemisphere around +z (Malley's method: concentric disk, lifted).
 Vec3 sample_cosine_hemisphere(Vec2 u);
 double pdf_cosine_hemisphere(double cos_theta);  // cos / pi, 0 below the horizon
