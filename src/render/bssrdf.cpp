@@ -57,8 +57,10 @@ bool BasicBssrdf<N>::sample_probe(double u_axis, double u_channel, double u_r, d
 template <int N>
 bool BasicBssrdf<N>::sample_set_probe(int j, double u_a, double u_r, double u_phi, ProbeSegment* seg) const {
   if (j < N) return probe(2, j, u_r, u_phi, seg);
-  // The tangent probe: the lower half of u_a picks s, the upper t; stretched back to [0, 1), the
-  // channel.
+  // The tangent probe, taken with probability kTangentProbability (u_a below it); u_a stretched
+  // to [0, 1): its lower half picks s, the upper t; stretched again, the channel.
+  if (u_a >= kTangentProbability) return false;
+  u_a /= kTangentProbability;
   const int axis = u_a < 0.5 ? 0 : 1;
   return probe(axis, channel_of(u_a < 0.5 ? 2 * u_a : 2 * u_a - 1, N), u_r, u_phi, seg);
 }
@@ -104,26 +106,25 @@ double BasicBssrdf<N>::pdf_set_probe(int j, const Vec3& x_i, const Vec3& n_i) co
   axis_channel_pdfs(x_i, n_i, &p);
   if (j < N) return p[2][static_cast<std::size_t>(j)];
   double pdf = 0;
-  for (std::size_t ch = 0; ch < N; ++ch) pdf += (0.5 / N) * (p[0][ch] + p[1][ch]);
+  for (std::size_t ch = 0; ch < N; ++ch) pdf += kTangentProbability * (0.5 / N) * (p[0][ch] + p[1][ch]);
   return pdf;
 }
 
 template <int N>
-double BasicBssrdf<N>::pdf_probe_set(const Vec3& x_i, const Vec3& n_i) const {
+bool BasicBssrdf<N>::probe_set_weight(int j, const Vec3& x_i, const Vec3& n_i, double* weight) const {
   std::array<std::array<double, N>, 3> p;
   axis_channel_pdfs(x_i, n_i, &p);
-  double pdf = 0;
-  for (std::size_t ch = 0; ch < N; ++ch) pdf += p[2][ch] + (0.5 / N) * (p[0][ch] + p[1][ch]);
-  return pdf;
-}
-
-template <int N>
-bool BasicBssrdf<N>::probe_set_weight(const Vec3& x_i, const Vec3& n_i, double* weight) const {
-  const double pdf = pdf_probe_set(x_i, n_i);
-  if (!(pdf > 0)) return false;
+  double pdf = 0;  // the set's densities summed with weight 1
+  for (std::size_t ch = 0; ch < N; ++ch) pdf += p[2][ch] + kTangentProbability * (0.5 / N) * (p[0][ch] + p[1][ch]);
   const double dist_mm = length(x_i - x_o_) * mm_;
-  for (int ch = 0; ch < N; ++ch) weight[ch] = R(ch, dist_mm) * mm_ * mm_ / pdf;
-  return true;
+  bool any = false;
+  for (int c = 0; c < N; ++c) {
+    const double den = pdf + (kOwnChannelWeight - 1) * p[2][static_cast<std::size_t>(c)];
+    const double alpha = j == c ? kOwnChannelWeight : 1.0;
+    weight[c] = den > 0 ? alpha * R(c, dist_mm) * mm_ * mm_ / den : 0.0;
+    any = any || weight[c] != 0;
+  }
+  return any;
 }
 
 template <int N>

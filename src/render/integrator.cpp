@@ -271,7 +271,7 @@ int Integrator::sample_entries(const Surface& xo, const typename Shading::Bssrdf
         e.x = surface(h, seg.dir, false);
         e.slot = j * kMaxHits + count;
         double w[N];
-        if (probe_set ? bssrdf.probe_set_weight(e.x.p, e.x.ng, w) : bssrdf.probe_weight(e.x.p, e.x.ng, 1, w)) {
+        if (probe_set ? bssrdf.probe_set_weight(j, e.x.p, e.x.ng, w) : bssrdf.probe_weight(e.x.p, e.x.ng, 1, w)) {
           e.weight = Shading::from(w);
           ++n;
         }

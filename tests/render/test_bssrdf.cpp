@@ -349,7 +349,8 @@ void probe_set_follows_its_pdfs(const BasicBssrdf<N>& b, std::uint64_t seed) {
       counts[static_cast<std::size_t>(i * kPhi + q)] += 1;
     }
     EXPECT_GT(chi_square_p(counts, prob, kN), 1e-3);
-    EXPECT_GT(inside, j < N ? 0.5 : 0.3);  // the tilted plane is reached by every kind of probe
+    // The tilted plane is reached by every kind of probe (the tangent one is taken 1/4 of the time).
+    EXPECT_GT(inside, j < N ? 0.5 : 0.2);
   }
 }
 
@@ -368,7 +369,7 @@ void probe_set_weight_averages_to_R_d(const BasicBssrdf<N>& b, std::uint64_t see
         Vec3 x;
         double w[N];
         const double u_a = rng.uniform(), u_r = rng.uniform(), u_phi = rng.uniform();
-        if (!b.sample_set_probe(j, u_a, u_r, u_phi, &seg) || !probe_plane(seg, m, &x) || !b.probe_set_weight(x, m, w))
+        if (!b.sample_set_probe(j, u_a, u_r, u_phi, &seg) || !probe_plane(seg, m, &x) || !b.probe_set_weight(j, x, m, w))
           continue;
         for (std::size_t c = 0; c < N; ++c) est[c] += w[c];
       }
@@ -394,8 +395,9 @@ TEST(Bssrdf, ProbeSetFollowsItsPdfsAndAveragesToRd) {
   // Why the set: on the tangent plane the old estimator (N probes of random axes, each weighted
   // by the one-sample pdf, averaged) has a relative standard deviation of 0.35-0.48 per vertex
   // (r, g, b: 0.48, 0.35, 0.46), much of it from how many probes took the normal axis; the set's
-  // is 0.29, 0.11, 0.27 (what is left is the spread of R_c over the sum of the channels'
-  // densities). Checked: below 3/4 of the old one in every channel.
+  // is 0.23, 0.08, 0.21 (with the balance heuristic, alpha = 1, it was 0.29, 0.11, 0.27: what is
+  // left is the spread of R_c over the weighted sum of the channels' densities). Checked: below
+  // 3/4 of the old one in every channel.
   Rng rng(42, 1);
   constexpr int kN = 100000;
   std::array<double, 3> sum{}, sum2{};

@@ -124,24 +124,32 @@ class BasicBssrdf {
   bool probe_weight(const Vec3& x_i, const Vec3& n_i, int candidates, double* weight) const;
 
   // --- The probe set of a camera vertex: N + 1 probes, probe j < N along the normal from channel
-  // j's profile, probe N along a tangent (s or t, 1/2 each) from a channel picked 1/N each. On
-  // smooth skin a tangent probe rarely finds the surface: drawing the axis at random for each of
-  // N probes left some vertices with fewer normal probes (a flat slab's subsurface estimate had
-  // a relative standard deviation of ~0.46 per camera sample, most of it that lottery); the set
-  // always has N normal probes, and one tangent probe for creases, edges and thin parts. The
-  // entry points of all of them are combined with the multi-sample balance heuristic (Veach
-  // 1997, sec. 9.2.2): a point found by any probe of the set weighs R(|x_o - x_i|) / sum_j
-  // pdf_j(x_i), summed over every point every probe found.
+  // j's profile, probe N along a tangent (s or t, 1/2 each) from a channel picked 1/N each, taken
+  // with probability kTangentProbability (its density counts with that factor). On smooth skin a
+  // tangent probe rarely finds the surface: drawing the axis at random for each of N probes left
+  // some vertices with fewer normal probes (on a flat slab most of the estimate's spread was that
+  // lottery); the set always has N normal probes, and sometimes a tangent probe for creases,
+  // edges and thin parts (head, 64 spp: E 0.0391 in 15.6 CPU-s with it always, 0.0382 in 13.3
+  // with 1/4, 0.0378 in 14.0 with 1/10). The entry points of all of them are combined by a multi-sample
+  // MIS (Veach 1997, sec. 9.2): for channel c, a point found by probe j weighs
+  //   alpha_cj R_c(|x_o - x_i|) / sum_k alpha_ck pdf_k(x_i),   alpha_cj = kOwnChannelWeight if j = c, else 1,
+  // summed over every point every probe found. The weights alpha_cj pdf_j / sum_k alpha_ck pdf_k
+  // sum to one over the probes, so the estimate is unbiased for any alpha; alpha = 1 is the
+  // balance heuristic, alpha -> infinity estimates each channel from its own probe (exact on a
+  // flat, uniformly lit slab, worse on a face: one entry point per channel, and the light varies
+  // across the red footprint). alpha = 2: measured on the head and the default scene's back-lit
+  // fin (docs/renderer.md, "Why a set, and why alpha = 2").
   static constexpr int kSetProbes = N + 1;
-  // Probe j of the set: u_a (used by the tangent probe only) picks its axis and channel, u_r
-  // and u_phi as in sample_probe.
+  static constexpr double kOwnChannelWeight = 2.0;
+  static constexpr double kTangentProbability = 0.25;
+  // Probe j of the set: u_a (used by the tangent probe only) decides whether it is taken and
+  // picks its axis and channel; u_r and u_phi as in sample_probe. False: no probe.
   bool sample_set_probe(int j, double u_a, double u_r, double u_phi, ProbeSegment* seg) const;
-  // Density per unit area [1/unit^2] with which probe j of the set reaches x_i (normal n_i), and
-  // the sum over the set.
+  // Density per unit area [1/unit^2] with which probe j of the set reaches x_i (normal n_i).
   double pdf_set_probe(int j, const Vec3& x_i, const Vec3& n_i) const;
-  double pdf_probe_set(const Vec3& x_i, const Vec3& n_i) const;
-  // R(|x_o - x_i|) / pdf_probe_set(x_i) per channel; false where that pdf vanishes.
-  bool probe_set_weight(const Vec3& x_i, const Vec3& n_i, double* weight) const;
+  // The weight above per channel of a point x_i found by probe j; false where it vanishes in
+  // every channel.
+  bool probe_set_weight(int j, const Vec3& x_i, const Vec3& n_i, double* weight) const;
 
   const Frame& frame() const { return frame_; }
   const Vec3& x_o() const { return x_o_; }
