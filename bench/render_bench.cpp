@@ -94,6 +94,39 @@ void BM_ProbeWeight(benchmark::State& state) {
 }
 BENCHMARK(BM_ProbeWeight);
 
+// The probe set's weight of an entry point found by probe j (its densities per axis and channel,
+// the channel-weighted MIS sum, R of three channels).
+void BM_ProbeSetWeight(benchmark::State& state) {
+  const Bssrdf b = flat_bssrdf();
+  const auto p = entry_points();
+  batch(state, [&](std::size_t i) {
+    double w[3];
+    benchmark::DoNotOptimize(b.probe_set_weight(static_cast<int>(i % 3), p[i], {0, 0, 1}, w));
+    benchmark::DoNotOptimize(w);
+  });
+}
+BENCHMARK(BM_ProbeSetWeight);
+
+// The quasi-random sampler: a 2D dimension (index shuffle, Sobol's two dimensions, two
+// scrambles), and a 1D one; a new block every 32 calls (as the integrator does per vertex).
+void BM_SamplerUniform2(benchmark::State& state) {
+  Sampler s(1, 5, 37);
+  batch(state, [&](std::size_t i) {
+    if (i % 32 == 0) s.start_block(static_cast<std::uint32_t>(i));
+    benchmark::DoNotOptimize(s.uniform2());
+  });
+}
+BENCHMARK(BM_SamplerUniform2);
+
+void BM_SamplerUniform(benchmark::State& state) {
+  Sampler s(1, 5, 37);
+  batch(state, [&](std::size_t i) {
+    if (i % 32 == 0) s.start_block(static_cast<std::uint32_t>(i));
+    benchmark::DoNotOptimize(s.uniform());
+  });
+}
+BENCHMARK(BM_SamplerUniform);
+
 // The profile table of the red channel: radius sampling (inverse CDF), its pdf, the profile.
 void BM_ProfileSampleRadius(benchmark::State& state) {
   const TabulatedProfile& t = caucasian().profile[0];
