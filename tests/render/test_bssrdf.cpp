@@ -159,10 +159,16 @@ TEST(Bssrdf, ProbePdfIntegratesToOneOverThreeOrthogonalPlanes) {
 // in the plane, angle), against `pdf` (per unit area) integrated over each bin by the midpoint
 // rule; one more bin for the probes that miss (probability 1 - the integral of the pdf over the
 // disc of radius r_max, where a plane through x_o meets the probes).
+// `sample` draws a probe from four uniform numbers (default: the BSSRDF's sample_probe).
+using ProbeSampler = std::function<bool(double, double, double, double, ProbeSegment*)>;
 template <int N>
 double plane_chi_square(const BasicBssrdf<N>& b, const Vec3& m, const std::function<double(const Vec3&)>& pdf,
-                        std::uint64_t seed, double* hit_probability) {
-  constexpr int kR = 20, kPhi = 8, kN = 400000;
+                        std::uint64_t seed, double* hit_probability, ProbeSampler sample = {}, int kN = 400000) {
+  if (!sample)
+    sample = [&b](double u0, double u1, double u2, double u3, ProbeSegment* seg) {
+      return b.sample_probe(u0, u1, u2, u3, seg);
+    };
+  constexpr int kR = 20, kPhi = 8;
   const double r_top = r_max_mm(b) / kMm;
   std::vector<double> edges{0.0};
   for (int i = 0; i < kR; ++i) edges.push_back(5e-3 * std::pow(r_top / 5e-3, static_cast<double>(i) / (kR - 1)));
@@ -185,7 +191,8 @@ double plane_chi_square(const BasicBssrdf<N>& b, const Vec3& m, const std::funct
   for (int k = 0; k < kN; ++k) {
     ProbeSegment seg;
     Vec3 x;
-    if (!b.sample_probe(rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), &seg) || !probe_plane(seg, m, &x)) {
+    const double u0 = rng.uniform(), u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
+    if (!sample(u0, u1, u2, u3, &seg) || !probe_plane(seg, m, &x)) {
       counts.back() += 1;
       continue;
     }
@@ -306,49 +313,14 @@ void probe_set_follows_its_pdfs(const BasicBssrdf<N>& b, std::uint64_t seed) {
   const Vec3 m = tilted(b);
   for (int j = 0; j < BasicBssrdf<N>::kSetProbes; ++j) {
     SCOPED_TRACE(::testing::Message() << "set probe " << j);
-    // Probe j as a one-probe "BSSRDF" for plane_chi_square: map its draws through sample_set_probe.
-    struct One {
-      const BasicBssrdf<N>& b;
-      int j;
-      bool sample_probe(double u_a, double, double u_r, double u_phi, ProbeSegment* seg) const {
-        return b.sample_set_probe(j, u_a, u_r, u_phi, seg);
-      }
-    } one{b, j};
-    constexpr int kR = 16, kPhi = 8, kN = 200000;
-    const double r_top = r_max_mm(b) / kMm;
-    std::vector<double> edges{0.0};
-    for (int i = 0; i < kR; ++i) edges.push_back(5e-3 * std::pow(r_top / 5e-3, static_cast<double>(i) / (kR - 1)));
-    const Frame pf = Frame::from_normal(m);
-    std::vector<double> prob, counts(kR * kPhi + 1, 0.0);
     double inside = 0;
-    for (int i = 0; i < kR; ++i)
-      for (int a = 0; a < kPhi; ++a) {
-        const double a0 = 2 * kPi * a / kPhi, a1 = 2 * kPi * (a + 1) / kPhi;
-        const double v = midpoint([&](double r) {
-          return r * midpoint([&](double t) { return b.pdf_set_probe(j, kXo + pf.to_world({r * std::cos(t), r * std::sin(t), 0}), m); }, a0, a1, 16);
-        }, edges[static_cast<std::size_t>(i)], edges[static_cast<std::size_t>(i) + 1], 64);
-        prob.push_back(v);
-        inside += v;
-      }
-    prob.push_back(std::max(0.0, 1 - inside));
-    Rng rng(seed + static_cast<std::uint64_t>(j), 1);
-    for (int k = 0; k < kN; ++k) {
-      ProbeSegment seg;
-      Vec3 x;
-      const double u_a = rng.uniform(), u_r = rng.uniform(), u_phi = rng.uniform();
-      if (!one.sample_probe(u_a, 0, u_r, u_phi, &seg) || !probe_plane(seg, m, &x)) {
-        counts.back() += 1;
-        continue;
-      }
-      const Vec3 l = pf.to_local(x - kXo);
-      double a = std::atan2(l.y, l.x);
-      if (a < 0) a += 2 * kPi;
-      const auto it = std::upper_bound(edges.begin(), edges.end(), std::sqrt(l.x * l.x + l.y * l.y));
-      const int i = std::clamp(static_cast<int>(it - edges.begin()) - 1, 0, kR - 1);
-      const int q = std::clamp(static_cast<int>(a / (2 * kPi) * kPhi), 0, kPhi - 1);
-      counts[static_cast<std::size_t>(i * kPhi + q)] += 1;
-    }
-    EXPECT_GT(chi_square_p(counts, prob, kN), 1e-3);
+    const double p = plane_chi_square(
+        b, m, [&](const Vec3& x) { return b.pdf_set_probe(j, x, m); }, seed + static_cast<std::uint64_t>(j), &inside,
+        [&b, j](double u_a, double, double u_r, double u_phi, ProbeSegment* seg) {
+          return b.sample_set_probe(j, u_a, u_r, u_phi, seg);
+        },
+        200000);
+    EXPECT_GT(p, 1e-3);
     // The tilted plane is reached by every kind of probe (the tangent one is taken 1/4 of the time).
     EXPECT_GT(inside, j < N ? 0.5 : 0.2);
   }
