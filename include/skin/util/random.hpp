@@ -2,7 +2,8 @@
 // Random number generators of the project, in one place. Two generators remain, on purpose: each
 // one's stream is part of a result the project keeps reproducible bit for bit. The Monte Carlo
 // reference draws from Xoshiro256Plus (its seeded runs are in tests/golden/golden.json) and the
-// renderer from Pcg32 (a seed gives the same image at any thread count); changing either
+// renderer from Pcg32 (a seed gives the same image at any thread count; its camera samples are
+// quasi-random, skin/render/sampling.hpp's Sampler, which falls back to Pcg32); changing either
 // generator would change those numbers. Both are counter-free, seeded per (seed, stream), so
 // results never depend on the thread schedule. Tested in tests/util/test_numerics.cpp.
 #include <cstdint>
