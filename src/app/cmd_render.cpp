@@ -127,15 +127,18 @@ void run(const RenderOpts& o, const Target& target) {
     for (const auto& v : sc->validity())
       warn_validity(transport::find_model(v.solver), v.validity, "material '" + v.material + "'", &said);
   {
-    // A time budget bounds the time already; the memory is checked either way (per cell of a
-    // figure: its cells are rendered one after another).
+    // A time budget bounds the time already, and adaptive sampling without --spp stops at its
+    // target, whose sample count is not known beforehand (its bound, 65536 spp, made a useless
+    // "28 hours" warning); the memory is checked either way (per cell of a figure: its cells
+    // are rendered one after another).
     render::RenderCost cost = render::render_cost(scene, rs);
     cost.samples *= static_cast<double>(target.scenes.size());
     const std::string cells = target.layout ? std::to_string(target.scenes.size()) + " cells of " : "";
     check_request("a render of " + cells + std::to_string(rs.width > 0 ? rs.width : scene.width()) + "x" +
                       std::to_string(rs.height > 0 ? rs.height : scene.height()) + " pixels, " +
                       format_number(cost.samples) + " samples",
-                  o.time_budget > 0 ? 0.0 : cost.samples, kRenderSamplesPerSecond, rs.threads, cost.bytes);
+                  o.time_budget > 0 || (o.target_error > 0 && o.spp == 0) ? 0.0 : cost.samples,
+                  kRenderSamplesPerSecond, rs.threads, cost.bytes);
   }
   // The reference is read before the render: a bad file fails at once.
   std::optional<render::Image> reference;
@@ -157,7 +160,7 @@ void run(const RenderOpts& o, const Target& target) {
   else
     std::printf("wrote %s: %dx%d, %d spp, %.1f s (%.3g samples/s)\n", o.output.c_str(), img.width, img.height,
                 stats.spp_done, stats.seconds, stats.samples_per_second());
-  // The error of the skin pixels, estimated from the samples' spread (and measured against a
+  // The error of the skin pixels, estimated from the two replicates of each pixel (and measured against a
   // reference when given): the relative RMS error, render::RenderStats::estimated_error.
   if (stats.skin_pixels > 0 && std::isfinite(stats.estimated_error)) {
     std::printf("skin: %zu pixels, relative RMS error %.3g (estimated)", stats.skin_pixels, stats.estimated_error);

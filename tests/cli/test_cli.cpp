@@ -107,6 +107,18 @@ TEST_F(Cli, LayersOutsideTheTablesDoNotWarn) {
   EXPECT_GT(j["profile"]["R"][1].get<double>(), 0.0);
 }
 
+// Adaptive sampling without --spp stops at its target: no time estimate from its 65536-spp bound
+// (which warned of hours for a render of seconds); with --spp the bound is the user's and is
+// estimated as any request.
+TEST_F(Cli, AdaptiveRenderWithoutSppIsNotEstimatedFromItsBound) {
+  const CmdResult r = run("render --resolution 256x256 --max-depth 1 --target-error 0.9 --threads 1 -o adaptive.png");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("would take about"), std::string::npos) << r.err;
+  const CmdResult big = run("render --resolution 16384x16384 --target-error 0.5 --spp 100000 --threads 1 -o big.png");
+  EXPECT_EQ(big.code, 2);
+  EXPECT_NE(big.err.find("would take about"), std::string::npos) << big.err;
+}
+
 // The multipole's own bad regime (a layer thinner than z_r) through the same check.
 TEST_F(Cli, LayersWarnWhereTheMultipoleLayerIsThinnerThanZr) {
   const CmdResult r = run("layers --solver multipole --layer sigma_a=0.5,sigma_s_prime=4.5,thickness=0.1 "
