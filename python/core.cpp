@@ -448,32 +448,27 @@ PYBIND11_MODULE(_core, m) {
     return d;
   };
 
-  m.def(
-      "rgb_profile",
-      [profiles](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
-                 double lambda_max, double lambda_step, const std::string& solver, int threads,
-                 const py::kwargs& kw) {
-        return profiles(true, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
-      },
-      "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0,
-      "lambda_max"_a = 700.0, "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
-      ("`skin profile --rgb`: radial profile R(r) [1/mm^2] per linear sRGB channel (r, g, b) at "
-       "the radii r_mm [mm] (increasing), the channel totals R_d, whether the profile is in the "
-       "model's validated range (validity; a RuntimeWarning says why not) and the parameters "
-       "used. R has the axes (sets..., channel, r_mm). " + solver_doc() + params).c_str());
-
-  m.def(
-      "profile",
-      [profiles](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
-                 double lambda_max, double lambda_step, const std::string& solver, int threads,
-                 const py::kwargs& kw) {
-        return profiles(false, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
-      },
-      "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0,
-      "lambda_max"_a = 700.0, "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
-      ("`skin profile`: radial profile R(r) [1/mm^2] per wavelength at the radii r_mm [mm] "
-       "(increasing), the totals R_d(lambda), validity and the parameters used. R has the axes "
-       "(sets..., wavelength_nm, r_mm). " + solver_doc() + params).c_str());
+  // `rgb_profile` and `profile`: one signature, RGB channels or wavelengths.
+  const auto def_profile = [&](const char* name, bool rgb, const std::string& doc) {
+    m.def(
+        name,
+        [profiles, rgb](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
+                        double lambda_max, double lambda_step, const std::string& solver, int threads,
+                        const py::kwargs& kw) {
+          return profiles(rgb, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
+        },
+        "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
+        "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0, (doc + solver_doc() + params).c_str());
+  };
+  def_profile("rgb_profile", true,
+              "`skin profile --rgb`: radial profile R(r) [1/mm^2] per linear sRGB channel (r, g, b) at "
+              "the radii r_mm [mm] (increasing), the channel totals R_d, whether the profile is in the "
+              "model's validated range (validity; a RuntimeWarning says why not) and the parameters "
+              "used. R has the axes (sets..., channel, r_mm). ");
+  def_profile("profile", false,
+              "`skin profile`: radial profile R(r) [1/mm^2] per wavelength at the radii r_mm [mm] "
+              "(increasing), the totals R_d(lambda), validity and the parameters used. R has the axes "
+              "(sets..., wavelength_nm, r_mm). ");
 
   m.def(
       "layers",
