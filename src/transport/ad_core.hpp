@@ -87,6 +87,13 @@ double scaled_extinction(const Layer& l);
 inline constexpr int kMaxAutomaticOrders = 8;
 int azimuthal_orders(const LayerStack& stack, double k, const FrequencyOptions& options);
 
+// The layer equations (A, B) of the frequency-domain solver for one medium at kappa = k /
+// sigma_t (delta-M scaled) with `orders` azimuthal orders (block-major), and the reflection of a
+// half-space of it from the decaying modes (false when they are not well determined: the caller
+// then doubles).
+void frequency_matrices(const Angular& geo, double omega, double kappa, int orders, Mat& A, Mat& B);
+bool semi_infinite_modes(const Mat& A, const Mat& B, Mat& R);
+
 // Single scattering in the top layer that leaves directly, as the frequency-domain solver
 // discretises it (sfd.cpp), at each k [rad/mm].
 std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,

@@ -415,6 +415,31 @@ TEST(FrequencyResponse, ZeroFrequencyIsTheAddingDoublingTotal) {
   }
 }
 
+TEST(FrequencyResponse, HalfSpaceFromItsModesIsTheDoubledOne) {
+  // The half-space's R at k > 0 from the decaying modes of the layer equations equals doubling
+  // of the diamond layer until nothing is transmitted (the diamond layer is a Cayley transform of
+  // the layer equations: it keeps their invariant subspaces, so the limit is the same). Forward
+  // and isotropic scattering, nearly conservative and absorbing, weak and strong order coupling.
+  namespace d = skin::accurate::detail;
+  LayerStack s;
+  s.layers = {Layer{0.1, 1, skin::kInfinity, 1.4, 0.9}};
+  const d::Streams st = d::make_streams(s, 8);
+  for (double g : {0.9, 0.0}) {
+    const d::Angular geo = d::angular(st, 1.4, g, 6);
+    for (double omega : {0.9999, 0.9, 0.3}) {
+      for (double kappa : {1e-3, 0.5, 5.0}) {
+        d::Mat A, B, R;
+        d::frequency_matrices(geo, omega, kappa, 6, A, B);
+        ASSERT_TRUE(d::semi_infinite_modes(A, B, R)) << g << ' ' << omega << ' ' << kappa;
+        d::LayerRT rt = d::diamond(A, B, 0.01);
+        for (int i = 0; i < 64 && rt.T.cwiseAbs().maxCoeff() > 1e-13; ++i) d::double_once(rt);
+        EXPECT_LT((R - rt.R).cwiseAbs().maxCoeff(), 1e-10) << g << ' ' << omega << ' ' << kappa;
+        EXPECT_GT(R.cwiseAbs().maxCoeff(), 1e-3);  // not trivially zero
+      }
+    }
+  }
+}
+
 TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
   // Isotropic half-space at n = 1 with albedo omega -> 0: only single scattering, whose transform
   // is R(k) = (omega / 2) int_0^1 mu / sqrt((1 + mu)^2 + kappa^2 (1 - mu^2)) dmu, kappa = k /
