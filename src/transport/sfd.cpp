@@ -73,35 +73,51 @@ void frequency_matrices(const Angular& geo, double omega, double kappa, int orde
 // S'' = (A + B)(A - B) S. Each eigenpair (lambda^2, v) of (A + B)(A - B) with Re lambda > 0 is a
 // mode that decays with depth: S = v exp(-lambda tau), D = (A + B)^-1 v lambda. Below the
 // surface only these modes exist, so F- = R F+ with R = (V - W)(V + W)^-1, W = (A + B)^-1 V
-// Lambda. One eigen-decomposition instead of 10-20 doublings of a thin layer (it costs ~7 at
-// 128 x 128). Doubling the diamond layer converges to the same R (the diamond layer is a Cayley
-// transform of the layer equations, which keeps their invariant subspaces): they agree to ~1e-11
-// (tested). False when the modes are not well determined (R then fails the layer's invariant
-// below; the caller doubles instead).
+// Lambda. R depends only on the space the modes span, so V may be any basis of it: the real one
+// of Eigen's pseudo-eigenvectors (a complex pair u +- iv, x +- iy becomes the columns x, y and
+// the block [u v; -v u], and Lambda the same block of sqrt(u + iv)) keeps everything real. One
+// eigen-decomposition instead of 10-20 doublings of a thin layer (it costs ~7 at 128 x 128).
+// Doubling the diamond layer converges to the same R (the diamond layer is a Cayley transform of
+// the layer equations, which keeps their invariant subspaces): they agree to ~1e-11 (tested).
+// False when the modes are not well determined (R then fails the layer's invariant below; the
+// caller doubles instead).
 bool semi_infinite_modes(const Mat& A, const Mat& B, Mat& R) {
-  using CMat = Eigen::MatrixXcd;
   const Mat ApB = A + B;
   const Eigen::EigenSolver<Mat> es(ApB * (A - B));
   if (es.info() != Eigen::Success) return false;
-  const Eigen::VectorXcd lambda = es.eigenvalues().cwiseSqrt();  // principal root: Re >= 0
-  const CMat& V = es.eigenvectors();
-  const auto lu = ApB.partialPivLu();
-  const CMat VL = V * lambda.asDiagonal();
-  CMat W(V.rows(), V.cols());
-  W.real() = lu.solve(Mat(VL.real()));
-  W.imag() = lu.solve(Mat(VL.imag()));
+  const Mat V = es.pseudoEigenvectors();
+  const Mat D = es.pseudoEigenvalueMatrix();
+  const auto n = D.rows();
+  Mat L = Mat::Zero(n, n);  // the block-diagonal Lambda: the principal square root (Re >= 0)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (i + 1 < n && D(i, i + 1) != 0.0) {
+      const std::complex<double> l = std::sqrt(std::complex<double>(D(i, i), D(i, i + 1)));
+      L(i, i) = L(i + 1, i + 1) = l.real();
+      L(i, i + 1) = l.imag();
+      L(i + 1, i) = -l.imag();
+      ++i;
+    } else {
+      L(i, i) = std::sqrt(std::max(0.0, D(i, i)));
+    }
+  }
+  const Mat W = ApB.partialPivLu().solve(V * L);
   // R (V + W) = V - W, solved transposed.
-  const CMat Rc = (V + W).transpose().partialPivLu().solve((V - W).transpose()).transpose();
-  R = Rc.real();
+  R = (V + W).transpose().partialPivLu().solve((V - W).transpose()).transpose();
   // A half-space is unchanged by a thin layer put on top of it: the Riccati equation
-  // B - A R - R A + R B R = 0 (adding of R_thin = B dtau, T_thin = I - A dtau). Its residual,
-  // relative to the size of the layer's matrices, measures how well the modes were resolved
-  // (1e-14 to 1e-11 in skin; nearly defective eigenvectors would show here).
+  // B - A R - R A + R B R = 0 (adding of R_thin = B dtau, T_thin = I - A dtau). Its residual on
+  // two vectors, relative to the size of the layer's matrices, measures how well the modes were
+  // resolved (1e-15 to 1e-11 in skin; nearly defective eigenvectors or a negative lambda^2 would
+  // show here).
   const double scale =
       A.cwiseAbs().colwise().sum().maxCoeff() + B.cwiseAbs().colwise().sum().maxCoeff();
-  const Mat residual = B - A * R - R * A + R * (B * R);
-  return R.allFinite() && Rc.imag().cwiseAbs().maxCoeff() < 1e-8 &&
-         residual.cwiseAbs().maxCoeff() < 1e-9 * scale;
+  Mat x(n, 2);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    x(i, 0) = 1;
+    x(i, 1) = i % 2 == 0 ? 1 : -1;
+  }
+  const Mat Rx = R * x;
+  const Mat residual = B * x - A * Rx - R * (A * x) + R * (B * Rx);
+  return R.allFinite() && residual.cwiseAbs().maxCoeff() < 1e-9 * scale;
 }
 
 namespace {
