@@ -118,8 +118,8 @@ bool layer_modes(const Mat& A, const Mat& B, Modes& m) {
 
 // A half-space is unchanged by a thin layer put on top of it: the Riccati equation B - A R - R A
 // + R B R = 0 (adding R_thin = B dtau, T_thin = I - A dtau). Its residual on two vectors,
-// relative to the size of the layer's matrices, says whether the modes were resolved (1e-15 to
-// 1e-11 in skin; nearly defective eigenvectors or a negative lambda^2 would show here). R is
+// relative to the size of the layer's matrices, says whether the modes were resolved (~1e-14 to
+// 1e-12 in skin; nearly defective eigenvectors or a negative lambda^2 would show here). R is
 // given by its action on a matrix of vectors.
 template <class ApplyR>
 bool riccati_holds(const Mat& A, const Mat& B, const ApplyR& R) {
@@ -202,7 +202,8 @@ bool finite_modes(const Mat& A, const Mat& B, double h, int doublings, LayerRT& 
   const auto up = m.Up.partialPivLu();
   const Mat X = up.solve(m.Um);
   const Mat EXE = left(right(X));
-  // R Q = N and T Q = P E with Q = U+ - U- E X E: solved transposed with one factorisation.
+  // R Q = U- - U+ E X E and T Q = (U+ - U- X) E with Q = U+ - U- E X E: solved transposed, one
+  // factorisation.
   const auto Qt = (m.Up - m.Um * EXE).transpose().partialPivLu();
   rt.R = Qt.solve((m.Um - m.Up * EXE).transpose()).transpose();
   rt.T = Qt.solve(right(m.Up - m.Um * X).transpose()).transpose();
