@@ -87,6 +87,15 @@ double scaled_extinction(const Layer& l);
 inline constexpr int kMaxAutomaticOrders = 8;
 int azimuthal_orders(const LayerStack& stack, double k, const FrequencyOptions& options);
 
+// The layer equations (A, B) of the frequency-domain solver for one medium at kappa = k /
+// sigma_t (delta-M scaled) with `orders` azimuthal orders (block-major); from their modes (sfd.cpp),
+// the reflection of a half-space of it, and a finite layer equal to the diamond layer of depth h
+// doubled `doublings` times (false when the modes are not well determined: the caller then
+// doubles).
+void frequency_matrices(const Angular& geo, double omega, double kappa, int orders, Mat& A, Mat& B);
+bool semi_infinite_modes(const Mat& A, const Mat& B, Mat& R);
+bool finite_modes(const Mat& A, const Mat& B, double h, int doublings, LayerRT& rt);
+
 // Single scattering in the top layer that leaves directly, as the frequency-domain solver
 // discretises it (sfd.cpp), at each k [rad/mm].
 std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,
