@@ -150,10 +150,11 @@ void run(const RenderOpts& o, const Target& target) {
   render::RenderStats stats;
   render::Image img = target.render(rs, &stats, progress_fraction_bar());
   const double reference_error = reference ? render::relative_rms_error(img, *reference, stats.skin_mask) : 0.0;
+  // Per rendered pixel (a figure's label band has none).
+  const double mean_spp = static_cast<double>(stats.camera_samples) / (static_cast<double>(img.width) * img.height);
   if (layout) img = render::annotate_figure(img, *layout);
   render::write_image(o.output, img, o.exposure_given ? o.exposure : scene.exposure(),
                       o.tone_map.empty() ? scene.tone_map() : image::tone_map_from_name(o.tone_map));
-  const double mean_spp = static_cast<double>(stats.camera_samples) / (static_cast<double>(img.width) * img.height);
   if (o.target_error > 0)
     std::printf("wrote %s: %dx%d, %.3g spp on average (at most %d), %.1f s (%.3g samples/s)\n", o.output.c_str(),
                 img.width, img.height, mean_spp, stats.spp_done, stats.seconds, stats.samples_per_second());

@@ -274,7 +274,10 @@ Image render_figure(const Figure& figure, const RenderSettings& settings, Render
   if (settings.time_budget > 0) rs.time_budget = settings.time_budget / static_cast<double>(n);
   Image grid;
   RenderStats total;
-  total.spp_done = std::numeric_limits<int>::max();
+  // Samples per pixel of the figure: what every cell took (the fewest of them; they differ under
+  // a time budget), or with adaptive sampling the most any pixel took (its bound, "at most").
+  const bool adaptive = settings.target_error > 0;
+  total.spp_done = adaptive ? 0 : std::numeric_limits<int>::max();
   // For the error over all cells: per cell, skin pixels x the mean variance of a pixel's mean
   // ((E M)^2, E the cell's estimate and M its skin mean) and skin pixels x M.
   double var_sum = 0, mean_sum = 0;
@@ -302,7 +305,7 @@ Image render_figure(const Figure& figure, const RenderSettings& settings, Render
         if (skin) skin_sum += (c.r + c.g + c.b) / 3;
       }
     total.seconds += st.seconds;
-    total.spp_done = std::min(total.spp_done, st.spp_done);
+    total.spp_done = adaptive ? std::max(total.spp_done, st.spp_done) : std::min(total.spp_done, st.spp_done);
     total.camera_samples += st.camera_samples;
     total.invalid_samples += st.invalid_samples;
     total.skin_pixels += st.skin_pixels;
