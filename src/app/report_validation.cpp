@@ -52,6 +52,16 @@ std::string profile_error_text(const CaseResult& c, std::size_t k, double r_min)
 const std::array<double, 3> kColours[] = {
     {0.80, 0.15, 0.10}, {0.10, 0.35, 0.80}, {0.10, 0.60, 0.25}, {0.60, 0.20, 0.70}};
 
+// "| case | annuli | NAME: BEYOND | WORST |..." and its separator line: the tables of annuli.
+void check_table_header(std::ostream& md, const std::vector<std::string>& names,
+                        const char* beyond, const char* worst) {
+  md << "| case | annuli |";
+  for (const auto& n : names) md << ' ' << n << ": " << beyond << " | " << worst << " |";
+  md << "\n|---|---|";
+  for (std::size_t k = 0; k < names.size(); ++k) md << "---|---|";
+  md << '\n';
+}
+
 void plot_case(const CaseResult& cr, const std::vector<std::string>& names,
                const std::string& path) {
   plot::Figure fig;
@@ -242,11 +252,7 @@ void write_validation_report(std::ostream& md, const ValidationRun& run,
           "Annuli (0.05 mm wide) with centre in 0.1-5 mm whose Monte Carlo estimate has a relative "
           "standard error below 5 %: how many, how many are off by more than 10 % + 3 standard "
           "errors (the goal: none), and the largest excess over 3 standard errors.\n\n";
-    md << "| case | annuli |";
-    for (std::size_t k = 0; k < ns; ++k) md << ' ' << names[k] << ": beyond 10 % | largest excess (at r) |";
-    md << "\n|---|---|";
-    for (std::size_t k = 0; k < ns; ++k) md << "---|---|";
-    md << '\n';
+    check_table_header(md, names, "beyond 10 %", "largest excess (at r)");
     for (const auto& c : run.cases) {
       if (c.c.group.rfind("Skin presets", 0) != 0) continue;
       md << "| " << c.c.id << " | " << c.check_profile(0, 0.1, 5.0, 0.1).checked << " |";
@@ -275,11 +281,7 @@ void write_validation_report(std::ostream& md, const ValidationRun& run,
           "none), and the largest relative deviation (at r; beyond a few mm it is mostly Monte "
           "Carlo noise, several per cent per annulus). The annuli are those of the Monte Carlo run "
           "(200 to the outer radius: 0.02-0.1 mm wide), the models averaged over each.\n\n";
-    md << "| case | annuli |";
-    for (std::size_t k = 0; k < ns; ++k) md << ' ' << names[k] << ": beyond | worst (at r) |";
-    md << "\n|---|---|";
-    for (std::size_t k = 0; k < ns; ++k) md << "---|---|";
-    md << '\n';
+    check_table_header(md, names, "beyond", "worst (at r)");
     std::vector<int> passed(ns, 0);
     for (const auto& c : run.cases) {
       const double r_hi = std::min(10.0, c.c.r_max);
