@@ -23,14 +23,17 @@ between 10^5 and --photons (the count used is in the table).
 
 Usage:
   scripts/profile_vs_mc.py [--skin PATH] [--photons N] [--solvers sfd,accurate,multipole] [--cases a,b]
-  scripts/profile_vs_mc.py --random 50 --seed 15 --mc-cpu 30 --photons 2000000 \
-      --markdown docs/validation/random-stacks.md
+  scripts/profile_vs_mc.py --random 50 --seed 15 --mc-cpu 15 --photons 20000000 \
+      --solvers sfd,multipole,multipole-shape --cache /tmp/sfd-cache --markdown docs/validation/random-stacks.md
+  (--random 25 --first 25 runs stacks 25-49 alone, e.g. in a second process; with the same --cache
+  a later run of all 50 reuses their profiles)
   scripts/profile_vs_mc.py --random 3 --seed 347 --photons 30000 --max-rse 0.1 --threads 1 \
       --solvers sfd,multipole-shape --check sfd --check-fails multipole-shape   # the CI test (tests/mc)
 Prints a Markdown table (docs/accurate-solver.md, section 8); exit status 1 when a --check solver
 fails a case or a --check-fails solver passes every case.
 """
 import argparse
+import hashlib
 import json
 import math
 import os
@@ -192,25 +195,38 @@ def evaluate(a, name, mc_args, solvers):
     mc_cpu = cpu_children() - t0
     rows = annuli(mc)
     peak = max(R for _, _, R, _ in rows)
-    rows = [x for x in rows if x[0] >= R_LO - 1e-12 and x[1] <= R_HI + 1e-9 and x[2] > FLOOR * peak
-            and (not a.max_rse or x[3] <= a.max_rse * x[2])]
-    radii, nodes = [], []
-    for lo, hi, _, _ in rows:
-        pts = [(0.5 * (lo + hi) + 0.5 * (hi - lo) * x, w) for x, w in GL4]
-        nodes.append(pts)
-        radii += [p for p, _ in pts]
-    order = sorted(set(radii))
+    rows = [x for x in rows if x[0] >= R_LO - 1e-12 and x[1] <= R_HI + 1e-9]
+    # The models at the nodes of every annulus over 0.02-10 mm (so that their output depends on the
+    # stack only, and can be cached), the check over those above the floor.
+    order = sorted({0.5 * (lo + hi) + 0.5 * (hi - lo) * x for lo, hi, _, _ in rows for x, _ in GL4})
+    rows = [x for x in rows if x[2] > FLOOR * peak and (not a.max_rse or x[3] <= a.max_rse * x[2])]
+    nodes = [[(0.5 * (lo + hi) + 0.5 * (hi - lo) * x, w) for x, w in GL4] for lo, hi, _, _ in rows]
     outputs, cpu = {}, {}
 
     def model(s):
         if s not in outputs:
             t = cpu_children()
-            args = [a.skin, "layers", "--solver", s, *layer_args(mc), "--format", "json"]
+            args = ["layers", "--solver", s, *layer_args(mc), "--format", "json"]
             for r in order:
                 args += ["--radius", repr(r)]
-            out = run(args)
+            path = ""
+            if a.cache:  # keyed by the command and the binary (its size and time)
+                st = os.stat(a.skin)
+                key = json.dumps([args, st.st_size, st.st_mtime_ns]).encode()
+                path = os.path.join(a.cache, hashlib.sha1(key).hexdigest() + ".json")
+            if path and os.path.exists(path):
+                with open(path) as f:
+                    out = json.load(f)
+            else:
+                out = run([a.skin, *args])
+                out["cpu_seconds"] = cpu_children() - t
+                if path:
+                    os.makedirs(a.cache, exist_ok=True)
+                    with open(path + ".tmp", "w") as f:
+                        json.dump(out, f)
+                    os.replace(path + ".tmp", path)
             outputs[s] = (out["R_d"], dict(zip(order, out["profile"]["R"])))
-            cpu[s] = cpu_children() - t
+            cpu[s] = out["cpu_seconds"]
         return outputs[s]
 
     results = {}
@@ -254,18 +270,21 @@ def main():
     ap.add_argument("--solvers", default="sfd,accurate,multipole")
     ap.add_argument("--cases", default="")
     ap.add_argument("--random", type=int, default=0, help="the first N stacks of the random family")
+    ap.add_argument("--first", type=int, default=0, help="with --random: start at stack K (to split a run)")
     ap.add_argument("--markdown", default="", help="also write the full table (with stacks) to this file")
     ap.add_argument("--check", default="", help="solvers that must pass every case (exit status 1)")
     ap.add_argument("--check-fails", default="", help="solvers that must fail at least one case")
     ap.add_argument("--max-rse", type=float, default=0,
                     help="check only annuli whose Monte Carlo relative standard error is at most this "
                          "(with few photons per annulus the standard error is itself unreliable)")
+    ap.add_argument("--cache", default="", help="keep the models' profiles in this directory and "
+                    "reuse them (same stack, radii and skin binary)")
     ap.add_argument("--verbose", action="store_true", help="print every annulus that fails")
     a = ap.parse_args()
     solvers = a.solvers.split(",")
     if a.random:
         cases = []
-        for i in range(a.random):
+        for i in range(a.first, a.first + a.random):
             name, layers, eta_below = random_stack(a.seed, i)
             cases.append((name, stack_args(layers, eta_below), stack_text(layers, eta_below)))
     else:
