@@ -1,5 +1,6 @@
 // skin mc: Monte Carlo photon transport in a layer stack (the validation reference).
-// skin validate: diffusion against Monte Carlo over the presets and generic stacks -> report.
+// skin validate: the transport models against Monte Carlo over the presets and generic stacks ->
+// report.
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -181,7 +182,7 @@ void register_validate_command(CLI::App& app) {
 #endif
   CLI::App* sub = app.add_subcommand(
       "validate",
-      "Both solvers (multipole, accurate) against Monte Carlo over the paper's presets at several "
+      "The transport models (multipole, accurate, sfd) against Monte Carlo over the paper's presets at several "
       "wavelengths and over generic layer stacks, and the model against measured skin spectra; "
       "writes OUT/README.md (tables, errors), PNG profiles and OUT/measured/");
   sub->add_option("--out", o->out, "Output directory (created if missing)")->required();
@@ -207,7 +208,8 @@ void register_validate_command(CLI::App& app) {
     std::filesystem::create_directories(o->out);
     const std::vector<mc::SolverColumn> solvers{
         mc::solver_column(transport::find_model("multipole")),
-        mc::solver_column(transport::find_model("accurate"))};
+        mc::solver_column(transport::find_model("accurate")),
+        mc::solver_column(transport::find_model("sfd"))};
     mc::CaseDone log;
     if (stderr_is_terminal())
       log = [&solvers](std::size_t done, std::size_t total, const mc::CaseResult& c) {

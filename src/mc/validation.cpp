@@ -2,6 +2,7 @@
 // application's (src/app/report_validation.cpp).
 #include "skin/mc/validation.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -153,6 +154,27 @@ CaseResult::ProfileCheck CaseResult::check_profile(std::size_t solver, double r_
   return pc;
 }
 
+CaseResult::ProfileCheck CaseResult::check_annuli(std::size_t solver, double r_lo, double r_hi,
+                                                  double rel, double floor) const {
+  ProfileCheck pc;
+  const auto& P = R.at(solver);
+  if (mc.r_mm.empty()) return pc;
+  const double half = 0.5 * (mc.r_mm.size() > 1 ? mc.r_mm[1] - mc.r_mm[0] : 2 * mc.r_mm[0]);
+  const double peak = *std::max_element(mc.R.begin(), mc.R.end());
+  for (std::size_t i = 0; i < P.size() && i < mc.R.size(); ++i) {
+    const double r = mc.r_mm[i];
+    if (r - half < r_lo - 1e-12 || r + half > r_hi + 1e-9 || !(mc.R[i] > floor * peak)) continue;
+    ++pc.checked;
+    const double dev = P[i] / mc.R[i] - 1.0;
+    if (std::abs(P[i] - mc.R[i]) > rel * mc.R[i] + 3.0 * mc.R_se[i]) ++pc.beyond;
+    if (std::abs(dev) > std::abs(pc.worst)) {
+      pc.worst = dev;
+      pc.worst_r = r;
+    }
+  }
+  return pc;
+}
+
 double CaseResult::top_mfp() const {
   const Layer& l = c.stack.layers.front();
   return 1.0 / (l.sigma_a + l.sigma_s_prime);
@@ -168,9 +190,12 @@ std::vector<double> log_radii(double r_min, double r_max, std::size_t n) {
 }
 
 // Mean of R over each annulus [r_i - dr/2, r_i + dr/2] (centres r_i evenly spaced from dr/2):
-// 3-point Gauss-Legendre in the area variable s = r^2, exact for R quadratic in r^2.
-std::vector<double> annulus_means(const SolverColumn& s, const LayerStack& stack,
-                                  const std::vector<double>& centres) {
+// 3-point Gauss-Legendre in the area variable s = r^2, exact for R quadratic in r^2; and R at the
+// radii `fine`, from the same call of the solver (one response per stack: the frequency-domain
+// models take seconds to build one).
+std::pair<std::vector<double>, std::vector<double>> annulus_means(
+    const SolverColumn& s, const LayerStack& stack, const std::vector<double>& centres,
+    const std::vector<double>& fine) {
   const double dr = 2.0 * centres.front();
   static const double x[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
   static const double w[3] = {5.0 / 18, 8.0 / 18, 5.0 / 18};  // weights / 2: sum to 1
@@ -180,11 +205,19 @@ std::vector<double> annulus_means(const SolverColumn& s, const LayerStack& stack
     const double a = (c - 0.5 * dr) * (c - 0.5 * dr), b = (c + 0.5 * dr) * (c + 0.5 * dr);
     for (double xi : x) radii.push_back(std::sqrt(0.5 * (a + b) + 0.5 * (b - a) * xi));
   }
-  const std::vector<double> v = s.profile(stack, radii);
+  radii.insert(radii.end(), fine.begin(), fine.end());
+  // The solver takes increasing radii: solve at the sorted, distinct ones and look each up.
+  std::vector<double> sorted = radii;
+  std::sort(sorted.begin(), sorted.end());
+  sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
+  const std::vector<double> u = s.profile(stack, sorted);
+  std::vector<double> v(radii.size());
+  for (std::size_t i = 0; i < radii.size(); ++i)
+    v[i] = u[static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), radii[i]) - sorted.begin())];
   std::vector<double> mean(centres.size());
   for (std::size_t i = 0; i < centres.size(); ++i)
     mean[i] = w[0] * v[3 * i] + w[1] * v[3 * i + 1] + w[2] * v[3 * i + 2];
-  return mean;
+  return {std::move(mean), std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(3 * centres.size()), v.end())};
 }
 
 }  // namespace
@@ -210,8 +243,9 @@ ValidationRun run_validation(const std::vector<ValidationCase>& cases,
       cancel::check();
       cr.R_d.push_back(s.R_d(c.stack));
       if (s.profile) {
-        cr.R.push_back(annulus_means(s, c.stack, cr.mc.r_mm));
-        cr.R_fine.push_back(s.profile(c.stack, cr.r_fine));
+        auto [means, fine] = annulus_means(s, c.stack, cr.mc.r_mm, cr.r_fine);
+        cr.R.push_back(std::move(means));
+        cr.R_fine.push_back(std::move(fine));
       } else {
         cr.R.emplace_back();
         cr.R_fine.emplace_back();

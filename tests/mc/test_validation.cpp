@@ -72,6 +72,16 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
   EXPECT_NE(text.find("| multipole R_d | error | scaled-by-1.1 R_d | error |"), std::string::npos)
       << text;
   EXPECT_NE(text.find("**scaled-by-1.1**"), std::string::npos);
+  // The criterion of issue 15 per case, with the numbers of CaseResult::check_annuli.
+  EXPECT_NE(text.find("| case | annuli | multipole: beyond | worst (at r) | scaled-by-1.1: beyond |"),
+            std::string::npos) << text;
+  for (const auto& c : run.cases) {
+    const auto pc = c.check_annuli(0, 0.02, std::min(10.0, c.c.r_max), 0.05, 1e-6);
+    char row[128];
+    std::snprintf(row, sizeof row, "| %s | %d | %d | %+.1f %% (%.3g mm) | n/a | n/a |", c.c.id.c_str(),
+                  pc.checked, pc.beyond, 100.0 * pc.worst, pc.worst_r);
+    EXPECT_NE(text.find(row), std::string::npos) << row;
+  }
   EXPECT_NE(text.find("(plots/profile_" + two[0].id + ".png)"), std::string::npos);
   EXPECT_TRUE(std::filesystem::exists(dir / ("profile_" + two[0].id + ".png")));
   EXPECT_TRUE(std::filesystem::exists(dir / "rd_relative_error.png"));
@@ -86,6 +96,30 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
     EXPECT_NE(line.find(", scaled-by-1.1 "), std::string::npos) << line;
     EXPECT_NE(line.find(std::string("(") + err + ")"), std::string::npos) << line;
   }
+}
+
+TEST(ValidationCases, AnnulusCheckCountsWhatTheCriterionSays) {
+  // A hand-made result: four annuli of 0.1 mm; the model off by 10 %, 30 %, 10 % and 12 %.
+  mc::CaseResult c;
+  c.c.r_max = 0.4;
+  c.mc.r_mm = {0.05, 0.15, 0.25, 0.35};
+  c.mc.R = {1.0, 0.1, 1e-3, 1e-7};
+  c.mc.R_se = {0.001, 0.02, 1e-5, 1e-8};  // 0.1 %, 20 %, 1 %, 10 %
+  c.R = {{1.1, 0.13, 1.1e-3, 1.12e-7}};
+  // From 0: the first three annuli (the fourth is below 1e-6 of the peak); beyond 5 % + 3 SE: the
+  // first (10 % > 5.3 %) and third (10 % > 8 %), not the second (30 % < 65 %).
+  auto pc = c.check_annuli(0, 0.0, 10.0, 0.05, 1e-6);
+  EXPECT_EQ(pc.checked, 3);
+  EXPECT_EQ(pc.beyond, 2);
+  EXPECT_NEAR(pc.worst, 0.3, 1e-12);
+  // From 0.02 mm the first annulus (0-0.1 mm) is not inside; with floor 1e-8 the fourth counts
+  // (12 % < 35 %).
+  pc = c.check_annuli(0, 0.02, 10.0, 0.05, 1e-8);
+  EXPECT_EQ(pc.checked, 3);
+  EXPECT_EQ(pc.beyond, 1);
+  EXPECT_NEAR(pc.worst_r, 0.15, 1e-12);
+  // Up to 0.3 mm: the last annulus (0.3-0.4 mm) is not inside.
+  EXPECT_EQ(c.check_annuli(0, 0.0, 0.3, 0.05, 1e-8).checked, 3);
 }
 
 }  // namespace

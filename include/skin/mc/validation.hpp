@@ -74,6 +74,12 @@ struct CaseResult {
     double worst = 0, worst_r = 0;
   };
   ProfileCheck check_profile(std::size_t solver, double r_lo, double r_hi, double rel) const;
+  // The criterion of issue 15 (docs/accurate-solver.md, section 8): over the annuli that lie
+  // within [r_lo, r_hi] [mm] and whose Monte Carlo R is above `floor` times its largest, how many
+  // there are, how many are off by more than `rel` + 3 SE, and the largest relative deviation
+  // R / mc.R - 1 (signed, in `worst`) with its radius.
+  ProfileCheck check_annuli(std::size_t solver, double r_lo, double r_hi, double rel,
+                            double floor) const;
   // Transport mean free path 1 / sigma_t' of the top layer [mm].
   double top_mfp() const;
 };
