@@ -74,8 +74,8 @@ std::vector<SurfaceSample> distribute_points(const SceneData& s, std::size_t n_p
   return out;
 }
 
-NearFieldKernel::NearFieldKernel(const std::array<TabulatedProfile, 3>* profile, double a)
-    : profile_(profile), a_(a) {
+NearFieldKernel::NearFieldKernel(const std::array<TabulatedProfile, 3>* profile, double a, double near_radius)
+    : profile_(profile), a_(a), rho_(near_radius) {
   r_max_ = kNear * a;
   for (const TabulatedProfile& p : *profile) r_max_ = std::max(r_max_, p.r_max());
   if (!(a > 0)) return;
@@ -110,6 +110,18 @@ NearFieldKernel::NearFieldKernel(const std::array<TabulatedProfile, 3>* profile,
       }
       table_[static_cast<std::size_t>(c)][static_cast<std::size_t>(j)] = sum / (kPi * a * a);
     }
+  }
+  // int_0^rho K(r) 2 pi r dr by the midpoint rule on the kernel itself (linear between its
+  // table's nodes, rho <= kNear a).
+  rho_ = std::min(rho_, kNear * a);
+  constexpr int kSteps = 4 * kTable;
+  for (int c = 0; c < 3; ++c) {
+    double t = 0;
+    for (int i = 0; i < kSteps; ++i) {
+      const double r = rho_ * (i + 0.5) / kSteps;
+      t += (*this)(c, r) * 2 * kPi * r;
+    }
+    near_integral_[static_cast<std::size_t>(c)] = t * rho_ / kSteps;
   }
 }
 
@@ -193,9 +205,22 @@ void PointCloud::build(std::uint32_t slot, std::uint32_t begin, std::uint32_t en
 }
 
 Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, double max_solid_angle) const {
-  Rgb3 sum;
-  if (node_.empty()) return sum;
+  // Points nearer than the kernel's near radius go into a sum of their own, normalised by the
+  // sum of their weights K A against the kernel's planar integral over that disk (below).
+  Rgb3 far, near, weight;
+  if (node_.empty()) return far;
   const double r_max = k.r_max() / mm_;  // [scene units]
+  const double rho = k.near_radius();    // [mm]
+  const auto add = [&](double d, const Rgb3& ea, double area) {
+    const Rgb3 kk{k(0, d), k(1, d), k(2, d)};
+    const Rgb3 v{kk.r * ea.r, kk.g * ea.g, kk.b * ea.b};
+    if (d < rho) {
+      near += v;
+      weight += kk * area;
+    } else {
+      far += v;
+    }
+  };
   std::uint32_t stack[256];
   int top = 0;
   stack[top++] = 0;
@@ -204,22 +229,25 @@ Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, doubl
     const double d_box2 = distance2(nd, x);
     if (d_box2 > r_max * r_max) continue;
     if (nd.leaf) {
-      for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) {
-        const double d = length(x - p_[i]) * mm_;
-        sum += Rgb3{k(0, d) * EA_[i].r, k(1, d) * EA_[i].g, k(2, d) * EA_[i].b};
-      }
+      for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) add(length(x - p_[i]) * mm_, EA_[i], area_);
       continue;
     }
     if (d_box2 > 0) {
       const double d = length(x - nd.c) * mm_;
       if (nd.area < max_solid_angle * d * d) {
-        sum += Rgb3{k(0, d) * nd.EA.r, k(1, d) * nd.EA.g, k(2, d) * nd.EA.b};
+        add(d, nd.EA, nd.area);
         continue;
       }
     }
     for (std::uint32_t c = nd.first; c < nd.first + nd.count; ++c) stack[top++] = c;
   }
-  return sum;
+  return far + normalised_near(near, weight, k);
+}
+
+Rgb3 PointCloud::normalised_near(const Rgb3& near, const Rgb3& weight, const NearFieldKernel& k) {
+  if (!(k.near_radius() > 0)) return near;
+  const auto one = [&](double v, double w, int c) { return w > 0 ? v * k.near_integral(c) / w : 0.0; };
+  return {one(near.r, weight.r, 0), one(near.g, weight.g, 1), one(near.b, weight.b, 2)};
 }
 
 // Squared distance from x to a node's box (0 inside).
@@ -268,12 +296,19 @@ bool PointCloud::interpolated_exitance(const Vec3& x, double h, Rgb3* M) const {
 }
 
 Rgb3 PointCloud::brute_force(const Vec3& x, const NearFieldKernel& k) const {
-  Rgb3 sum;
+  Rgb3 far, near, weight;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     const double d = length(x - p_[i]) * mm_;
-    sum += Rgb3{k(0, d) * EA_[i].r, k(1, d) * EA_[i].g, k(2, d) * EA_[i].b};
+    const Rgb3 kk{k(0, d), k(1, d), k(2, d)};
+    const Rgb3 v{kk.r * EA_[i].r, kk.g * EA_[i].g, kk.b * EA_[i].b};
+    if (d < k.near_radius()) {
+      near += v;
+      weight += kk * area_;
+    } else {
+      far += v;
+    }
   }
-  return sum;
+  return far + normalised_near(near, weight, k);
 }
 
 }  // namespace skin::render

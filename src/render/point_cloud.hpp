@@ -54,15 +54,21 @@ class NearFieldKernel {
  public:
   static constexpr double kNear = 16.0;
   NearFieldKernel() = default;
-  NearFieldKernel(const std::array<TabulatedProfile, 3>* profile, double a);
+  // near_radius [mm] (at most kNear a): the points within it are summed as a kernel-weighted
+  // mean (PointCloud::radiant_exitance); 0 = a plain sum.
+  NearFieldKernel(const std::array<TabulatedProfile, 3>* profile, double a, double near_radius = 0);
   double operator()(int channel, double d) const;  // [1/mm^2], d [mm]
   double r_max() const { return r_max_; }          // beyond it K = 0 in every channel [mm]
   double radius() const { return a_; }
+  double near_radius() const { return rho_; }  // [mm]
+  // int K dA over the disk of the near radius on a plane, per channel [1].
+  double near_integral(int channel) const { return near_integral_[static_cast<std::size_t>(channel)]; }
 
  private:
   static constexpr int kTable = 512;
   const std::array<TabulatedProfile, 3>* profile_ = nullptr;
-  double a_ = 0, r_max_ = 0;
+  double a_ = 0, r_max_ = 0, rho_ = 0;
+  std::array<double, 3> near_integral_{};
   std::array<std::array<double, kTable + 1>, 3> table_{};
 };
 
@@ -76,6 +82,11 @@ class PointCloud {
 
   // sum_p K(|x - x_p|) E_p A_p, using a node's aggregate K(|x - c|) sum E A when x is outside its
   // box and A_node / |x - c|^2 < max_solid_angle (Jensen & Buhler's criterion; 0 = every point).
+  // With a near radius rho (NearFieldKernel), the points within rho of x count as a weighted mean:
+  //   sum_near K E A / sum_near K A x int_{r < rho} K dA (the plane's integral),
+  // which is the plain sum where the points are evenly spread, and takes out how many points
+  // happen to fall near x (the density of a stratified cloud varies by tens of per cent over a
+  // few spacings, where neighbouring triangles' sets meet; the sum would carry that).
   Rgb3 radiant_exitance(const Vec3& x, const NearFieldKernel& k, double max_solid_angle) const;
   // The plain sum over every point (for tests).
   Rgb3 brute_force(const Vec3& x, const NearFieldKernel& k) const;
@@ -103,6 +114,7 @@ class PointCloud {
     std::uint32_t first = 0, count = 0;  // children (inner) or points (leaf)
     bool leaf = true;
   };
+  static Rgb3 normalised_near(const Rgb3& near, const Rgb3& weight, const NearFieldKernel& k);
   void build(std::uint32_t slot, std::uint32_t begin, std::uint32_t end, int depth);
   static double distance2(const Node& nd, const Vec3& x);
   // f(index, squared distance) for every point within radius h of x.
