@@ -245,6 +245,32 @@ void BM_DefaultSceneDiffuse(benchmark::State& state) { render_default(state, tru
 BENCHMARK(BM_DefaultSceneSkin)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_DefaultSceneDiffuse)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+// The default scene at 192 x 128, 16 spp, one thread, with the subsurface term from the point
+// cloud (default spacing): the time of the camera samples alone (the render's time less the
+// cloud's, RenderStats::point_seconds) per sample, and the cloud's time per run beside it.
+void BM_DefaultScenePointsSamples(benchmark::State& state) {
+  const Scene scene = Scene::default_scene();
+  RenderSettings rs;
+  rs.width = 192;
+  rs.height = 128;
+  rs.spp = 16;
+  rs.threads = 1;
+  rs.subsurface = RenderSettings::Subsurface::points;
+  double sample_seconds = 0, cloud_seconds = 0;
+  std::int64_t samples = 0, runs = 0;
+  for (auto _ : state) {
+    RenderStats stats;
+    benchmark::DoNotOptimize(render(scene, rs, &stats));
+    sample_seconds += stats.seconds - stats.point_seconds;
+    cloud_seconds += stats.point_seconds;
+    samples += static_cast<std::int64_t>(stats.camera_samples);
+    ++runs;
+  }
+  state.counters["us/sample"] = samples > 0 ? 1e6 * sample_seconds / static_cast<double>(samples) : 0.0;
+  state.counters["cloud s"] = runs > 0 ? cloud_seconds / static_cast<double>(runs) : 0.0;
+}
+BENCHMARK(BM_DefaultScenePointsSamples)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(2);
+
 // Setup: four skin materials (profiles by inverse Hankel transform) and the Embree build.
 void BM_DefaultSceneSetup(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(Scene::default_scene());

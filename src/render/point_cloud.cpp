@@ -108,7 +108,17 @@ NearFieldKernel::NearFieldKernel(const std::array<TabulatedProfile, 3>* profile,
             sum += 0.5 * h * w[g] * 2 * kPi * rho * p.eval(rho) * theta / kPi;
           }
       }
-      table_[static_cast<std::size_t>(c)][static_cast<std::size_t>(j)] = sum / (kPi * a * a);
+      near_table_[static_cast<std::size_t>(j)][c] = sum / (kPi * a * a);
+    }
+  }
+  // Beyond kNear a: R itself, tabulated in 4096 even steps to r_max (all three channels read at
+  // one index; a step is r_max / 4096, ~0.01 mm, against R's millimetres of scale there).
+  const double near = kNear * a;
+  if (r_max_ > near) {
+    far_scale_ = kFar / (r_max_ - near);
+    for (int j = 0; j <= kFar; ++j) {
+      const double d = near + j / far_scale_;
+      for (int c = 0; c < 3; ++c) far_table_[static_cast<std::size_t>(j)][c] = (*profile)[static_cast<std::size_t>(c)].eval(d);
     }
   }
   // int_0^rho K(r) 2 pi r dr by the midpoint rule on the kernel itself (linear between its
@@ -125,15 +135,13 @@ NearFieldKernel::NearFieldKernel(const std::array<TabulatedProfile, 3>* profile,
   }
 }
 
-double NearFieldKernel::operator()(int channel, double d) const {
-  const double near = kNear * a_;
-  if (d >= near || !(a_ > 0)) return (*profile_)[static_cast<std::size_t>(channel)].eval(d);
-  const double t = d / near * kTable;
-  const auto i = std::min(static_cast<std::size_t>(t), static_cast<std::size_t>(kTable - 1));
-  const double f = t - static_cast<double>(i);
-  const auto& tab = table_[static_cast<std::size_t>(channel)];
-  return tab[i] * (1 - f) + tab[i + 1] * f;
+Rgb3 NearFieldKernel::exact(double d) const {
+  Rgb3 out;
+  for (int c = 0; c < 3; ++c) out[c] = (*profile_)[static_cast<std::size_t>(c)].eval(d);
+  return out;
 }
+
+double NearFieldKernel::operator()(int channel, double d) const { return all(d)[channel]; }
 
 PointCloud::PointCloud(std::vector<Vec3> position, std::vector<Rgb3> EA, double area, double mm_per_unit)
     : p_(std::move(position)), EA_(std::move(EA)), area_(area), mm_(mm_per_unit) {
@@ -212,7 +220,7 @@ Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, doubl
   const double r_max = k.r_max() / mm_;  // [scene units]
   const double rho = k.near_radius();    // [mm]
   const auto add = [&](double d, const Rgb3& ea, double area) {
-    const Rgb3 kk{k(0, d), k(1, d), k(2, d)};
+    const Rgb3 kk = k.all(d);
     const Rgb3 v{kk.r * ea.r, kk.g * ea.g, kk.b * ea.b};
     if (d < rho) {
       near += v;
@@ -299,7 +307,7 @@ Rgb3 PointCloud::brute_force(const Vec3& x, const NearFieldKernel& k) const {
   Rgb3 far, near, weight;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     const double d = length(x - p_[i]) * mm_;
-    const Rgb3 kk{k(0, d), k(1, d), k(2, d)};
+    const Rgb3 kk = k.all(d);
     const Rgb3 v{kk.r * EA_[i].r, kk.g * EA_[i].g, kk.b * EA_[i].b};
     if (d < k.near_radius()) {
       near += v;
