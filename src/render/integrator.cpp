@@ -99,6 +99,7 @@ struct PointSubsurface {
   std::unordered_map<const Material*, NearFieldKernel> kernel;
   double max_solid_angle = 0;
   double h = 0;  // [scene units] radius of the exitance cache's interpolation; 0: sum at x_o
+  double spacing = 0;  // [mm]
   std::vector<PointCloud> cache;  // per material: the exitance cache (PointCloud::set_exitance)
 };
 
@@ -502,6 +503,7 @@ PointSubsurface build_point_subsurface(const SceneData& s, const Integrator& int
                      format_number(kMaxPoints) + " are allowed (use a larger spacing)");
   PointSubsurface out;
   out.max_solid_angle = solid_angle;
+  out.spacing = spacing;
   out.h = kCacheRadius * spacing / s.mm_per_unit;
   out.cloud.resize(s.materials.size());
   double area = 0;  // [scene units^2] per point
@@ -807,6 +809,7 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
     stats->point_seconds = point_seconds;
     stats->points = 0;
     for (const PointCloud& c : points.cloud) stats->points += c.size();
+    stats->point_spacing = stats->points > 0 ? points.spacing : 0.0;
     stats->skin_mask.assign(pixels, 0);
     stats->skin_pixels = 0;
     double var = 0;

@@ -54,6 +54,7 @@ struct RenderStats {
   // irradiance, octree, exitance cache), included in `seconds` and in a --time-budget.
   std::size_t points = 0;
   double point_seconds = 0;
+  double point_spacing = 0;  // [mm]
   double samples_per_second() const { return seconds > 0 ? static_cast<double>(camera_samples) / seconds : 0; }
 };
 
