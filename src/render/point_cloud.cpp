@@ -143,8 +143,10 @@ Rgb3 NearFieldKernel::exact(double d) const {
 
 double NearFieldKernel::operator()(int channel, double d) const { return all(d)[channel]; }
 
-PointCloud::PointCloud(std::vector<Vec3> position, std::vector<Rgb3> EA, double area, double mm_per_unit)
-    : p_(std::move(position)), EA_(std::move(EA)), area_(area), mm_(mm_per_unit) {
+PointCloud::PointCloud(std::vector<Vec3> position, std::vector<Rgb3> EA, double area, double mm_per_unit,
+                       std::vector<Vec3> normal)
+    : p_(std::move(position)), n_(std::move(normal)), EA_(std::move(EA)), area_(area), mm_(mm_per_unit) {
+  if (!n_.empty() && n_.size() != p_.size()) n_.clear();
   if (p_.empty()) return;
   node_.reserve(p_.size() / 3 + 8);
   node_.emplace_back();
@@ -189,12 +191,14 @@ void PointCloud::build(std::uint32_t slot, std::uint32_t begin, std::uint32_t en
   for (std::size_t o = 1; o < start.size(); ++o) start[o] += start[o - 1];
   const std::vector<Vec3> p(p_.begin() + begin, p_.begin() + end);
   const std::vector<Rgb3> ea(EA_.begin() + begin, EA_.begin() + end);
+  const std::vector<Vec3> nn = n_.empty() ? std::vector<Vec3>() : std::vector<Vec3>(n_.begin() + begin, n_.begin() + end);
   std::array<std::uint32_t, 8> fill{};
   for (std::uint32_t i = 0; i < count; ++i) {
     const std::uint32_t o = octant(p[i]);
     const std::uint32_t at = begin + start[o] + fill[o]++;
     p_[at] = p[i];
     EA_[at] = ea[i];
+    if (!nn.empty()) n_[at] = nn[i];
   }
   std::uint32_t children = 0;
   for (std::size_t o = 0; o < 8; ++o) children += start[o + 1] > start[o] ? 1 : 0;
@@ -212,17 +216,18 @@ void PointCloud::build(std::uint32_t slot, std::uint32_t begin, std::uint32_t en
     if (start[o + 1] > start[o]) build(c++, begin + start[o], begin + start[o + 1], depth + 1);
 }
 
-Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, double max_solid_angle) const {
+Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, double max_solid_angle, const Vec3* n) const {
   // Points nearer than the kernel's near radius go into a sum of their own, normalised by the
   // sum of their weights K A against the kernel's planar integral over that disk (below).
   Rgb3 far, near, weight;
   if (node_.empty()) return far;
   const double r_max = k.r_max() / mm_;  // [scene units]
   const double rho = k.near_radius();    // [mm]
-  const auto add = [&](double d, const Rgb3& ea, double area) {
+  const bool facing = n != nullptr && !n_.empty();
+  const auto add = [&](double d, const Rgb3& ea, double area, bool same_side) {
     const Rgb3 kk = k.all(d);
     const Rgb3 v{kk.r * ea.r, kk.g * ea.g, kk.b * ea.b};
-    if (d < rho) {
+    if (d < rho && same_side) {
       near += v;
       weight += kk * area;
     } else {
@@ -237,13 +242,14 @@ Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, doubl
     const double d_box2 = distance2(nd, x);
     if (d_box2 > r_max * r_max) continue;
     if (nd.leaf) {
-      for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i) add(length(x - p_[i]) * mm_, EA_[i], area_);
+      for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i)
+        add(length(x - p_[i]) * mm_, EA_[i], area_, !facing || dot(*n, n_[i]) > kNearCos);
       continue;
     }
     if (d_box2 > 0) {
       const double d = length(x - nd.c) * mm_;
       if (nd.area < max_solid_angle * d * d) {
-        add(d, nd.EA, nd.area);
+        add(d, nd.EA, nd.area, true);
         continue;
       }
     }
@@ -303,13 +309,13 @@ bool PointCloud::interpolated_exitance(const Vec3& x, double h, Rgb3* M) const {
   return true;
 }
 
-Rgb3 PointCloud::brute_force(const Vec3& x, const NearFieldKernel& k) const {
+Rgb3 PointCloud::brute_force(const Vec3& x, const NearFieldKernel& k, const Vec3* n) const {
   Rgb3 far, near, weight;
   for (std::size_t i = 0; i < p_.size(); ++i) {
     const double d = length(x - p_[i]) * mm_;
     const Rgb3 kk = k.all(d);
     const Rgb3 v{kk.r * EA_[i].r, kk.g * EA_[i].g, kk.b * EA_[i].b};
-    if (d < k.near_radius()) {
+    if (d < k.near_radius() && (n == nullptr || n_.empty() || dot(*n, n_[i]) > kNearCos)) {
       near += v;
       weight += kk * area_;
     } else {

@@ -99,7 +99,9 @@ class PointCloud {
  public:
   PointCloud() = default;
   // position [scene units], EA = E_p A_p per channel [radiance x mm^2], area [mm^2] of each point.
-  PointCloud(std::vector<Vec3> position, std::vector<Rgb3> EA, double area, double mm_per_unit);
+  // normal: the surface's unit normal at each point (or empty: no normal test in the near mean).
+  PointCloud(std::vector<Vec3> position, std::vector<Rgb3> EA, double area, double mm_per_unit,
+             std::vector<Vec3> normal = {});
 
   // sum_p K(|x - x_p|) E_p A_p, using a node's aggregate K(|x - c|) sum E A when x is outside its
   // box and A_node / |x - c|^2 < max_solid_angle (Jensen & Buhler's criterion; 0 = every point).
@@ -108,9 +110,13 @@ class PointCloud {
   // which is the plain sum where the points are evenly spread, and takes out how many points
   // happen to fall near x (the density of a stratified cloud varies by tens of per cent over a
   // few spacings, where neighbouring triangles' sets meet; the sum would carry that).
-  Rgb3 radiant_exitance(const Vec3& x, const NearFieldKernel& k, double max_solid_angle) const;
+  // With the normal n at x and points' normals, only points facing the same way (n . n_p >
+  // kNearCos) join the mean; the rest (the far wall of a cavity, the other side of an ear) are
+  // summed plainly, as the probes would find them.
+  static constexpr double kNearCos = 0.5;
+  Rgb3 radiant_exitance(const Vec3& x, const NearFieldKernel& k, double max_solid_angle, const Vec3* n = nullptr) const;
   // The plain sum over every point (for tests).
-  Rgb3 brute_force(const Vec3& x, const NearFieldKernel& k) const;
+  Rgb3 brute_force(const Vec3& x, const NearFieldKernel& k, const Vec3* n = nullptr) const;
 
   // Exitance cache: radiant exitance at every point (in the order of positions()), then at x the
   // mean of the points within radius h [scene units], weighted 1 - (d / h)^2 (Epanechnikov).
@@ -118,6 +124,7 @@ class PointCloud {
   // not the cloud's: at a cloud point the sum always has a point at distance 0, which biases it
   // up where the profile is sharper than the spacing.
   const std::vector<Vec3>& positions() const { return p_; }
+  const std::vector<Vec3>& normals() const { return n_; }  // empty when none were given
   void set_exitance(std::vector<Rgb3> M) { M_ = std::move(M); }
   bool has_exitance() const { return !M_.empty(); }
   bool interpolated_exitance(const Vec3& x, double h, Rgb3* M) const;
@@ -141,7 +148,7 @@ class PointCloud {
   // f(index, squared distance) for every point within radius h of x.
   template <class F>
   void for_each_within(const Vec3& x, double h, F f) const;
-  std::vector<Vec3> p_;
+  std::vector<Vec3> p_, n_;
   std::vector<Rgb3> EA_, M_;
   std::vector<Node> node_;
   double area_ = 0, mm_ = 1;

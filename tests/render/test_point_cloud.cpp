@@ -121,6 +121,38 @@ TEST(PointCloud, NearMeanTakesOutTheDensityOfThePoints) {
   }
 }
 
+TEST(PointCloud, NearMeanKeepsTheFarWallOfACavityOut) {
+  // Two planes 0.3 mm apart facing each other (a slit), points on a regular grid of 0.25 mm on
+  // both, the lower one lit (E = 1), the upper one dark: the exitance on the lower plane is its own
+  // points' sum, R_d (the dark wall adds nothing). With the normals the upper wall's points stay
+  // out of the mean and it is R_d to the grid's quadrature error; without them they join it and
+  // pull it down by their share of the weights (measured 0.4-0.5 % off with the normals, 23-28 %
+  // low without).
+  const Material m = caucasian();
+  const double h = 0.25, area = h * h, gap = 0.3;
+  std::vector<Vec3> p, n;
+  std::vector<Rgb3> ea;
+  for (int i = -120; i < 120; ++i)
+    for (int j = -120; j < 120; ++j)
+      for (int side = 0; side < 2; ++side) {
+        p.push_back({(i + 0.5) * h, (j + 0.5) * h, side * gap});
+        n.push_back({0, 0, side == 0 ? 1.0 : -1.0});
+        ea.push_back(side == 0 ? Rgb3{area, area, area} : Rgb3{});
+      }
+  const double a = 2 * std::sqrt(area / kPi);
+  const PointCloud with(p, ea, area, 1.0, n), without(p, ea, area, 1.0);
+  const NearFieldKernel k(&m.profile, a, 3 * a);
+  const Vec3 x{0.1, 0.05, 0}, up{0, 0, 1};
+  const Rgb3 M1 = with.radiant_exitance(x, k, 0.0, &up), M0 = without.radiant_exitance(x, k, 0.0, &up);
+  for (int c = 0; c < 3; ++c) {
+    SCOPED_TRACE(c);
+    const double R_d = m.profile[static_cast<std::size_t>(c)].R_d();
+    EXPECT_NEAR(M1[c], R_d, 0.01 * R_d);
+    EXPECT_LT(M0[c], 0.85 * R_d);
+    EXPECT_NEAR(with.brute_force(x, k, &up)[c], M1[c], 1e-12 * M1[c]);
+  }
+}
+
 TEST(PointCloud, PointsCoverTheAreaUniformly) {
   // The distribution puts each triangle's share of the points on it: on a quad of 100 x 100 mm
   // of two triangles with 10000 points, each 10 x 10 mm cell holds 100 points to within a few.
