@@ -170,9 +170,9 @@ void run(const RenderOpts& o, const Target& target) {
   }
   if (stats.points > 0)
     std::printf("subsurface: %zu points, built in %.1f s (included above); the error estimate leaves out the "
-                "cloud's own, which falls with --point-spacing, not with samples (on the head about 0.03 x the "
+                "cloud's own, which falls with --point-spacing, not with samples (on the head about 0.025 x the "
                 "spacing in mm: ~%.2g here; docs/renderer.md)\n",
-                stats.points, stats.point_seconds, 0.03 * stats.point_spacing);
+                stats.points, stats.point_seconds, 0.025 * stats.point_spacing);
   if (stats.invalid_samples > 0)
     std::fprintf(stderr, "skin: warning: %llu non-finite samples dropped\n",
                  static_cast<unsigned long long>(stats.invalid_samples));
