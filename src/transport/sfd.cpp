@@ -479,11 +479,15 @@ FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOp
   mu_c_ = n_above_ < n_ ? std::sqrt(1 - (n_above_ / n_) * (n_above_ / n_)) : 0.0;
   r_floor_ = 1e-6 / sigma_t_;
   const auto R1 = detail::single_scattering_k(stack, k_, options.transport);
-  // Light back along the beam unscattered (a slab's bottom reflects the beam): a delta at r = 0
-  // in the solver, the same at every k; shown as a Gaussian of width w = 6 / k_hi (below the
-  // resolution of the nodes; exp(-k^2 w^2 / 4) has fallen to 1e-4 at k_hi).
+  // Light back along the beam unscattered (a slab's bottom or an index step reflects the beam):
+  // a delta at r = 0 in the solver, the same at every k, subtracted in full from the remainder
+  // at every node. In space it is drawn as a Gaussian of the fixed width kBallisticWidth (2 um),
+  // so it stays inside the first micrometres (accurate.hpp says why 2); any narrow width is consistent with the nodes (the
+  // Gaussian's transform B exp(-k^2 w^2 / 4) differs from the delta's B only at k ~ 1 / w, i.e.
+  // within ~w of the beam). It used to be 6 / k_hi, which is the top layer's thickness for a
+  // thin top (or 1 / sigma_t*, up to 0.25 mm): that spread the delta into the annuli at
+  // 0.02-0.09 mm, up to 18 times the true profile of a 14 um slab in air.
   B_ = detail::ballistic_return(stack, options.transport);
-  w_ = 6 / k_.back();
   const double rest0 = R_[0] - R1[0] - B_;
   const double scale = rest0 != 0 ? (totals_.R_d - single_scattering_total() - B_) / rest0 : 0.0;
   // The rest falls like 1 / k^2 at high k (double scattering): its tail beyond k_hi is the pair
@@ -500,7 +504,8 @@ FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOp
 double FrequencyStack::singular(double r) const {
   const double rr = std::max(r, r_floor_);
   return single_scattering(r) + A_ * boost::math::cyl_bessel_k(0, b_ * rr) / (2 * std::numbers::pi) +
-         B_ * std::exp(-(r * r) / (w_ * w_)) / (std::numbers::pi * w_ * w_);
+         B_ * std::exp(-(r * r) / (kBallisticWidth * kBallisticWidth)) /
+             (std::numbers::pi * kBallisticWidth * kBallisticWidth);
 }
 
 double FrequencyStack::residual_k(double k) const {

@@ -103,7 +103,8 @@ std::vector<double> frequency_response(const LayerStack& stack, const std::vecto
 // solver's own single scattering (delta-M, discrete), interpolated between the nodes (4-point
 // Lagrange in u = asinh(k / k0)), zero beyond k_hi (its 1/k^2 tail is a K0 pair), and scaled so
 // that the profile integrates to adding_doubling()'s R_d. Light that comes back along the beam
-// unscattered (reflected by a slab's bottom) is a Gaussian of width 6 / k_hi at the origin.
+// unscattered (reflected by a slab's bottom or an index step) is a delta at r = 0, drawn as a
+// Gaussian of the fixed width kBallisticWidth (2 um; docs/accurate-solver.md, sec. 8).
 struct FrequencyProfileOptions {
   FrequencyOptions transport;
   double k_hi = 6;   // top node, in units of the largest delta-M extinction or 1 / thickness
@@ -125,6 +126,14 @@ class FrequencyStack final : public RadialResponse {
   // Single scattering in the top layer, exactly: in space [1/mm^2], and its total.
   double single_scattering(double r) const;
   double single_scattering_total() const;
+  // Light back along the beam without scattering (a delta at r = 0 of this weight, per power
+  // that entered; part of total()), and the width [mm] of the Gaussian exp(-r^2 / w^2) / (pi w^2)
+  // that stands for the delta in singular(): independent of the stack and narrow against the
+  // 10-20 um of the first annuli of a measurement (at 10 um it is e^-25 of its peak), yet wide
+  // enough for the project's radial grids, which start at 1 um (r = 0 or the disc below taken
+  // flat, then log-spaced: they integrate 97 % of it).
+  double ballistic_return() const { return B_; }
+  static constexpr double kBallisticWidth = 2e-3;  // [mm]
 
  private:
   Totals totals_;
@@ -133,7 +142,7 @@ class FrequencyStack final : public RadialResponse {
   double sigma_s_ = 0, sigma_t_ = 1, g_ = 0, d_ = 0, n_ = 1, n_above_ = 1, mu_c_ = 0;
   double r_floor_ = 0;
   double A_ = 0, b_ = 1;  // the rest's 1 / k^2 tail: A / (k^2 + b^2)
-  double B_ = 0, w_ = 1;  // light back along the beam unscattered, as a Gaussian of width w
+  double B_ = 0;  // light back along the beam unscattered (a Gaussian of width kBallisticWidth)
 };
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
