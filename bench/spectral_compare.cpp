@@ -129,7 +129,7 @@ void slabs() {
     }
 }
 
-void scene_comparison(const std::string& path, const std::string& figure) {
+void scene_comparison(const std::string& path, const std::string& figure, int size, int spp, int threads) {
   std::ifstream in(path);
   std::stringstream ss;
   ss << in.rdbuf();
@@ -139,9 +139,9 @@ void scene_comparison(const std::string& path, const std::string& figure) {
   const std::string a = replace_all(replace_all(d65, R"("type": "sphere")", R"("type": "sphere", "illuminant": "A")"),
                                     R"("environment": {)", R"("environment": {"illuminant": "A", )");
   render::RenderSettings rs;
-  rs.width = rs.height = 160;
-  rs.spp = 128;
-  rs.threads = 1;
+  rs.width = rs.height = size;
+  rs.spp = spp;
+  rs.threads = threads;
   render::Image panel(2 * rs.width, 2 * rs.height);
   int row = 0;
   for (const auto& [name, text] : {std::pair<const char*, std::string>{"D65", d65}, {"A", a}}) {
@@ -186,7 +186,10 @@ int main(int argc, char** argv) {
     upsampling();
     if (argc > 1 && std::string(argv[1]) == "--upsampling") return 0;
     slabs();
-    if (argc > 1) scene_comparison(argv[1], argc > 2 ? argv[2] : "");
+    // SCENE [FIGURE [SIZE SPP THREADS]]: the face at SIZE x SIZE pixels per view (default 160),
+    // SPP samples per pixel (128), THREADS render threads (1; CPU time is the process's either way).
+    const auto arg = [&](int i, int fallback) { return argc > i ? std::stoi(argv[i]) : fallback; };
+    if (argc > 1) scene_comparison(argv[1], argc > 2 ? argv[2] : "", arg(3, 160), arg(4, 128), arg(5, 1));
   } catch (const std::exception& e) {
     std::fprintf(stderr, "spectral_compare: %s\n", e.what());
     return 2;

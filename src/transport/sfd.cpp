@@ -482,9 +482,9 @@ FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOp
   // Light back along the beam unscattered (a slab's bottom or an index step reflects the beam):
   // a delta at r = 0 in the solver, the same at every k, subtracted in full from the remainder
   // at every node. In space it is drawn as a Gaussian of the fixed width kBallisticWidth (2 um),
-  // so it stays inside the first micrometres (accurate.hpp says why 2); any narrow width is consistent with the nodes (the
-  // Gaussian's transform B exp(-k^2 w^2 / 4) differs from the delta's B only at k ~ 1 / w, i.e.
-  // within ~w of the beam). It used to be 6 / k_hi, which is the top layer's thickness for a
+  // so it stays inside the first micrometres (accurate.hpp says why 2); any narrow width is
+  // consistent with the nodes (the Gaussian's transform B exp(-k^2 w^2 / 4) differs from the
+  // delta's B only at k ~ 1 / w, i.e. within ~w of the beam). It used to be 6 / k_hi, which is the top layer's thickness for a
   // thin top (or 1 / sigma_t*, up to 0.25 mm): that spread the delta into the annuli at
   // 0.02-0.09 mm, up to 18 times the true profile of a 14 um slab in air.
   B_ = detail::ballistic_return(stack, options.transport);
