@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "scene_data.hpp"
 #include "skin/render/sampling.hpp"
@@ -146,7 +148,8 @@ double NearFieldKernel::operator()(int channel, double d) const { return all(d)[
 PointCloud::PointCloud(std::vector<Vec3> position, std::vector<Rgb3> EA, double area, double mm_per_unit,
                        std::vector<Vec3> normal)
     : p_(std::move(position)), n_(std::move(normal)), EA_(std::move(EA)), area_(area), mm_(mm_per_unit) {
-  if (!n_.empty() && n_.size() != p_.size()) n_.clear();
+  if (!n_.empty() && n_.size() != p_.size())
+    throw std::invalid_argument("PointCloud: " + std::to_string(n_.size()) + " normals for " + std::to_string(p_.size()) + " points");
   if (p_.empty()) return;
   node_.reserve(p_.size() / 3 + 8);
   node_.emplace_back();
@@ -216,24 +219,37 @@ void PointCloud::build(std::uint32_t slot, std::uint32_t begin, std::uint32_t en
     if (start[o + 1] > start[o]) build(c++, begin + start[o], begin + start[o + 1], depth + 1);
 }
 
-Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, double max_solid_angle, const Vec3* n) const {
-  // Points nearer than the kernel's near radius go into a sum of their own, normalised by the
-  // sum of their weights K A against the kernel's planar integral over that disk (below).
+// The exitance at x: points nearer than the kernel's near radius (and facing the way x faces) go
+// into a sum of their own, normalised by the sum of their weights K A against the kernel's planar
+// integral over that disk; the rest into the plain sum.
+struct PointCloud::Exitance {
+  const NearFieldKernel& k;
   Rgb3 far, near, weight;
-  if (node_.empty()) return far;
-  const double r_max = k.r_max() / mm_;  // [scene units]
-  const double rho = k.near_radius();    // [mm]
-  const bool facing = n != nullptr && !n_.empty();
-  const auto add = [&](double d, const Rgb3& ea, double area, bool same_side) {
+  void add(double d, const Rgb3& ea, double area, bool same_side) {
     const Rgb3 kk = k.all(d);
     const Rgb3 v{kk.r * ea.r, kk.g * ea.g, kk.b * ea.b};
-    if (d < rho && same_side) {
+    if (d < k.near_radius() && same_side) {
       near += v;
       weight += kk * area;
     } else {
       far += v;
     }
-  };
+  }
+  Rgb3 total() const {
+    if (!(k.near_radius() > 0)) return far + near;
+    const auto one = [&](double v, double w, int c) { return w > 0 ? v * k.near_integral(c) / w : 0.0; };
+    return far + Rgb3{one(near.r, weight.r, 0), one(near.g, weight.g, 1), one(near.b, weight.b, 2)};
+  }
+};
+
+bool PointCloud::same_side(std::size_t i, const Vec3* n) const {
+  return n == nullptr || n_.empty() || dot(*n, n_[i]) > kNearCos;
+}
+
+Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, double max_solid_angle, const Vec3* n) const {
+  Exitance out{k, {}, {}, {}};
+  if (node_.empty()) return {};
+  const double r_max = k.r_max() / mm_;  // [scene units]
   std::uint32_t stack[256];
   int top = 0;
   stack[top++] = 0;
@@ -243,25 +259,19 @@ Rgb3 PointCloud::radiant_exitance(const Vec3& x, const NearFieldKernel& k, doubl
     if (d_box2 > r_max * r_max) continue;
     if (nd.leaf) {
       for (std::uint32_t i = nd.first; i < nd.first + nd.count; ++i)
-        add(length(x - p_[i]) * mm_, EA_[i], area_, !facing || dot(*n, n_[i]) > kNearCos);
+        out.add(length(x - p_[i]) * mm_, EA_[i], area_, same_side(i, n));
       continue;
     }
     if (d_box2 > 0) {
       const double d = length(x - nd.c) * mm_;
       if (nd.area < max_solid_angle * d * d) {
-        add(d, nd.EA, nd.area, true);
+        out.add(d, nd.EA, nd.area, true);
         continue;
       }
     }
     for (std::uint32_t c = nd.first; c < nd.first + nd.count; ++c) stack[top++] = c;
   }
-  return far + normalised_near(near, weight, k);
-}
-
-Rgb3 PointCloud::normalised_near(const Rgb3& near, const Rgb3& weight, const NearFieldKernel& k) {
-  if (!(k.near_radius() > 0)) return near;
-  const auto one = [&](double v, double w, int c) { return w > 0 ? v * k.near_integral(c) / w : 0.0; };
-  return {one(near.r, weight.r, 0), one(near.g, weight.g, 1), one(near.b, weight.b, 2)};
+  return out.total();
 }
 
 // Squared distance from x to a node's box (0 inside).
@@ -310,19 +320,9 @@ bool PointCloud::interpolated_exitance(const Vec3& x, double h, Rgb3* M) const {
 }
 
 Rgb3 PointCloud::brute_force(const Vec3& x, const NearFieldKernel& k, const Vec3* n) const {
-  Rgb3 far, near, weight;
-  for (std::size_t i = 0; i < p_.size(); ++i) {
-    const double d = length(x - p_[i]) * mm_;
-    const Rgb3 kk = k.all(d);
-    const Rgb3 v{kk.r * EA_[i].r, kk.g * EA_[i].g, kk.b * EA_[i].b};
-    if (d < k.near_radius() && (n == nullptr || n_.empty() || dot(*n, n_[i]) > kNearCos)) {
-      near += v;
-      weight += kk * area_;
-    } else {
-      far += v;
-    }
-  }
-  return far + normalised_near(near, weight, k);
+  Exitance out{k, {}, {}, {}};
+  for (std::size_t i = 0; i < p_.size(); ++i) out.add(length(x - p_[i]) * mm_, EA_[i], area_, same_side(i, n));
+  return out.total();
 }
 
 }  // namespace skin::render

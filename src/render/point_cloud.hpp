@@ -142,7 +142,8 @@ class PointCloud {
     std::uint32_t first = 0, count = 0;  // children (inner) or points (leaf)
     bool leaf = true;
   };
-  static Rgb3 normalised_near(const Rgb3& near, const Rgb3& weight, const NearFieldKernel& k);
+  struct Exitance;
+  bool same_side(std::size_t i, const Vec3* n) const;  // point i joins the near mean at x of normal n
   void build(std::uint32_t slot, std::uint32_t begin, std::uint32_t end, int depth);
   static double distance2(const Node& nd, const Vec3& x);
   // f(index, squared distance) for every point within radius h of x.
