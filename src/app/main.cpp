@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "skin/util/allocator.hpp"
 #include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
@@ -44,6 +45,7 @@ extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfi
 
 int main(int argc, char** argv) {
   using namespace skin::cli;
+  skin::keep_matrix_memory();
   CLI::App app{
       "Spectral Skin: physically based skin appearance from four biophysical parameters\n"
       "(after Donner & Jensen 2006). Units: lengths in mm, coefficients in 1/mm, wavelengths "
