@@ -17,6 +17,7 @@
 // and order 0 is the totals' problem.
 #include <Eigen/Dense>
 #include <boost/math/special_functions/bessel.hpp>
+#include <tbb/parallel_for.h>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -376,16 +377,18 @@ std::vector<double> frequency_response(const LayerStack& stack, const std::vecto
   std::vector<detail::Angular> geo;
   for (const auto& l : stack.layers) geo.push_back(detail::angular(st, l.eta, l.g, most));
   const detail::Vec t = detail::escape_weights(st, stack);
-  std::vector<double> out;
-  out.reserve(k.size());
-  for (double ki : k) {
+  // The frequencies are independent: in parallel (each writes its own slot, so the numbers do
+  // not depend on the threads).
+  std::vector<double> out(k.size());
+  tbb::parallel_for(std::size_t{0}, k.size(), [&](std::size_t j) {
+    const double ki = k[j];
     const int orders = detail::azimuthal_orders(stack, ki, options);
     const detail::Below below = detail::add_stack(stack, st, orders, [&](std::size_t i) {
       return detail::frequency_layer(geo[i], stack.layers[i], ki, orders);
     });
     const detail::Vec D = detail::under_surface(stack, st, orders, below);
-    out.push_back(t.dot((below.R * D).head(st.N)));
-  }
+    out[j] = t.dot((below.R * D).head(st.N));
+  });
   return out;
 }
 
