@@ -17,6 +17,14 @@ Solvers: any registered model (sfd, accurate, multipole), and "multipole-shape":
 profile scaled to the adding-doubling R_d (what the sfd profile would be if it had the multipole's
 shape; used to show that a check would catch it).
 
+Reference: `skin mc`, or with --mcml PATH an independent code, MCML 1.2.2 (Wang, Jacques & Zheng
+1995; not part of the project: build it from its public source as bench/mc_vs_mcml.py says),
+run --mcml-runs times with --photons / runs photons each (its seed is the clock's second, so the
+runs start a second apart); its R(r) per annulus is the mean of the runs and its standard error
+their spread over sqrt(runs). MCML counts per incident photon in 1/cm^2: divided by 1 - R_specular
+and by 100 to be per power that entered in 1/mm^2 like skin mc. Its last annulus holds every photon
+beyond the grid and is dropped; a semi-infinite layer is 10^6 m thick.
+
 Photons: --photons N for every case, or with --mc-cpu S per case from a timed pilot run (20000
 photons, one thread): the largest of 1, 2, 5 x 10^k photons whose run takes about S CPU-seconds,
 between 10^5 and --photons (the count used is in the table).
@@ -27,6 +35,7 @@ Usage:
       --solvers sfd,multipole,multipole-shape --cache /tmp/sfd-cache --markdown docs/validation/random-stacks.md
   (--random 25 --first 25 runs stacks 25-49 alone, e.g. in a second process; with the same --cache
   a later run of all 50 reuses their profiles)
+  scripts/profile_vs_mc.py --mcml /tmp/mcml/mcml --mcml-runs 4 --photons 1000000 --solvers sfd,accurate,multipole
   scripts/profile_vs_mc.py --random 3 --seed 347 --photons 30000 --max-rse 0.1 --threads 1 \
       --solvers sfd,multipole-shape --check sfd --check-fails multipole-shape   # the CI test (tests/mc)
 Prints a Markdown table (docs/accurate-solver.md, section 8); exit status 1 when a --check solver
@@ -38,9 +47,13 @@ import json
 import math
 import os
 import random
+import re
 import resource
+import statistics
 import subprocess
 import sys
+import tempfile
+import time
 
 CASES = {
     # name: skin mc arguments
@@ -165,6 +178,68 @@ def choose_photons(a, mc_args):
     return min(best, a.photons)
 
 
+def mcml_input(mc, photons):
+    """An MCML input file for the stack of `mc` (skin mc's JSON: mm, 1/mm) in cm, 1/cm, on the grid
+    of skin mc's runs here (BINS annuli to R_MAX) plus one for the photons beyond it."""
+    dr_cm = R_MAX / BINS / 10
+    lines = ["1.0", "1", "", "out.mco A", str(photons), f"{dr_cm:.6g} {dr_cm:.6g}",
+             f"1 {BINS + 1} 1", "", str(len(mc["layers"])), f"{mc['eta_above']:.10g}"]
+    for l in mc["layers"]:
+        d = l["thickness_mm"]
+        d_cm = 1e8 if d is None else d / 10
+        lines.append(f"{l['eta']:.10g} {l['sigma_a'] * 10:.10g} {l['sigma_s'] * 10:.10g} "
+                     f"{l['g']:.10g} {d_cm:.10g}")
+    lines.append(f"{mc['eta_below']:.10g}")
+    return "\n".join(lines) + "\n"
+
+
+def mcml_values(text, flag):
+    """The numbers after MCML's line `flag` up to the next blank line."""
+    lines = text.splitlines()
+    i = next(k for k, line in enumerate(lines) if line.startswith(flag)) + 1
+    out = []
+    while i < len(lines) and lines[i].strip():
+        out += [float(x) for x in lines[i].split()]
+        i += 1
+    return out
+
+
+def run_mcml(a, mc_args, photons):
+    """MCML's R(r) in skin mc's JSON layout: the mean of --mcml-runs runs and its standard error."""
+    stack = run([a.skin, "mc", *mc_args, "--photons", "1", "--format", "json"])
+    per_run = max(1, photons // a.mcml_runs)
+    rd, profiles = [], []
+    with tempfile.TemporaryDirectory() as tmp:
+        procs = []
+        for k in range(a.mcml_runs):
+            d = os.path.join(tmp, str(k))
+            os.makedirs(d)
+            with open(os.path.join(d, "in.mci"), "w") as f:
+                f.write(mcml_input(stack, per_run))
+            if len(procs) >= a.threads:  # at most --threads at once
+                procs.pop(0).wait()
+            time.sleep(1.1)  # MCML seeds from the clock's second
+            procs.append(subprocess.Popen([os.path.abspath(a.mcml), "in.mci"], cwd=d,
+                                          stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+        for p in procs:
+            p.wait()
+        for k in range(a.mcml_runs):
+            with open(os.path.join(tmp, str(k), "out.mco")) as f:
+                text = f.read()
+            scale = 1 / (1 - stack["R_specular"])
+            rd.append(float(re.search(r"^(\S+)\s+#Diffuse reflectance", text, re.M).group(1)) * scale)
+            profiles.append([v * scale / 100 for v in mcml_values(text, "Rd_r #")[:BINS]])
+    n = len(profiles)
+    mean = [statistics.fmean(col) for col in zip(*profiles)]
+    se = [statistics.stdev(col) / math.sqrt(n) for col in zip(*profiles)]
+    w = R_MAX / BINS
+    out = dict(stack)
+    out["R_d"] = statistics.fmean(rd)
+    out["R_d_se"] = statistics.stdev(rd) / math.sqrt(n)
+    out["profile"] = {"r_mm": [(i + 0.5) * w for i in range(BINS)], "R": mean, "R_se": se}
+    return out
+
+
 def annuli(mc):
     """(lo, hi, R, se) of the one run: 10 um annuli to 0.5 mm, then merged by MERGE (area-weighted
     mean; standard errors combined as independent, which slightly overstates them: one photon
@@ -188,10 +263,13 @@ def annuli(mc):
 
 
 def evaluate(a, name, mc_args, solvers):
-    photons = choose_photons(a, mc_args)
+    photons = a.photons if a.mcml else choose_photons(a, mc_args)
     t0 = cpu_children()
-    mc = run([a.skin, "mc", *mc_args, "--photons", str(photons), "--bins", str(BINS), "--radius-max",
-              str(R_MAX), "--threads", str(a.threads), "--seed", str(a.seed), "--format", "json"])
+    if a.mcml:
+        mc = run_mcml(a, mc_args, photons)
+    else:
+        mc = run([a.skin, "mc", *mc_args, "--photons", str(photons), "--bins", str(BINS), "--radius-max",
+                  str(R_MAX), "--threads", str(a.threads), "--seed", str(a.seed), "--format", "json"])
     mc_cpu = cpu_children() - t0
     rows = annuli(mc)
     peak = max(R for _, _, R, _ in rows)
@@ -266,6 +344,8 @@ def main():
     ap.add_argument("--photons", type=int, default=300000, help="photons per case (the most, with --mc-cpu)")
     ap.add_argument("--mc-cpu", type=float, default=0, help="CPU-seconds aimed at per Monte Carlo run")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--mcml", default="", help="reference: this MCML 1.2.2 executable instead of skin mc")
+    ap.add_argument("--mcml-runs", type=int, default=4, help="with --mcml: independent runs (for the SE)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--solvers", default="sfd,accurate,multipole")
     ap.add_argument("--cases", default="")

@@ -1,6 +1,7 @@
 // Adding-doubling against closed forms, published values and its own limits
 // (docs/accurate-solver.md). Comparisons with the Monte Carlo solver: accurate_mc_test.cpp.
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <cmath>
 #include <utility>
@@ -575,4 +576,22 @@ TEST(FrequencyStack, TheBallisticReturnStaysAtTheBeam) {
   skin::ProfileSolver coarse(from_1um);
   const double from_1um_total = skin::test::integrate_with_disc(from_1um, coarse.profile(fs));
   EXPECT_NEAR(from_1um_total, R_d - 0.03 * fs.ballistic_return(), 0.005 * R_d);
+}
+
+// The nodes run in parallel (TBB): every node writes its own slot, so the responses are the same
+// bit for bit on one thread and on all (a shared scratch matrix or an order-dependent sum would
+// show here as differences at the last bits).
+TEST(FrequencyStack, TheSameNumbersOnOneThreadAndOnAll) {
+  const LayerStack s{{Layer{0.3, 2.0, 0.1, 1.4, 0.8}, Layer{0.02, 1.0, skin::kInfinity, 1.4, 0.9}}, 1.0,
+                     1.0};
+  std::vector<double> k;
+  for (int j = 0; j < 24; ++j) k.push_back(0.5 * j * j);
+  const auto all = skin::accurate::frequency_response(s, k);
+  std::vector<double> one;
+  {
+    tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
+    one = skin::accurate::frequency_response(s, k);
+  }
+  ASSERT_EQ(all.size(), k.size());
+  for (std::size_t j = 0; j < k.size(); ++j) EXPECT_EQ(all[j], one[j]) << "k = " << k[j];
 }
