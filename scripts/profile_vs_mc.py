@@ -407,11 +407,18 @@ def write_markdown(a, solvers, full, total):
             continue
         argv.append(x)
     done = "" if len(full) == total else f" (the first {len(full)} of the {total} asked for)"
-    lines = [f"# Radial profiles of {len(full)} random stacks against Monte Carlo{done}", "",
-             "Written by `scripts/profile_vs_mc.py " + " ".join(argv) + "` (issue 15). "
-             "Stacks: `random_stack()` in that script (ranges in its docstring and in "
-             "docs/accurate-solver.md, section 8). Each stack is one `skin mc` run (seed "
-             f"{a.seed}, annuli of 10 um to 0.5 mm and 50 um to 10 mm) and `skin layers --solver S` "
+    kind = "random stacks" if a.random else "stacks"
+    reference = "MCML 1.2.2" if a.mcml else "Monte Carlo"
+    where = ("Stacks: `random_stack()` in that script (ranges in its docstring and in "
+             "docs/accurate-solver.md, section 8). " if a.random else
+             "Stacks: CASES in that script (docs/accurate-solver.md, section 8). ")
+    run_text = (f"{a.mcml_runs} runs of MCML 1.2.2 (Wang, Jacques & Zheng 1995, built from its "
+                "public source; seeds from the clock), their mean and its standard error, on "
+                "annuli of 10 um to 0.5 mm and 50 um to 10 mm" if a.mcml else
+                f"one `skin mc` run (seed {a.seed}, annuli of 10 um to 0.5 mm and 50 um to 10 mm)")
+    lines = [f"# Radial profiles of {len(full)} {kind} against {reference}{done}", "",
+             "Written by `scripts/profile_vs_mc.py " + " ".join(argv) + "` (issue 15). " + where +
+             f"Each stack is {run_text} and `skin layers --solver S` "
              "averaged over each annulus. Criterion: every annulus over 0.02-10 mm where the Monte "
              "Carlo R(r) is above 1e-6 of its peak within 5 % + 3 SE; \"worst\" is the largest "
              "relative deviation (at r, mm), \"fail\" the number of annuli beyond 5 % + 3 SE, "
