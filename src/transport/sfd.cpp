@@ -268,23 +268,49 @@ LayerRT frequency_layer(const Angular& geo, const Layer& layer, double k, int or
 
 }  // namespace
 
-// Light scattered once in the top layer that leaves directly (no other scattering or reflection)
-// in the solver's discretisation (streams, orders, delta-M phase function), R_1(k): the beam
+// Light scattered once that leaves directly (no other scattering or reflection) in the solver's
+// discretisation (streams, orders, delta-M phase function), R_1(k). In the top layer the beam
 // (stream 0, order 0) decays as exp(-tau'), scatters into the upward stream i (order 0 only:
 // p_a(-mu_i, 1) = 0 for a > 0), which climbs with the order coupling G_i = (I + kappa s_i K) /
 // mu_i and escapes with t_i:
 //   R_1 = sum_i t_i omega c_i P-_0(i, 0) [(I + G_i)^-1 (I - exp(-tau (I + G_i)))]_00,
 // evaluated in the eigenbasis of K (its eigenvalues are imaginary: K is similar to an
-// antisymmetric matrix), so that each stream costs M + 1 complex divisions.
+// antisymmetric matrix), so that each stream costs M + 1 complex divisions. In a deeper layer l
+// the beam arrives attenuated by the layers above and transmitted by their interfaces (stream 0),
+// and the scattered stream climbs through each layer m above with exp(-tau_m G_i^(m)) (its own
+// kappa, mu and s; K is the same in every layer, so in its eigenbasis this is a product of
+// scalars) and crosses each interface with its transmission (docs/accurate-solver.md, sec. 8).
 std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,
                                         const FrequencyOptions& options) {
   const int points = quadrature_points(stack, options.totals);
   const Streams st = make_streams(stack, points);
-  const Layer& top = stack.layers.front();
-  const Angular geo = angular(st, top.eta, top.g, 1);
   const Vec t = escape_weights(st, stack);
-  const double sigma_s = top.sigma_s() * (1 - geo.f), sigma_t = top.sigma_a + sigma_s;
-  const double omega = sigma_s / sigma_t, tau = sigma_t * top.thickness;
+  // Per layer: the delta-M scaled data of the solver, the beam's weight at the layer's top
+  // (attenuated by the layers above and transmitted by their interfaces at normal incidence,
+  // stream 0) and, per stream, the transmission of the interfaces above it (the light scattered
+  // in layer l climbs through every layer above: in the eigenbasis of K a product of scalars).
+  const auto& ls = stack.layers;
+  const std::size_t L = options.deep_single_scattering ? ls.size() : 1;
+  std::vector<Angular> geo;
+  std::vector<double> omega, sigma_t, tau, beam;
+  double w = 1;
+  for (std::size_t l = 0; l < L; ++l) {
+    geo.push_back(angular(st, ls[l].eta, ls[l].g, 1));
+    const double sigma_s = ls[l].sigma_s() * (1 - geo.back().f);
+    sigma_t.push_back(ls[l].sigma_a + sigma_s);
+    omega.push_back(sigma_s / sigma_t.back());
+    tau.push_back(sigma_t.back() * ls[l].thickness);
+    beam.push_back(w);
+    if (l + 1 < L) w *= std::exp(-tau.back()) * boundary(st, ls[l].eta, ls[l + 1].eta).t(0);
+  }
+  // up[l](i): the transmission of every interface between layer l and the top surface for
+  // stream i (0 where it does not propagate in some layer on the way), times the escape weight.
+  std::vector<Vec> up(L);
+  up[0] = t;
+  for (std::size_t l = 1; l < L; ++l) {
+    up[l] = up[l - 1].cwiseProduct(boundary(st, ls[l - 1].eta, ls[l].eta).t);
+    for (int i = geo[l - 1].m; i < st.N; ++i) up[l](i) = 0;
+  }
   std::vector<double> out;
   int last = 0;
   Eigen::VectorXcd lambda;
@@ -303,17 +329,27 @@ std::vector<double> single_scattering_k(const LayerStack& stack, const std::vect
       W = V.inverse();
       last = orders;
     }
-    const double kappa = ki / sigma_t;
     double R = 0;
-    for (int i = 0; i < geo.m; ++i) {
-      if (t(i) == 0) continue;
-      std::complex<double> sum = 0;
-      for (int j = 0; j < orders; ++j) {
-        const std::complex<double> z = 1.0 + (1.0 + kappa * geo.s(i) * lambda(j)) / geo.mu(i);
-        const std::complex<double> depth = std::isfinite(tau) ? 1.0 - std::exp(-tau * z) : 1.0;
-        sum += V(0, j) * W(j, 0) * depth / z;
+    for (std::size_t l = 0; l < L; ++l) {
+      if (beam[l] == 0) continue;
+      const double kappa = ki / sigma_t[l];
+      for (int i = 0; i < geo[l].m; ++i) {
+        if (up[l](i) == 0) continue;
+        std::complex<double> sum = 0;
+        for (int j = 0; j < orders; ++j) {
+          const std::complex<double> z =
+              1.0 + (1.0 + kappa * geo[l].s(i) * lambda(j)) / geo[l].mu(i);
+          const std::complex<double> depth =
+              std::isfinite(tau[l]) ? 1.0 - std::exp(-tau[l] * z) : 1.0;
+          // Through the layers above, whole: exp(-tau_m (1 + kappa_m s_i lambda_j) / mu_i).
+          std::complex<double> above = 1.0;
+          for (std::size_t m = 0; m < l; ++m)
+            above *= std::exp(-tau[m] * (1.0 + ki / sigma_t[m] * geo[m].s(i) * lambda(j)) /
+                              geo[m].mu(i));
+          sum += V(0, j) * W(j, 0) * depth / z * above;
+        }
+        R += beam[l] * up[l](i) * omega[l] * geo[l].c(i) * geo[l].Pminus[0](i, 0) * sum.real();
       }
-      R += t(i) * omega * geo.c(i) * geo.Pminus[0](i, 0) * sum.real();
     }
     out.push_back(R);
   }
@@ -416,10 +452,12 @@ double FrequencyStack::single_scattering(double r) const {
   // below mu_c) to atan(d / r), cut where the exponent has fallen by 40 (tan t + sec t =
   // tan(pi / 4 + t / 2)).
   r = std::max(r, r_floor_);
+  double deep = 0;  // the layers below
+  for (std::size_t l = 1; deep_ && l < layers_.size(); ++l) deep += deep_single_scattering(l, r);
   const double x = 1 + 40 / (sigma_t_ * r);
   const double t_hi = std::min(std::atan(d_ / r), 2 * std::atan(x) - std::numbers::pi / 2);
   const double t_lo = std::asin(mu_c_);
-  if (!(t_hi > t_lo)) return 0;
+  if (!(t_hi > t_lo)) return deep;
   const QuadratureRule& rule = gauss_legendre(24);
   double sum = 0;
   constexpr int kPanels = 4;
@@ -433,7 +471,7 @@ double FrequencyStack::single_scattering(double r) const {
              (1 - fresnel_dielectric(mu, n_, n_above_));
     }
   }
-  return sigma_s_ * sum / (4 * std::numbers::pi * r);
+  return sigma_s_ * sum / (4 * std::numbers::pi * r) + deep;
 }
 
 double FrequencyStack::single_scattering_total() const {
@@ -448,7 +486,117 @@ double FrequencyStack::single_scattering_total() const {
     const double depth = std::isfinite(d_) ? -std::expm1(-a * d_) : 1.0;
     sum += half * rule.w[q] * hg(g_, -mu) * (1 - fresnel_dielectric(mu, n_, n_above_)) * depth / a;
   }
-  return 0.5 * sigma_s_ * sum;
+  double deep = 0;
+  for (std::size_t l = 1; deep_ && l < layers_.size(); ++l) deep += deep_single_scattering_total(l);
+  return 0.5 * sigma_s_ * sum + deep;
+}
+
+namespace {
+// sin, cos and tan of the ray in a layer of index n for Snell's invariant s = n_l sin(theta_l).
+struct Ray {
+  double sin, cos, tan;
+};
+Ray ray(double s, double n) {
+  const double sn = s / n, cs = std::sqrt(std::max(0.0, 1 - sn * sn));
+  return {sn, cs, sn / cs};
+}
+}  // namespace
+
+// Light scattered once in layer l >= 1 that leaves directly, in space: the beam reaches depth z'
+// into the layer with the weight `beam` exp(-sigma_t z'), scatters into the angle theta from the
+// upward normal, climbs z' / cos(theta) in the layer and d_m / cos(theta_m) in each layer m above
+// (Snell: n_m sin(theta_m) = n_l sin(theta), total reflection = no escape), crosses each
+// interface with its Fresnel transmission and leaves at r = z' tan(theta) + sum_m d_m
+// tan(theta_m). Per unit area (the ring's 2 pi r dr against the solid angle, at fixed theta
+// dr = tan(theta) dz'): R_1(r) = beam sigma_s / (4 pi r) int cos(theta) exp(-sigma_t z' (1 +
+// 1 / cos(theta))) p(-cos(theta)) prod_m exp(-sigma_t,m d_m / cos(theta_m)) T(theta) dtheta with
+// z'(theta) = (r - L(theta)) / tan(theta), L the lateral run through the layers above, over the
+// angles where 0 <= z' <= d (cut where the exponent has fallen by 40).
+double FrequencyStack::deep_single_scattering(std::size_t l, double r) const {
+  r = std::max(r, r_floor_);
+  const ExactLayer& e = layers_[l];
+  if (e.beam == 0 || e.sigma_s == 0) return 0;
+  // The largest invariant that escapes: below every index above (and the medium above).
+  double s_max = std::min(n_above_, e.n);
+  for (std::size_t m = 0; m < l; ++m) s_max = std::min(s_max, layers_[m].n);
+  const double theta_max = std::asin(std::min(1.0, s_max / e.n) * (1 - 1e-12));
+  auto lateral = [&](double theta) {  // L(theta)
+    const double s = e.n * std::sin(theta);
+    double L = 0;
+    for (std::size_t m = 0; m < l; ++m) L += layers_[m].d * ray(s, layers_[m].n).tan;
+    return L;
+  };
+  // Root of an increasing function on [0, theta_max] by bisection (or an end).
+  auto root = [&](const auto& f) {
+    double a = 0, b = theta_max;
+    if (f(b) <= 0) return b;
+    if (f(a) >= 0) return a;
+    for (int i = 0; i < 60; ++i) {  // to 1e-18 of the range
+      const double c = 0.5 * (a + b);
+      (f(c) < 0 ? a : b) = c;
+    }
+    return 0.5 * (a + b);
+  };
+  const double theta_hi = root([&](double t) { return lateral(t) - r; });  // z' = 0
+  double theta_lo = root([&](double t) {  // the 40 e-folds
+    return 40.0 - e.sigma_t * (r - lateral(t)) * (1 + 1 / std::cos(t)) / std::tan(t);
+  });
+  if (std::isfinite(e.d))
+    theta_lo = std::max(theta_lo, root([&](double t) { return e.d * std::tan(t) + lateral(t) - r; }));
+  if (!(theta_hi > theta_lo)) return 0;
+  const QuadratureRule& rule = gauss_legendre(24);
+  constexpr int kPanels = 4;
+  const double h = (theta_hi - theta_lo) / kPanels;
+  double sum = 0;
+  for (int p = 0; p < kPanels; ++p) {
+    for (std::size_t q = 0; q < rule.x.size(); ++q) {
+      const double t = theta_lo + h * (p + 0.5 * (1 + rule.x[q]));
+      const double ct = std::cos(t), s = e.n * std::sin(t);
+      const double z = std::max(0.0, (r - lateral(t)) / std::tan(t));
+      double f = ct * std::exp(-e.sigma_t * z * (1 + 1 / ct)) * hg(e.g, -ct);
+      double cos_below = ct;  // the ray's cosine in the layer below each interface
+      for (std::size_t m = l; m-- > 0;) {
+        const Ray ry = ray(s, layers_[m].n);
+        f *= (1 - fresnel_dielectric(cos_below, layers_[m + 1].n, layers_[m].n)) *
+             std::exp(-layers_[m].sigma_t * layers_[m].d / ry.cos);
+        cos_below = ry.cos;
+      }
+      f *= 1 - fresnel_dielectric(cos_below, layers_[0].n, n_above_);
+      sum += 0.5 * h * rule.w[q] * f;
+    }
+  }
+  return e.beam * e.sigma_s * sum / (4 * std::numbers::pi * r);
+}
+
+// Its total: beam (sigma_s / 2) int p(-mu) T(mu) prod_m exp(-sigma_t,m d_m / mu_m) (1 -
+// exp(-sigma_t d (1 + 1 / mu))) / (sigma_t (1 + 1 / mu)) dmu over the cosines that escape.
+double FrequencyStack::deep_single_scattering_total(std::size_t l) const {
+  const ExactLayer& e = layers_[l];
+  if (e.beam == 0 || e.sigma_s == 0) return 0;
+  double s_max = std::min(n_above_, e.n);
+  for (std::size_t m = 0; m < l; ++m) s_max = std::min(s_max, layers_[m].n);
+  const double sin_max = std::min(1.0, s_max / e.n);
+  const double mu_lo = std::sqrt(std::max(0.0, 1 - sin_max * sin_max));
+  const QuadratureRule& rule = gauss_legendre(64);
+  const double half = 0.5 * (1 - mu_lo);
+  double sum = 0;
+  for (std::size_t q = 0; q < rule.x.size(); ++q) {
+    const double mu = mu_lo + half * (1 + rule.x[q]);
+    const double s = e.n * std::sqrt(std::max(0.0, 1 - mu * mu));
+    const double a = e.sigma_t * (1 + 1 / mu);
+    double f = hg(e.g, -mu) * (std::isfinite(e.d) ? -std::expm1(-a * e.d) : 1.0) / a;
+    double cos_below = mu;
+    for (std::size_t m = l; m-- > 0;) {
+      const Ray ry = ray(s, layers_[m].n);
+      if (!(ry.cos > 0)) return 0;
+      f *= (1 - fresnel_dielectric(cos_below, layers_[m + 1].n, layers_[m].n)) *
+           std::exp(-layers_[m].sigma_t * layers_[m].d / ry.cos);
+      cos_below = ry.cos;
+    }
+    f *= 1 - fresnel_dielectric(cos_below, layers_[0].n, n_above_);
+    sum += half * rule.w[q] * f;
+  }
+  return e.beam * 0.5 * e.sigma_s * sum;
 }
 
 FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options,
@@ -481,6 +629,15 @@ FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOp
   n_above_ = stack.eta_above;
   mu_c_ = n_above_ < n_ ? std::sqrt(1 - (n_above_ / n_) * (n_above_ / n_)) : 0.0;
   r_floor_ = 1e-6 / sigma_t_;
+  deep_ = options.transport.deep_single_scattering;
+  double beam = 1;
+  for (std::size_t l = 0; l < stack.layers.size(); ++l) {
+    const Layer& ly = stack.layers[l];
+    layers_.push_back({ly.sigma_s(), ly.sigma_a + ly.sigma_s(), ly.g, ly.eta, ly.thickness, beam});
+    if (l + 1 < stack.layers.size())
+      beam *= std::exp(-layers_.back().sigma_t * ly.thickness) *
+              (1 - fresnel_dielectric(1.0, ly.eta, stack.layers[l + 1].eta));
+  }
   const auto R1 = detail::single_scattering_k(stack, k_, options.transport);
   // Light back along the beam unscattered (a slab's bottom or an index step reflects the beam):
   // a delta at r = 0 in the solver, the same at every k, subtracted in full from the remainder

@@ -505,12 +505,20 @@ TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
 // (2 pi int R_1(r) r dr, Simpson on a log grid from 1e-7 to 200 mm): the two formulas of
 // FrequencyStack agree (Fresnel exit above the critical angle, a finite and a semi-infinite
 // top, g = 0 and 0.9).
+// Also below the top layer: three layers with index steps (a thin top, as random stack #7) and a
+// low index over a high one, whose steep rays are totally reflected on the way up.
 TEST(FrequencyStack, SingleScatteringInSpaceIntegratesToItsTotal) {
-  for (const LayerStack& s : {slab(0.1, 1, 0.0, skin::kInfinity, 1.0), slab(0.5, 4, 0.9, 0.1, 1.4)}) {
+  const LayerStack thin_top{{Layer{0.103, 3.96, 0.00744, 1.55, 0.82}, Layer{0.558, 1.71, 0.107, 1.38, 0.5},
+                             Layer{0.0112, 3.79, skin::kInfinity, 1.44, 0.07}},
+                            1.0, 1.0};
+  const LayerStack low_over_high{{Layer{0.05, 1.5, 0.2, 1.33, 0.8}, Layer{0.2, 3, 0.3, 1.5, 0.9}}, 1.0,
+                                 1.0};
+  for (const LayerStack& s : {slab(0.1, 1, 0.0, skin::kInfinity, 1.0), slab(0.5, 4, 0.9, 0.1, 1.4),
+                              thin_top, low_over_high}) {
     skin::accurate::FrequencyProfileOptions o;
-    o.k_hi = 1;  // few nodes: only the single scattering is used here
+    o.k_hi = 0.01;  // few nodes: only the single scattering is used here
     const skin::accurate::FrequencyStack fs(s, o);
-    const int n = 20000;
+    const int n = 4000;
     const double a = std::log(1e-7), b = std::log(200.0), h = (b - a) / n;
     double sum = 0;
     for (int i = 0; i <= n; ++i) {
@@ -594,4 +602,21 @@ TEST(FrequencyStack, TheSameNumbersOnOneThreadAndOnAll) {
   }
   ASSERT_EQ(all.size(), k.size());
   for (std::size_t j = 0; j < k.size(); ++j) EXPECT_EQ(all[j], one[j]) << "k = " << k[j];
+}
+
+// A layer cut in two is the same medium: the single scattering of its two parts (the top one in
+// closed form, the one below through the top) adds up to the single scattering of the whole, at
+// every radius (to 1e-4: the two are integrated over different angles; 1e-5 seen) and in total.
+TEST(FrequencyStack, SingleScatteringOfALayerCutInTwoIsTheWhole) {
+  const Layer half{0.1, 2.0, skin::kInfinity, 1.4, 0.8};
+  Layer top = half;
+  top.thickness = 0.05;
+  skin::accurate::FrequencyProfileOptions o;
+  o.k_hi = 1;
+  const skin::accurate::FrequencyStack whole(LayerStack{{half}, 1.0, 1.0}, o);
+  const skin::accurate::FrequencyStack cut(LayerStack{{top, half}, 1.0, 1.0}, o);
+  for (double r : {0.001, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0})
+    EXPECT_NEAR(cut.single_scattering(r), whole.single_scattering(r), 1e-4 * whole.single_scattering(r))
+        << "r = " << r;
+  EXPECT_NEAR(cut.single_scattering_total(), whole.single_scattering_total(), 1e-9);
 }

@@ -91,6 +91,9 @@ struct FrequencyOptions {
   // Orders at k > 0: 0 = automatic (more at higher k; docs/accurate-solver.md, sec. 5), else
   // [1, 64].
   int azimuthal_orders = 0;
+  // The closed-form single scattering (FrequencyStack) in every layer (true) or in the top layer
+  // only (false: the solver of issue 15's first sessions, kept for comparison).
+  bool deep_single_scattering = true;
 };
 std::vector<double> frequency_response(const LayerStack& stack, const std::vector<double>& k,
                                        const FrequencyOptions& options = {});
@@ -141,6 +144,16 @@ class FrequencyStack final : public RadialResponse {
   std::vector<double> k_, R_, G_;  // nodes, R(k_j), remainder at k_j
   double sigma_s_ = 0, sigma_t_ = 1, g_ = 0, d_ = 0, n_ = 1, n_above_ = 1, mu_c_ = 0;
   double r_floor_ = 0;
+  // Every layer, top first, for the single scattering below the top layer: scattering and
+  // extinction [1/mm] (not delta-M scaled), g, index, thickness [mm], and the beam's weight at its
+  // top (attenuated and transmitted at normal incidence by the layers and interfaces above).
+  struct ExactLayer {
+    double sigma_s = 0, sigma_t = 1, g = 0, n = 1, d = 0, beam = 1;
+  };
+  std::vector<ExactLayer> layers_;
+  bool deep_ = true;
+  double deep_single_scattering(std::size_t l, double r) const;
+  double deep_single_scattering_total(std::size_t l) const;
   double A_ = 0, b_ = 1;  // the rest's 1 / k^2 tail: A / (k^2 + b^2)
   double B_ = 0;  // light back along the beam unscattered (a Gaussian of width kBallisticWidth)
 };
