@@ -100,10 +100,10 @@ std::vector<double> frequency_response(const LayerStack& stack, const std::vecto
 
 // The radial response of any stack from frequency_response() (docs/accurate-solver.md, sec. 5):
 // R(k) is computed at nodes k_j = k0 sinh(j du) up to k_hi (a multiple of the largest delta-M
-// scaled extinction of the stack's layers or inverse layer thickness). The singular part is the light scattered once in the
-// top layer, exactly (Henyey-Greenstein phase function, Fresnel exit), in space (its 1/r near
-// the beam; evaluated at r >= 1e-6 / sigma_t of the top layer); the remainder is R(k) minus the
-// solver's own single scattering (delta-M, discrete), interpolated between the nodes (4-point
+// scaled extinction of the stack's layers or inverse layer thickness). The singular part is the light scattered once in
+// every layer, exactly (Henyey-Greenstein phase function, Fresnel transmission at every
+// interface on the way up), in space (the top layer's 1/r near the beam; evaluated at r >= 1e-6 /
+// sigma_t of the top layer); the remainder is R(k) minus the solver's own single scattering (delta-M, discrete), interpolated between the nodes (4-point
 // Lagrange in u = asinh(k / k0)), zero beyond k_hi (its 1/k^2 tail is a K0 pair), and scaled so
 // that the profile integrates to adding_doubling()'s R_d. Light that comes back along the beam
 // unscattered (reflected by a slab's bottom or an index step) is a delta at r = 0, drawn as a
@@ -126,7 +126,8 @@ class FrequencyStack final : public RadialResponse {
   // The nodes and the solver's R(k) there (its R(0) is the untabulated total).
   const std::vector<double>& k_nodes() const { return k_; }
   const std::vector<double>& R_nodes() const { return R_; }
-  // Single scattering in the top layer, exactly: in space [1/mm^2], and its total.
+  // Single scattering in every layer (refracted up through the layers above), exactly: in space
+  // [1/mm^2], and its total.
   double single_scattering(double r) const;
   double single_scattering_total() const;
   // Light back along the beam without scattering (a delta at r = 0 of this weight, per power

@@ -62,7 +62,8 @@ class Model {
 //   radiative transfer in the spatial-frequency domain (as `sfd`); R_d and T_d stay exact.
 // - sfd: the same totals, every profile from the spatial-frequency domain (accurate::
 //   FrequencyStack): within 5 % + 3 SE of Monte Carlo over 0.02-10 mm in every case measured
-//   but a few near the beam under thin tops, at ~0.3-3 s per stack.
+//   (against `skin mc` and MCML) but one annulus near the beam of a 14.5 um slab, at ~0.3 s
+//   (skin, 2 cores) to minutes (index steps, 4 layers) per stack.
 // - multipole: the paper's method (DJ05 multipole, convolved in the frequency domain), kept
 //   unchanged to reproduce the paper; outside it where a layer is thinner than z_r.
 // The default is accurate because the multipole overstates dark skin's reflectance 2-3x in the
