@@ -516,7 +516,8 @@ TEST(FrequencyStack, SingleScatteringInSpaceIntegratesToItsTotal) {
   for (const LayerStack& s : {slab(0.1, 1, 0.0, skin::kInfinity, 1.0), slab(0.5, 4, 0.9, 0.1, 1.4),
                               thin_top, low_over_high}) {
     skin::accurate::FrequencyProfileOptions o;
-    o.k_hi = 0.01;  // few nodes: only the single scattering is used here
+    o.k_hi = 0.01;  // few nodes, few streams: only the single scattering is used here
+    o.transport.totals.quadrature_points = 4;
     const skin::accurate::FrequencyStack fs(s, o);
     const int n = 2000;
     const double a = std::log(1e-7), b = std::log(200.0), h = (b - a) / n;
