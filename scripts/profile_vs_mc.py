@@ -47,7 +47,6 @@ import json
 import math
 import os
 import random
-import re
 import resource
 import statistics
 import subprocess
@@ -178,19 +177,14 @@ def choose_photons(a, mc_args):
     return min(best, a.photons)
 
 
-def mcml_input(mc, photons):
-    """An MCML input file for the stack of `mc` (skin mc's JSON: mm, 1/mm) in cm, 1/cm, on the grid
-    of skin mc's runs here (BINS annuli to R_MAX) plus one for the photons beyond it."""
-    dr_cm = R_MAX / BINS / 10
-    lines = ["1.0", "1", "", "out.mco A", str(photons), f"{dr_cm:.6g} {dr_cm:.6g}",
-             f"1 {BINS + 1} 1", "", str(len(mc["layers"])), f"{mc['eta_above']:.10g}"]
-    for l in mc["layers"]:
-        d = l["thickness_mm"]
-        d_cm = 1e8 if d is None else d / 10
-        lines.append(f"{l['eta']:.10g} {l['sigma_a'] * 10:.10g} {l['sigma_s'] * 10:.10g} "
-                     f"{l['g']:.10g} {d_cm:.10g}")
-    lines.append(f"{mc['eta_below']:.10g}")
-    return "\n".join(lines) + "\n"
+def mcml_tools():
+    """bench/mc_vs_mcml.py's MCML input writer and R_d reader (one home for MCML's file formats)."""
+    import importlib.util
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "bench", "mc_vs_mcml.py")
+    spec = importlib.util.spec_from_file_location("mc_vs_mcml", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def mcml_values(text, flag):
@@ -206,6 +200,7 @@ def mcml_values(text, flag):
 
 def run_mcml(a, mc_args, photons):
     """MCML's R(r) in skin mc's JSON layout: the mean of --mcml-runs runs and its standard error."""
+    tools = mcml_tools()
     stack = run([a.skin, "mc", *mc_args, "--photons", "1", "--format", "json"])
     per_run = max(1, photons // a.mcml_runs)
     rd, profiles = [], []
@@ -215,7 +210,8 @@ def run_mcml(a, mc_args, photons):
             d = os.path.join(tmp, str(k))
             os.makedirs(d)
             with open(os.path.join(d, "in.mci"), "w") as f:
-                f.write(mcml_input(stack, per_run))
+                # the grid of skin mc's runs here plus one annulus for the photons beyond it
+                f.write(tools.mci(stack, per_run, R_MAX / BINS / 10, BINS + 1))
             if len(procs) >= a.threads:  # at most --threads at once
                 procs.pop(0).wait()
             time.sleep(1.1)  # MCML seeds from the clock's second
@@ -224,10 +220,11 @@ def run_mcml(a, mc_args, photons):
         for p in procs:
             p.wait()
         for k in range(a.mcml_runs):
-            with open(os.path.join(tmp, str(k), "out.mco")) as f:
+            out_mco = os.path.join(tmp, str(k), "out.mco")
+            with open(out_mco) as f:
                 text = f.read()
             scale = 1 / (1 - stack["R_specular"])
-            rd.append(float(re.search(r"^(\S+)\s+#Diffuse reflectance", text, re.M).group(1)) * scale)
+            rd.append(tools.mcml_rd(out_mco) * scale)
             profiles.append([v * scale / 100 for v in mcml_values(text, "Rd_r #")[:BINS]])
     n = len(profiles)
     mean = [statistics.fmean(col) for col in zip(*profiles)]

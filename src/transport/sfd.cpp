@@ -492,15 +492,38 @@ double FrequencyStack::single_scattering_total() const {
 }
 
 namespace {
-// sin, cos and tan of the ray in a layer of index n for Snell's invariant s = n_l sin(theta_l).
+// cos and tan of the ray in a layer of index n for Snell's invariant s = n_l sin(theta_l).
 struct Ray {
-  double sin, cos, tan;
+  double cos, tan;
 };
 Ray ray(double s, double n) {
   const double sn = s / n, cs = std::sqrt(std::max(0.0, 1 - sn * sn));
-  return {sn, cs, sn / cs};
+  return {cs, sn / cs};
 }
 }  // namespace
+
+// The largest Snell invariant s = n sin(theta) of a ray from layer l that escapes: below every
+// index above it and the medium above.
+double FrequencyStack::escaping_invariant(std::size_t l) const {
+  double s_max = std::min(n_above_, layers_[l].n);
+  for (std::size_t m = 0; m < l; ++m) s_max = std::min(s_max, layers_[m].n);
+  return s_max;
+}
+
+// What reaches the surface of a ray leaving layer l upwards with invariant s and cosine mu in
+// layer l: the Fresnel transmission of every interface and of the top surface, and the
+// attenuation across every layer above (0 when it is totally reflected on the way).
+double FrequencyStack::climb(std::size_t l, double s, double mu) const {
+  double f = 1, cos_below = mu;  // the ray's cosine in the layer below each interface
+  for (std::size_t m = l; m-- > 0;) {
+    const Ray ry = ray(s, layers_[m].n);
+    if (!(ry.cos > 0)) return 0;
+    f *= (1 - fresnel_dielectric(cos_below, layers_[m + 1].n, layers_[m].n)) *
+         std::exp(-layers_[m].sigma_t * layers_[m].d / ry.cos);
+    cos_below = ry.cos;
+  }
+  return f * (1 - fresnel_dielectric(cos_below, layers_[0].n, n_above_));
+}
 
 // Light scattered once in layer l >= 1 that leaves directly, in space: the beam reaches depth z'
 // into the layer with the weight `beam` exp(-sigma_t z'), scatters into the angle theta from the
@@ -516,10 +539,7 @@ double FrequencyStack::deep_single_scattering(std::size_t l, double r) const {
   r = std::max(r, r_floor_);
   const ExactLayer& e = layers_[l];
   if (e.beam == 0 || e.sigma_s == 0) return 0;
-  // The largest invariant that escapes: below every index above (and the medium above).
-  double s_max = std::min(n_above_, e.n);
-  for (std::size_t m = 0; m < l; ++m) s_max = std::min(s_max, layers_[m].n);
-  const double theta_max = std::asin(std::min(1.0, s_max / e.n) * (1 - 1e-12));
+  const double theta_max = std::asin(std::min(1.0, escaping_invariant(l) / e.n) * (1 - 1e-12));
   auto lateral = [&](double theta) {  // L(theta)
     const double s = e.n * std::sin(theta);
     double L = 0;
@@ -553,16 +573,8 @@ double FrequencyStack::deep_single_scattering(std::size_t l, double r) const {
       const double t = theta_lo + h * (p + 0.5 * (1 + rule.x[q]));
       const double ct = std::cos(t), s = e.n * std::sin(t);
       const double z = std::max(0.0, (r - lateral(t)) / std::tan(t));
-      double f = ct * std::exp(-e.sigma_t * z * (1 + 1 / ct)) * hg(e.g, -ct);
-      double cos_below = ct;  // the ray's cosine in the layer below each interface
-      for (std::size_t m = l; m-- > 0;) {
-        const Ray ry = ray(s, layers_[m].n);
-        f *= (1 - fresnel_dielectric(cos_below, layers_[m + 1].n, layers_[m].n)) *
-             std::exp(-layers_[m].sigma_t * layers_[m].d / ry.cos);
-        cos_below = ry.cos;
-      }
-      f *= 1 - fresnel_dielectric(cos_below, layers_[0].n, n_above_);
-      sum += 0.5 * h * rule.w[q] * f;
+      sum += 0.5 * h * rule.w[q] * ct * std::exp(-e.sigma_t * z * (1 + 1 / ct)) * hg(e.g, -ct) *
+             climb(l, s, ct);
     }
   }
   return e.beam * e.sigma_s * sum / (4 * std::numbers::pi * r);
@@ -573,9 +585,7 @@ double FrequencyStack::deep_single_scattering(std::size_t l, double r) const {
 double FrequencyStack::deep_single_scattering_total(std::size_t l) const {
   const ExactLayer& e = layers_[l];
   if (e.beam == 0 || e.sigma_s == 0) return 0;
-  double s_max = std::min(n_above_, e.n);
-  for (std::size_t m = 0; m < l; ++m) s_max = std::min(s_max, layers_[m].n);
-  const double sin_max = std::min(1.0, s_max / e.n);
+  const double sin_max = std::min(1.0, escaping_invariant(l) / e.n);
   const double mu_lo = std::sqrt(std::max(0.0, 1 - sin_max * sin_max));
   const QuadratureRule& rule = gauss_legendre(64);
   const double half = 0.5 * (1 - mu_lo);
@@ -584,17 +594,8 @@ double FrequencyStack::deep_single_scattering_total(std::size_t l) const {
     const double mu = mu_lo + half * (1 + rule.x[q]);
     const double s = e.n * std::sqrt(std::max(0.0, 1 - mu * mu));
     const double a = e.sigma_t * (1 + 1 / mu);
-    double f = hg(e.g, -mu) * (std::isfinite(e.d) ? -std::expm1(-a * e.d) : 1.0) / a;
-    double cos_below = mu;
-    for (std::size_t m = l; m-- > 0;) {
-      const Ray ry = ray(s, layers_[m].n);
-      if (!(ry.cos > 0)) return 0;
-      f *= (1 - fresnel_dielectric(cos_below, layers_[m + 1].n, layers_[m].n)) *
-           std::exp(-layers_[m].sigma_t * layers_[m].d / ry.cos);
-      cos_below = ry.cos;
-    }
-    f *= 1 - fresnel_dielectric(cos_below, layers_[0].n, n_above_);
-    sum += half * rule.w[q] * f;
+    sum += half * rule.w[q] * hg(e.g, -mu) *
+           (std::isfinite(e.d) ? -std::expm1(-a * e.d) : 1.0) / a * climb(l, s, mu);
   }
   return e.beam * 0.5 * e.sigma_s * sum;
 }

@@ -153,6 +153,8 @@ class FrequencyStack final : public RadialResponse {
   };
   std::vector<ExactLayer> layers_;
   bool deep_ = true;
+  double escaping_invariant(std::size_t l) const;
+  double climb(std::size_t l, double s, double mu) const;
   double deep_single_scattering(std::size_t l, double r) const;
   double deep_single_scattering_total(std::size_t l) const;
   double A_ = 0, b_ = 1;  // the rest's 1 / k^2 tail: A / (k^2 + b^2)
