@@ -106,6 +106,25 @@ static void BM_AccurateRgbProfile(benchmark::State& state) {
 }
 BENCHMARK(BM_AccurateRgbProfile)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// The same responses, one profile per wavelength (151 x 512): the "spectral profile".
+static void BM_AccurateSpectralProfile(benchmark::State& state) {
+  const WavelengthGrid grid;
+  const auto& p = params(static_cast<int>(state.range(0)));
+  ProfileSolver solver(RadialGrid::logarithmic(1e-3, 16.0, 512));
+  const transport::Model& model = transport::find_model("accurate");
+  auto run = [&] {
+    std::vector<std::unique_ptr<RadialResponse>> stacks;
+    std::vector<const RadialResponse*> ptrs;
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      ptrs.push_back(stacks.emplace_back(model.response(skin_layer_stack(p, grid[i]))).get());
+    return solver.spectral(ptrs, grid);
+  };
+  run();  // warm-up outside the timing: the J0 table, once
+  for (auto _ : state) benchmark::DoNotOptimize(run());
+  state.SetLabel(label(static_cast<int>(state.range(0))));
+}
+BENCHMARK(BM_AccurateSpectralProfile)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 static void BM_MultipoleRgbProfile(benchmark::State& state) {
   const WavelengthGrid grid;
   const auto& p = params(static_cast<int>(state.range(0)));

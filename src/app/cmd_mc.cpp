@@ -11,6 +11,7 @@
 #include "skin/util/atomic_file.hpp"
 #include "skin/mc/mc.hpp"
 #include "skin/mc/tabulate.hpp"
+#include "skin/transport/skin_stack_table.hpp"
 #include "skin/mc/validation.hpp"
 #include "skin/util/error.hpp"
 #include "skin/transport/accurate.hpp"
@@ -322,9 +323,31 @@ void register_random_walk_command(CLI::App& app) {
   });
 }
 
+void register_skin_table_command(CLI::App& app) {
+  struct Opts {
+    std::string out;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "tabulate-skin-profiles",
+      "Tabulate the frequency-domain (sfd) radial profiles of the two-layer skin geometry over its "
+      "reduced parameters: the data file data/skin_stack_profiles.csv that the accurate solver "
+      "reads for skin (about 15 min on 2 cores)");
+  sub->add_option("-o,--output", o->out, "Output CSV file (written atomically)")->required();
+  sub->callback([o] {
+    accurate::SkinStackTable table = accurate::SkinStackTable::default_nodes();
+    table.provenance = "skin tabulate-skin-profiles (FrequencyStack, k0 = 0.02 s)";
+    table.compute(progress_bar("nodes"));  // drawn on a terminal only
+    io::write_file_atomic(o->out, table.to_csv());
+    std::cout << "wrote " << o->out << ": " << table.tau.size() * table.a_e.size() * table.a_d.size()
+              << " stacks, " << table.x.size() << " radii each\n";
+  });
+}
+
 void register_mc(CLI::App& app) {
   register_mc_command(app);
   register_tabulate_command(app);
+  register_skin_table_command(app);
   register_random_walk_command(app);
   register_validate_command(app);
 }

@@ -10,6 +10,7 @@
 #include "skin/physics/fresnel.hpp"
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/diffusion.hpp"
+#include "skin/transport/skin_stack_table.hpp"
 
 namespace skin::accurate {
 
@@ -118,6 +119,11 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options, co
     : totals_(adding_doubling(stack, options, cache)) {
   const auto& ls = stack.layers;
   const Layer& l0 = ls.front();
+  if (const SkinStackTable& skin = SkinStackTable::builtin(); skin.gap(stack).empty()) {
+    // The two-layer skin geometry: the frequency-domain profile, tabulated.
+    skin_ = std::make_unique<SkinStackProfile>(skin, stack, totals_.R_d);
+    return;
+  }
   if (!transport_table_gap(stack).empty()) {
     // Outside the tables: radiative transfer in the spatial-frequency domain.
     FrequencyProfileOptions o;
@@ -190,18 +196,20 @@ double AccurateStack::coupling_k(double k) const {
 }
 
 double AccurateStack::singular(double r) const {
+  if (skin_) return (*skin_)(r);
   if (frequency_) return frequency_->singular(r);
   return c_top_ * sigma_t_prime_ * sigma_t_prime_ * table_->R_e_at(top_sample_, r * sigma_t_prime_);
 }
 
 double AccurateStack::residual_k(double k) const {
+  if (skin_) return 0.0;  // all in space
   if (frequency_) return frequency_->residual_k(k);
   return c_deep_ * coupling_k(k);
 }
 
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s) {
   return os << "AccurateStack{" << s.totals()
-            << (s.transport_top() ? ", transport top layer" : ", frequency domain")
+            << (s.skin_table() ? ", skin table" : s.transport_top() ? ", transport top layer" : ", frequency domain")
             << ", c_top=" << s.c_top()
             << ", c_deep=" << s.c_deep() << '}';
 }

@@ -2,7 +2,7 @@
 // and colour fits and a seeded Monte Carlo run, for both solvers, against tests/golden/golden.json
 // (taken before the one-vocabulary refactor) to 1e-12 relative (1e-300 absolute for zeros).
 // SKIN_GOLDEN_WRITE=1 rewrites the file instead of comparing. The accurate profiles of the stacks
-// outside the top-layer tables (radiative transfer in the spatial-frequency domain, ~45 CPU-s in
+// outside the skin and top-layer tables (radiative transfer in the spatial-frequency domain, ~45 CPU-s in
 // Release for the index-step stack, over 10 min under ASan) are a test of their own, which the
 // sanitizer suite leaves out (scripts/test.sh; the frequency-domain code runs under the
 // sanitizers in accurate_test).
@@ -17,6 +17,7 @@
 #include <string>
 
 #include "skin/transport/accurate.hpp"
+#include "skin/transport/skin_stack_table.hpp"
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
 #include "skin/mc/mc.hpp"
@@ -56,7 +57,10 @@ std::vector<skin::LayerStack> generic_stacks() {
 enum class Part { all, without_frequency_domain, frequency_domain };
 
 // Whether the accurate profile of a stack is the spatial-frequency-domain one.
-bool frequency_domain(const skin::LayerStack& stack) { return !skin::accurate::transport_table_gap(stack).empty(); }
+bool frequency_domain(const skin::LayerStack& stack) {
+  return !skin::accurate::SkinStackTable::builtin().gap(stack).empty() &&
+         !skin::accurate::transport_table_gap(stack).empty();
+}
 
 json compute(Part part) {
   json out;

@@ -10,6 +10,7 @@
 
 #include "integrated_profile.hpp"
 #include "skin/transport/accurate.hpp"
+#include "skin/transport/skin_stack_table.hpp"
 #include "skin/transport/top_layer_table.hpp"
 #include "skin/util/error.hpp"
 #include "skin/transport/profile.hpp"
@@ -131,13 +132,18 @@ TEST(TopLayerTable, TextRoundTripAndMalformedInput) {
   expect_error("", "empty text");
 }
 
-// Skin with the default g and index uses the transport top layer at every wavelength, for every
-// preset; a different g falls back to the diffusion shape.
+// Skin with the default g and index uses the tabulated frequency-domain profile where its
+// epidermis is light enough for that table (skin_stack_table.hpp) and the transport top layer at
+// every other wavelength, for every preset; a g between the top-layer tables' uses them; beyond
+// them the frequency-domain solver.
 TEST(TransportTop, CoversThePresetsAndFallsBackOutsideTheTable) {
+  const auto& skin_table = skin::accurate::SkinStackTable::builtin();
   for (const auto& p : skin::presets())
     for (double lambda = 400; lambda <= 700; lambda += 10) {
-      const skin::accurate::AccurateStack acc(skin::skin_layer_stack(p.parameters, lambda));
-      EXPECT_TRUE(acc.transport_top()) << p.name << " " << lambda;
+      const LayerStack s = skin::skin_layer_stack(p.parameters, lambda);
+      const skin::accurate::AccurateStack acc(s);
+      EXPECT_EQ(acc.skin_table(), skin_table.gap(s).empty()) << p.name << " " << lambda;
+      EXPECT_EQ(acc.transport_top(), !acc.skin_table()) << p.name << " " << lambda;
     }
   // g between two tables' blends them; outside their range falls back.
   auto params = skin::find_preset("caucasian").parameters;
@@ -194,10 +200,13 @@ TEST(TransportTop, HalfSpaceIsSplitAtTheThickestLayer) {
 }
 
 // The profile integrates to the adding-doubling total.
+// (Light skin with g = 0.8, which the skin table does not cover, and african skin.)
 TEST(TransportTop, TotalIsTheAddingDoublingTotal) {
   for (const char* name : {"caucasian", "african", "pale"})
     for (double lambda : {450.0, 650.0}) {
-      const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
+      auto params = skin::find_preset(name).parameters;
+      if (std::string(name) != "african") params.g = 0.8;
+      const auto st = skin::skin_layer_stack(params, lambda);
       const skin::accurate::AccurateStack acc(st);
       ASSERT_TRUE(acc.transport_top());
       // The adding-doubling R_d computed here on its own, against the space part's integral

@@ -28,6 +28,10 @@
 #include <vector>
 
 #include "skin/transport/top_layer_table.hpp"
+
+namespace skin::accurate {
+class SkinStackProfile;
+}
 #include "skin/physics/layer.hpp"
 #include "skin/transport/profile_fwd.hpp"
 #include "skin/transport/diffusion.hpp"
@@ -162,7 +166,10 @@ class FrequencyStack final : public RadialResponse {
 };
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
-// the profile integrates to it exactly. Two shapes (docs/accurate-solver.md, sec. 3 and 5):
+// the profile integrates to it exactly. Three shapes (docs/accurate-solver.md, sec. 3, 8 and 9):
+// - the two-layer skin geometry inside the built-in SkinStackTable (skin_stack_table.hpp; every
+//   preset, the default g, index and dermis scattering): FrequencyStack's profile, tabulated
+//   over the stack's three reduced parameters and interpolated (read, not solved);
 // - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its
 //   index and the index above it are the table's, and it is either finite with the same index
 //   below it and a reduced optical thickness in the table's range, or a half-space, which is
@@ -197,6 +204,8 @@ class AccurateStack final : public RadialResponse {
   // True when the top layer's transport comes from the built-in TopLayerTable (otherwise the
   // profile is FrequencyStack's).
   bool transport_top() const { return table_ != nullptr; }
+  // True when the profile is read from the built-in SkinStackTable (FrequencyStack's, tabulated).
+  bool skin_table() const { return skin_ != nullptr; }
   // The correction factors of the table shape (1 otherwise).
   double c_top() const { return c_top_; }
   double c_deep() const { return c_deep_; }
@@ -210,6 +219,7 @@ class AccurateStack final : public RadialResponse {
   std::optional<DiffusionStack> rest_;    // the layers below the top one (none for one layer)
   double c_top_ = 1, c_deep_ = 1;
   std::unique_ptr<FrequencyStack> frequency_;  // set outside the tables
+  std::unique_ptr<SkinStackProfile> skin_;     // set for the skin geometry
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);
 

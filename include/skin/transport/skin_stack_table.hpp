@@ -1,0 +1,74 @@
+#pragma once
+// The frequency-domain profiles of the two-layer skin geometry, tabulated (docs/accurate-solver.md,
+// sec. 9): a cache of FrequencyStack for the stacks every skin material asks for, so that an RGB
+// or spectral profile of skin is read, not solved (~0.4 CPU-s per stack otherwise).
+//
+// Geometry: air over a finite layer (the epidermis: index eta, Henyey-Greenstein g, reduced
+// scattering s, absorption sigma_a,e, thickness d) over a half-space of the same index and g (the
+// dermis: reduced scattering dermis_ratio x s, absorption sigma_a,d). In units of 1 / s the stack
+// has three parameters, tau = s d, a_e = sigma_a,e / s and a_d = sigma_a,d / s, and its profile is
+// R(r) = s^2 rho(x), x = r s. Each node holds ln rho at the x nodes, computed by FrequencyStack
+// (floored at 1e-13 of the node's peak, below which the frequency-domain inversion is noise).
+// Interpolation: 4-point Lagrange in ln tau, sqrt a_e and sqrt a_d (sqrt: where a layer is dark
+// ln rho falls linearly in a, where it is bright the diffusion far field falls linearly in
+// sqrt a) and cubic in ln x; below the first x node rho continues as the power of x of the first
+// two nodes (single scattering's 1 / x) down to a tenth of it and is flat below; beyond the last
+// it falls exponentially in x; below 1e-12 of its peak it is 0. The interpolated shape is scaled
+// to integrate to the stack's adding-doubling R_d.
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "skin/physics/layer.hpp"
+#include "skin/util/progress.hpp"
+
+namespace skin::accurate {
+
+struct SkinStackTable {
+  // A darker top layer is not covered. Between nodes, its interpolated far field is off (by 2-20 %
+  // at a_e = 0.7-1.2 where R is 1e-4-1e-5 of its value at 0.02 mm): there ln rho is no longer
+  // smooth in a_e at the node spacing, and FrequencyStack's own inversion noise (~1e-5 of the
+  // peak) is of the same size. Skin with such an epidermis (asian below ~600 nm, african) keeps
+  // the transport top layer (accurate.hpp).
+  static constexpr double kMaxTopAbsorption = 0.4;
+  double eta = 1.4, g = 0.9, dermis_ratio = 0.5;  // the geometry (air above)
+  std::string provenance;
+  std::vector<double> tau, a_e, a_d, x;  // nodes, increasing
+  std::vector<double> ln_rho;            // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]
+
+  // The built-in nodes (data/skin_stack_profiles.csv), without values.
+  static SkinStackTable default_nodes();
+  // Computes every node with FrequencyStack (parallel over nodes; cancellable: throws Cancelled).
+  // progress(done, total) is called after each node, from worker threads, one call at a time.
+  void compute(const ProgressCallback& progress = {});
+  std::string to_csv() const;
+  // Throws InputError naming `source` for a malformed table.
+  static SkinStackTable parse(std::string_view text, std::string_view source);
+  static const SkinStackTable& builtin();
+
+  // Why a stack is not in the table (empty when it is).
+  std::string gap(const LayerStack& stack) const;
+  // ln rho at the x nodes of the stack (tau, a_e, a_d) (inside the node ranges).
+  std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
+  // The node's values (tests): ln rho at the x nodes.
+  std::vector<double> node(std::size_t i_tau, std::size_t i_e, std::size_t i_d) const;
+  // rho of one node computed by FrequencyStack, floored as in the table.
+  std::vector<double> solve_node(double tau, double a_e, double a_d) const;
+};
+
+// The profile of a stack in the table, as R(r) [1/mm^2] scaled to integrate to R_d.
+class SkinStackProfile {
+ public:
+  SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d);
+  double operator()(double r) const;
+
+ private:
+  const SkinStackTable* table_;
+  double s_ = 1, scale_ = 1;  // s [1/mm]; R(r) = scale_ exp(ln_rho(r s))
+  double h_ = 1, cutoff_ = 0, power_ = -1, decay_ = 0;
+  std::vector<double> ln_x_, ln_rho_;
+};
+
+}  // namespace skin::accurate

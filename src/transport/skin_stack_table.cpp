@@ -1,0 +1,306 @@
+#include "skin/transport/skin_stack_table.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <mutex>
+#include <numbers>
+#include <sstream>
+
+#include "skin/transport/accurate.hpp"
+#include "skin/transport/profile.hpp"
+#include "skin/util/cancel.hpp"
+#include "skin/util/error.hpp"
+#include "skin/util/table.hpp"
+
+namespace skin::accurate {
+
+namespace {
+
+constexpr double kFloor = 1e-13;  // of a node's peak
+
+// Start of the 4-node stencil around t in increasing nodes u, and its Lagrange weights.
+struct Stencil {
+  std::size_t i0 = 0;
+  std::array<double, 4> w{};
+};
+Stencil stencil(const std::vector<double>& u, double t) {
+  const std::size_t n = u.size();
+  std::size_t i = static_cast<std::size_t>(std::upper_bound(u.begin(), u.end(), t) - u.begin());
+  i = i == 0 ? 0 : i - 1;  // u[i] <= t < u[i + 1]
+  Stencil s;
+  s.i0 = std::min(i > 0 ? i - 1 : 0, n - 4);
+  for (std::size_t a = 0; a < 4; ++a) {
+    double w = 1;
+    for (std::size_t b = 0; b < 4; ++b)
+      if (b != a) w *= (t - u[s.i0 + b]) / (u[s.i0 + a] - u[s.i0 + b]);
+    s.w[a] = w;
+  }
+  return s;
+}
+
+std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
+  std::vector<double> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) out[i] = f(v[i]);
+  return out;
+}
+double log_of(double v) { return std::log(v); }
+double sqrt_of(double v) { return std::sqrt(v); }
+
+std::string number(double v) { return format_number(v); }
+
+}  // namespace
+
+SkinStackTable SkinStackTable::default_nodes() {
+  SkinStackTable t;
+  for (int k = -3; k <= 2; ++k) t.tau.push_back(2.0 * std::pow(1.5, k));
+  // a: four per decade from 0.004 to 0.4, then evenly in sqrt(a) (0.25 apart, then 0.5).
+  std::vector<double> a;
+  for (int k = 0; k <= 8; ++k) a.push_back(0.004 * std::pow(10.0, k / 4.0));
+  const double u0 = std::sqrt(a.back());
+  for (int j = 1; j <= 8; ++j) a.push_back(std::pow(u0 + 0.25 * j, 2));
+  for (int j = 1; j <= 2; ++j) a.push_back(std::pow(u0 + 2.0 + 0.5 * j, 2));
+  t.a_d = a;
+  // The top layer up to the last node that the interpolation uses below kMaxTopAbsorption.
+  t.a_e.assign(a.begin(), a.begin() + 11);
+  for (int i = 0; i <= 90; ++i) t.x.push_back(1e-3 * std::pow(10.0, i / 16.0));
+  return t;
+}
+
+std::vector<double> SkinStackTable::solve_node(double tau_v, double a_e_v, double a_d_v) const {
+  LayerStack st;
+  st.eta_above = 1.0;
+  st.layers.push_back({a_e_v, 1.0, tau_v, eta, g});
+  st.layers.push_back({a_d_v, dermis_ratio, kInfinity, eta, g});
+  // FrequencyStack's nodes are fixed in rad/mm (k0 = 0.3), so in units of s their resolution
+  // would be that of a stack with s = 1 /mm; the skin's s is 4-15 /mm. k0 = 0.3 / 15 gives every
+  // node the resolution FrequencyStack has on the most scattering skin (5 % at 10 mm otherwise).
+  FrequencyProfileOptions o;
+  o.k0 = 0.3 / 15.0;
+  const FrequencyStack f(st, o);
+  ProfileSolver solver(RadialGrid::from(x));
+  std::vector<double> R = solver.profile(f);
+  const double peak = *std::max_element(R.begin(), R.end());
+  for (double& v : R) v = std::log(std::max(v, kFloor * peak));
+  return R;
+}
+
+void SkinStackTable::compute(const ProgressCallback& progress) {
+  const std::size_t n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
+  const std::size_t total = tau.size() * n_e * n_d;
+  ln_rho.assign(total * n_x, 0.0);
+  std::mutex m;
+  std::size_t done = 0;
+  tbb::parallel_for(std::size_t{0}, total, [&](std::size_t k) {
+    if (cancel::requested()) return;  // thrown below
+    const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
+    const std::vector<double> v = solve_node(tau[i_t], a_e[i_e], a_d[i_d]);
+    std::copy(v.begin(), v.end(), ln_rho.begin() + static_cast<std::ptrdiff_t>(k * n_x));
+    if (progress) {
+      const std::lock_guard<std::mutex> lock(m);
+      progress(++done, total);
+    }
+  });
+  cancel::check();
+}
+
+std::string SkinStackTable::to_csv() const {
+  std::ostringstream os;
+  os << "# Spectral Skin: radial profiles of the two-layer skin geometry in units of the epidermis'\n"
+        "# reduced scattering s (tau = s d, a = sigma_a / s, x = r s, R(r) = s^2 rho(x)), computed by\n"
+        "# this project's frequency-domain transport solver (FrequencyStack); the columns and their\n"
+        "# use: include/skin/transport/skin_stack_table.hpp, docs/accurate-solver.md sec. 9.\n";
+  os << "# provenance: " << provenance << '\n';
+  os << "# eta: " << eta << "\n# g: " << g << "\n# dermis_ratio: " << dermis_ratio << '\n';
+  os << "# tau: " << format_number_list(tau) << "\n# a_e: " << format_number_list(a_e)
+     << "\n# a_d: " << format_number_list(a_d) << "\n# x: " << format_number_list(x) << '\n';
+  os << "tau,a_e,a_d";
+  for (std::size_t i = 0; i < x.size(); ++i) os << ",ln_rho_" << i;
+  os << '\n';
+  char buf[32];
+  std::size_t k = 0;
+  for (double t : tau)
+    for (double e : a_e)
+      for (double d : a_d) {
+        os << format_number_list({t, e, d});
+        for (std::size_t i = 0; i < x.size(); ++i) {
+          std::snprintf(buf, sizeof buf, ",%.4f", ln_rho[k * x.size() + i]);
+          os << buf;
+        }
+        os << '\n';
+        ++k;
+      }
+  return os.str();
+}
+
+SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view source) {
+  const std::string src(source);
+  const auto meta = csv_metadata(text);
+  auto need = [&](const char* key) -> const std::string& {
+    const auto it = meta.find(key);
+    if (it == meta.end()) throw InputError(src + ": missing the '# " + key + ":' line");
+    return it->second;
+  };
+  auto scalar = [&](const char* key) {
+    const auto v = parse_number_list(need(key), src, key);
+    if (v.size() != 1) throw InputError(src + ": '" + key + "' must be one number");
+    return v[0];
+  };
+  SkinStackTable t;
+  t.provenance = meta.count("provenance") ? meta.at("provenance") : "";
+  t.eta = scalar("eta");
+  t.g = scalar("g");
+  t.dermis_ratio = scalar("dermis_ratio");
+  t.tau = parse_number_list(need("tau"), src, "tau");
+  t.a_e = parse_number_list(need("a_e"), src, "a_e");
+  t.a_d = parse_number_list(need("a_d"), src, "a_d");
+  t.x = parse_number_list(need("x"), src, "x");
+  for (const auto& [v, key] : {std::pair{&t.tau, "tau"}, {&t.a_e, "a_e"}, {&t.a_d, "a_d"}, {&t.x, "x"}}) {
+    if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
+    for (std::size_t i = 0; i < v->size(); ++i)
+      if (!((*v)[i] > 0) || (i > 0 && !((*v)[i] > (*v)[i - 1])))
+        throw InputError(src + ": '" + key + "' must be positive and increase");
+  }
+  // Simpson's rule and the cubic in ln x need an odd number of x nodes, evenly spaced in ln x.
+  const double h = std::log(t.x.back() / t.x.front()) / static_cast<double>(t.x.size() - 1);
+  for (std::size_t i = 1; i < t.x.size(); ++i)
+    if (t.x.size() % 2 == 0 || !(std::abs(std::log(t.x[i] / t.x[i - 1]) / h - 1) <= 1e-5))
+      throw InputError(src + ": 'x' must be an odd number of nodes evenly spaced in ln x");
+  const Table data = parse_csv(text, src);
+  const std::size_t n_x = t.x.size(), rows = t.tau.size() * t.a_e.size() * t.a_d.size();
+  if (data.columns.size() != 3 + n_x)
+    throw InputError(src + ": expected " + std::to_string(3 + n_x) + " columns, found " +
+                     std::to_string(data.columns.size()));
+  if (data.rows() != rows)
+    throw InputError(src + ": expected " + std::to_string(rows) + " rows (tau x a_e x a_d), found " +
+                     std::to_string(data.rows()));
+  t.ln_rho.resize(rows * n_x);
+  for (std::size_t r = 0; r < rows; ++r) {
+    const std::size_t i_d = r % t.a_d.size(), i_e = (r / t.a_d.size()) % t.a_e.size(),
+                      i_t = r / (t.a_d.size() * t.a_e.size());
+    const double want[3] = {t.tau[i_t], t.a_e[i_e], t.a_d[i_d]};
+    for (int c = 0; c < 3; ++c)
+      if (!(std::abs(data.data[static_cast<std::size_t>(c)][r] / want[c] - 1) <= 1e-6))
+        throw InputError(src + ": row " + std::to_string(r + 1) + " is not node (tau, a_e, a_d) = (" +
+                         number(want[0]) + ", " + number(want[1]) + ", " + number(want[2]) + ")");
+    for (std::size_t i = 0; i < n_x; ++i) {
+      const double v = data.data[3 + i][r];
+      if (!std::isfinite(v))
+        throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[3 + i] +
+                         " is not a finite number");
+      t.ln_rho[r * n_x + i] = v;
+    }
+  }
+  return t;
+}
+
+const SkinStackTable& SkinStackTable::builtin() {
+  static const SkinStackTable t = parse(data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
+  return t;
+}
+
+std::string SkinStackTable::gap(const LayerStack& stack) const {
+  const auto& ls = stack.layers;
+  if (ls.size() != 2) return "not two layers";
+  const Layer &e = ls[0], &d = ls[1];
+  if (stack.eta_above != 1.0) return "the medium above is not air";
+  if (e.eta != eta || d.eta != eta) return "index is not the skin table's " + number(eta);
+  if (e.g != g || d.g != g) return "g is not the skin table's " + number(g);
+  if (e.semi_infinite() || !d.semi_infinite()) return "not a finite layer over a half-space";
+  const double s = e.sigma_s_prime;
+  if (!(s > 0) || !(std::abs(d.sigma_s_prime / s - dermis_ratio) <= 1e-9 * dermis_ratio))
+    return "the lower layer's sigma_s' is not " + number(dermis_ratio) + " x the top layer's";
+  auto inside = [](const std::vector<double>& v, double t) { return t >= v.front() && t <= v.back(); };
+  const double t = s * e.thickness, ae = e.sigma_a / s, ad = d.sigma_a / s;
+  if (!inside(tau, t)) return "sigma_s' d = " + number(t) + " is outside the skin table's [" + number(tau.front()) + ", " + number(tau.back()) + "]";
+  if (ae > kMaxTopAbsorption)
+    return "top sigma_a / sigma_s' = " + number(ae) + " is above the skin table's validated " + number(kMaxTopAbsorption);
+  if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + number(ae) + " is outside the skin table's [" + number(a_e.front()) + ", " + number(a_e.back()) + "]";
+  if (!inside(a_d, ad)) return "lower sigma_a / top sigma_s' = " + number(ad) + " is outside the skin table's [" + number(a_d.front()) + ", " + number(a_d.back()) + "]";
+  return {};
+}
+
+std::vector<double> SkinStackTable::node(std::size_t i_t, std::size_t i_e, std::size_t i_d) const {
+  const std::size_t k = (i_t * a_e.size() + i_e) * a_d.size() + i_d;
+  return {ln_rho.begin() + static_cast<std::ptrdiff_t>(k * x.size()),
+          ln_rho.begin() + static_cast<std::ptrdiff_t>((k + 1) * x.size())};
+}
+
+std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) const {
+  const Stencil st = stencil(mapped(tau, log_of), std::log(t));
+  const Stencil se = stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
+  const Stencil sd = stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
+  const std::size_t n_x = x.size();
+  std::vector<double> out(n_x, 0.0);
+  for (std::size_t i = 0; i < 4; ++i)
+    for (std::size_t j = 0; j < 4; ++j)
+      for (std::size_t l = 0; l < 4; ++l) {
+        const double w = st.w[i] * se.w[j] * sd.w[l];
+        const std::size_t k = ((st.i0 + i) * a_e.size() + se.i0 + j) * a_d.size() + sd.i0 + l;
+        const double* v = ln_rho.data() + k * n_x;
+        for (std::size_t m = 0; m < n_x; ++m) out[m] += w * v[m];
+      }
+  return out;
+}
+
+SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d)
+    : table_(&table) {
+  const Layer &e = stack.layers.at(0), &d = stack.layers.at(1);
+  s_ = e.sigma_s_prime;
+  ln_rho_ = table.ln_rho_at(s_ * e.thickness, e.sigma_a / s_, d.sigma_a / s_);
+  ln_x_ = mapped(table.x, log_of);
+  const std::size_t n = ln_x_.size();
+  h_ = (ln_x_.back() - ln_x_.front()) / static_cast<double>(n - 1);
+  cutoff_ = *std::max_element(ln_rho_.begin(), ln_rho_.end()) + std::log(10 * kFloor);
+  // Near the beam rho grows like a power of 1 / x (single scattering: 1 / x): continued from the
+  // first two nodes down to a tenth of the first x node, flat below.
+  power_ = std::clamp((ln_rho_[1] - ln_rho_[0]) / h_, -1.9, 0.0);
+  // Beyond the last node: ln rho linear in x, falling (0 if it does not fall).
+  const double x1 = table.x[n - 1];
+  decay_ = std::max(0.0, -(ln_rho_[n - 1] - ln_rho_[n - 2]) / (x1 - table.x[n - 2]));
+  // 2 pi int x rho dx of exactly what operator() returns: Simpson on the even ln x grid (as
+  // 2 pi int x^2 rho d(ln x)), the power law and the flat disc below it, the exponential beyond.
+  double sum = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double f = ln_rho_[i] < cutoff_ ? 0.0 : std::exp(2 * ln_x_[i] + ln_rho_[i]);
+    sum += ((i == 0 || i == n - 1) ? 1.0 : (i % 2 == 1 ? 4.0 : 2.0)) * f;
+  }
+  double integral = 2 * std::numbers::pi * sum * h_ / 3.0;
+  const double x0 = table.x.front(), xf = x0 / 10, rho0 = std::exp(ln_rho_[0]);
+  const double rho_f = rho0 * std::pow(0.1, power_);
+  integral += 2 * std::numbers::pi * rho0 * std::pow(x0, -power_) *
+              (std::pow(x0, 2 + power_) - std::pow(xf, 2 + power_)) / (2 + power_);
+  integral += std::numbers::pi * xf * xf * rho_f;
+  if (decay_ > 0 && ln_rho_[n - 1] >= cutoff_)
+    integral += 2 * std::numbers::pi * std::exp(ln_rho_[n - 1]) * (x1 / decay_ + 1 / (decay_ * decay_));
+  scale_ = integral > 0 ? R_d * s_ * s_ / integral : 0.0;
+}
+
+double SkinStackProfile::operator()(double r) const {
+  const std::size_t n = ln_x_.size();
+  const double x = r * s_, x0 = table_->x.front();
+  if (x < x0) return scale_ * std::exp(ln_rho_[0]) * std::pow(std::max(x, x0 / 10) / x0, power_);
+  const double lx = std::log(x);
+  if (lx >= ln_x_.back()) {
+    if (decay_ == 0 || ln_rho_[n - 1] < cutoff_) return 0.0;
+    return scale_ * std::exp(ln_rho_[n - 1] - decay_ * (x - table_->x[n - 1]));
+  }
+  const double u = (lx - ln_x_.front()) / h_;
+  const std::size_t i = std::min(static_cast<std::size_t>(u), n - 2);
+  const std::size_t i0 = std::min(i > 0 ? i - 1 : 0, n - 4);
+  const double t = u - static_cast<double>(i0);
+  double v = 0;
+  for (std::size_t a = 0; a < 4; ++a) {
+    double w = 1;
+    for (std::size_t b = 0; b < 4; ++b)
+      if (b != a) w *= (t - static_cast<double>(b)) / (static_cast<double>(a) - static_cast<double>(b));
+    v += w * ln_rho_[i0 + a];
+  }
+  return v < cutoff_ ? 0.0 : scale_ * std::exp(v);
+}
+
+}  // namespace skin::accurate
