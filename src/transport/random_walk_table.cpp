@@ -39,18 +39,13 @@ const RandomWalkTable& RandomWalkTable::builtin() {
 
 RandomWalkTable RandomWalkTable::from_csv(std::string_view text, const std::string& source) {
   const auto meta = csv_metadata(text);
-  auto need = [&](const char* key) -> const std::string& {
-    const auto it = meta.find(key);
-    if (it == meta.end()) throw InputError(source + ": missing the '# " + key + ":' line");
-    return it->second;
-  };
   RandomWalkTable t;
   if (const auto it = meta.find("provenance"); it != meta.end()) t.provenance = it->second;
-  const auto g = parse_number_list(need("g"), source, "g");
+  const auto g = metadata_numbers(meta, "g", source);
   if (g.size() != 1 || !(std::abs(g[0]) < 1))
     throw InputError(source + ": 'g' must be one number in (-1, 1)");
   t.g = g[0];
-  t.rho_edges = parse_number_list(need("rho_edges"), source, "rho_edges");
+  t.rho_edges = metadata_numbers(meta, "rho_edges", source);
   if (t.rho_edges.size() < 3 || t.rho_edges.front() != 0.0)
     throw InputError(source + ": 'rho_edges' must start at 0 and hold at least 3 edges");
   for (std::size_t i = 1; i < t.rho_edges.size(); ++i)

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <mutex>
@@ -140,25 +139,15 @@ std::string SkinStackTable::to_csv() const {
 SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view source) {
   const std::string src(source);
   const auto meta = csv_metadata(text);
-  auto need = [&](const char* key) -> const std::string& {
-    const auto it = meta.find(key);
-    if (it == meta.end()) throw InputError(src + ": missing the '# " + key + ":' line");
-    return it->second;
-  };
-  auto scalar = [&](const char* key) {
-    const auto v = parse_number_list(need(key), src, key);
-    if (v.size() != 1) throw InputError(src + ": '" + key + "' must be one number");
-    return v[0];
-  };
   SkinStackTable t;
   t.provenance = meta.count("provenance") ? meta.at("provenance") : "";
-  t.eta = scalar("eta");
-  t.g = scalar("g");
-  t.dermis_ratio = scalar("dermis_ratio");
-  t.tau = parse_number_list(need("tau"), src, "tau");
-  t.a_e = parse_number_list(need("a_e"), src, "a_e");
-  t.a_d = parse_number_list(need("a_d"), src, "a_d");
-  t.x = parse_number_list(need("x"), src, "x");
+  t.eta = metadata_number(meta, "eta", src);
+  t.g = metadata_number(meta, "g", src);
+  t.dermis_ratio = metadata_number(meta, "dermis_ratio", src);
+  t.tau = metadata_numbers(meta, "tau", src);
+  t.a_e = metadata_numbers(meta, "a_e", src);
+  t.a_d = metadata_numbers(meta, "a_d", src);
+  t.x = metadata_numbers(meta, "x", src);
   for (const auto& [v, key] : {std::pair{&t.tau, "tau"}, {&t.a_e, "a_e"}, {&t.a_d, "a_d"}, {&t.x, "x"}}) {
     if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
     for (std::size_t i = 0; i < v->size(); ++i)

@@ -277,26 +277,16 @@ std::string TopLayerTable::to_csv() const {
 TopLayerTable TopLayerTable::parse(std::string_view text, std::string_view source) {
   const std::string src(source);
   const auto meta = csv_metadata(text);
-  auto need = [&](const char* key) -> const std::string& {
-    const auto it = meta.find(key);
-    if (it == meta.end()) throw InputError(src + ": missing the '# " + key + ":' line");
-    return it->second;
-  };
-  auto scalar = [&](const char* key) {
-    const auto v = parse_number_list(need(key), src, key);
-    if (v.size() != 1) throw InputError(src + ": '" + key + "' must be one number");
-    return v[0];
-  };
   TopLayerTable t;
   t.provenance = meta.count("provenance") ? meta.at("provenance") : "";
-  t.g = scalar("g");
-  t.eta = scalar("eta");
-  t.eta_above = scalar("eta_above");
-  t.kappa_0 = scalar("kappa_0");
-  t.x = parse_number_list(need("x"), src, "x");
-  t.tau = parse_number_list(need("tau"), src, "tau");
-  t.kappa = parse_number_list(need("kappa"), src, "kappa");
-  t.rho_edges = parse_number_list(need("rho_edges"), src, "rho_edges");
+  t.g = metadata_number(meta, "g", src);
+  t.eta = metadata_number(meta, "eta", src);
+  t.eta_above = metadata_number(meta, "eta_above", src);
+  t.kappa_0 = metadata_number(meta, "kappa_0", src);
+  t.x = metadata_numbers(meta, "x", src);
+  t.tau = metadata_numbers(meta, "tau", src);
+  t.kappa = metadata_numbers(meta, "kappa", src);
+  t.rho_edges = metadata_numbers(meta, "rho_edges", src);
   auto increasing = [&](const std::vector<double>& v, const char* key, std::size_t min_size) {
     if (v.size() < min_size) throw InputError(src + ": '" + key + "' has too few values");
     for (std::size_t i = 1; i < v.size(); ++i)

@@ -122,6 +122,21 @@ std::vector<double> parse_number_list(std::string_view list, std::string_view so
   return out;
 }
 
+std::vector<double> metadata_numbers(const std::map<std::string, std::string, std::less<>>& meta,
+                                     std::string_view key, std::string_view source) {
+  const auto it = meta.find(key);
+  if (it == meta.end())
+    throw InputError(std::string(source) + ": missing the '# " + std::string(key) + ":' line");
+  return parse_number_list(it->second, source, key);
+}
+
+double metadata_number(const std::map<std::string, std::string, std::less<>>& meta,
+                       std::string_view key, std::string_view source) {
+  const auto v = metadata_numbers(meta, key, source);
+  if (v.size() != 1) throw InputError(std::string(source) + ": '" + std::string(key) + "' must be one number");
+  return v[0];
+}
+
 std::string format_number_list(const std::vector<double>& v) {
   std::string s;
   char buf[32];

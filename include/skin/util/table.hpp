@@ -28,6 +28,12 @@ Table read_csv_file(const std::string& path);
 // Metadata of a data file: its comment lines of the form "# key: value" (the first of a repeated
 // key wins), e.g. "# provenance: ..." or "# rho_edges: 0,0.001,...".
 std::map<std::string, std::string, std::less<>> csv_metadata(std::string_view text);
+// The numbers of a metadata line "# key: 1,2,3" (parse_number_list), and the one number of
+// "# key: 1"; InputError "<source>: missing the '# key:' line", "'key' must be one number".
+std::vector<double> metadata_numbers(const std::map<std::string, std::string, std::less<>>& meta,
+                                     std::string_view key, std::string_view source);
+double metadata_number(const std::map<std::string, std::string, std::less<>>& meta,
+                       std::string_view key, std::string_view source);
 // A comma-separated list of numbers ("0,0.001,2.5"); InputError naming `source` and `key` for a
 // field that is not a number.
 std::vector<double> parse_number_list(std::string_view list, std::string_view source,
