@@ -28,10 +28,6 @@
 #include <vector>
 
 #include "skin/transport/top_layer_table.hpp"
-
-namespace skin::accurate {
-class SkinStackProfile;
-}
 #include "skin/physics/layer.hpp"
 #include "skin/transport/profile_fwd.hpp"
 #include "skin/transport/diffusion.hpp"
@@ -39,6 +35,8 @@ class SkinStackProfile;
 #include "skin/transport/stack.hpp"
 
 namespace skin::accurate {
+
+class SkinStackProfile;  // skin_stack_table.hpp
 
 // Quadrature directions per hemisphere in each angular panel when Options says "automatic":
 // kDefaultQuadraturePoints when every layer has the same index (skin), kIndexStepQuadraturePoints
@@ -167,9 +165,10 @@ class FrequencyStack final : public RadialResponse {
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
 // the profile integrates to it exactly. Three shapes (docs/accurate-solver.md, sec. 3, 8 and 9):
-// - the two-layer skin geometry inside the built-in SkinStackTable (skin_stack_table.hpp; every
-//   preset, the default g, index and dermis scattering): FrequencyStack's profile, tabulated
-//   over the stack's three reduced parameters and interpolated (read, not solved);
+// - the two-layer skin geometry inside the built-in SkinStackTable (skin_stack_table.hpp: the
+//   default g, index and dermis scattering, an epidermis with sigma_a up to 0.4 sigma_s', i.e.
+//   light skin): FrequencyStack's profile, tabulated over the stack's three reduced parameters
+//   and interpolated (read, not solved);
 // - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its
 //   index and the index above it are the table's, and it is either finite with the same index
 //   below it and a reduced optical thickness in the table's range, or a half-space, which is
