@@ -96,8 +96,9 @@ class AddingDoublingModel : public Model {
   accurate::Cache cache_;
 };
 
-// Profiles from the transport tables of the top layer where they apply, from radiative transfer
-// in the spatial-frequency domain elsewhere.
+// Profiles of light skin from the table of frequency-domain profiles (skin_stack_table.hpp), from
+// the transport tables of the top layer where they apply and that table does not, from radiative
+// transfer in the spatial-frequency domain elsewhere (AccurateStack).
 class Accurate final : public AddingDoublingModel {
  public:
   std::string_view name() const override { return "accurate"; }
