@@ -14,6 +14,7 @@
 #include "skin/transport/profile.hpp"
 #include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/interpolation.hpp"
 #include "skin/util/table.hpp"
 
 namespace skin::accurate {
@@ -22,26 +23,6 @@ namespace {
 
 constexpr double kFloor = 1e-13;  // of a node's peak
 
-// Start of the 4-node stencil around t in increasing nodes u, and its Lagrange weights.
-struct Stencil {
-  std::size_t i0 = 0;
-  std::array<double, 4> w{};
-};
-Stencil stencil(const std::vector<double>& u, double t) {
-  const std::size_t n = u.size();
-  std::size_t i = static_cast<std::size_t>(std::upper_bound(u.begin(), u.end(), t) - u.begin());
-  i = i == 0 ? 0 : i - 1;  // u[i] <= t < u[i + 1]
-  Stencil s;
-  s.i0 = std::min(i > 0 ? i - 1 : 0, n - 4);
-  for (std::size_t a = 0; a < 4; ++a) {
-    double w = 1;
-    for (std::size_t b = 0; b < 4; ++b)
-      if (b != a) w *= (t - u[s.i0 + b]) / (u[s.i0 + a] - u[s.i0 + b]);
-    s.w[a] = w;
-  }
-  return s;
-}
-
 std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
   std::vector<double> out(v.size());
   for (std::size_t i = 0; i < v.size(); ++i) out[i] = f(v[i]);
@@ -49,8 +30,6 @@ std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
 }
 double log_of(double v) { return std::log(v); }
 double sqrt_of(double v) { return std::sqrt(v); }
-
-std::string number(double v) { return format_number(v); }
 
 }  // namespace
 
@@ -175,7 +154,7 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
     for (int c = 0; c < 3; ++c)
       if (!(std::abs(data.data[static_cast<std::size_t>(c)][r] / want[c] - 1) <= 1e-6))
         throw InputError(src + ": row " + std::to_string(r + 1) + " is not node (tau, a_e, a_d) = (" +
-                         number(want[0]) + ", " + number(want[1]) + ", " + number(want[2]) + ")");
+                         format_number(want[0]) + ", " + format_number(want[1]) + ", " + format_number(want[2]) + ")");
     for (std::size_t i = 0; i < n_x; ++i) {
       const double v = data.data[3 + i][r];
       if (!std::isfinite(v))
@@ -197,19 +176,19 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
   if (ls.size() != 2) return "not two layers";
   const Layer &e = ls[0], &d = ls[1];
   if (stack.eta_above != 1.0) return "the medium above is not air";
-  if (e.eta != eta || d.eta != eta) return "index is not the skin table's " + number(eta);
-  if (e.g != g || d.g != g) return "g is not the skin table's " + number(g);
+  if (e.eta != eta || d.eta != eta) return "index is not the skin table's " + format_number(eta);
+  if (e.g != g || d.g != g) return "g is not the skin table's " + format_number(g);
   if (e.semi_infinite() || !d.semi_infinite()) return "not a finite layer over a half-space";
   const double s = e.sigma_s_prime;
   if (!(s > 0) || !(std::abs(d.sigma_s_prime / s - dermis_ratio) <= 1e-9 * dermis_ratio))
-    return "the lower layer's sigma_s' is not " + number(dermis_ratio) + " x the top layer's";
+    return "the lower layer's sigma_s' is not " + format_number(dermis_ratio) + " x the top layer's";
   auto inside = [](const std::vector<double>& v, double t) { return t >= v.front() && t <= v.back(); };
   const double t = s * e.thickness, ae = e.sigma_a / s, ad = d.sigma_a / s;
-  if (!inside(tau, t)) return "sigma_s' d = " + number(t) + " is outside the skin table's [" + number(tau.front()) + ", " + number(tau.back()) + "]";
+  if (!inside(tau, t)) return "sigma_s' d = " + format_number(t) + " is outside the skin table's [" + format_number(tau.front()) + ", " + format_number(tau.back()) + "]";
   if (ae > kMaxTopAbsorption)
-    return "top sigma_a / sigma_s' = " + number(ae) + " is above the skin table's validated " + number(kMaxTopAbsorption);
-  if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + number(ae) + " is outside the skin table's [" + number(a_e.front()) + ", " + number(a_e.back()) + "]";
-  if (!inside(a_d, ad)) return "lower sigma_a / top sigma_s' = " + number(ad) + " is outside the skin table's [" + number(a_d.front()) + ", " + number(a_d.back()) + "]";
+    return "top sigma_a / sigma_s' = " + format_number(ae) + " is above the skin table's validated " + format_number(kMaxTopAbsorption);
+  if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + format_number(ae) + " is outside the skin table's [" + format_number(a_e.front()) + ", " + format_number(a_e.back()) + "]";
+  if (!inside(a_d, ad)) return "lower sigma_a / top sigma_s' = " + format_number(ad) + " is outside the skin table's [" + format_number(a_d.front()) + ", " + format_number(a_d.back()) + "]";
   return {};
 }
 
@@ -220,16 +199,16 @@ std::vector<double> SkinStackTable::node(std::size_t i_t, std::size_t i_e, std::
 }
 
 std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) const {
-  const Stencil st = stencil(mapped(tau, log_of), std::log(t));
-  const Stencil se = stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
-  const Stencil sd = stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
+  const Lagrange4Stencil st = lagrange4_stencil(mapped(tau, log_of), std::log(t));
+  const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
+  const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
   const std::size_t n_x = x.size();
   std::vector<double> out(n_x, 0.0);
   for (std::size_t i = 0; i < 4; ++i)
     for (std::size_t j = 0; j < 4; ++j)
       for (std::size_t l = 0; l < 4; ++l) {
-        const double w = st.w[i] * se.w[j] * sd.w[l];
-        const std::size_t k = ((st.i0 + i) * a_e.size() + se.i0 + j) * a_d.size() + sd.i0 + l;
+        const double w = st.weights[i] * se.weights[j] * sd.weights[l];
+        const std::size_t k = ((st.first + i) * a_e.size() + se.first + j) * a_d.size() + sd.first + l;
         const double* v = ln_rho.data() + k * n_x;
         for (std::size_t m = 0; m < n_x; ++m) out[m] += w * v[m];
       }
@@ -281,14 +260,9 @@ double SkinStackProfile::operator()(double r) const {
   const double u = (lx - ln_x_.front()) / h_;
   const std::size_t i = std::min(static_cast<std::size_t>(u), n - 2);
   const std::size_t i0 = std::min(i > 0 ? i - 1 : 0, n - 4);
-  const double t = u - static_cast<double>(i0);
+  const std::array<double, 4> w = lagrange4_weights(u - static_cast<double>(i0));
   double v = 0;
-  for (std::size_t a = 0; a < 4; ++a) {
-    double w = 1;
-    for (std::size_t b = 0; b < 4; ++b)
-      if (b != a) w *= (t - static_cast<double>(b)) / (static_cast<double>(a) - static_cast<double>(b));
-    v += w * ln_rho_[i0 + a];
-  }
+  for (std::size_t a = 0; a < 4; ++a) v += w[a] * ln_rho_[i0 + a];
   return v < cutoff_ ? 0.0 : scale_ * std::exp(v);
 }
 

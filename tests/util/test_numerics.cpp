@@ -38,6 +38,29 @@ TEST(Lagrange4, ReproducesCubicsButNotQuartics) {
   EXPECT_EQ(at_node[0], 0.0);
 }
 
+TEST(Lagrange4, UnevenNodesReproduceCubicsAndMoveTheStencilInwardsAtTheEnds) {
+  auto cubic = [](double t) { return 0.7 - 1.3 * t + 0.4 * t * t - 0.25 * t * t * t; };
+  const std::vector<double> nodes = {0.1, 0.25, 0.7, 1.0, 1.9, 2.2, 3.5};
+  for (double v : {0.1, 0.2, 0.5, 0.99, 1.5, 2.2, 3.0, 3.5, 4.0}) {
+    const auto s = lagrange4_stencil(nodes, v);
+    double c = 0, sum = 0;
+    for (std::size_t a = 0; a < 4; ++a) {
+      c += s.weights[a] * cubic(nodes[s.first + a]);
+      sum += s.weights[a];
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-12) << v;
+    EXPECT_NEAR(c, cubic(v), 1e-11) << v;
+    EXPECT_LE(s.first + 4, nodes.size());
+    // Centred: v lies in the stencil's middle interval unless that would leave the nodes.
+    if (v > nodes[1] && v < nodes[nodes.size() - 2]) {
+      EXPECT_LE(nodes[s.first + 1], v) << v;
+      EXPECT_LT(v, nodes[s.first + 2]) << v;
+    }
+  }
+  EXPECT_EQ(lagrange4_stencil(nodes, 0.0).first, 0u);
+  EXPECT_EQ(lagrange4_stencil(nodes, 9.0).first, nodes.size() - 4);
+}
+
 TEST(CatmullRom, InterpolatesNodesAndReproducesQuadraticsButNotCubics) {
   auto quad = [](double t) { return 2.0 - 0.5 * t + 0.75 * t * t; };
   auto cubic = [](double t) { return t * t * t; };

@@ -22,6 +22,27 @@ inline std::array<double, 4> lagrange4_weights(double t) {
   return w;
 }
 
+// 4-point Lagrange interpolation among increasing, not necessarily even nodes (at least four):
+// f(v) ~ sum_a weights[a] f(nodes[first + a]), the stencil centred on v's interval and moved
+// inwards at the ends (extrapolating beyond them). Exact for cubics in the node coordinate.
+struct Lagrange4Stencil {
+  std::size_t first = 0;
+  std::array<double, 4> weights{};
+};
+inline Lagrange4Stencil lagrange4_stencil(const std::vector<double>& nodes, double v) {
+  const std::size_t n = nodes.size();
+  const auto above = static_cast<std::size_t>(std::upper_bound(nodes.begin(), nodes.end(), v) - nodes.begin());
+  const std::size_t i = above == 0 ? 0 : above - 1;  // nodes[i] <= v < nodes[i + 1]
+  Lagrange4Stencil s;
+  s.first = std::min(i > 0 ? i - 1 : 0, n - 4);
+  for (std::size_t a = 0; a < 4; ++a) {
+    s.weights[a] = 1;
+    for (std::size_t b = 0; b < 4; ++b)
+      if (b != a) s.weights[a] *= (v - nodes[s.first + b]) / (nodes[s.first + a] - nodes[s.first + b]);
+  }
+  return s;
+}
+
 // Catmull-Rom spline between p1 (t = 0) and p2 (t = 1), with neighbours p0 (t = -1) and p3
 // (t = 2): the cubic Hermite interpolant with central-difference tangents (C1 across nodes;
 // exact for quadratics, whose central differences are their derivatives; Catmull & Rom 1974).
