@@ -1,6 +1,7 @@
 #pragma once
 // Runs `skin` as a child process in a directory, with stdout and stderr captured in files,
-// optional resource limits, and a signal sent after a delay; reports how it ended.
+// optional resource limits, and a signal sent after a delay (or once stderr shows a given text);
+// reports how it ended.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/resource.h>
@@ -51,6 +52,7 @@ struct Spawn {
   long file_size_limit = -1;    // RLIMIT_FSIZE in bytes (-1: none); SIGXFSZ is ignored
   int send_signal = 0;          // sent after `delay` (0: none)
   double delay = 0;             // seconds
+  std::string signal_when;      // if set, the signal waits (after `delay`) until stderr holds this text
   double timeout = 120;         // killed (SIGKILL) after this many seconds; a failure
   std::vector<std::string> prefix;  // run through another program first (taskset ...)
 };
@@ -88,7 +90,8 @@ inline Exit run_skin(const Spawn& s) {
     const pid_t r = ::waitpid(pid, &status, WNOHANG);
     if (r == pid) break;
     const double t = std::chrono::duration<double>(Clock::now() - start).count();
-    if (s.send_signal && !sent && t >= s.delay) {
+    if (s.send_signal && !sent && t >= s.delay &&
+        (s.signal_when.empty() || read_text(err).find(s.signal_when) != std::string::npos)) {
       ::kill(pid, s.send_signal);
       signalled = Clock::now();
       sent = true;
