@@ -118,6 +118,10 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   p = {};
   p.dermis_scattering_scale = 0.7;
   EXPECT_NE(t.gap(skin::skin_layer_stack(p, 550)).find("0.5 x the top"), std::string::npos);
+  // Another dermis scattering keeps the skin geometry of the transport top layer (fast), not the
+  // frequency-domain solve of any other stack.
+  EXPECT_EQ(t.geometry_gap(skin::skin_layer_stack(p, 550), true), "");
+  EXPECT_TRUE(skin::accurate::AccurateStack(skin::skin_layer_stack(p, 550)).transport_top());
   skin::LayerStack three = preset_stack("caucasian", 550);
   three.layers.push_back(three.layers.back());
   three.layers[1].thickness = 1.0;

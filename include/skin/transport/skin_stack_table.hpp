@@ -27,11 +27,13 @@
 namespace skin::accurate {
 
 struct SkinStackTable {
-  // A darker top layer is not covered. Between nodes, its interpolated far field is off (by 2-20 %
-  // at a_e = 0.7-1.2 where R is 1e-4-1e-5 of its value at 0.02 mm): there ln rho is no longer
-  // smooth in a_e at the node spacing, and FrequencyStack's own inversion noise (~1e-5 of the
-  // peak) is of the same size. Skin with such an epidermis (asian below ~600 nm, african) keeps
-  // the transport top layer (accurate.hpp).
+  // A darker top layer is not covered. Its far field (R below ~1e-4 of its value at 0.01 mm,
+  // beyond ~0.1 mm in african skin) is at FrequencyStack's own inversion noise, which depends on
+  // the scale and k0 of the solve (20-80 % at 1e-5 there): a table of such nodes, even at twice
+  // the a_e density, was 23-133 % off Monte Carlo at 0.11-0.16 mm in african skin at 450 nm,
+  // where the solver applied to the physical stack passes (docs/accurate-solver.md, sec. 9).
+  // Skin with such an epidermis (asian below ~650 nm, african) keeps the transport top layer
+  // (accurate.hpp).
   static constexpr double kMaxTopAbsorption = 0.4;
   double eta = 1.4, g = 0.9, dermis_ratio = 0.5;  // the geometry (air above)
   std::string provenance;
@@ -52,9 +54,10 @@ struct SkinStackTable {
   std::string gap(const LayerStack& stack) const;
   // Why a stack does not have the table's geometry whatever its index, g and absorption (empty
   // when it has: two layers under air, a finite top over a half-space of the same index and g,
-  // the lower sigma_s' dermis_ratio x the top's, tau inside the table's). The transport top
-  // layer is used for such stacks only (accurate.hpp): the geometry it was measured on.
-  std::string geometry_gap(const LayerStack& stack) const;
+  // the lower sigma_s' dermis_ratio x the top's unless any_lower_scattering, tau inside the
+  // table's). The transport top layer's finite layer is used for such stacks only, with any
+  // lower scattering (accurate.hpp): the skin geometry it was measured on.
+  std::string geometry_gap(const LayerStack& stack, bool any_lower_scattering = false) const;
   // ln rho at the x nodes of the stack (tau, a_e, a_d) (inside the node ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
   // The node's values (tests): ln rho at the x nodes.
