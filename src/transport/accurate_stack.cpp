@@ -79,7 +79,7 @@ TableChoice tables_for(const LayerStack& stack) {
   // against Monte Carlo. A dark top 0.4 transport mean free paths thick over a bright layer
   // (section 8, "dark over bright") is 44 % low at 0.15 mm there: the diffusion of the layer
   // below is seen through it within a transport mean free path of the beam.
-  if (std::string why = SkinStackTable::builtin().geometry_gap(stack, true); !why.empty()) {
+  if (std::string why = SkinStackTable::builtin().geometry_gap(stack); !why.empty()) {
     c = {};
     c.gap = "the transport tables' finite top layer is used over the skin geometry only (" + why + ")";
     return c;

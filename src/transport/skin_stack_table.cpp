@@ -171,7 +171,7 @@ const SkinStackTable& SkinStackTable::builtin() {
   return t;
 }
 
-std::string SkinStackTable::geometry_gap(const LayerStack& stack, bool any_lower_scattering) const {
+std::string SkinStackTable::geometry_gap(const LayerStack& stack) const {
   const auto& ls = stack.layers;
   if (ls.size() != 2) return "not two layers";
   const Layer &e = ls[0], &d = ls[1];
@@ -181,7 +181,7 @@ std::string SkinStackTable::geometry_gap(const LayerStack& stack, bool any_lower
   if (e.semi_infinite() || !d.semi_infinite()) return "not a finite layer over a half-space";
   const double s = e.sigma_s_prime;
   if (!(s > 0)) return "the top layer does not scatter";
-  if (!any_lower_scattering && !(std::abs(d.sigma_s_prime / s - dermis_ratio) <= 1e-9 * dermis_ratio))
+  if (!(std::abs(d.sigma_s_prime / s - dermis_ratio) <= 1e-9 * dermis_ratio))
     return "the lower layer's sigma_s' is not " + format_number(dermis_ratio) + " x the top layer's";
   const double t = s * e.thickness;
   if (!(t >= tau.front() && t <= tau.back()))

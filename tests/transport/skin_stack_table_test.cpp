@@ -60,11 +60,12 @@ TEST(SkinStackTable, NodesAreTheFrequencyDomainProfiles) {
 // at 0.02 mm, within 3 % above 1e-5 (measured over the presets the table covers at 400-700 nm
 // every 50 nm: up to 1.9 % above 1e-4, in tanned skin at 450 nm at 1.1 mm, and 2.3 % above 1e-5;
 // 0.6 % above 1e-5 in caucasian, pale and ear skin, 0.2 % at 650 nm; further out both are at
-// FrequencyStack's inversion noise). The four stacks checked here: 0.5 % and 2.3 %.
+// FrequencyStack's inversion noise; asian skin at 590-650 nm, a_e 0.4-0.56, within 0.9 % and
+// 0.8 %). The four stacks checked here: 0.5 % and 2.3 %.
 TEST(SkinStackTable, PresetProfilesMatchTheSolverBetweenNodes) {
   const skin::RadialGrid radii = skin::RadialGrid::logarithmic(0.02, 10.0, 80);
   for (const auto& [name, lambda] :
-       {std::pair{"caucasian", 650.0}, {"pale", 450.0}, {"tanned", 400.0}, {"asian", 700.0}}) {
+       {std::pair{"caucasian", 650.0}, {"pale", 450.0}, {"tanned", 400.0}, {"asian", 600.0}}) {
     const skin::LayerStack s = preset_stack(name, lambda);
     const skin::accurate::AccurateStack table(s);
     ASSERT_TRUE(table.skin_table()) << name;
@@ -106,8 +107,9 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
     for (double lambda = 400; lambda <= 700; lambda += 10)
       EXPECT_EQ(t.gap(preset_stack(name, lambda)), "") << name << ' ' << lambda;
   EXPECT_EQ(t.gap(preset_stack("asian", 700)), "");
+  EXPECT_EQ(t.gap(preset_stack("asian", 590)), "");  // sigma_a,e = 0.56 sigma_s'
   // A dark epidermis is not (kMaxTopAbsorption): the accurate model keeps its transport top layer.
-  EXPECT_NE(t.gap(preset_stack("african", 550)).find("above the skin table's validated 0.4"), std::string::npos);
+  EXPECT_NE(t.gap(preset_stack("african", 550)).find("above the skin table's validated 0.6"), std::string::npos);
   EXPECT_FALSE(skin::accurate::AccurateStack(preset_stack("african", 550)).skin_table());
   skin::SkinParameters p;
   p.g = 0.8;
@@ -118,10 +120,10 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   p = {};
   p.dermis_scattering_scale = 0.7;
   EXPECT_NE(t.gap(skin::skin_layer_stack(p, 550)).find("0.5 x the top"), std::string::npos);
-  // Another dermis scattering keeps the skin geometry of the transport top layer (fast), not the
-  // frequency-domain solve of any other stack.
-  EXPECT_EQ(t.geometry_gap(skin::skin_layer_stack(p, 550), true), "");
-  EXPECT_TRUE(skin::accurate::AccurateStack(skin::skin_layer_stack(p, 550)).transport_top());
+  // Another dermis scattering is not the geometry the transport top layer was measured on (with
+  // a dermis a quarter as scattering as the top, the validation report's dark-over-bright stack,
+  // it was 20 % high at 7 mm, 15 annuli beyond 5 % + 3 SE): the frequency-domain solver.
+  EXPECT_FALSE(skin::accurate::AccurateStack(skin::skin_layer_stack(p, 550)).transport_top());
   skin::LayerStack three = preset_stack("caucasian", 550);
   three.layers.push_back(three.layers.back());
   three.layers[1].thickness = 1.0;

@@ -166,7 +166,7 @@ class FrequencyStack final : public RadialResponse {
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
 // the profile integrates to it exactly. Three shapes (docs/accurate-solver.md, sec. 3, 8 and 9):
 // - the two-layer skin geometry inside the built-in SkinStackTable (skin_stack_table.hpp: the
-//   default g, index and dermis scattering, an epidermis with sigma_a up to 0.4 sigma_s', i.e.
+//   default g, index and dermis scattering, an epidermis with sigma_a up to 0.6 sigma_s', i.e.
 //   light skin): FrequencyStack's profile, tabulated over the stack's three reduced parameters
 //   and interpolated (read, not solved);
 // - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its

@@ -27,14 +27,16 @@
 namespace skin::accurate {
 
 struct SkinStackTable {
-  // A darker top layer is not covered. Its far field (R below ~1e-4 of its value at 0.01 mm,
-  // beyond ~0.1 mm in african skin) is at FrequencyStack's own inversion noise, which depends on
-  // the scale and k0 of the solve (20-80 % at 1e-5 there): a table of such nodes, even at twice
-  // the a_e density, was 23-133 % off Monte Carlo at 0.11-0.16 mm in african skin at 450 nm,
-  // where the solver applied to the physical stack passes (docs/accurate-solver.md, sec. 9).
-  // Skin with such an epidermis (asian below ~650 nm, african) keeps the transport top layer
-  // (accurate.hpp).
-  static constexpr double kMaxTopAbsorption = 0.4;
+  // A darker top layer is not covered. Against FrequencyStack on the presets' stacks (every 10
+  // nm) the table is within 1.1 % where R is above 1e-4 of its value at 0.02 mm and 2.8 % above
+  // 1e-5 up to a_e 0.59 (asian skin from 580 nm, where the transport top layer is 3-7 % and
+  // 6-15 % off), but 2-4.6 % and 3-6 % at a_e 0.62-0.78, no better than the transport top layer.
+  // Beyond, the far field (beyond ~0.1 mm in african skin) is at FrequencyStack's own inversion
+  // noise, which depends on the scale and k0 of the solve: a table with twice the a_e nodes
+  // there was 23-133 % off Monte Carlo at 0.11-0.16 mm in african skin at 450 nm, where the
+  // solver applied to the physical stack passes (docs/accurate-solver.md, sec. 9). Skin with a
+  // darker epidermis (asian below ~580 nm, african) keeps the transport top layer (accurate.hpp).
+  static constexpr double kMaxTopAbsorption = 0.6;
   double eta = 1.4, g = 0.9, dermis_ratio = 0.5;  // the geometry (air above)
   std::string provenance;
   std::vector<double> tau, a_e, a_d, x;  // nodes, increasing
@@ -54,10 +56,10 @@ struct SkinStackTable {
   std::string gap(const LayerStack& stack) const;
   // Why a stack does not have the table's geometry whatever its index, g and absorption (empty
   // when it has: two layers under air, a finite top over a half-space of the same index and g,
-  // the lower sigma_s' dermis_ratio x the top's unless any_lower_scattering, tau inside the
-  // table's). The transport top layer's finite layer is used for such stacks only, with any
-  // lower scattering (accurate.hpp): the skin geometry it was measured on.
-  std::string geometry_gap(const LayerStack& stack, bool any_lower_scattering = false) const;
+  // the lower sigma_s' dermis_ratio x the top's, tau inside the table's). The transport top
+  // layer's finite layer is used for such stacks only (accurate.hpp): the skin geometry it was
+  // measured on.
+  std::string geometry_gap(const LayerStack& stack) const;
   // ln rho at the x nodes of the stack (tau, a_e, a_d) (inside the node ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
   // The node's values (tests): ln rho at the x nodes.
