@@ -75,13 +75,24 @@ TableChoice tables_for(const LayerStack& stack) {
     return c;
   }
   if (l0.semi_infinite()) return c;  // a half-space is split (constructor)
-  // A finite top layer: only over the skin geometry, where the diffusion below it was measured
-  // against Monte Carlo. A dark top 0.4 transport mean free paths thick over a bright layer
-  // (section 8, "dark over bright") is 44 % low at 0.15 mm there: the diffusion of the layer
-  // below is seen through it within a transport mean free path of the beam.
-  if (std::string why = SkinStackTable::builtin().geometry_gap(stack); !why.empty()) {
+  // A finite top layer: only over a half-space (the skin geometry, any dermis scattering and
+  // thickness the tables cover, so that skin stays fast) and only when it is at least as thick
+  // as the skin table's thinnest epidermis, sigma_s' d = 0.59. A dark top 0.2 of that thick
+  // over a bright layer (section 8, "dark over bright") was 44 % low at 0.15 mm: the diffusion
+  // of the layer below is seen through it within a transport mean free path of the beam.
+  const auto& ls = stack.layers;
+  const double tau_min = SkinStackTable::builtin().tau.front();
+  std::string why;
+  if (ls.size() != 2 || !ls[1].semi_infinite())
+    why = "it is not over a single half-space";
+  else if (ls[1].eta != l0.eta || ls[1].g != l0.g)
+    why = "the half-space's index or g is not the top layer's";
+  else if (!(l0.sigma_s_prime * l0.thickness >= tau_min))
+    why = "its sigma_s' d = " + number(l0.sigma_s_prime * l0.thickness) + " is below " + number(tau_min);
+  if (!why.empty()) {
     c = {};
-    c.gap = "the transport tables' finite top layer is used over the skin geometry only (" + why + ")";
+    c.gap = "the transport tables' finite top layer is used over a half-space of the same medium's "
+            "index and g, at least " + number(tau_min) + " / sigma_s' thick, only (" + why + ")";
     return c;
   }
   const double sigma_t_prime = l0.sigma_a + l0.sigma_s_prime;

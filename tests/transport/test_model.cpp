@@ -92,16 +92,16 @@ TEST(ModelValidity, AccurateOutsideTablesForAnotherG) {
   EXPECT_TRUE(skin::skin_validity(p, grid, transport::find_model("multipole")).ok());
 }
 
-// Dark over bright and a thin dark top: not the skin geometry, so no table (the transport top
-// layer's finite layer is used over that geometry only), and no complaint.
+// Dark over bright and a thin dark top: thinner than the skin table's thinnest epidermis, so no
+// table (the transport top layer's finite layer is not used there), and no complaint.
 TEST(ModelValidity, AccurateDarkOverBright) {
   EXPECT_TRUE(transport::find_model("accurate").validity(dark_over_bright()).ok());
-  EXPECT_NE(skin::accurate::transport_table_gap(dark_over_bright()).find("skin geometry only"),
+  EXPECT_NE(skin::accurate::transport_table_gap(dark_over_bright()).find("is below 0.593"),
             std::string::npos);
   const LayerStack thin = two_layers(Layer{5.0, 2.0, 0.02, 1.4, 0.9}, Layer{0.001, 10.0, kInfinity, 1.4, 0.9});
   EXPECT_TRUE(transport::find_model("accurate").validity(thin).ok());
-  EXPECT_NE(skin::accurate::transport_table_gap(thin).find("skin geometry only"), std::string::npos);
-  // The skin geometry (lower sigma_s' half the top's, sigma_s' d = 1) with a top darker than the
+  EXPECT_NE(skin::accurate::transport_table_gap(thin).find("is below 0.593"), std::string::npos);
+  // A half-space under a top with sigma_s' d = 1 and darker than the
   // tables' darkest albedo, and the stack of section 8's "dark over bright" (sigma_s' d = 0.2,
   // thinner than the skin table's 0.59): no table either.
   const LayerStack dark_skin = two_layers(Layer{50.0, 2.0, 0.5, 1.4, 0.9}, Layer{0.001, 1.0, kInfinity, 1.4, 0.9});

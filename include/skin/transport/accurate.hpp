@@ -170,12 +170,13 @@ class FrequencyStack final : public RadialResponse {
 //   light skin): FrequencyStack's profile, tabulated over the stack's three reduced parameters
 //   and interpolated (read, not solved);
 // - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its
-//   index and the index above it are the table's, and it is either the finite top of the skin
-//   geometry, SkinStackTable::geometry_gap, with a reduced optical thickness in the table's range
-//   (skin with a darker epidermis than the skin table's, or another g), or a half-space, which
-//   is split at the table's thickest layer over the same medium by diffusion; other finite tops
-//   are not: over a bright layer seen through a thin dark top, the diffusion below it is 44 %
-//   off near the beam): R(r) = c_top R_e(r) + inverse transform of
+//   index and the index above it are the table's, and it is either a finite layer over a
+//   half-space of its own index and g, at least 0.59 / sigma_s' thick (the skin table's thinnest
+//   epidermis; skin with a darker epidermis than the skin table's, another g or dermis
+//   scattering) and with a reduced optical thickness in the table's range, or a half-space,
+//   which is split at the table's thickest layer over the same medium by diffusion; not a
+//   thinner top: over a bright layer seen through a thin dark top, the diffusion below it is
+//   44 % off near the beam): R(r) = c_top R_e(r) + inverse transform of
 //   c_deep T_down(k) R_below(k) T_up(k) / (1 - R_up(k) R_below(k)), where R_e, T_down, T_up and
 //   R_up are the top layer's Monte Carlo transport (R_e in space, the others in the frequency
 //   domain), R_below is the multipole of the layers below it (diffusion, accurate there: they

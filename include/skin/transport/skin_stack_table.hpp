@@ -56,9 +56,7 @@ struct SkinStackTable {
   std::string gap(const LayerStack& stack) const;
   // Why a stack does not have the table's geometry whatever its index, g and absorption (empty
   // when it has: two layers under air, a finite top over a half-space of the same index and g,
-  // the lower sigma_s' dermis_ratio x the top's, tau inside the table's). The transport top
-  // layer's finite layer is used for such stacks only (accurate.hpp): the skin geometry it was
-  // measured on.
+  // the lower sigma_s' dermis_ratio x the top's, tau inside the table's).
   std::string geometry_gap(const LayerStack& stack) const;
   // ln rho at the x nodes of the stack (tau, a_e, a_d) (inside the node ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
