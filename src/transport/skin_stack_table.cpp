@@ -171,31 +171,20 @@ const SkinStackTable& SkinStackTable::builtin() {
   return t;
 }
 
-std::string SkinStackTable::geometry_gap(const LayerStack& stack) const {
+std::string SkinStackTable::gap(const LayerStack& stack) const {
   const auto& ls = stack.layers;
   if (ls.size() != 2) return "not two layers";
   const Layer &e = ls[0], &d = ls[1];
   if (stack.eta_above != 1.0) return "the medium above is not air";
-  if (e.eta != d.eta) return "the two layers' indices differ";
-  if (e.g != d.g) return "the two layers' g differ";
+  if (e.eta != eta || d.eta != eta) return "index is not the skin table's " + format_number(eta);
+  if (e.g != g || d.g != g) return "g is not the skin table's " + format_number(g);
   if (e.semi_infinite() || !d.semi_infinite()) return "not a finite layer over a half-space";
   const double s = e.sigma_s_prime;
-  if (!(s > 0)) return "the top layer does not scatter";
-  if (!(std::abs(d.sigma_s_prime / s - dermis_ratio) <= 1e-9 * dermis_ratio))
+  if (!(s > 0) || !(std::abs(d.sigma_s_prime / s - dermis_ratio) <= 1e-9 * dermis_ratio))
     return "the lower layer's sigma_s' is not " + format_number(dermis_ratio) + " x the top layer's";
-  const double t = s * e.thickness;
-  if (!(t >= tau.front() && t <= tau.back()))
-    return "sigma_s' d = " + format_number(t) + " is outside the skin table's [" + format_number(tau.front()) + ", " + format_number(tau.back()) + "]";
-  return {};
-}
-
-std::string SkinStackTable::gap(const LayerStack& stack) const {
-  if (std::string why = geometry_gap(stack); !why.empty()) return why;
-  const Layer &e = stack.layers[0], &d = stack.layers[1];
-  if (e.eta != eta) return "index is not the skin table's " + format_number(eta);
-  if (e.g != g) return "g is not the skin table's " + format_number(g);
   auto inside = [](const std::vector<double>& v, double t) { return t >= v.front() && t <= v.back(); };
-  const double s = e.sigma_s_prime, ae = e.sigma_a / s, ad = d.sigma_a / s;
+  const double t = s * e.thickness, ae = e.sigma_a / s, ad = d.sigma_a / s;
+  if (!inside(tau, t)) return "sigma_s' d = " + format_number(t) + " is outside the skin table's [" + format_number(tau.front()) + ", " + format_number(tau.back()) + "]";
   if (ae > kMaxTopAbsorption)
     return "top sigma_a / sigma_s' = " + format_number(ae) + " is above the skin table's validated " + format_number(kMaxTopAbsorption);
   if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + format_number(ae) + " is outside the skin table's [" + format_number(a_e.front()) + ", " + format_number(a_e.back()) + "]";

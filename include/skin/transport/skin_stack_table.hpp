@@ -54,10 +54,6 @@ struct SkinStackTable {
 
   // Why a stack is not in the table (empty when it is).
   std::string gap(const LayerStack& stack) const;
-  // Why a stack does not have the table's geometry whatever its index, g and absorption (empty
-  // when it has: two layers under air, a finite top over a half-space of the same index and g,
-  // the lower sigma_s' dermis_ratio x the top's, tau inside the table's).
-  std::string geometry_gap(const LayerStack& stack) const;
   // ln rho at the x nodes of the stack (tau, a_e, a_d) (inside the node ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
   // The node's values (tests): ln rho at the x nodes.
