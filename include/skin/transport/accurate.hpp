@@ -105,8 +105,10 @@ std::vector<double> frequency_response(const LayerStack& stack, const std::vecto
 // scaled extinction of the stack's layers or inverse layer thickness). The singular part is the light scattered once in
 // every layer, exactly (Henyey-Greenstein phase function, Fresnel transmission at every
 // interface on the way up), in space (the top layer's 1/r near the beam; evaluated at r >= 1e-6 /
-// sigma_t of the top layer); the remainder is R(k) minus the solver's own single scattering (delta-M, discrete), interpolated between the nodes (4-point
-// Lagrange in u = asinh(k / k0)), zero beyond k_hi (its 1/k^2 tail is a K0 pair), and scaled so
+// sigma_t of the top layer); the remainder is R(k) minus the solver's own single scattering (delta-M, discrete), interpolated between the nodes
+// (6-point Lagrange in u = asinh(k / k0), so that its error does not echo in the far field), zero
+// beyond k_hi (its tail, ~1/k^2, is the pair A (k^2 + b^2)^-q <-> a K_(q-1), matching the rest's
+// value and slope at k_hi, so that the remainder ends smoothly instead of ringing), and scaled so
 // that the profile integrates to adding_doubling()'s R_d. Light that comes back along the beam
 // unscattered (reflected by a slab's bottom or an index step) is a delta at r = 0, drawn as a
 // Gaussian of the fixed width kBallisticWidth (2 um; docs/accurate-solver.md, sec. 8).
@@ -159,7 +161,10 @@ class FrequencyStack final : public RadialResponse {
   double climb(std::size_t l, double s, double mu) const;
   double deep_single_scattering(std::size_t l, double r) const;
   double deep_single_scattering_total(std::size_t l) const;
-  double A_ = 0, b_ = 1;  // the rest's 1 / k^2 tail: A / (k^2 + b^2)
+  // The rest's tail beyond k_hi: A (k^2 + b^2)^-q, in space tail(r).
+  double A_ = 0, b_ = 1, q_ = 1, tail_norm_ = 0;
+  static constexpr double kTailExponentMin = 0.25, kTailExponentMax = 2.4;
+  double tail(double r) const;
   double B_ = 0;  // light back along the beam unscattered (a Gaussian of width kBallisticWidth)
 };
 

@@ -8,7 +8,8 @@
 // dermis: reduced scattering dermis_ratio x s, absorption sigma_a,d). In units of 1 / s the stack
 // has three parameters, tau = s d, a_e = sigma_a,e / s and a_d = sigma_a,d / s, and its profile is
 // R(r) = s^2 rho(x), x = r s. Each node holds ln rho at the x nodes, computed by FrequencyStack
-// (floored at 1e-13 of the node's peak, below which the frequency-domain inversion is noise).
+// (floored at 1e-13 of the node's peak; in a dark epidermis the inversion is noise below ~1e-8
+// of rho(0.01), which the table keeps at that level).
 // Interpolation: 4-point Lagrange in ln tau, sqrt a_e and sqrt a_d (sqrt: where a layer is dark
 // ln rho falls linearly in a, where it is bright the diffusion far field falls linearly in
 // sqrt a) and cubic in ln x; below the first x node rho continues as the power of x of the first
