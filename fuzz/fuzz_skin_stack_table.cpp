@@ -19,7 +19,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (again.to_csv() != csv) fuzz::finding("the re-written table reads differently");
   // A stack in the middle of the table's ranges (s = 5 /mm), with its own geometry.
   const double s = 5.0, tau = std::sqrt(table.tau.front() * table.tau.back());
-  const double a_e = std::min(std::sqrt(table.a_e.front() * table.a_e.back()), SkinStackTable::kMaxTopAbsorption);
+  const double a_e = std::sqrt(table.a_e.front() * table.a_e.back());
   const double a_d = std::sqrt(table.a_d.front() * table.a_d.back());
   skin::LayerStack stack;
   stack.layers = {skin::Layer{a_e * s, s, tau / s, table.eta, table.g},

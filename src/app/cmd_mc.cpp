@@ -332,7 +332,7 @@ void register_skin_table_command(CLI::App& app) {
       "tabulate-skin-profiles",
       "Tabulate the frequency-domain (sfd) radial profiles of the two-layer skin geometry over its "
       "reduced parameters: the data file data/skin_stack_profiles.csv that the accurate solver "
-      "reads for skin (about 8 min on 2 cores)");
+      "reads for skin (about 19 min on 2 cores)");
   sub->add_option("-o,--output", o->out, "Output CSV file (written atomically)")->required();
   sub->callback([o] {
     accurate::SkinStackTable table = accurate::SkinStackTable::default_nodes();

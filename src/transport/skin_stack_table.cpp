@@ -30,6 +30,8 @@ std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
 }
 double log_of(double v) { return std::log(v); }
 double sqrt_of(double v) { return std::sqrt(v); }
+// ln(e^a + e^b)
+double log_sum(double a, double b) { return std::max(a, b) + std::log1p(std::exp(-std::abs(a - b))); }
 
 }  // namespace
 
@@ -40,28 +42,48 @@ SkinStackTable SkinStackTable::default_nodes() {
   std::vector<double> a;
   for (int k = 0; k <= 8; ++k) a.push_back(0.004 * std::pow(10.0, k / 4.0));
   const double u0 = std::sqrt(a.back());
+  t.a_e = a;
   for (int j = 1; j <= 8; ++j) a.push_back(std::pow(u0 + 0.25 * j, 2));
   for (int j = 1; j <= 2; ++j) a.push_back(std::pow(u0 + 2.0 + 0.5 * j, 2));
   t.a_d = a;
-  // The top layer up to the last node that the interpolation uses below kMaxTopAbsorption.
-  t.a_e.assign(a.begin(), a.begin() + 11);
+  // The top layer twice as dense beyond 0.4 (0.125 apart in sqrt a, up to 6.93: every preset at
+  // 380-780 nm): a dark epidermis' far field is a sum of paths whose attenuation differs by
+  // several e-folds between nodes 0.25 apart (90 % off midway at a_e 0.57 with those).
+  for (int j = 1; j <= 16; ++j) t.a_e.push_back(std::pow(u0 + 0.125 * j, 2));
   for (int i = 0; i <= 90; ++i) t.x.push_back(1e-3 * std::pow(10.0, i / 16.0));
   return t;
 }
 
-std::vector<double> SkinStackTable::solve_node(double tau_v, double a_e_v, double a_d_v) const {
+namespace {
+// rho at the x nodes of the table's geometry with this lower layer (FrequencyStack; in units of
+// s: k0 = 0.3 / 15, the resolution FrequencyStack has on the most scattering skin, 5 % at 10 mm
+// otherwise: its nodes are fixed in rad/mm, so in units of s = 1 /mm they would be those of a
+// stack with s = 1 /mm, and the skin's s is 4-15 /mm).
+std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, const Layer& below) {
   LayerStack st;
   st.eta_above = 1.0;
-  st.layers.push_back({a_e_v, 1.0, tau_v, eta, g});
-  st.layers.push_back({a_d_v, dermis_ratio, kInfinity, eta, g});
-  // FrequencyStack's nodes are fixed in rad/mm (k0 = 0.3), so in units of s their resolution
-  // would be that of a stack with s = 1 /mm; the skin's s is 4-15 /mm. k0 = 0.3 / 15 gives every
-  // node the resolution FrequencyStack has on the most scattering skin (5 % at 10 mm otherwise).
+  st.layers.push_back({a_e_v, 1.0, tau_v, t.eta, t.g});
+  st.layers.push_back(below);
   FrequencyProfileOptions o;
   o.k0 = 0.3 / 15.0;
   const FrequencyStack f(st, o);
-  ProfileSolver solver(RadialGrid::from(x));
-  std::vector<double> R = solver.profile(f);
+  ProfileSolver solver(RadialGrid::from(t.x));
+  return solver.profile(f);
+}
+// The top layer over an index-matched absorber (sigma_a = 1, sigma_s' = 1e-9 in units of s: no
+// light comes back from below).
+Layer absorber(const SkinStackTable& t) { return {1.0, 1e-9, kInfinity, t.eta, t.g}; }
+}  // namespace
+
+std::vector<double> SkinStackTable::solve_node(double tau_v, double a_e_v, double a_d_v) const {
+  std::vector<double> R = solve(*this, tau_v, a_e_v, {a_d_v, dermis_ratio, kInfinity, eta, g});
+  const double peak = *std::max_element(R.begin(), R.end());
+  for (double& v : R) v = std::log(std::max(v, kFloor * peak));
+  return R;
+}
+
+std::vector<double> SkinStackTable::solve_top(double tau_v, double a_e_v) const {
+  std::vector<double> R = solve(*this, tau_v, a_e_v, absorber(*this));
   const double peak = *std::max_element(R.begin(), R.end());
   for (double& v : R) v = std::log(std::max(v, kFloor * peak));
   return R;
@@ -69,19 +91,35 @@ std::vector<double> SkinStackTable::solve_node(double tau_v, double a_e_v, doubl
 
 void SkinStackTable::compute(const ProgressCallback& progress) {
   const std::size_t n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
-  const std::size_t total = tau.size() * n_e * n_d;
-  ln_rho.assign(total * n_x, 0.0);
+  const std::size_t total = tau.size() * n_e * (n_d + 1);
+  ln_rho.assign(tau.size() * n_e * n_d * n_x, 0.0);
+  ln_rho_top.assign(tau.size() * n_e * n_x, 0.0);
   std::mutex m;
   std::size_t done = 0;
-  tbb::parallel_for(std::size_t{0}, total, [&](std::size_t k) {
+  auto tick = [&] {
+    if (!progress) return;
+    const std::lock_guard<std::mutex> lock(m);
+    progress(++done, total);
+  };
+  // The top layers first (each lower-layer node subtracts its top layer's profile).
+  std::vector<std::vector<double>> top(tau.size() * n_e);
+  tbb::parallel_for(std::size_t{0}, tau.size() * n_e, [&](std::size_t k) {
     if (cancel::requested()) return;  // thrown below
+    top[k] = solve(*this, tau[k / n_e], a_e[k % n_e], absorber(*this));
+    const double peak = *std::max_element(top[k].begin(), top[k].end());
+    for (std::size_t i = 0; i < n_x; ++i) ln_rho_top[k * n_x + i] = std::log(std::max(top[k][i], kFloor * peak));
+    tick();
+  });
+  cancel::check();
+  tbb::parallel_for(std::size_t{0}, tau.size() * n_e * n_d, [&](std::size_t k) {
+    if (cancel::requested()) return;
     const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
-    const std::vector<double> v = solve_node(tau[i_t], a_e[i_e], a_d[i_d]);
-    std::copy(v.begin(), v.end(), ln_rho.begin() + static_cast<std::ptrdiff_t>(k * n_x));
-    if (progress) {
-      const std::lock_guard<std::mutex> lock(m);
-      progress(++done, total);
-    }
+    const std::vector<double> R = solve(*this, tau[i_t], a_e[i_e], {a_d[i_d], dermis_ratio, kInfinity, eta, g});
+    const std::vector<double>& T = top[i_t * n_e + i_e];
+    const double peak = *std::max_element(R.begin(), R.end());
+    for (std::size_t i = 0; i < n_x; ++i)
+      ln_rho[k * n_x + i] = std::log(std::max(R[i] - T[i], kFloor * peak));
+    tick();
   });
   cancel::check();
 }
@@ -96,22 +134,26 @@ std::string SkinStackTable::to_csv() const {
   os << "# eta: " << eta << "\n# g: " << g << "\n# dermis_ratio: " << dermis_ratio << '\n';
   os << "# tau: " << format_number_list(tau) << "\n# a_e: " << format_number_list(a_e)
      << "\n# a_d: " << format_number_list(a_d) << "\n# x: " << format_number_list(x) << '\n';
+  os << "# Per (tau, a_e) first the top layer over an absorber (a_d = inf: the light that never\n"
+        "# reaches the lower layer), then per a_d the light that reached it: ln(rho - rho_top).\n";
   os << "tau,a_e,a_d";
   for (std::size_t i = 0; i < x.size(); ++i) os << ",ln_rho_" << i;
   os << '\n';
   char buf[32];
-  std::size_t k = 0;
+  auto row = [&](double t, double e, const char* d, const double* v) {
+    os << format_number_list({t, e}) << ',' << d;
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      std::snprintf(buf, sizeof buf, ",%.4f", v[i]);
+      os << buf;
+    }
+    os << '\n';
+  };
+  std::size_t k = 0, k_top = 0;
   for (double t : tau)
-    for (double e : a_e)
-      for (double d : a_d) {
-        os << format_number_list({t, e, d});
-        for (std::size_t i = 0; i < x.size(); ++i) {
-          std::snprintf(buf, sizeof buf, ",%.4f", ln_rho[k * x.size() + i]);
-          os << buf;
-        }
-        os << '\n';
-        ++k;
-      }
+    for (double e : a_e) {
+      row(t, e, "inf", ln_rho_top.data() + k_top++ * x.size());
+      for (double d : a_d) row(t, e, format_number(d).c_str(), ln_rho.data() + k++ * x.size());
+    }
   return os.str();
 }
 
@@ -139,28 +181,36 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
     if (t.x.size() % 2 == 0 || !(std::abs(std::log(t.x[i] / t.x[i - 1]) / h - 1) <= 1e-5))
       throw InputError(src + ": 'x' must be an odd number of nodes evenly spaced in ln x");
   const Table data = parse_csv(text, src);
-  const std::size_t n_x = t.x.size(), rows = t.tau.size() * t.a_e.size() * t.a_d.size();
+  const std::size_t n_x = t.x.size(), n_d = t.a_d.size();
+  const std::size_t rows = t.tau.size() * t.a_e.size() * (n_d + 1);
   if (data.columns.size() != 3 + n_x)
     throw InputError(src + ": expected " + std::to_string(3 + n_x) + " columns, found " +
                      std::to_string(data.columns.size()));
   if (data.rows() != rows)
-    throw InputError(src + ": expected " + std::to_string(rows) + " rows (tau x a_e x a_d), found " +
+    throw InputError(src + ": expected " + std::to_string(rows) +
+                     " rows (tau x a_e x (the top layer alone and each a_d)), found " +
                      std::to_string(data.rows()));
-  t.ln_rho.resize(rows * n_x);
+  t.ln_rho.resize(t.tau.size() * t.a_e.size() * n_d * n_x);
+  t.ln_rho_top.resize(t.tau.size() * t.a_e.size() * n_x);
   for (std::size_t r = 0; r < rows; ++r) {
-    const std::size_t i_d = r % t.a_d.size(), i_e = (r / t.a_d.size()) % t.a_e.size(),
-                      i_t = r / (t.a_d.size() * t.a_e.size());
-    const double want[3] = {t.tau[i_t], t.a_e[i_e], t.a_d[i_d]};
-    for (int c = 0; c < 3; ++c)
-      if (!(std::abs(data.data[static_cast<std::size_t>(c)][r] / want[c] - 1) <= 1e-6))
+    const std::size_t j = r % (n_d + 1), i_e = (r / (n_d + 1)) % t.a_e.size(),
+                      i_t = r / ((n_d + 1) * t.a_e.size());
+    const double want[3] = {t.tau[i_t], t.a_e[i_e], j == 0 ? kInfinity : t.a_d[j - 1]};
+    for (int c = 0; c < 3; ++c) {
+      const double v = data.data[static_cast<std::size_t>(c)][r];
+      if (!(j == 0 && c == 2 ? v == kInfinity : std::abs(v / want[c] - 1) <= 1e-6))
         throw InputError(src + ": row " + std::to_string(r + 1) + " is not node (tau, a_e, a_d) = (" +
-                         format_number(want[0]) + ", " + format_number(want[1]) + ", " + format_number(want[2]) + ")");
+                         format_number(want[0]) + ", " + format_number(want[1]) + ", " +
+                         (j == 0 ? std::string("inf") : format_number(want[2])) + ")");
+    }
+    double* out = j == 0 ? t.ln_rho_top.data() + (i_t * t.a_e.size() + i_e) * n_x
+                         : t.ln_rho.data() + ((i_t * t.a_e.size() + i_e) * n_d + j - 1) * n_x;
     for (std::size_t i = 0; i < n_x; ++i) {
       const double v = data.data[3 + i][r];
       if (!std::isfinite(v))
         throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[3 + i] +
                          " is not a finite number");
-      t.ln_rho[r * n_x + i] = v;
+      out[i] = v;
     }
   }
   return t;
@@ -185,34 +235,42 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
   auto inside = [](const std::vector<double>& v, double t) { return t >= v.front() && t <= v.back(); };
   const double t = s * e.thickness, ae = e.sigma_a / s, ad = d.sigma_a / s;
   if (!inside(tau, t)) return "sigma_s' d = " + format_number(t) + " is outside the skin table's [" + format_number(tau.front()) + ", " + format_number(tau.back()) + "]";
-  if (ae > kMaxTopAbsorption)
-    return "top sigma_a / sigma_s' = " + format_number(ae) + " is above the skin table's validated " + format_number(kMaxTopAbsorption);
   if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + format_number(ae) + " is outside the skin table's [" + format_number(a_e.front()) + ", " + format_number(a_e.back()) + "]";
   if (!inside(a_d, ad)) return "lower sigma_a / top sigma_s' = " + format_number(ad) + " is outside the skin table's [" + format_number(a_d.front()) + ", " + format_number(a_d.back()) + "]";
   return {};
 }
 
 std::vector<double> SkinStackTable::node(std::size_t i_t, std::size_t i_e, std::size_t i_d) const {
-  const std::size_t k = (i_t * a_e.size() + i_e) * a_d.size() + i_d;
-  return {ln_rho.begin() + static_cast<std::ptrdiff_t>(k * x.size()),
-          ln_rho.begin() + static_cast<std::ptrdiff_t>((k + 1) * x.size())};
+  const std::size_t k = (i_t * a_e.size() + i_e) * a_d.size() + i_d, n_x = x.size();
+  const double* top = ln_rho_top.data() + (i_t * a_e.size() + i_e) * n_x;
+  std::vector<double> out(n_x);
+  for (std::size_t m = 0; m < n_x; ++m) out[m] = log_sum(top[m], ln_rho[k * n_x + m]);
+  return out;
 }
 
 std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) const {
-  const Lagrange4Stencil st = lagrange4_stencil(mapped(tau, log_of), std::log(t));
+  // The top layer alone in ln tau (as a power of its thickness near the beam); the light from
+  // below in tau (it crosses the top layer twice: ln rho falls linearly in tau).
+  const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
+  const Lagrange4Stencil st = lagrange4_stencil(tau, t);
   const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
   const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
   const std::size_t n_x = x.size();
-  std::vector<double> out(n_x, 0.0);
+  std::vector<double> top(n_x, 0.0), below(n_x, 0.0);
   for (std::size_t i = 0; i < 4; ++i)
-    for (std::size_t j = 0; j < 4; ++j)
+    for (std::size_t j = 0; j < 4; ++j) {
+      const double w = st_top.weights[i] * se.weights[j];
+      const double* v = ln_rho_top.data() + ((st_top.first + i) * a_e.size() + se.first + j) * n_x;
+      for (std::size_t m = 0; m < n_x; ++m) top[m] += w * v[m];
       for (std::size_t l = 0; l < 4; ++l) {
-        const double w = st.weights[i] * se.weights[j] * sd.weights[l];
+        const double wb = st.weights[i] * se.weights[j] * sd.weights[l];
         const std::size_t k = ((st.first + i) * a_e.size() + se.first + j) * a_d.size() + sd.first + l;
-        const double* v = ln_rho.data() + k * n_x;
-        for (std::size_t m = 0; m < n_x; ++m) out[m] += w * v[m];
+        const double* b = ln_rho.data() + k * n_x;
+        for (std::size_t m = 0; m < n_x; ++m) below[m] += wb * b[m];
       }
-  return out;
+    }
+  for (std::size_t m = 0; m < n_x; ++m) top[m] = log_sum(top[m], below[m]);
+  return top;
 }
 
 SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d)

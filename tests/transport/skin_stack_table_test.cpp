@@ -33,25 +33,34 @@ TEST(SkinStackTable, BuiltinHasTheDefaultNodesAndGeometry) {
     for (std::size_t i = 0; i < a->size(); ++i) EXPECT_NEAR((*a)[i] / (*b)[i], 1.0, 1e-6);
   }
   EXPECT_EQ(t.ln_rho.size(), t.tau.size() * t.a_e.size() * t.a_d.size() * t.x.size());
+  EXPECT_EQ(t.ln_rho_top.size(), t.tau.size() * t.a_e.size() * t.x.size());
 }
 
-// Two nodes solved again (a bright epidermis over a bright dermis, a dark one over a dark one):
-// the table holds them to its 4 decimals of ln rho wherever rho is above 1e-8 of its value at
-// x = 0.1 (further out the inversion's last digits are rounding noise, ~1e-3 in ln rho at 1e-10).
+// Three nodes solved again (a bright epidermis over a bright dermis, a darker one over a darker
+// one, african skin's epidermis): the table's two parts added hold them to 1.5e-4 in ln rho (each
+// part is stored to 4 decimals) wherever rho is above 1e-6 of its value at x = 0.1 (further out
+// the light from below is the difference of two solves near the inversion's noise: 0.1 in ln rho
+// at 5e-9 of the peak), and the top layer alone is its own solve.
 TEST(SkinStackTable, NodesAreTheFrequencyDomainProfiles) {
   const SkinStackTable& t = SkinStackTable::builtin();
   const auto i_01 = static_cast<std::size_t>(std::lower_bound(t.x.begin(), t.x.end(), 0.1) - t.x.begin());
-  for (const auto& [i, j, l] : {std::tuple{3u, 4u, 3u}, std::tuple{1u, 10u, 11u}}) {
+  for (const auto& [i, j, l] : {std::tuple{3u, 4u, 3u}, std::tuple{1u, 10u, 11u}, std::tuple{2u, 20u, 7u}}) {
     const std::vector<double> stored = t.node(i, j, l);
     const std::vector<double> solved = t.solve_node(t.tau[i], t.a_e[j], t.a_d[l]);
     ASSERT_EQ(stored.size(), solved.size());
     int compared = 0;
     for (std::size_t m = 0; m < solved.size(); ++m) {
-      if (solved[m] < solved[i_01] + std::log(1e-8)) continue;
-      EXPECT_NEAR(stored[m], solved[m], 6e-5) << "node " << i << ',' << j << ',' << l << " x = " << t.x[m];
+      if (solved[m] < solved[i_01] + std::log(1e-6)) continue;
+      EXPECT_NEAR(stored[m], solved[m], 1.5e-4) << "node " << i << ',' << j << ',' << l << " x = " << t.x[m];
       ++compared;
     }
     EXPECT_GT(compared, 30);
+    // The top layer alone (the first part of the node) is its own solve.
+    const std::vector<double> top = t.solve_top(t.tau[i], t.a_e[j]);
+    const std::size_t first = (i * t.a_e.size() + j) * t.x.size();
+    for (std::size_t m = 0; m < top.size(); ++m)
+      if (top[m] >= top[i_01] + std::log(1e-8))
+        EXPECT_NEAR(t.ln_rho_top[first + m], top[m], 6e-5) << "top " << i << ',' << j << " x = " << t.x[m];
   }
 }
 
@@ -103,14 +112,16 @@ TEST(SkinStackTable, ProfileIntegratesToTheTotal) {
 
 TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   const SkinStackTable& t = SkinStackTable::builtin();
-  for (const char* name : {"caucasian", "pale", "tanned", "ear"})
-    for (double lambda = 400; lambda <= 700; lambda += 10)
-      EXPECT_EQ(t.gap(preset_stack(name, lambda)), "") << name << ' ' << lambda;
-  EXPECT_EQ(t.gap(preset_stack("asian", 700)), "");
-  EXPECT_EQ(t.gap(preset_stack("asian", 590)), "");  // sigma_a,e = 0.56 sigma_s'
-  // A dark epidermis is not (kMaxTopAbsorption): the accurate model keeps its transport top layer.
-  EXPECT_NE(t.gap(preset_stack("african", 550)).find("above the skin table's validated 0.6"), std::string::npos);
-  EXPECT_FALSE(skin::accurate::AccurateStack(preset_stack("african", 550)).skin_table());
+  for (const auto& preset : skin::presets())
+    for (double lambda = 380; lambda <= 780; lambda += 10)
+      EXPECT_EQ(t.gap(preset_stack(preset.name.c_str(), lambda)), "") << preset.name << ' ' << lambda;
+  // An epidermis darker than the last node (6.93 sigma_s'): african skin with twice its melanin.
+  skin::SkinParameters dark = skin::find_preset("african").parameters;
+  dark.melanin = 1.0;
+  EXPECT_NE(t.gap(skin::skin_layer_stack(dark, 450)).find("is outside the skin table's [0.004, 6.9"),
+            std::string::npos)
+      << t.gap(skin::skin_layer_stack(dark, 450));
+  EXPECT_FALSE(skin::accurate::AccurateStack(skin::skin_layer_stack(dark, 450)).skin_table());
   skin::SkinParameters p;
   p.g = 0.8;
   EXPECT_NE(t.gap(skin::skin_layer_stack(p, 550)).find("g is not"), std::string::npos);
@@ -137,6 +148,7 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
   t.a_e = t.a_d = {0.01, 0.1, 1, 10};
   t.x = {0.1, 1, 10, 100, 1000};
   t.ln_rho.assign(4 * 4 * 4 * 5, -1.0);
+  t.ln_rho_top.assign(4 * 4 * 5, -2.0);
   const std::string good = t.to_csv();
   EXPECT_NO_THROW(SkinStackTable::parse(good, "t.csv"));
   auto refused = [](const std::string& text, const std::string& what) {
@@ -152,6 +164,12 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
   std::string bad = good;
   bad.replace(bad.find("\n1,0.01,0.01,"), 13, "\n1,0.02,0.01,");
   refused(bad, "is not node");
+  bad = good;
+  bad.replace(bad.find("\n1,0.01,inf,"), 12, "\n1,0.01,0.5,");  // the top layer's row
+  refused(bad, "is not node (tau, a_e, a_d) = (1, 0.01, inf)");
+  bad = good;
+  bad.replace(bad.rfind("\n"), 1, "\n4,10,inf,-1,-1,-1,-1,-1\n");  // a row too many
+  refused(bad, "rows (tau x a_e x (the top layer alone and each a_d))");
   bad = good;
   bad.replace(bad.rfind("-1.0000"), 7, "nan");
   refused(bad, "not a finite number");

@@ -10,12 +10,18 @@
 // R(r) = s^2 rho(x), x = r s. Each node holds ln rho at the x nodes, computed by FrequencyStack
 // (floored at 1e-13 of the node's peak; in a dark epidermis the inversion is noise below ~1e-8
 // of rho(0.01), which the table keeps at that level).
-// Interpolation: 4-point Lagrange in ln tau, sqrt a_e and sqrt a_d (sqrt: where a layer is dark
-// ln rho falls linearly in a, where it is bright the diffusion far field falls linearly in
-// sqrt a) and cubic in ln x; below the first x node rho continues as the power of x of the first
-// two nodes (single scattering's 1 / x) down to a tenth of it and is flat below; beyond the last
-// it falls exponentially in x; below 1e-12 of its peak it is 0. The interpolated shape is scaled
-// to integrate to the stack's adding-doubling R_d.
+// Two parts per node, each smooth in the parameters: the top layer alone over an absorber (no
+// light back from below), and the light that reached the lower layer (their sum has a knee where
+// the second takes over, which moves with tau; interpolating the sum was up to 11 % off the
+// solver in african and 5 % in asian skin above 1e-4 of the peak, the parts 3.7 % and 0.43 %).
+// Interpolation: 4-point Lagrange in ln tau (the top layer) or tau (the light from below, which
+// crosses the top layer twice: ln rho falls linearly in tau), sqrt a_e and sqrt a_d (sqrt: where
+// a layer is dark ln rho falls linearly in a, where it is bright the diffusion far field falls
+// linearly in sqrt a) and cubic in ln x; below the first x node rho continues as the power of x
+// of the first two nodes (single scattering's 1 / x) down to a tenth of it and is flat below;
+// beyond the last it falls exponentially in x; below 1e-12 of its peak it is 0. The interpolated
+// shape is scaled to integrate to the stack's adding-doubling R_d. Nodes: air over eta 1.4, g
+// 0.9, the dermis half as scattering; tau 0.59-4.5, a_e up to 6.93 (every preset at 380-780 nm).
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -28,19 +34,13 @@
 namespace skin::accurate {
 
 struct SkinStackTable {
-  // A darker top layer is not covered. Against FrequencyStack on the presets' stacks (every 10
-  // nm) the table is within 1.1 % where R is above 1e-4 of its value at 0.02 mm and 2.8 % above
-  // 1e-5 up to a_e 0.59 (asian skin from 580 nm, where the transport top layer is 3-7 % and
-  // 6-15 % off), but 2-4.6 % and 3-6 % at a_e 0.62-0.78, no better than the transport top layer.
-  // Beyond, the far field (beyond ~0.1 mm in african skin) is at FrequencyStack's own inversion
-  // noise, which depends on the scale and k0 of the solve: a table with twice the a_e nodes
-  // there was 23-133 % off Monte Carlo at 0.11-0.16 mm in african skin at 450 nm, where the
-  // solver applied to the physical stack passes (docs/accurate-solver.md, sec. 9). Skin with a
-  // darker epidermis (asian below ~580 nm, african) keeps the transport top layer (accurate.hpp).
-  static constexpr double kMaxTopAbsorption = 0.6;
   double eta = 1.4, g = 0.9, dermis_ratio = 0.5;  // the geometry (air above)
   std::string provenance;
   std::vector<double> tau, a_e, a_d, x;  // nodes, increasing
+  // The profile in two parts, each smooth in the parameters (their sum has a knee where the light
+  // from below takes over, which moves with tau): the top layer alone over an absorber, and the
+  // light that reached the lower layer, ln(rho - rho_top).
+  std::vector<double> ln_rho_top;        // [(i_tau * a_e.size() + i_e) * x.size() + i_x]
   std::vector<double> ln_rho;            // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]
 
   // The built-in nodes (data/skin_stack_profiles.csv), without values.
@@ -57,10 +57,12 @@ struct SkinStackTable {
   std::string gap(const LayerStack& stack) const;
   // ln rho at the x nodes of the stack (tau, a_e, a_d) (inside the node ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
-  // The node's values (tests): ln rho at the x nodes.
+  // The node's values (tests): ln rho at the x nodes (the two parts added).
   std::vector<double> node(std::size_t i_tau, std::size_t i_e, std::size_t i_d) const;
-  // rho of one node computed by FrequencyStack, floored as in the table.
+  // ln rho of one node computed by FrequencyStack, floored as in the table; and of its top layer
+  // alone over an absorber.
   std::vector<double> solve_node(double tau, double a_e, double a_d) const;
+  std::vector<double> solve_top(double tau, double a_e) const;
 };
 
 // The profile of a stack in the table, as R(r) [1/mm^2] scaled to integrate to R_d.
