@@ -36,15 +36,16 @@ TEST(SkinStackTable, BuiltinHasTheDefaultNodesAndGeometry) {
   EXPECT_EQ(t.ln_rho_top.size(), t.tau.size() * t.a_e.size() * t.x.size());
 }
 
-// Three nodes solved again (a bright epidermis over a bright dermis, a darker one over a darker
-// one, african skin's epidermis): the table's two parts added hold them to 1.5e-4 in ln rho (each
-// part is stored to 4 decimals) wherever rho is above 1e-6 of its value at x = 0.1 (further out
-// the light from below is the difference of two solves near the inversion's noise: 0.1 in ln rho
-// at 5e-9 of the peak), and the top layer alone is its own solve.
+// Two nodes solved again (a bright epidermis over a bright dermis; african skin's epidermis over
+// its dermis; two, so that the test stays short under the sanitizers): the table's two parts
+// added hold them to 1.5e-4 in ln rho (each part is stored to 4 decimals) wherever rho is above
+// 1e-6 of its value at x = 0.1 (further out the light from below is the difference of two solves
+// near the inversion's noise: 0.1 in ln rho at 5e-9 of the peak), and the top layer alone is its
+// own solve.
 TEST(SkinStackTable, NodesAreTheFrequencyDomainProfiles) {
   const SkinStackTable& t = SkinStackTable::builtin();
   const auto i_01 = static_cast<std::size_t>(std::lower_bound(t.x.begin(), t.x.end(), 0.1) - t.x.begin());
-  for (const auto& [i, j, l] : {std::tuple{3u, 4u, 3u}, std::tuple{1u, 10u, 11u}, std::tuple{2u, 20u, 7u}}) {
+  for (const auto& [i, j, l] : {std::tuple{3u, 4u, 3u}, std::tuple{2u, 20u, 7u}}) {
     const std::vector<double> stored = t.node(i, j, l);
     const std::vector<double> solved = t.solve_node(t.tau[i], t.a_e[j], t.a_d[l]);
     ASSERT_EQ(stored.size(), solved.size());
@@ -121,7 +122,6 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   EXPECT_NE(t.gap(skin::skin_layer_stack(dark, 450)).find("is outside the skin table's [0.004, 6.9"),
             std::string::npos)
       << t.gap(skin::skin_layer_stack(dark, 450));
-  EXPECT_FALSE(skin::accurate::AccurateStack(skin::skin_layer_stack(dark, 450)).skin_table());
   skin::SkinParameters p;
   p.g = 0.8;
   EXPECT_NE(t.gap(skin::skin_layer_stack(p, 550)).find("g is not"), std::string::npos);
