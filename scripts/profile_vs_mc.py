@@ -72,6 +72,12 @@ CASES = {
 for preset in ["caucasian", "african", "pale"]:
     for nm in [450, 650]:
         CASES[f"{preset} {nm} nm"] = ["--preset", preset, "--wavelength", str(nm)]
+# Skin off the accurate model's skin table (another g or dermis scattering: solved, not read).
+for preset, nm, flag, value in [("caucasian", 650, "g", "0.95"), ("african", 650, "g", "0.95"),
+                                ("african", 450, "g", "0.8"),
+                                ("caucasian", 650, "dermis-scattering-scale", "0.25")]:
+    CASES[f"{preset} {nm} nm {flag}={value}"] = ["--preset", preset, "--wavelength", str(nm),
+                                                f"--{flag}", value]
 
 GL4 = [(-0.8611363115940526, 0.3478548451374538), (-0.3399810435848563, 0.6521451548625461),
        (0.3399810435848563, 0.6521451548625461), (0.8611363115940526, 0.3478548451374538)]

@@ -254,47 +254,6 @@ void register_validate_command(CLI::App& app) {
 
 }  // namespace
 
-void register_tabulate_command(CLI::App& app) {
-  struct Opts {
-    std::string out;
-    mc::TabulateOptions t = mc::TabulateOptions::defaults();
-    RunOptions run;
-  };
-  auto o = std::make_shared<Opts>();
-  CLI::App* sub = app.add_subcommand(
-      "tabulate-top-layer",
-      "Tabulate a thin top layer's transport (reflectance profile and transfer functions) by Monte "
-      "Carlo over its reduced albedo and optical thickness: the data file "
-      "data/top_layer_transport_g*.csv of the accurate solver's profiles (about 9 min on 2 cores)");
-  sub->add_option("-o,--output", o->out, "Output CSV file (written atomically)")->required();
-  sub->add_option("--g", o->t.g, "Henyey-Greenstein anisotropy, (-1, 1)")->capture_default_str();
-  sub->add_option("--eta", o->t.eta, "Refractive index of the layer, [1, 3]")->capture_default_str();
-  sub->add_option("--eta-above", o->t.eta_above, "Refractive index above it, [1, 3]")
-      ->capture_default_str();
-  sub->add_option("--min-photons", o->t.min_photons, "Fewest photons per node and source")
-      ->check(whole_number(1))->capture_default_str();
-  sub->add_option("--max-photons", o->t.max_photons, "Most photons per node (pencil beam)")
-      ->check(whole_number(1))->capture_default_str();
-  o->run.seed = o->t.seed;
-  o->run.threads = o->t.threads;
-  o->run.add_to(*sub, "Seed; the same seed gives the same table for any thread count");
-  sub->add_option("--x", o->t.x, "Nodes in x = sqrt(1 - alpha'), increasing in [0, 1) (default 0.05 to 0.95 by 0.06)")
-      ->delimiter(',');
-  sub->add_option("--tau", o->t.tau, "Nodes in reduced optical thickness tau', increasing (default 0.35 2^(j/4), j = 0..26)")
-      ->delimiter(',');
-  sub->add_option("--target-reflected", o->t.target_reflected,
-                  "Reflected photon weight aimed at per node (sets the pencil-beam photon count)")
-      ->capture_default_str();
-  sub->callback([o] {
-    o->t.progress = progress_bar("nodes");  // drawn on a terminal only
-    o->t.seed = o->run.seed;
-    o->t.threads = o->run.threads;
-    const accurate::TopLayerTable table = mc::tabulate_top_layer(o->t);
-    io::write_file_atomic(o->out, table.to_csv());
-    std::cout << "wrote " << o->out << ": " << table << '\n';
-  });
-}
-
 void register_random_walk_command(CLI::App& app) {
   struct Opts {
     std::string out;
@@ -346,7 +305,6 @@ void register_skin_table_command(CLI::App& app) {
 
 void register_mc(CLI::App& app) {
   register_mc_command(app);
-  register_tabulate_command(app);
   register_skin_table_command(app);
   register_random_walk_command(app);
   register_validate_command(app);

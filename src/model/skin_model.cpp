@@ -58,26 +58,30 @@ struct Responses {
   std::vector<std::unique_ptr<RadialResponse>> owned;
   std::vector<const RadialResponse*> pointers;
 };
-Responses responses(const std::vector<LayerStack>& stacks, const Model& model) {
+Responses responses(const std::vector<LayerStack>& stacks, const Model& model,
+                    const ProgressCallback& progress = {}) {
   Responses r;
   r.owned.reserve(stacks.size());
   for (const auto& s : stacks) {
     cancel::check();  // between wavelengths: a stack's response can take a good part of a second
     r.pointers.push_back(r.owned.emplace_back(model.response(s)).get());
+    if (progress) progress(r.owned.size(), stacks.size());
   }
   return r;
 }
 }  // namespace
 
 SpectralProfile skin_spectral_profile(const SkinParameters& p, const WavelengthGrid& grid,
-                                      ProfileSolver& profiles, const Model& model) {
-  const auto r = responses(skin_layer_stacks(p, grid), model);
+                                      ProfileSolver& profiles, const Model& model,
+                                      const ProgressCallback& progress) {
+  const auto r = responses(skin_layer_stacks(p, grid), model, progress);
   return profiles.spectral(r.pointers, grid);
 }
 
 RgbProfile skin_rgb_profile(const SkinParameters& p, const WavelengthGrid& grid,
-                            ProfileSolver& profiles, const Model& model) {
-  const auto r = responses(skin_layer_stacks(p, grid), model);
+                            ProfileSolver& profiles, const Model& model,
+                            const ProgressCallback& progress) {
+  const auto r = responses(skin_layer_stacks(p, grid), model, progress);
   return profiles.rgb(r.pointers, color::Colorimetry(grid).srgb_weights());
 }
 

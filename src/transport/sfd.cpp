@@ -701,14 +701,10 @@ double FrequencyStack::residual_k(double k) const {
   const double u = std::asinh(std::abs(k) / k0_) / du_;
   const long last = static_cast<long>(k_.size()) - 1;
   const long m0 = std::min(static_cast<long>(std::floor(u)) - (P / 2 - 1), last - (P - 1));
-  const double t = u - static_cast<double>(m0);
+  const std::array<double, P> w = lagrange_weights<P>(u - static_cast<double>(m0));
   double out = 0;
-  for (int a = 0; a < P; ++a) {
-    double w = 1;
-    for (int b = 0; b < P; ++b)
-      if (b != a) w *= (t - b) / static_cast<double>(a - b);
-    out += w * G_[static_cast<std::size_t>(std::labs(m0 + a))];  // mirror: G(-u) = G(u)
-  }
+  for (int a = 0; a < P; ++a)
+    out += w[static_cast<std::size_t>(a)] * G_[static_cast<std::size_t>(std::labs(m0 + a))];  // mirror: G(-u) = G(u)
   return out;
 }
 

@@ -32,6 +32,12 @@ double log_of(double v) { return std::log(v); }
 double sqrt_of(double v) { return std::sqrt(v); }
 // ln(e^a + e^b)
 double log_sum(double a, double b) { return std::max(a, b) + std::log1p(std::exp(-std::abs(a - b))); }
+// ln R, floored at kFloor of its peak (the table's values).
+std::vector<double> floored_log(std::vector<double> R) {
+  const double peak = *std::max_element(R.begin(), R.end());
+  for (double& v : R) v = std::log(std::max(v, kFloor * peak));
+  return R;
+}
 
 }  // namespace
 
@@ -50,6 +56,12 @@ SkinStackTable SkinStackTable::default_nodes() {
   // 380-780 nm): a dark epidermis' far field is a sum of paths whose attenuation differs by
   // several e-folds between nodes 0.25 apart (90 % off midway at a_e 0.57 with those).
   for (int j = 1; j <= 16; ++j) t.a_e.push_back(std::pow(u0 + 0.125 * j, 2));
+  // The half-space: eight per decade from 1e-4 (alpha' 0.9999) to 1, then 0.125 apart in sqrt a
+  // up to 25 (alpha' 0.038). (Four per decade and 0.25 were up to 26 % off the solver where R is
+  // above 1e-4 of its value at x = 0.4, at alpha' 0.3-0.85; these 8.7 %, beyond x = 6 where the
+  // solver's own far field is uncertain by as much.)
+  for (int k = 0; k <= 32; ++k) t.a_h.push_back(1e-4 * std::pow(10.0, k / 8.0));
+  for (int j = 1; j <= 32; ++j) t.a_h.push_back(std::pow(1.0 + 0.125 * j, 2));
   for (int i = 0; i <= 90; ++i) t.x.push_back(1e-3 * std::pow(10.0, i / 16.0));
   return t;
 }
@@ -59,11 +71,11 @@ namespace {
 // s: k0 = 0.3 / 15, the resolution FrequencyStack has on the most scattering skin, 5 % at 10 mm
 // otherwise: its nodes are fixed in rad/mm, so in units of s = 1 /mm they would be those of a
 // stack with s = 1 /mm, and the skin's s is 4-15 /mm).
-std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, const Layer& below) {
+std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, const Layer* below) {
   LayerStack st;
   st.eta_above = 1.0;
   st.layers.push_back({a_e_v, 1.0, tau_v, t.eta, t.g});
-  st.layers.push_back(below);
+  if (below) st.layers.push_back(*below);
   FrequencyProfileOptions o;
   o.k0 = 0.3 / 15.0;
   const FrequencyStack f(st, o);
@@ -73,27 +85,30 @@ std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, c
 // The top layer over an index-matched absorber (sigma_a = 1, sigma_s' = 1e-9 in units of s: no
 // light comes back from below).
 Layer absorber(const SkinStackTable& t) { return {1.0, 1e-9, kInfinity, t.eta, t.g}; }
+
+Layer dermis(const SkinStackTable& t, double a_d_v) { return {a_d_v, t.dermis_ratio, kInfinity, t.eta, t.g}; }
 }  // namespace
 
 std::vector<double> SkinStackTable::solve_node(double tau_v, double a_e_v, double a_d_v) const {
-  std::vector<double> R = solve(*this, tau_v, a_e_v, {a_d_v, dermis_ratio, kInfinity, eta, g});
-  const double peak = *std::max_element(R.begin(), R.end());
-  for (double& v : R) v = std::log(std::max(v, kFloor * peak));
-  return R;
+  const Layer d = dermis(*this, a_d_v);
+  return floored_log(solve(*this, tau_v, a_e_v, &d));
 }
 
 std::vector<double> SkinStackTable::solve_top(double tau_v, double a_e_v) const {
-  std::vector<double> R = solve(*this, tau_v, a_e_v, absorber(*this));
-  const double peak = *std::max_element(R.begin(), R.end());
-  for (double& v : R) v = std::log(std::max(v, kFloor * peak));
-  return R;
+  const Layer a = absorber(*this);
+  return floored_log(solve(*this, tau_v, a_e_v, &a));
+}
+
+std::vector<double> SkinStackTable::solve_half_space(double a_v) const {
+  return floored_log(solve(*this, kInfinity, a_v, nullptr));
 }
 
 void SkinStackTable::compute(const ProgressCallback& progress) {
   const std::size_t n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
-  const std::size_t total = tau.size() * n_e * (n_d + 1);
+  const std::size_t total = tau.size() * n_e * (n_d + 1) + a_h.size();
   ln_rho.assign(tau.size() * n_e * n_d * n_x, 0.0);
   ln_rho_top.assign(tau.size() * n_e * n_x, 0.0);
+  ln_rho_half.assign(a_h.size() * n_x, 0.0);
   std::mutex m;
   std::size_t done = 0;
   auto tick = [&] {
@@ -105,16 +120,25 @@ void SkinStackTable::compute(const ProgressCallback& progress) {
   std::vector<std::vector<double>> top(tau.size() * n_e);
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e, [&](std::size_t k) {
     if (cancel::requested()) return;  // thrown below
-    top[k] = solve(*this, tau[k / n_e], a_e[k % n_e], absorber(*this));
-    const double peak = *std::max_element(top[k].begin(), top[k].end());
-    for (std::size_t i = 0; i < n_x; ++i) ln_rho_top[k * n_x + i] = std::log(std::max(top[k][i], kFloor * peak));
+    const Layer a = absorber(*this);
+    top[k] = solve(*this, tau[k / n_e], a_e[k % n_e], &a);
+    const std::vector<double> ln_top = floored_log(top[k]);
+    std::copy(ln_top.begin(), ln_top.end(), ln_rho_top.begin() + static_cast<std::ptrdiff_t>(k * n_x));
+    tick();
+  });
+  cancel::check();
+  tbb::parallel_for(std::size_t{0}, a_h.size(), [&](std::size_t k) {
+    if (cancel::requested()) return;
+    const std::vector<double> h = solve_half_space(a_h[k]);
+    std::copy(h.begin(), h.end(), ln_rho_half.begin() + static_cast<std::ptrdiff_t>(k * n_x));
     tick();
   });
   cancel::check();
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e * n_d, [&](std::size_t k) {
     if (cancel::requested()) return;
     const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
-    const std::vector<double> R = solve(*this, tau[i_t], a_e[i_e], {a_d[i_d], dermis_ratio, kInfinity, eta, g});
+    const Layer d = dermis(*this, a_d[i_d]);
+    const std::vector<double> R = solve(*this, tau[i_t], a_e[i_e], &d);
     const std::vector<double>& T = top[i_t * n_e + i_e];
     const double peak = *std::max_element(R.begin(), R.end());
     for (std::size_t i = 0; i < n_x; ++i)
@@ -134,8 +158,10 @@ std::string SkinStackTable::to_csv() const {
   os << "# eta: " << eta << "\n# g: " << g << "\n# dermis_ratio: " << dermis_ratio << '\n';
   os << "# tau: " << format_number_list(tau) << "\n# a_e: " << format_number_list(a_e)
      << "\n# a_d: " << format_number_list(a_d) << "\n# x: " << format_number_list(x) << '\n';
+  if (!a_h.empty()) os << "# a_h: " << format_number_list(a_h) << '\n';
   os << "# Per (tau, a_e) first the top layer over an absorber (a_d = inf: the light that never\n"
-        "# reaches the lower layer), then per a_d the light that reached it: ln(rho - rho_top).\n";
+        "# reaches the lower layer), then per a_d the light that reached it: ln(rho - rho_top).\n"
+        "# Then per a_h the half-space of the top layer's medium (tau = inf, a_e = a_h, a_d = inf).\n";
   os << "tau,a_e,a_d";
   for (std::size_t i = 0; i < x.size(); ++i) os << ",ln_rho_" << i;
   os << '\n';
@@ -154,6 +180,7 @@ std::string SkinStackTable::to_csv() const {
       row(t, e, "inf", ln_rho_top.data() + k_top++ * x.size());
       for (double d : a_d) row(t, e, format_number(d).c_str(), ln_rho.data() + k++ * x.size());
     }
+  for (std::size_t i = 0; i < a_h.size(); ++i) row(kInfinity, a_h[i], "inf", ln_rho_half.data() + i * x.size());
   return os.str();
 }
 
@@ -169,7 +196,9 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
   t.a_e = metadata_numbers(meta, "a_e", src);
   t.a_d = metadata_numbers(meta, "a_d", src);
   t.x = metadata_numbers(meta, "x", src);
-  for (const auto& [v, key] : {std::pair{&t.tau, "tau"}, {&t.a_e, "a_e"}, {&t.a_d, "a_d"}, {&t.x, "x"}}) {
+  if (meta.count("a_h")) t.a_h = metadata_numbers(meta, "a_h", src);  // optional: half-spaces
+  for (const auto& [v, key] : {std::pair{&t.tau, "tau"}, {&t.a_e, "a_e"}, {&t.a_d, "a_d"}, {&t.x, "x"}, {&t.a_h, "a_h"}}) {
+    if (v == &t.a_h && v->empty()) continue;
     if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
     for (std::size_t i = 0; i < v->size(); ++i)
       if (!((*v)[i] > 0) || (i > 0 && !((*v)[i] > (*v)[i - 1])))
@@ -182,29 +211,34 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
       throw InputError(src + ": 'x' must be an odd number of nodes evenly spaced in ln x");
   const Table data = parse_csv(text, src);
   const std::size_t n_x = t.x.size(), n_d = t.a_d.size();
-  const std::size_t rows = t.tau.size() * t.a_e.size() * (n_d + 1);
+  const std::size_t skin_rows = t.tau.size() * t.a_e.size() * (n_d + 1);
+  const std::size_t rows = skin_rows + t.a_h.size();
   if (data.columns.size() != 3 + n_x)
     throw InputError(src + ": expected " + std::to_string(3 + n_x) + " columns, found " +
                      std::to_string(data.columns.size()));
   if (data.rows() != rows)
     throw InputError(src + ": expected " + std::to_string(rows) +
-                     " rows (tau x a_e x (the top layer alone and each a_d)), found " +
+                     " rows (tau x a_e x (the top layer alone and each a_d), then a_h), found " +
                      std::to_string(data.rows()));
   t.ln_rho.resize(t.tau.size() * t.a_e.size() * n_d * n_x);
   t.ln_rho_top.resize(t.tau.size() * t.a_e.size() * n_x);
+  t.ln_rho_half.resize(t.a_h.size() * n_x);
   for (std::size_t r = 0; r < rows; ++r) {
+    const bool half = r >= skin_rows;
     const std::size_t j = r % (n_d + 1), i_e = (r / (n_d + 1)) % t.a_e.size(),
-                      i_t = r / ((n_d + 1) * t.a_e.size());
-    const double want[3] = {t.tau[i_t], t.a_e[i_e], j == 0 ? kInfinity : t.a_d[j - 1]};
+                      i_t = r / ((n_d + 1) * t.a_e.size()), i_h = r - std::min(r, skin_rows);
+    const double want[3] = {half ? kInfinity : t.tau[i_t], half ? t.a_h[i_h] : t.a_e[i_e],
+                            half || j == 0 ? kInfinity : t.a_d[j - 1]};
     for (int c = 0; c < 3; ++c) {
       const double v = data.data[static_cast<std::size_t>(c)][r];
-      if (!(j == 0 && c == 2 ? v == kInfinity : std::abs(v / want[c] - 1) <= 1e-6))
+      if (!(want[c] == kInfinity ? v == kInfinity : std::abs(v / want[c] - 1) <= 1e-6))
         throw InputError(src + ": row " + std::to_string(r + 1) + " is not node (tau, a_e, a_d) = (" +
                          format_number(want[0]) + ", " + format_number(want[1]) + ", " +
-                         (j == 0 ? std::string("inf") : format_number(want[2])) + ")");
+                         format_number(want[2]) + ")");
     }
-    double* out = j == 0 ? t.ln_rho_top.data() + (i_t * t.a_e.size() + i_e) * n_x
-                         : t.ln_rho.data() + ((i_t * t.a_e.size() + i_e) * n_d + j - 1) * n_x;
+    double* out = half     ? t.ln_rho_half.data() + i_h * n_x
+                  : j == 0 ? t.ln_rho_top.data() + (i_t * t.a_e.size() + i_e) * n_x
+                           : t.ln_rho.data() + ((i_t * t.a_e.size() + i_e) * n_d + j - 1) * n_x;
     for (std::size_t i = 0; i < n_x; ++i) {
       const double v = data.data[3 + i][r];
       if (!std::isfinite(v))
@@ -223,7 +257,21 @@ const SkinStackTable& SkinStackTable::builtin() {
 
 std::string SkinStackTable::gap(const LayerStack& stack) const {
   const auto& ls = stack.layers;
-  if (ls.size() != 2) return "not two layers";
+  auto inside = [](const std::vector<double>& v, double t) { return t >= v.front() && t <= v.back(); };
+  if (ls.size() == 1) {  // the half-space
+    const Layer& h = ls[0];
+    if (a_h.empty()) return "the skin table has no half-space nodes";
+    if (stack.eta_above != 1.0) return "the medium above is not air";
+    if (h.eta != eta) return "index is not the skin table's " + format_number(eta);
+    if (h.g != g) return "g is not the skin table's " + format_number(g);
+    if (!h.semi_infinite()) return "a slab, not a half-space";
+    const double a = h.sigma_a / h.sigma_s_prime;
+    if (!(h.sigma_s_prime > 0) || !inside(a_h, a))
+      return "sigma_a / sigma_s' = " + format_number(a) + " is outside the skin table's half-space [" +
+             format_number(a_h.front()) + ", " + format_number(a_h.back()) + "]";
+    return {};
+  }
+  if (ls.size() != 2) return "neither a half-space nor two layers";
   const Layer &e = ls[0], &d = ls[1];
   if (stack.eta_above != 1.0) return "the medium above is not air";
   if (e.eta != eta || d.eta != eta) return "index is not the skin table's " + format_number(eta);
@@ -232,7 +280,6 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
   const double s = e.sigma_s_prime;
   if (!(s > 0) || !(std::abs(d.sigma_s_prime / s - dermis_ratio) <= 1e-9 * dermis_ratio))
     return "the lower layer's sigma_s' is not " + format_number(dermis_ratio) + " x the top layer's";
-  auto inside = [](const std::vector<double>& v, double t) { return t >= v.front() && t <= v.back(); };
   const double t = s * e.thickness, ae = e.sigma_a / s, ad = d.sigma_a / s;
   if (!inside(tau, t)) return "sigma_s' d = " + format_number(t) + " is outside the skin table's [" + format_number(tau.front()) + ", " + format_number(tau.back()) + "]";
   if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + format_number(ae) + " is outside the skin table's [" + format_number(a_e.front()) + ", " + format_number(a_e.back()) + "]";
@@ -245,6 +292,18 @@ std::vector<double> SkinStackTable::node(std::size_t i_t, std::size_t i_e, std::
   const double* top = ln_rho_top.data() + (i_t * a_e.size() + i_e) * n_x;
   std::vector<double> out(n_x);
   for (std::size_t m = 0; m < n_x; ++m) out[m] = log_sum(top[m], ln_rho[k * n_x + m]);
+  return out;
+}
+
+std::vector<double> SkinStackTable::ln_rho_half_space_at(double a) const {
+  // In sqrt a, as the top layer's a_e.
+  const Lagrange4Stencil sh = lagrange4_stencil(mapped(a_h, sqrt_of), std::sqrt(a));
+  const std::size_t n_x = x.size();
+  std::vector<double> out(n_x, 0.0);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const double* v = ln_rho_half.data() + (sh.first + i) * n_x;
+    for (std::size_t m = 0; m < n_x; ++m) out[m] += sh.weights[i] * v[m];
+  }
   return out;
 }
 
@@ -275,9 +334,11 @@ std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) co
 
 SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d)
     : table_(&table) {
-  const Layer &e = stack.layers.at(0), &d = stack.layers.at(1);
+  const Layer& e = stack.layers.at(0);
   s_ = e.sigma_s_prime;
-  ln_rho_ = table.ln_rho_at(s_ * e.thickness, e.sigma_a / s_, d.sigma_a / s_);
+  ln_rho_ = stack.layers.size() == 1
+                ? table.ln_rho_half_space_at(e.sigma_a / s_)
+                : table.ln_rho_at(s_ * e.thickness, e.sigma_a / s_, stack.layers.at(1).sigma_a / s_);
   ln_x_ = mapped(table.x, log_of);
   const std::size_t n = ln_x_.size();
   h_ = (ln_x_.back() - ln_x_.front()) / static_cast<double>(n - 1);

@@ -91,7 +91,7 @@ TEST_F(Cli, ParameterMapChannelsByName) {
 
 TEST_F(Cli, SceneTakesEveryParameterKeyAndSymbol) {
   std::ofstream(dir_ / "s.json") << scene(R"({"type": "skin", "melanin": 0.1, "beta_m": 0.3,
-      "g": 0.85, "bilirubin": 20, "scattering_scale": 1.1})");
+      "g": 0.85, "bilirubin": 20, "scattering_scale": 1.1, "solver": "multipole"})");
   EXPECT_EQ(run("render s.json -o s.png --spp 1").code, 0);
   std::ofstream(dir_ / "twice.json") << scene(R"({"type": "skin", "melanin": 0.1, "C_m": 0.2})");
   const CmdResult t = run("render twice.json -o t.png");

@@ -115,5 +115,5 @@ INSTANTIATE_TEST_SUITE_P(
         BadCount{"render --spp -4 -o x.png", "--spp: -4 is out of range"},
         BadCount{"render --max-depth -1 -o x.png", "--max-depth: -1 is out of range"},
         BadCount{"figure 9 -o x.png", "9 is out of range: must be one of 3, 4, 5, 6, 7, 8, 10"},
-        BadCount{"tabulate-top-layer --min-photons -1 -o t.csv", "--min-photons: -1 is out of range"}));
+        BadCount{"tabulate-random-walk --photons -1 -o t.csv", "--photons: -1 is out of range"}));
 }  // namespace

@@ -54,9 +54,8 @@ TEST_F(Reproducible, Batch) {
                    "out.csv");
 }
 
-TEST_F(Reproducible, TabulateTopLayer) {
-  expect_identical("tabulate-top-layer --x 0.1,0.5 --tau 1,2 --min-photons 2000 --max-photons 4000 --seed 4 -o t.csv",
-                   "t.csv");
+TEST_F(Reproducible, TabulateRandomWalk) {
+  expect_identical("tabulate-random-walk --photons 2000 --seed 4 -o t.csv", "t.csv");
 }
 
 TEST_F(Reproducible, FitTexture) {

@@ -60,7 +60,7 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"mc", "mc --preset pale --wavelength 650 --photons 100000000 -o out.json", {"out.json"}, SIGTERM},
         Case{"validate", "validate --out report --photons 100000000", {"report/README.md", "report/measured/README.md"}, SIGINT},
         Case{"fit_texture", "fit --texture noise.png -o params.exr", {"params.exr"}, SIGTERM},
-        Case{"tabulate_top_layer", "tabulate-top-layer -o table.csv", {"table.csv"}, SIGINT},
+        Case{"tabulate_random_walk", "tabulate-random-walk --photons 100000000 -o table.csv", {"table.csv"}, SIGINT},
         Case{"batch", "batch --sweep melanin=0:0.5:1000 --sweep hemoglobin=0.001:0.2:1000 --spectrum -o sets.csv",
              {"sets.csv"}, SIGTERM},
         Case{"batch_profile", "batch --sweep melanin=0:0.5:100000 --radius 0.1 --radius 1 -o sets.csv", {"sets.csv"}, SIGINT}),

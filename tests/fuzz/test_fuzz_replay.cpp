@@ -12,7 +12,7 @@
 #include <vector>
 
 #define SKIN_FUZZ_TARGETS(X)                                                               \
-  X(layer) X(params_json) X(spectrum_csv) X(top_layer_table) X(parameter_maps) X(scene_json) \
+  X(layer) X(params_json) X(spectrum_csv) X(parameter_maps) X(scene_json) \
   X(mesh_obj) X(mesh_gltf) X(mesh_glb) X(texture_png) X(texture_jpg) X(texture_exr) X(batch_sets) \
   X(random_walk_table) X(skin_stack_table)
 

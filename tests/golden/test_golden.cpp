@@ -58,8 +58,7 @@ enum class Part { all, without_frequency_domain, frequency_domain };
 
 // Whether the accurate profile of a stack is the spatial-frequency-domain one.
 bool frequency_domain(const skin::LayerStack& stack) {
-  return !skin::accurate::SkinStackTable::builtin().gap(stack).empty() &&
-         !skin::accurate::transport_table_gap(stack).empty();
+  return !skin::accurate::SkinStackTable::builtin().gap(stack).empty();
 }
 
 json compute(Part part) {
@@ -102,7 +101,7 @@ json compute(Part part) {
       jg["R_d"] = solver.R_d(stack);
       if (std::string(name) == "accurate") {
         jg["T_d"] = skin::accurate::adding_doubling(stack).T_d;
-        // (an AccurateStack outside the tables builds its frequency-domain response)
+        // (an AccurateStack off the skin table builds its frequency-domain response)
         if (part == Part::all || !frequency_domain(stack))
           jg["profile"] = profiles.profile(skin::accurate::AccurateStack(stack));
       } else {

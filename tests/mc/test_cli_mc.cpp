@@ -14,7 +14,8 @@
 #include <string>
 
 #include "../temp_dir.hpp"
-#include "skin/transport/top_layer_table.hpp"
+#include "skin/mc/tabulate.hpp"
+#include "skin/transport/random_walk_table.hpp"
 
 namespace {
 
@@ -101,28 +102,21 @@ TEST(CliValidate, RejectsBadInputBeforeWork) {
 TEST(CliTabulate, SmallTableParsesBackAndBadInputLeavesNoFile) {
   const auto out = std::filesystem::temp_directory_path() / "skin_tabulate_cli_test.csv";
   std::filesystem::remove(out);
-  EXPECT_EQ(run_skin("tabulate-top-layer").status, 2);  // -o is required
-  EXPECT_EQ(run_skin("tabulate-top-layer --x 0.5,0.1 --tau 1,2 -o " + out.string()).status, 2);
-  EXPECT_EQ(run_skin("tabulate-top-layer --x 0.1,1.5 --tau 1,2 -o " + out.string()).status, 2);
-  EXPECT_EQ(run_skin("tabulate-top-layer --x 0.1,0.5 --tau 0,2 -o " + out.string()).status, 2);
-  EXPECT_EQ(run_skin("tabulate-top-layer --g 1 -o " + out.string()).status, 2);
-  EXPECT_EQ(run_skin("tabulate-top-layer --min-photons 10 --max-photons 5 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("tabulate-random-walk").status, 2);  // -o is required
+  EXPECT_EQ(run_skin("tabulate-random-walk --photons 0 -o " + out.string()).status, 2);
+  EXPECT_EQ(run_skin("tabulate-random-walk --photons -5 -o " + out.string()).status, 2);
   EXPECT_FALSE(std::filesystem::exists(out));
-  // Two by two nodes, few photons: a table the library reads back, whose totals conserve energy.
-  const auto r = run_skin("tabulate-top-layer --x 0.1,0.5 --tau 1,2 --min-photons 2000 "
-                          "--max-photons 4000 -o " + out.string());
+  // Few photons per node: a table the library reads back, each node's exits a distribution.
+  const auto r = run_skin("tabulate-random-walk --photons 2000 --seed 3 -o " + out.string());
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("TopLayerTable{g=0.9"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("wrote "), std::string::npos) << r.out;
   std::ifstream in(out);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  EXPECT_NE(text.find("# x: 0.1,0.5"), std::string::npos);
-  EXPECT_NE(text.find("# tau: 1,2"), std::string::npos);
-  const auto t = skin::accurate::TopLayerTable::parse(text, out.string());
-  ASSERT_EQ(t.nodes.size(), 4u);
-  for (const auto& n : t.nodes) {
-    EXPECT_GT(n.R_e, 0);
-    EXPECT_LE(n.R_e + n.T_down, 1 + 1e-9);
-    EXPECT_LE(n.T_up + n.R_up, 1 + 1e-9);
+  const auto t = skin::transport::RandomWalkTable::from_csv(text, out.string());
+  ASSERT_EQ(t.alpha.size(), skin::mc::RandomWalkOptions::defaults().alpha.size());
+  for (std::size_t i = 0; i < t.alpha.size(); ++i) {
+    EXPECT_GT(t.R_d[i], 0) << t.alpha[i];
+    EXPECT_LT(t.R_d[i], 1) << t.alpha[i];
   }
   std::filesystem::remove(out);
 }

@@ -215,7 +215,7 @@ TEST(MonteCarloVsDiffusion, ThickHighAlbedoAgreesWithinAFewPercent) {
 
 // --- Input checking ------------------------------------------------------------------------
 
-// --- The diffuse source from below and the exit histograms (for TopLayerTable) -------------
+// --- The diffuse source from below and the exit histograms -----------------------------------
 
 TEST(MonteCarloDiffuseSource, NonScatteringSlabTransmitsTwoE3) {
   // A Lambertian source under a purely absorbing, index-matched slab of optical depth tau: the

@@ -200,15 +200,16 @@ TEST(Anisotropy, SolverFollowsMonteCarloForBothG) {
 // Profiles against the Monte Carlo annulus averages over 0.1 - 5 mm (200 annuli of 25 um; the
 // model is averaged over each annulus like the tally: 8 sub-radii, area weights). Two measures:
 // - pointwise: every annulus whose Monte Carlo estimate has a relative standard error below 5 %
-//   must be within 10 % + 3 standard errors (the issue's goal plus the noise: at most 25 % where
-//   the standard error is 5 %, 13 % where it is 1 %);
+//   must be within 5 % + 3 standard errors for the accurate model (issue 15's goal plus the
+//   noise: at most 20 % where the standard error is 5 %, 8 % where it is 1 %) and 10 % + 3 SE for
+//   the multipole (the check it fails);
 // - r-weighted L1 beyond the noise, sum max(0, |model - MC| - 2 SE) r / sum MC r, below 0.10
 //   (in dark skin the Monte Carlo tail beyond 0.3 mm is mostly noise, 10^-5 of the peak).
 // Measured with 10^6 photons at 400-700 nm (docs/accurate-solver.md, section 3): the accurate
 // solver's L1 is 0.01-0.06 with no annulus beyond 10 % + 3 SE; the multipole's L1 is 0.2-2.
 struct ProfileErrors {
   double accurate = 0, multipole = 0;  // r-weighted L1 beyond the noise
-  int checked = 0, accurate_bad = 0, multipole_bad = 0;  // annuli, and those beyond 10 % + 3 SE
+  int checked = 0, accurate_bad = 0, multipole_bad = 0;  // annuli, and those beyond 5 / 10 % + 3 SE
   std::string worst;                                     // the accurate solver's worst annulus
 };
 
@@ -248,7 +249,7 @@ ProfileErrors profile_errors(const LayerStack& st) {
     norm += mc.R[b] * mc.r_mm[b];
     if (!(mc.R_se[b] < 0.05 * mc.R[b])) continue;
     ++e.checked;
-    if (!within(a, mc.R[b], mc.R_se[b], 0.10)) ++e.accurate_bad;
+    if (!within(a, mc.R[b], mc.R_se[b], 0.05)) ++e.accurate_bad;
     if (!within(m, mc.R[b], mc.R_se[b], 0.10)) ++e.multipole_bad;
     const double rel = std::abs(a / mc.R[b] - 1);
     if (rel > worst) {
@@ -262,20 +263,22 @@ ProfileErrors profile_errors(const LayerStack& st) {
   return e;
 }
 
-ProfileErrors profile_errors(const char* name, double lambda, double g = 0.9) {
+ProfileErrors profile_errors(const char* name, double lambda, double g = 0.9,
+                             double dermis_scattering_scale = 0.5) {
   auto params = skin::find_preset(name).parameters;
   params.g = g;
+  params.dermis_scattering_scale = dermis_scattering_scale;
   return profile_errors(skin::skin_layer_stack(params, lambda));
 }
 
 class PresetProfiles : public ::testing::TestWithParam<PresetCase> {};
 
-TEST_P(PresetProfiles, WithinTenPercentAndThreeSEOfMonteCarloFrom0_1To5mm) {
+TEST_P(PresetProfiles, WithinFivePercentAndThreeSEOfMonteCarloFrom0_1To5mm) {
   const auto [name, lambda] = GetParam();
   const auto e = profile_errors(name, lambda);
   EXPECT_GT(e.checked, 0);
   EXPECT_EQ(e.accurate_bad, 0) << name << " " << lambda << " nm: " << e.accurate_bad << " of "
-                               << e.checked << " annuli beyond 10 % + 3 SE; worst " << e.worst;
+                               << e.checked << " annuli beyond 5 % + 3 SE; worst " << e.worst;
   EXPECT_LT(e.accurate, 0.10) << name << " " << lambda << " nm: L1 " << e.accurate
                               << " (multipole " << e.multipole << ")";
 }
@@ -284,9 +287,9 @@ INSTANTIATE_TEST_SUITE_P(
     Presets, PresetProfiles,
     ::testing::ValuesIn(kPresetCases), preset_case_name);
 
-// Half-spaces of skin's index and g under air (the transport table, split at 32 transport mean
-// free paths): the same pointwise check, over 0.1-5 transport mean free paths (sigma_t' = 1/mm).
-TEST(HalfSpaceProfiles, WithinTenPercentAndThreeSEOfMonteCarlo) {
+// Half-spaces of skin's index and g under air (the half-space part of the skin table): the same
+// pointwise check, over 0.1-5 transport mean free paths (sigma_t' = 1/mm).
+TEST(HalfSpaceProfiles, WithinFivePercentAndThreeSEOfMonteCarlo) {
   for (double alpha : {0.5, 0.9, 0.99}) {
     LayerStack s;
     s.layers = {Layer{1 - alpha, alpha, skin::kInfinity, 1.4, 0.9}};
@@ -299,7 +302,7 @@ TEST(HalfSpaceProfiles, WithinTenPercentAndThreeSEOfMonteCarlo) {
       for (int k = 0; k < sub; ++k) radii.push_back((static_cast<double>(b) + (k + 0.5) / sub) * dr);
     skin::ProfileSolver solver(skin::RadialGrid::from(radii));
     const skin::accurate::AccurateStack acc(s);
-    ASSERT_TRUE(acc.transport_top());
+    ASSERT_TRUE(acc.skin_table());
     const auto R = solver.profile(acc);
     int checked = 0;
     for (std::size_t b = 0; b < bins; ++b) {
@@ -310,7 +313,7 @@ TEST(HalfSpaceProfiles, WithinTenPercentAndThreeSEOfMonteCarlo) {
         w += radii[b * sub + k];
       }
       ++checked;
-      EXPECT_TRUE(within(m / w, mc.R[b], mc.R_se[b], 0.10))
+      EXPECT_TRUE(within(m / w, mc.R[b], mc.R_se[b], 0.05))
           << "alpha'=" << alpha << " r=" << mc.r_mm[b] << ": model " << m / w << ", MC " << mc.R[b]
           << " +- " << mc.R_se[b];
     }
@@ -318,14 +321,19 @@ TEST(HalfSpaceProfiles, WithinTenPercentAndThreeSEOfMonteCarlo) {
   }
 }
 
-// Another anisotropy: the tables for g = 0.8 and 0.95, and g = 0.85 between two tables (blended).
-TEST(PresetProfilesOtherG, WithinTenPercentAndThreeSEOfMonteCarlo) {
-  for (double g : {0.8, 0.85, 0.95})
-    for (const auto& [name, lambda] : {PresetCase{"caucasian", 550}, PresetCase{"african", 550}}) {
-      const auto e = profile_errors(name, lambda, g);
-      EXPECT_GT(e.checked, 0) << name << " g=" << g;
-      EXPECT_EQ(e.accurate_bad, 0) << name << " g=" << g << ": worst " << e.worst;
-      EXPECT_LT(e.accurate, 0.10) << name << " g=" << g;
+// Skin off the skin table (another anisotropy, another dermis scattering: the frequency-domain
+// solver). The top-layer tables these stacks used to read were 3-10 % off the solved profile
+// (caucasian at 650 nm +10 % at 4 mm, african at 550 nm with g = 0.95 -16 % at 0.2 mm).
+TEST(PresetProfilesOffTheSkinTable, WithinFivePercentAndThreeSEOfMonteCarlo) {
+  struct Variant { double g, dermis_scattering_scale; };
+  for (const Variant v : {Variant{0.8, 0.5}, Variant{0.95, 0.5}, Variant{0.9, 0.25}})
+    for (const auto& [name, lambda] : {PresetCase{"caucasian", 650}, PresetCase{"african", 550}}) {
+      const auto e = profile_errors(name, lambda, v.g, v.dermis_scattering_scale);
+      const std::string what = std::string(name) + " " + std::to_string(lambda) + " nm, g=" +
+                               std::to_string(v.g) + " scale=" + std::to_string(v.dermis_scattering_scale);
+      EXPECT_GT(e.checked, 0) << what;
+      EXPECT_EQ(e.accurate_bad, 0) << what << ": worst " << e.worst;
+      EXPECT_LT(e.accurate, 0.10) << what;
     }
 }
 

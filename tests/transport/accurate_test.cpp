@@ -314,18 +314,15 @@ TEST(Input, TypesPrintThemselves) {
 // AccurateStack: the radial response.
 
 
-// The diffusion shape (used where the top layer is outside the built-in transport tables: here
-// g = 0.7; the transport top layer is tested in top_layer_table_test.cpp).
-// The profile integrated by brute force is the adding-doubling R_d of the stack (computed here
-// on its own, not read from the AccurateStack), within the 0.5 % of the integration grid.
-// Outside the transport tables (skin with g = 0.7) the profile is the frequency-domain one,
-// and it integrates to the adding-doubling total.
+// Off the skin table (skin with g = 0.7) the profile is the frequency-domain one, and it
+// integrates to the adding-doubling total (computed here on its own, not read from the
+// AccurateStack), within the 0.5 % of the integration grid.
 TEST(AccurateStack, OutsideTheTablesTheProfileIsTheFrequencyDomainOne) {
   auto params = skin::find_preset("caucasian").parameters;
   params.g = 0.7;
   const auto st = skin::skin_layer_stack(params, 550);
   const skin::accurate::AccurateStack acc(st);
-  ASSERT_FALSE(acc.transport_top());
+  ASSERT_FALSE(acc.skin_table());
   const skin::accurate::FrequencyStack fs(st);
   for (double k : {0.0, 0.7, 30.0}) EXPECT_EQ(acc.residual_k(k), fs.residual_k(k)) << k;
   for (double r : {0.0, 0.01, 1.0}) EXPECT_EQ(acc.singular(r), fs.singular(r)) << r;
@@ -351,9 +348,8 @@ TEST(AccurateStack, ProfilesOfThePresetsArePositiveAndDecreasing) {
   }
 }
 
-// A top layer far thinner than a transport mean free path (below the transport tables' range,
-// where diffusion's source z_r lay below it and its shape turned negative): the frequency-domain
-// profile is positive (down to 2e-4 of its value at 1 um: the transform's ringing).
+// A top layer far thinner than a transport mean free path (where diffusion's source z_r lies below
+// it and its shape turns negative): the frequency-domain profile is positive (down to 2e-4 of its value at 1 um: the transform's ringing).
 TEST(AccurateStack, ThinTopLayersStayPositive) {
   LayerStack one;
   one.layers = {Layer{0.3, 0.2, 0.05, 1.4, 0.9}};  // 0.025 mean free paths, air below
@@ -363,7 +359,7 @@ TEST(AccurateStack, ThinTopLayersStayPositive) {
   skin::ProfileSolver solver(skin::RadialGrid::logarithmic(1e-3, 20, 64));
   for (const auto& s : {one, two}) {
     const skin::accurate::AccurateStack acc(s);
-    EXPECT_FALSE(acc.transport_top()) << s;
+    EXPECT_FALSE(acc.skin_table()) << s;
     const auto R = solver.profile(acc);
     for (double v : R) EXPECT_GE(v, -2e-4 * R[0]) << acc;
     EXPECT_GT(acc.singular(1e-3), 0) << acc;

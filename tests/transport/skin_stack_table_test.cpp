@@ -1,7 +1,8 @@
-// The tabulated frequency-domain profiles of the skin geometry (skin_stack_table.hpp): the built-in
-// table holds FrequencyStack's profiles at its nodes, agrees with FrequencyStack between them on
-// the skin presets, integrates to the adding-doubling R_d, covers every preset and names what it
-// does not cover, and refuses malformed files.
+// The tabulated frequency-domain profiles of the skin geometry and of the half-space of skin's
+// medium (skin_stack_table.hpp): the built-in table holds FrequencyStack's profiles at its nodes,
+// agrees with FrequencyStack between them on the skin presets and on half-spaces, integrates to
+// the adding-doubling R_d, covers every preset and names what it does not cover, and refuses
+// malformed files.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include "skin/util/error.hpp"
 
 namespace {
+using skin::Layer;
 using skin::accurate::SkinStackTable;
 
 skin::LayerStack preset_stack(const char* name, double lambda) {
@@ -28,12 +30,13 @@ TEST(SkinStackTable, BuiltinHasTheDefaultNodesAndGeometry) {
   EXPECT_EQ(t.eta, 1.4);
   EXPECT_EQ(t.g, 0.9);
   EXPECT_EQ(t.dermis_ratio, 0.5);
-  for (const auto& [a, b] : {std::pair{&t.tau, &d.tau}, {&t.a_e, &d.a_e}, {&t.a_d, &d.a_d}, {&t.x, &d.x}}) {
+  for (const auto& [a, b] : {std::pair{&t.tau, &d.tau}, {&t.a_e, &d.a_e}, {&t.a_d, &d.a_d}, {&t.x, &d.x}, {&t.a_h, &d.a_h}}) {
     ASSERT_EQ(a->size(), b->size());
     for (std::size_t i = 0; i < a->size(); ++i) EXPECT_NEAR((*a)[i] / (*b)[i], 1.0, 1e-6);
   }
   EXPECT_EQ(t.ln_rho.size(), t.tau.size() * t.a_e.size() * t.a_d.size() * t.x.size());
   EXPECT_EQ(t.ln_rho_top.size(), t.tau.size() * t.a_e.size() * t.x.size());
+  EXPECT_EQ(t.ln_rho_half.size(), t.a_h.size() * t.x.size());
 }
 
 // Two nodes solved again (a bright epidermis over a bright dermis; african skin's epidermis over
@@ -59,9 +62,50 @@ TEST(SkinStackTable, NodesAreTheFrequencyDomainProfiles) {
     // The top layer alone (the first part of the node) is its own solve.
     const std::vector<double> top = t.solve_top(t.tau[i], t.a_e[j]);
     const std::size_t first = (i * t.a_e.size() + j) * t.x.size();
-    for (std::size_t m = 0; m < top.size(); ++m)
-      if (top[m] >= top[i_01] + std::log(1e-8))
+    for (std::size_t m = 0; m < top.size(); ++m) {
+      if (top[m] >= top[i_01] + std::log(1e-8)) {
         EXPECT_NEAR(t.ln_rho_top[first + m], top[m], 6e-5) << "top " << i << ',' << j << " x = " << t.x[m];
+      }
+    }
+  }
+}
+
+// Two half-space nodes solved again (alpha' 0.99 and 0.31): the stored values to 1.5e-4 in ln rho
+// (4 decimals) wherever rho is above 1e-6 of its value at x = 0.1.
+TEST(SkinStackTable, HalfSpaceNodesAreTheFrequencyDomainProfiles) {
+  const SkinStackTable& t = SkinStackTable::builtin();
+  const auto i_01 = static_cast<std::size_t>(std::lower_bound(t.x.begin(), t.x.end(), 0.1) - t.x.begin());
+  for (const std::size_t i : {16u, 48u}) {
+    const std::vector<double> solved = t.solve_half_space(t.a_h[i]);
+    int compared = 0;
+    for (std::size_t m = 0; m < solved.size(); ++m) {
+      if (solved[m] < solved[i_01] + std::log(1e-6)) continue;
+      EXPECT_NEAR(t.ln_rho_half[i * t.x.size() + m], solved[m], 1.5e-4) << "a = " << t.a_h[i] << " x = " << t.x[m];
+      ++compared;
+    }
+    EXPECT_GT(compared, 30);
+  }
+}
+
+// Between the nodes, on half-spaces of skin's medium (sigma_t' = 1 /mm, alpha' midway between
+// nodes in sqrt a): within 1 % of FrequencyStack where R is above 1e-4 of its value at 0.02 mm
+// (measured over alpha' 0.04-0.9993 and sigma_t' 1, 5, 20 /mm: up to 0.75 % at sigma_t' = 1;
+// where that level lies beyond x = r sigma_t' = 6, at alpha' 0.3-0.85 and sigma_t' 20, up to 7 %,
+// where FrequencyStack solved at another scale differs from itself by several per cent).
+TEST(SkinStackTable, HalfSpaceProfilesMatchTheSolverBetweenNodes) {
+  const skin::RadialGrid radii = skin::RadialGrid::logarithmic(0.02, 10.0, 60);
+  for (const double alpha : {0.55, 0.9, 0.985}) {
+    skin::LayerStack s;
+    s.layers = {Layer{1 - alpha, alpha, skin::kInfinity, 1.4, 0.9}};
+    const skin::accurate::AccurateStack table(s);
+    ASSERT_TRUE(table.skin_table()) << alpha;
+    const skin::accurate::FrequencyStack solved(s);
+    skin::ProfileSolver ps(radii);
+    const std::vector<double> a = ps.profile(table), b = ps.profile(solved);
+    double worst = 0;
+    for (std::size_t i = 0; i < b.size(); ++i)
+      if (b[i] > 1e-4 * b[0]) worst = std::max(worst, std::abs(a[i] / b[i] - 1));
+    EXPECT_LT(worst, 0.01) << "alpha' = " << alpha;
   }
 }
 
@@ -96,10 +140,12 @@ TEST(SkinStackTable, PresetProfilesMatchTheSolverBetweenNodes) {
 
 // 2 pi int r R(r) dr over 1e-7-100 mm (log grid, 20000 points) is the adding-doubling R_d.
 TEST(SkinStackTable, ProfileIntegratesToTheTotal) {
-  for (const auto& [name, lambda] : {std::pair{"pale", 700.0}, {"tanned", 400.0}}) {
-    const skin::LayerStack s = preset_stack(name, lambda);
+  skin::LayerStack half_space;
+  half_space.layers = {Layer{0.3, 4.0, skin::kInfinity, 1.4, 0.9}};
+  for (const auto& [name, s] : {std::pair{"pale", preset_stack("pale", 700)}, {"tanned", preset_stack("tanned", 400)},
+                                {"half-space", half_space}}) {
     const skin::accurate::AccurateStack a(s);
-    ASSERT_TRUE(a.skin_table());
+    ASSERT_TRUE(a.skin_table()) << name;
     const int n = 20000;
     const double l0 = std::log(1e-7), l1 = std::log(100.0), h = (l1 - l0) / n;
     double sum = 0;
@@ -131,13 +177,22 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   p = {};
   p.dermis_scattering_scale = 0.7;
   EXPECT_NE(t.gap(skin::skin_layer_stack(p, 550)).find("0.5 x the top"), std::string::npos);
-  // Another dermis scattering keeps the transport top layer (fast; docs/accurate-solver.md sec. 9
-  // says what that costs in accuracy).
-  EXPECT_TRUE(skin::accurate::AccurateStack(skin::skin_layer_stack(p, 550)).transport_top());
   skin::LayerStack three = preset_stack("caucasian", 550);
   three.layers.push_back(three.layers.back());
   three.layers[1].thickness = 1.0;
-  EXPECT_EQ(t.gap(three), "not two layers");
+  EXPECT_EQ(t.gap(three), "neither a half-space nor two layers");
+  // Half-spaces: skin's index and g under air, alpha' 0.038-0.9999.
+  skin::LayerStack h;
+  h.layers = {Layer{0.01, 1.0, skin::kInfinity, 1.4, 0.9}};
+  EXPECT_EQ(t.gap(h), "");
+  h.layers[0].g = 0.8;
+  EXPECT_EQ(t.gap(h), "g is not the skin table's 0.9");
+  h.layers[0].g = 0.9;
+  h.layers[0].thickness = 2.0;
+  EXPECT_EQ(t.gap(h), "a slab, not a half-space");
+  h.layers[0].thickness = skin::kInfinity;
+  h.layers[0].sigma_a = 30.0;
+  EXPECT_NE(t.gap(h).find("is outside the skin table's half-space [1e-04, 25]"), std::string::npos) << t.gap(h);
   // Outside the table the accurate model solves the stack in the frequency domain.
   EXPECT_FALSE(skin::accurate::AccurateStack(three).skin_table());
 }
@@ -149,6 +204,8 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
   t.x = {0.1, 1, 10, 100, 1000};
   t.ln_rho.assign(4 * 4 * 4 * 5, -1.0);
   t.ln_rho_top.assign(4 * 4 * 5, -2.0);
+  t.a_h = {0.01, 0.1, 1, 10};
+  t.ln_rho_half.assign(4 * 5, -3.0);
   const std::string good = t.to_csv();
   EXPECT_NO_THROW(SkinStackTable::parse(good, "t.csv"));
   auto refused = [](const std::string& text, const std::string& what) {
@@ -169,7 +226,19 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
   refused(bad, "is not node (tau, a_e, a_d) = (1, 0.01, inf)");
   bad = good;
   bad.replace(bad.rfind("\n"), 1, "\n4,10,inf,-1,-1,-1,-1,-1\n");  // a row too many
-  refused(bad, "rows (tau x a_e x (the top layer alone and each a_d))");
+  refused(bad, "rows (tau x a_e x (the top layer alone and each a_d), then a_h)");
+  bad = good;
+  bad.replace(bad.find("\ninf,0.1,inf,"), 13, "\ninf,0.2,inf,");  // a half-space row
+  refused(bad, "is not node (tau, a_e, a_d) = (inf, 0.1, inf)");
+  // Without half-space nodes the table is read, and half-spaces are not covered.
+  bad = good;
+  bad.erase(bad.find("# a_h:"), bad.find('\n', bad.find("# a_h:")) + 1 - bad.find("# a_h:"));
+  bad.erase(bad.find("\ninf,0.01,inf,"));
+  bad += '\n';
+  const SkinStackTable no_half = SkinStackTable::parse(bad, "t.csv");
+  skin::LayerStack h;
+  h.layers = {Layer{0.1, 1.0, skin::kInfinity, 1.4, 0.9}};
+  EXPECT_EQ(no_half.gap(h), "the skin table has no half-space nodes");
   bad = good;
   bad.replace(bad.rfind("-1.0000"), 7, "nan");
   refused(bad, "not a finite number");

@@ -38,6 +38,27 @@ TEST(Lagrange4, ReproducesCubicsButNotQuartics) {
   EXPECT_EQ(at_node[0], 0.0);
 }
 
+// Six points (the frequency-domain solver's interpolation between its nodes): exact for quintics,
+// the error of t^6 is -t (t-1) ... (t-5), the same weights as lagrange4_weights for N = 4.
+TEST(LagrangeN, SixPointsReproduceQuinticsButNotSextics) {
+  auto quintic = [](double t) { return 0.3 + t - 0.5 * t * t + 0.1 * std::pow(t, 3) - 0.02 * std::pow(t, 4) + 0.003 * std::pow(t, 5); };
+  for (double t : {0.0, 0.4, 2.0, 2.5, 3.7, 5.0}) {
+    const auto w = lagrange_weights<6>(t);
+    double sum = 0, c = 0, s = 0, node = 1;
+    for (int a = 0; a < 6; ++a) {
+      sum += w[a];
+      c += w[a] * quintic(a);
+      s += w[a] * std::pow(a, 6);
+    }
+    for (int a = 0; a < 6; ++a) node *= t - a;
+    EXPECT_NEAR(sum, 1.0, 1e-13) << t;
+    EXPECT_NEAR(c, quintic(t), 1e-12) << t;
+    EXPECT_NEAR(s - std::pow(t, 6), -node, 1e-9) << t;
+    const auto w4 = lagrange_weights<4>(t / 2), v4 = lagrange4_weights(t / 2);
+    for (int a = 0; a < 4; ++a) EXPECT_EQ(w4[a], v4[a]);
+  }
+}
+
 TEST(Lagrange4, UnevenNodesReproduceCubicsAndMoveTheStencilInwardsAtTheEnds) {
   auto cubic = [](double t) { return 0.7 - 1.3 * t + 0.4 * t * t - 0.25 * t * t * t; };
   const std::vector<double> nodes = {0.1, 0.25, 0.7, 1.0, 1.9, 2.2, 3.5};

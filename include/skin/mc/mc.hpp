@@ -26,9 +26,8 @@ namespace skin::mc {
 // - diffuse_bottom: a Lambertian point source on the bottom boundary of the last (finite) layer,
 //   radiating upwards into it (radiance uniform over the upward hemisphere, so the cosine of the
 //   direction is drawn with pdf 2 mu). Results per emitted power; R_d is then the power leaving
-//   through the top surface and T_d the power returning down through the bottom boundary. Used
-//   to tabulate a layer's transfer functions for diffuse light arriving from below
-//   (skin::accurate::TopLayerTable).
+//   through the top surface and T_d the power returning down through the bottom boundary: a
+//   layer's transfer functions for diffuse light arriving from below.
 // - diffuse_top: a Lambertian point source on the top surface radiating downwards into the first
 //   layer (cosine-weighted directions inside the medium, no refraction): the entry of a
 //   renderer's random-walk subsurface scattering (Cycles, Chiang et al. 2016). Results per power

@@ -6,6 +6,7 @@
 
 #include "skin/color/color.hpp"
 #include "skin/transport/model.hpp"
+#include "skin/util/progress.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/physics/spectrum.hpp"
@@ -37,12 +38,16 @@ SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid =
                            const Model& model = transport::default_model());
 
 // Radial profiles per wavelength, or per linear sRGB channel (colour weights from `grid`).
+// `progress` counts the wavelengths whose response is built (the slow part off the accurate
+// model's skin table: ~0.35 s each).
 SpectralProfile skin_spectral_profile(const SkinParameters& p, const WavelengthGrid& grid,
                                       ProfileSolver& profiles,
-                                      const Model& model = transport::default_model());
+                                      const Model& model = transport::default_model(),
+                                      const ProgressCallback& progress = {});
 RgbProfile skin_rgb_profile(const SkinParameters& p, const WavelengthGrid& grid,
                             ProfileSolver& profiles,
-                            const Model& model = transport::default_model());
+                            const Model& model = transport::default_model(),
+                            const ProgressCallback& progress = {});
 
 // The spectrum and the RGB profile of one skin together, as skin_spectrum and skin_rgb_profile
 // give them (the same numbers): the profile's radial responses give R_d too (a response's total

@@ -15,22 +15,17 @@
 // reflectance of the top surface at normal incidence; R_d and T_d are per power that entered
 // (divided by 1 - R_specular). T_d includes light transmitted without scattering.
 //
-// AccurateStack: a radial response (for skin::ProfileSolver) whose total is the adding-doubling
-// R_d; its shape comes from Monte Carlo transport of the top layer (TopLayerTable) coupled in the
-// frequency domain to diffusion below it, or, outside the table, from the multipole model with a
-// partial-current top surface; either way corrected per component (the top layer's own
-// reflectance, and the light that came back from below it) so that each component's total is
-// the adding-doubling one. Units: mm, 1/mm, k in rad/mm.
+// FrequencyStack: the radial profile of any stack by radiative transfer in the spatial-frequency
+// domain, integrating to the adding-doubling R_d. AccurateStack: the same profile, read from the
+// table of skin profiles (skin_stack_table.hpp) where it covers the stack, solved elsewhere.
+// Units: mm, 1/mm, k in rad/mm.
 #include <iosfwd>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
-#include "skin/transport/top_layer_table.hpp"
 #include "skin/physics/layer.hpp"
 #include "skin/transport/profile_fwd.hpp"
-#include "skin/transport/diffusion.hpp"
 #include "skin/transport/model.hpp"
 #include "skin/transport/stack.hpp"
 
@@ -169,30 +164,14 @@ class FrequencyStack final : public RadialResponse {
 };
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
-// the profile integrates to it exactly. Three shapes (docs/accurate-solver.md, sec. 3, 8 and 9):
+// the profile integrates to it exactly. Two routes to one profile (docs/accurate-solver.md,
+// sec. 8 and 9):
 // - the two-layer skin geometry inside the built-in SkinStackTable (skin_stack_table.hpp: the
-//   default g, index and dermis scattering, an epidermis with sigma_a up to 0.6 sigma_s', i.e.
-//   light skin): FrequencyStack's profile, tabulated over the stack's three reduced parameters
-//   and interpolated (read, not solved);
-// - transport top layer (used when the built-in TopLayerTable covers the top layer: its g, its
-//   index and the index above it are the table's, and it is either a finite layer over a
-//   half-space of its own index and g, at least 0.59 / sigma_s' thick (the skin table's thinnest
-//   epidermis; skin with a darker epidermis than the skin table's, another g or dermis
-//   scattering) and with a reduced optical thickness in the table's range, or a half-space,
-//   which is split at the table's thickest layer over the same medium by diffusion; not a
-//   thinner top: over a bright layer seen through a thin dark top, the diffusion below it is
-//   44 % off near the beam): R(r) = c_top R_e(r) + inverse transform of
-//   c_deep T_down(k) R_below(k) T_up(k) / (1 - R_up(k) R_below(k)), where R_e, T_down, T_up and
-//   R_up are the top layer's Monte Carlo transport (R_e in space, the others in the frequency
-//   domain), R_below is the multipole of the layers below it (diffusion, accurate there: they
-//   are thick and bright), c_top = R_top^AD / int R_e (the adding-doubling reflectance of the
-//   top layer alone over its index) and c_deep makes R(0) the adding-doubling R_d. Fast (the
-//   tables are read, not solved);
-// - every other stack: radiative transfer in the spatial-frequency domain (FrequencyStack), no
-//   tables, any stack (~0.1-1 CPU-s per stack).
-// transport_table_gap() says why a stack is outside the tables (empty when they apply).
-std::string transport_table_gap(const LayerStack& stack);
-
+//   default g, index and dermis scattering, every preset at 380-780 nm): FrequencyStack's
+//   profile, tabulated over the stack's three reduced parameters and interpolated (read, not
+//   solved; within 0.1-0.4 % of the solver on light skin, a few per cent on the darkest);
+// - every other stack: FrequencyStack, solved (~0.3 s per skin stack on 2 cores, minutes for
+//   four layers with index steps).
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const LayerStack& stack, const Options& options = {});
@@ -208,24 +187,13 @@ class AccurateStack final : public RadialResponse {
   double T_d() const { return totals_.T_d; }
   double R_specular() const { return totals_.R_specular; }
   const Totals& totals() const { return totals_; }
-  // True when the top layer's transport comes from the built-in TopLayerTable (otherwise the
-  // profile is FrequencyStack's).
-  bool transport_top() const { return table_ != nullptr; }
-  // True when the profile is read from the built-in SkinStackTable (FrequencyStack's, tabulated).
+  // True when the profile is read from the built-in SkinStackTable (FrequencyStack's, tabulated;
+  // otherwise it is solved).
   bool skin_table() const { return skin_ != nullptr; }
-  // The correction factors of the table shape (1 otherwise).
-  double c_top() const { return c_top_; }
-  double c_deep() const { return c_deep_; }
 
  private:
-  double coupling_k(double k) const;  // transport top layer: the light from below it
   Totals totals_;
-  const TopLayerTable* table_ = nullptr;  // set when the transport top layer is used
-  TopLayerTable::Sample top_sample_;
-  double sigma_t_prime_ = 1;              // of the top layer [1/mm]
-  std::optional<DiffusionStack> rest_;    // the layers below the top one (none for one layer)
-  double c_top_ = 1, c_deep_ = 1;
-  std::unique_ptr<FrequencyStack> frequency_;  // set outside the tables
+  std::unique_ptr<FrequencyStack> frequency_;  // set outside the skin table
   std::unique_ptr<SkinStackProfile> skin_;     // set for the skin geometry
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);

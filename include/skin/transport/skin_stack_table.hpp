@@ -1,6 +1,7 @@
 #pragma once
-// The frequency-domain profiles of the two-layer skin geometry, tabulated (docs/accurate-solver.md,
-// sec. 9): a cache of FrequencyStack for the stacks every skin material asks for, so that an RGB
+// The frequency-domain profiles of the two-layer skin geometry and of a half-space of skin's
+// medium, tabulated (docs/accurate-solver.md, sec. 9): a cache of FrequencyStack for the stacks
+// every skin material asks for (and the half-spaces the export to pbrt-v4 fits), so that an RGB
 // or spectral profile of skin is read, not solved (~0.4 CPU-s per stack otherwise).
 //
 // Geometry: air over a finite layer (the epidermis: index eta, Henyey-Greenstein g, reduced
@@ -22,6 +23,9 @@
 // beyond the last it falls exponentially in x; below 1e-12 of its peak it is 0. The interpolated
 // shape is scaled to integrate to the stack's adding-doubling R_d. Nodes: air over eta 1.4, g
 // 0.9, the dermis half as scattering; tau 0.59-4.5, a_e up to 6.93 (every preset at 380-780 nm).
+// The half-space (air over one semi-infinite layer of index eta and g): a = sigma_a / sigma_s'
+// from 1e-4 to 25 (alpha' 0.9999-0.038), R(r) = s^2 rho(x) with s its sigma_s', interpolated in
+// sqrt a like the top layer.
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -37,11 +41,13 @@ struct SkinStackTable {
   double eta = 1.4, g = 0.9, dermis_ratio = 0.5;  // the geometry (air above)
   std::string provenance;
   std::vector<double> tau, a_e, a_d, x;  // nodes, increasing
+  std::vector<double> a_h;               // the half-space's nodes (none: half-spaces not covered)
   // The profile in two parts, each smooth in the parameters (their sum has a knee where the light
   // from below takes over, which moves with tau): the top layer alone over an absorber, and the
   // light that reached the lower layer, ln(rho - rho_top).
   std::vector<double> ln_rho_top;        // [(i_tau * a_e.size() + i_e) * x.size() + i_x]
   std::vector<double> ln_rho;            // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]
+  std::vector<double> ln_rho_half;       // [i_h * x.size() + i_x]
 
   // The built-in nodes (data/skin_stack_profiles.csv), without values.
   static SkinStackTable default_nodes();
@@ -55,17 +61,20 @@ struct SkinStackTable {
 
   // Why a stack is not in the table (empty when it is).
   std::string gap(const LayerStack& stack) const;
-  // ln rho at the x nodes of the stack (tau, a_e, a_d) (inside the node ranges).
+  // ln rho at the x nodes of the stack (tau, a_e, a_d), or of the half-space a (inside the node
+  // ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
+  std::vector<double> ln_rho_half_space_at(double a) const;
   // The node's values (tests): ln rho at the x nodes (the two parts added).
   std::vector<double> node(std::size_t i_tau, std::size_t i_e, std::size_t i_d) const;
   // ln rho of one node computed by FrequencyStack, floored as in the table; and of its top layer
   // alone over an absorber.
   std::vector<double> solve_node(double tau, double a_e, double a_d) const;
   std::vector<double> solve_top(double tau, double a_e) const;
+  std::vector<double> solve_half_space(double a) const;
 };
 
-// The profile of a stack in the table, as R(r) [1/mm^2] scaled to integrate to R_d.
+// The profile of a stack in the table (gap() empty), as R(r) [1/mm^2] scaled to integrate to R_d.
 class SkinStackProfile {
  public:
   SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d);

@@ -9,18 +9,21 @@
 
 namespace skin {
 
-// Weights of 4-point Lagrange interpolation through nodes 0, 1, 2, 3 evaluated at t:
-// f(t) ~ sum_a w[a] f(a), w[a] = prod_{b != a} (t - b) / (a - b). Exact for cubics; the weights
-// sum to 1. Intended for t in [0, 3] (the middle interval [1, 2] is the most accurate).
-inline std::array<double, 4> lagrange4_weights(double t) {
-  std::array<double, 4> w;
-  for (int a = 0; a < 4; ++a) {
+// Weights of N-point Lagrange interpolation through nodes 0, 1, ..., N - 1 evaluated at t:
+// f(t) ~ sum_a w[a] f(a), w[a] = prod_{b != a} (t - b) / (a - b). Exact for polynomials of degree
+// N - 1; the weights sum to 1. Intended for t in [0, N - 1] (the middle interval is the most
+// accurate).
+template <std::size_t N>
+inline std::array<double, N> lagrange_weights(double t) {
+  std::array<double, N> w;
+  for (std::size_t a = 0; a < N; ++a) {
     w[a] = 1;
-    for (int b = 0; b < 4; ++b)
-      if (b != a) w[a] *= (t - b) / static_cast<double>(a - b);
+    for (std::size_t b = 0; b < N; ++b)
+      if (b != a) w[a] *= (t - static_cast<double>(b)) / (static_cast<double>(a) - static_cast<double>(b));
   }
   return w;
 }
+inline std::array<double, 4> lagrange4_weights(double t) { return lagrange_weights<4>(t); }
 
 // 4-point Lagrange interpolation among increasing, not necessarily even nodes (at least four):
 // f(v) ~ sum_a weights[a] f(nodes[first + a]), the stencil centred on v's interval and moved
