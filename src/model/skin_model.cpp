@@ -100,6 +100,13 @@ SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& gr
   return a;
 }
 
+std::size_t skin_profile_solves(const SkinParameters& p, const WavelengthGrid& grid,
+                                const Model& model) {
+  std::size_t n = 0;
+  for (const LayerStack& s : skin_layer_stacks(p, grid)) n += model.response_is_solved(s) ? 1 : 0;
+  return n;
+}
+
 transport::Validity skin_validity(const SkinParameters& p, const WavelengthGrid& grid,
                                   const Model& model) {
   std::vector<std::string> labels;

@@ -11,6 +11,7 @@
 #include "skin/physics/fresnel.hpp"
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/diffusion.hpp"
+#include "skin/transport/skin_stack_table.hpp"
 #include "skin/transport/stack.hpp"
 #include "skin/util/error.hpp"
 
@@ -56,6 +57,7 @@ class Multipole final : public Model {
   std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
     return std::make_unique<DiffusionStack>(stack);
   }
+  bool response_is_solved(const LayerStack&) const override { return false; }
   // The real source of each layer sits at z_r = 1 / sigma_t' (DJ05 eq 7): in a layer thinner
   // than that it lies below the layer, the layer's transmittance changes sign and R_d jumps
   // (docs/fit.md, "Validity"). Totals and profile are then both outside the model.
@@ -96,9 +98,9 @@ class AddingDoublingModel : public Model {
   accurate::Cache cache_;
 };
 
-// Profiles of light skin from the table of frequency-domain profiles (skin_stack_table.hpp), from
-// the transport tables of the top layer where they apply and that table does not, from radiative
-// transfer in the spatial-frequency domain elsewhere (AccurateStack).
+// Profiles of skin (and half-spaces of its medium) from the table of frequency-domain profiles
+// (skin_stack_table.hpp), of every other stack from radiative transfer in the spatial-frequency
+// domain (AccurateStack).
 class Accurate final : public AddingDoublingModel {
  public:
   std::string_view name() const override { return "accurate"; }
@@ -107,6 +109,9 @@ class Accurate final : public AddingDoublingModel {
   }
   std::unique_ptr<RadialResponse> response(const LayerStack& stack) const override {
     return std::make_unique<accurate::AccurateStack>(stack, accurate::Options{}, cache_);
+  }
+  bool response_is_solved(const LayerStack& stack) const override {
+    return !accurate::SkinStackTable::builtin().gap(stack).empty();
   }
 };
 
@@ -122,6 +127,7 @@ class Frequency final : public AddingDoublingModel {
     return std::make_unique<accurate::FrequencyStack>(stack, accurate::FrequencyProfileOptions{},
                                                       cache_);
   }
+  bool response_is_solved(const LayerStack&) const override { return true; }
 };
 
 // The models, the default first.

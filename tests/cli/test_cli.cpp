@@ -93,9 +93,9 @@ TEST_F(Cli, AccurateSpectrumMatchesGoldenAndIsTheDefault) {
   EXPECT_GT(mp["R_d"][5].get<double>(), 1.5 * got["R_d"][5].get<double>());  // 450 nm
 }
 
-// Outside its transport tables the accurate profile is radiative transfer in the
+// Off its skin table the accurate profile is solved by radiative transfer in the
 // spatial-frequency domain: no warning, and the JSON says the profile is inside the range. A
-// dark top layer (alpha' = 0.038, below the tables' 0.0975) over a bright half-space.
+// dark top layer (alpha' = 0.038) over a bright half-space.
 TEST_F(Cli, LayersOutsideTheTablesDoNotWarn) {
   const CmdResult r = run("layers --layer sigma_a=50,sigma_s_prime=2,thickness=0.05 "
                           "--layer sigma_a=0.001,sigma_s_prime=10 --radius 0.3 --radius 3 --format json");

@@ -2,7 +2,7 @@
 // and colour fits and a seeded Monte Carlo run, for both solvers, against tests/golden/golden.json
 // (taken before the one-vocabulary refactor) to 1e-12 relative (1e-300 absolute for zeros).
 // SKIN_GOLDEN_WRITE=1 rewrites the file instead of comparing. The accurate profiles of the stacks
-// outside the skin and top-layer tables (radiative transfer in the spatial-frequency domain, ~45 CPU-s in
+// off the skin table (radiative transfer in the spatial-frequency domain, ~45 CPU-s in
 // Release for the index-step stack, over 10 min under ASan) are a test of their own, which the
 // sanitizer suite leaves out (scripts/test.sh; the frequency-domain code runs under the
 // sanitizers in accurate_test).

@@ -261,9 +261,9 @@ class Bindings(unittest.TestCase):
             self.assertAlmostEqual(total / p["R_d"][c], 1.0, delta=0.005)
 
     def test_validity_outside_the_accurate_tables(self):
-        # A dark top layer (alpha' = 0.038, below the transport tables' 0.0975) over a bright
-        # half-space, and skin with g = 0.7: radiative transfer in the spatial-frequency domain,
-        # inside the model's range (no warning).
+        # A dark top layer (alpha' = 0.038) over a bright half-space, and skin with g = 0.7: off
+        # the skin table, solved by radiative transfer in the spatial-frequency domain, inside
+        # the model's range (no warning).
         layers = [{"sigma_a": 50.0, "sigma_s_prime": 2.0, "thickness": 0.05},
                   {"sigma_a": 0.001, "sigma_s_prime": 10.0}]
         with warnings.catch_warnings():

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "skin/transport/accurate.hpp"
@@ -322,19 +323,21 @@ TEST(HalfSpaceProfiles, WithinFivePercentAndThreeSEOfMonteCarlo) {
 }
 
 // Skin off the skin table (another anisotropy, another dermis scattering: the frequency-domain
-// solver). The top-layer tables these stacks used to read were 3-10 % off the solved profile
+// solver). The top-layer tables these stacks used to read (removed) were 3-11 % off the solved profile
 // (caucasian at 650 nm +10 % at 4 mm, african at 550 nm with g = 0.95 -16 % at 0.2 mm).
 TEST(PresetProfilesOffTheSkinTable, WithinFivePercentAndThreeSEOfMonteCarlo) {
   struct Variant { double g, dermis_scattering_scale; };
-  for (const Variant v : {Variant{0.8, 0.5}, Variant{0.95, 0.5}, Variant{0.9, 0.25}})
-    for (const auto& [name, lambda] : {PresetCase{"caucasian", 650}, PresetCase{"african", 550}}) {
-      const auto e = profile_errors(name, lambda, v.g, v.dermis_scattering_scale);
-      const std::string what = std::string(name) + " " + std::to_string(lambda) + " nm, g=" +
-                               std::to_string(v.g) + " scale=" + std::to_string(v.dermis_scattering_scale);
-      EXPECT_GT(e.checked, 0) << what;
-      EXPECT_EQ(e.accurate_bad, 0) << what << ": worst " << e.worst;
-      EXPECT_LT(e.accurate, 0.10) << what;
-    }
+  // Three of the six (another g each way, another dermis), each ~30 s under the sanitizers.
+  for (const auto& [name, lambda, v] : {std::tuple{"caucasian", 650.0, Variant{0.95, 0.5}},
+                                        std::tuple{"african", 550.0, Variant{0.8, 0.5}},
+                                        std::tuple{"caucasian", 650.0, Variant{0.9, 0.25}}}) {
+    const auto e = profile_errors(name, lambda, v.g, v.dermis_scattering_scale);
+    const std::string what = std::string(name) + " " + std::to_string(lambda) + " nm, g=" +
+                             std::to_string(v.g) + " scale=" + std::to_string(v.dermis_scattering_scale);
+    EXPECT_GT(e.checked, 0) << what;
+    EXPECT_EQ(e.accurate_bad, 0) << what << ": worst " << e.worst;
+    EXPECT_LT(e.accurate, 0.10) << what;
+  }
 }
 
 // The same checks fail for the diffusion model (the paper's multipole), so they can fail.

@@ -10,6 +10,8 @@ const state = {
   preset: 'caucasian',
   values: {},       // current parameter values by key
   solver: 'accurate',
+  solveProfile: false,  // the next update solves a profile that needs solving (the button)
+  profilePending: null, // the update's "profile_pending": the profile was not solved
   illuminant: 'D65',
   wide: false,
   spectrum: null,   // the last spectrum document (skin spectrum --format json)
@@ -129,7 +131,12 @@ function update() {
   const t0 = performance.now();
   let spectrum, profile, color;
   try {
-    ({ spectrum, profile, color } = runJson('update', request({ illuminant: state.illuminant })));
+    // A profile the solver would solve per wavelength (seconds each here) waits for the button.
+    let pendingProfile;
+    ({ spectrum, profile, color, profile_pending: pendingProfile } =
+      runJson('update', request({ illuminant: state.illuminant, solve_profile: state.solveProfile })));
+    state.solveProfile = false;
+    state.profilePending = pendingProfile || null;
   } catch (e) {
     $('status').textContent = e.message;
     $('status').className = 'error';
@@ -155,7 +162,7 @@ function update() {
   const [m, lo, hi] = quantiles(state.timings);
   $('timing').textContent = `${ms.toFixed(1)} ms (model ${tModel.toFixed(1)} ms); median ${m} ms, 10–90 % ${lo}–${hi} ms ` +
     `of the last ${Math.min(state.timings.length, 100)} (model median ${quantiles(state.modelTimings)[0]} ms)`;
-  const warn = profile.validity.profile ? '' : ` Profile outside the solver's validated range: ${profile.validity.reason}`;
+  const warn = !profile || profile.validity.profile ? '' : ` Profile outside the solver's validated range: ${profile.validity.reason}`;
   $('status').textContent = `Ready. ${state.solver} solver.${warn}`;
   $('status').className = warn ? 'error' : '';
   scheduleStrip();
@@ -253,6 +260,19 @@ function drawSpectrum() {
 
 function drawProfile() {
   const p = state.profile, svg = $('profile-plot');
+  const pending = state.profilePending;
+  $('profile-pending').hidden = !pending;
+  if (pending) {
+    // Off the accurate solver's skin table, or sfd: each wavelength is solved, ~2 s here.
+    const minutes = Math.max(1, Math.round(pending.wavelengths * 2 / 60));
+    const why = pending.solver === 'sfd' ? 'sfd reads no table'
+      : 'they are off its table of skin profiles: another g, index or dermis scattering, or an epidermis outside its thickness range';
+    $('profile-pending-text').textContent =
+      `The ${pending.solver} profile of these parameters is solved at ${pending.wavelengths} of ${pending.of} ` +
+      `wavelengths (${why}): about ${minutes} min in this page. The spectrum and colour above are exact.`;
+    svg.innerHTML = '';
+    return;
+  }
   const all = [...p.R.r, ...p.R.g, ...p.R.b].filter((v) => v > 0);
   const yMax = 10 ** Math.ceil(Math.log10(Math.max(...all)));
   const yMin = Math.max(10 ** Math.floor(Math.log10(Math.min(...all))), yMax * 1e-12);
@@ -347,6 +367,12 @@ function setUpDrop() {
   });
   $('measured-column').addEventListener('change', () => { state.fit = null; $('fit-result').textContent = ''; drawSpectrum(); });
   $('fit').addEventListener('click', fitMeasured);
+  $('solve-profile').addEventListener('click', () => {
+    state.solveProfile = true;
+    $('status').textContent = 'Solving the profile…';
+    $('status').className = '';
+    setTimeout(update, 30);  // let the status show before the page is busy
+  });
 }
 
 // --- Downloads --------------------------------------------------------------------------------

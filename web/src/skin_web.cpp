@@ -128,14 +128,28 @@ Result profile(const json& req) {
 // two documents of `skin spectrum` and `skin profile --rgb`, with the transport run once per
 // wavelength (skin_appearance) and the documents alone (no table text, no columns). Under an
 // illuminant other than D65, also "color": the document of `skin color --illuminant NAME`, from
-// the same R_d.
+// the same R_d. With "solve_profile": false, a profile the model would solve at some wavelength
+// (the accurate model off its skin table, sfd: seconds per wavelength in the page's one thread)
+// is not computed: "profile" is null and "profile_pending" says at how many wavelengths of how
+// many it would be solved; the spectrum and colour (the totals) are computed as always.
 json update(const json& req) {
   const color::Illuminant& illuminant = illuminant_of(req);
   const SkinParameters p = parameters_of(req);
   const WavelengthGrid grid = grid_of(req);
   const transport::Model& model = model_of(req);
-  const SkinAppearance a = skin_appearance(p, grid, profile_solver(radii_of(req)), model);
   const std::string preset = preset_of(req);
+  if (!get_or(req, "solve_profile", true)) {
+    if (const std::size_t solves = skin_profile_solves(p, grid, model); solves > 0) {
+      const SkinSpectrum s = skin_spectrum(p, grid, model);
+      json out{{"spectrum", schema::spectrum_document(s, preset)},
+               {"profile", nullptr},
+               {"profile_pending", {{"wavelengths", solves}, {"of", grid.size()}, {"solver", std::string(model.name())}}}};
+      if (illuminant.name() != color::kDefaultIlluminant)
+        out["color"] = color_result(s, grid, illuminant, preset).document;
+      return out;
+    }
+  }
+  const SkinAppearance a = skin_appearance(p, grid, profile_solver(radii_of(req)), model);
   json out{{"spectrum", schema::spectrum_document(a.spectrum, preset)},
            {"profile", schema::rgb_profile_document(a.rgb, p, preset, std::string(model.name()),
                                                     skin_validity(p, grid, model))}};

@@ -110,6 +110,25 @@ async function main() {
     await press('hemoglobin', 'ArrowRight', 15);
     await press('melanin_blend', 'ArrowLeft', 200);
     await compareWithCli('after moving melanin, hemoglobin, melanin_blend');
+    // Off the accurate solver's skin table (g one step below 0.9): the spectrum and colour are
+    // updated (the CLI's), the profile is not solved until asked (seconds per wavelength here).
+    await press('g', 'ArrowLeft', 1);
+    {
+      const s = await shown();
+      const off = await page.evaluate(() => ({
+        pending: window.skinState.profilePending,
+        visible: !document.getElementById('profile-pending').hidden,
+        text: document.getElementById('profile-pending-text').textContent,
+      }));
+      const failures = [];
+      if (s.values.g === 0.9) failures.push('g did not move');
+      if (s.profile !== null) failures.push('a profile was solved');
+      if (!off.visible || !off.pending || !(off.pending.wavelengths > 0) || !off.text.includes('off its table'))
+        failures.push(`no note: ${JSON.stringify(off)}`);
+      fail(failures, 'off the skin table');
+      checkDisplayed(s, cli(['spectrum', '--preset', s.preset, '--solver', s.solver], s.values), 'off the skin table: spectrum');
+      console.log(`off the skin table (g = ${s.values.g}): spectrum as skin's, profile waits (${off.pending && off.pending.wavelengths} wavelengths to solve)`);
+    }
     await page.click('button[data-preset="african"]');
     await page.waitForFunction(() => window.skinState.preset === 'african');
     await press('oxygenation', 'ArrowLeft', 100);

@@ -49,6 +49,23 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   }
   console.log(`module vs skin: ${cases} spectrum/profile pairs, largest relative difference ${worst.toExponential(2)}`);
 
+  // The page's update with "solve_profile": false. On the skin table it is the full update;
+  // off it (g = 0.85: every wavelength) the spectrum is skin spectrum's and the profile waits.
+  {
+    const onTable = run('update', { preset: 'tanned', solve_profile: false });
+    const full = run('update', { preset: 'tanned' });
+    if (JSON.stringify(onTable) !== JSON.stringify(full) || !full.profile) fail(['differs from the full update'], 'update on the table');
+    const params = { g: 0.85 };
+    const off = run('update', { preset: 'tanned', params, solve_profile: false });
+    const failures = [];
+    if (off.profile !== null) failures.push('a profile was solved');
+    if (!off.profile_pending || off.profile_pending.wavelengths !== 151 || off.profile_pending.of !== 151 || off.profile_pending.solver !== 'accurate')
+      failures.push(`profile_pending ${JSON.stringify(off.profile_pending)}`);
+    failures.push(...compare(off.spectrum, cli(['spectrum', '--preset', 'tanned'], params), TOL, 'spectrum').failures);
+    fail(failures, 'update off the skin table');
+    console.log('update with solve_profile false: the full update on the skin table; off it the spectrum alone, the profile pending');
+  }
+
   // Illuminants: the CLI's list, D65 first; `color` and `update` under A and LED-B3 give the
   // document of `skin color --illuminant X` (update: from its own R_d, besides the other two).
   const names = run('illuminants', {}).map((il) => il.name);

@@ -51,15 +51,20 @@ class Model {
   // The radial response (total == R_d); validates the stack.
   virtual std::unique_ptr<RadialResponse> response(const LayerStack& stack) const = 0;
   virtual Validity validity(const LayerStack& stack) const = 0;
+  // Whether response() solves the stack numerically (the frequency-domain solver: ~0.35 s per
+  // skin-like stack on 2 cores, seconds in a browser's one thread) rather than evaluating a
+  // closed form or reading a table (microseconds to milliseconds). Interactive callers (the web
+  // page) ask before they build many responses.
+  virtual bool response_is_solved(const LayerStack& stack) const = 0;
 };
 
 // The models (model_names()):
 // - accurate, the default: totals by the adding-doubling method (radiative transfer with a
 //   Henyey-Greenstein phase function, exact Fresnel boundaries), within Monte Carlo noise for
-//   every skin type; profiles from Monte Carlo transport of the top layer (built-in tables)
-//   coupled to diffusion below it, integrating exactly to those totals, within 10 % of Monte
-//   Carlo over 0.1-5 mm for skin (docs/accurate-solver.md). Outside the tables the profile is
-//   radiative transfer in the spatial-frequency domain (as `sfd`); R_d and T_d stay exact.
+//   every skin type; profiles by radiative transfer in the spatial-frequency domain (as `sfd`),
+//   read from the built-in table of skin profiles for the two-layer skin geometry and the
+//   half-space of skin's medium (every preset: ~6 ms for an RGB profile), solved for every other
+//   stack; integrating exactly to those totals (docs/accurate-solver.md, sec. 3, 8, 9).
 // - sfd: the same totals, every profile from the spatial-frequency domain (accurate::
 //   FrequencyStack): within 5 % + 3 SE of Monte Carlo over 0.02-10 mm in every case measured
 //   (against `skin mc` and MCML) but one annulus near the beam of a 14.5 um slab, at ~0.3 s
