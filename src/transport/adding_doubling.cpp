@@ -475,10 +475,14 @@ void detail::add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T) {
 int detail::quadrature_points(const LayerStack& stack, const Options& options) {
   stack.validate();
   validate_options(options);
-  bool index_steps = false;
-  for (const auto& l : stack.layers) index_steps = index_steps || l.eta != stack.layers.front().eta;
+  bool index_steps = false, forward = false;
+  for (const auto& l : stack.layers) {
+    index_steps = index_steps || l.eta != stack.layers.front().eta;
+    forward = forward || l.g > kForwardG;
+  }
   return options.quadrature_points != 0 ? options.quadrature_points
          : index_steps                  ? kIndexStepQuadraturePoints
+         : forward                      ? kForwardQuadraturePoints
                                         : kDefaultQuadraturePoints;
 }
 

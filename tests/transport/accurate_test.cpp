@@ -611,6 +611,26 @@ TEST(FrequencyStack, TheProfileDoesNotDependOnTheScaleOfTheSolve) {
   }
 }
 
+// Strongly forward scattering layers get more quadrature directions (kForwardQuadraturePoints):
+// african skin at 650 nm with g = 0.95, whose profile with the 8 directions of g = 0.9 rose and
+// fell by up to 2.4x between neighbouring radii at 0.48-1.2 mm (+30 % against skin mc at 2 x
+// 10^7 photons over 0.50-0.55 mm), decreases smoothly there: each step of 8 % in r lowers it by
+// 10-45 %, never raises it (checked to fail with Options{8}).
+TEST(FrequencyStack, ForwardScatteringGetsMoreDirectionsAndNoRipple) {
+  skin::SkinParameters p = skin::find_preset("african").parameters;
+  p.g = 0.95;
+  const LayerStack s = skin::skin_layer_stack(p, 650);
+  EXPECT_EQ(skin::accurate::detail::quadrature_points(s, {}), skin::accurate::kForwardQuadraturePoints);
+  std::vector<double> r;
+  for (double v = 0.3; v <= 1.25; v *= 1.08) r.push_back(v);
+  skin::ProfileSolver ps(skin::RadialGrid::from(r));
+  const auto R = ps.profile(skin::accurate::FrequencyStack(s));
+  for (std::size_t i = 1; i < R.size(); ++i) {
+    EXPECT_LT(R[i], 0.92 * R[i - 1]) << "r = " << r[i];
+    EXPECT_GT(R[i], 0.5 * R[i - 1]) << "r = " << r[i];
+  }
+}
+
 // Where the profile has fallen below the inversion's reach it is quiet, not ringing: african
 // skin at 450 nm, 0.3-0.4 mm every micrometre (R there is below 1e-7 of R(0.01 mm): light
 // through 13 optical depths of epidermis). The kink of the remainder at k_hi (737 rad/mm) rang

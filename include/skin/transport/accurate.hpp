@@ -37,15 +37,21 @@ class SkinStackProfile;  // skin_stack_table.hpp
 // kDefaultQuadraturePoints when every layer has the same index (skin), kIndexStepQuadraturePoints
 // when layers differ in index (each internal index step adds panels whose radiance needs more
 // directions: 8 points left R_d or T_d off by up to 18 %, 16 by up to 1.1 % against 48;
-// docs/accurate-solver.md, sec. 4).
+// docs/accurate-solver.md, sec. 4), kForwardQuadraturePoints when a layer scatters more forward
+// than g = kForwardG (at g = 0.95 the frequency-domain profile of african skin at 650 nm
+// oscillated beyond 0.45 mm with 8, +30 % against Monte Carlo at 0.5-0.55 mm; 10, 12 and 16
+// agree within 1 %; R_d moved by 0.6 %).
 inline constexpr int kDefaultQuadraturePoints = 8;
 inline constexpr int kIndexStepQuadraturePoints = 16;
+inline constexpr int kForwardQuadraturePoints = 12;
+inline constexpr double kForwardG = 0.9;
 
 struct Options {
   // Quadrature directions per hemisphere in each angular panel (the hemisphere is split at the
   // critical angles of the stack's interfaces; an index-matched stack has one panel). 0 =
-  // automatic (kDefaultQuadraturePoints, or kIndexStepQuadraturePoints for stacks whose layers
-  // differ in index). Allowed: 0 or [2, 64].
+  // automatic (kDefaultQuadraturePoints, kIndexStepQuadraturePoints for stacks whose layers
+  // differ in index, kForwardQuadraturePoints for a layer with g > kForwardG). Allowed: 0 or
+  // [2, 64].
   int quadrature_points = 0;
 };
 std::ostream& operator<<(std::ostream& os, const Options& o);
