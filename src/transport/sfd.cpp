@@ -392,8 +392,12 @@ int detail::azimuthal_orders(const LayerStack& stack, double k, const FrequencyO
   if (options.azimuthal_orders != 0) return k == 0.0 ? 1 : options.azimuthal_orders;
   if (k == 0.0) return 1;  // the orders decouple: order 0 alone is the answer
   // The coupling is strongest in the layer of least extinction (kappa = k / sigma_t there).
-  double sigma_t = kInfinity;
-  for (const auto& l : stack.layers) sigma_t = std::min(sigma_t, scaled_extinction(l));
+  double sigma_t = kInfinity, depth = 0;
+  for (const auto& l : stack.layers) {
+    sigma_t = std::min(sigma_t, scaled_extinction(l));
+    depth += scaled_extinction(l) * l.thickness;  // infinite for a semi-infinite layer
+  }
+  if (depth < kThinStackDepth) return kThinStackOrders;
   const double kappa = k / sigma_t;
   return std::min(kMaxAutomaticOrders, 3 + static_cast<int>(std::ceil(4 * std::sqrt(kappa))));
 }

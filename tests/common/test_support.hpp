@@ -6,11 +6,36 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <initializer_list>
 #include <vector>
 
 #include "skin/util/quadrature.hpp"
 
 namespace skin::test {
+
+// True in a build under AddressSanitizer (SKIN_SANITIZE; clang's __has_feature or GCC's macro).
+// Tests that repeat one check over many cases run the first of them only there (`sanitized()`):
+// that run is for memory errors and undefined behaviour, and each frequency-domain solve costs
+// ~15x its Release time under the sanitizers; the Release suite runs every case.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kUnderSanitizers = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kUnderSanitizers = true;
+#else
+inline constexpr bool kUnderSanitizers = false;
+#endif
+#else
+inline constexpr bool kUnderSanitizers = false;
+#endif
+
+// The cases a test runs: all of them, or the first under the sanitizers.
+template <class T>
+std::vector<T> sanitized(std::initializer_list<T> cases) {
+  std::vector<T> v(cases);
+  if (kUnderSanitizers && v.size() > 1) v.resize(1);
+  return v;
+}
 
 // Chandrasekhar's H-function for isotropic scattering with single-scattering albedo omega in
 // [0, 1): a semi-infinite, isotropically scattering, index-matched medium lit by a normal beam

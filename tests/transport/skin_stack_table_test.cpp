@@ -15,6 +15,7 @@
 #include "skin/transport/profile.hpp"
 #include "skin/transport/skin_stack_table.hpp"
 #include "skin/util/error.hpp"
+#include "test_support.hpp"
 
 namespace {
 using skin::Layer;
@@ -40,7 +41,7 @@ TEST(SkinStackTable, BuiltinHasTheDefaultNodesAndGeometry) {
 }
 
 // Two nodes solved again (a bright epidermis over a bright dermis; african skin's epidermis over
-// its dermis; two, so that the test stays short under the sanitizers): the table's two parts
+// its dermis; the first only under the sanitizers): the table's two parts
 // added hold them to 1.5e-4 in ln rho (each part is stored to 4 decimals) wherever rho is above
 // 1e-6 of its value at x = 0.1 (further out the light from below is the difference of two solves
 // near the inversion's noise: 0.1 in ln rho at 5e-9 of the peak), and the top layer alone is its
@@ -48,7 +49,7 @@ TEST(SkinStackTable, BuiltinHasTheDefaultNodesAndGeometry) {
 TEST(SkinStackTable, NodesAreTheFrequencyDomainProfiles) {
   const SkinStackTable& t = SkinStackTable::builtin();
   const auto i_01 = static_cast<std::size_t>(std::lower_bound(t.x.begin(), t.x.end(), 0.1) - t.x.begin());
-  for (const auto& [i, j, l] : {std::tuple{3u, 4u, 3u}, std::tuple{2u, 20u, 7u}}) {
+  for (const auto& [i, j, l] : skin::test::sanitized({std::tuple{3u, 4u, 3u}, std::tuple{2u, 20u, 7u}})) {
     const std::vector<double> stored = t.node(i, j, l);
     const std::vector<double> solved = t.solve_node(t.tau[i], t.a_e[j], t.a_d[l]);
     ASSERT_EQ(stored.size(), solved.size());
@@ -75,7 +76,7 @@ TEST(SkinStackTable, NodesAreTheFrequencyDomainProfiles) {
 TEST(SkinStackTable, HalfSpaceNodesAreTheFrequencyDomainProfiles) {
   const SkinStackTable& t = SkinStackTable::builtin();
   const auto i_01 = static_cast<std::size_t>(std::lower_bound(t.x.begin(), t.x.end(), 0.1) - t.x.begin());
-  for (const std::size_t i : {16u, 48u}) {
+  for (const std::size_t i : skin::test::sanitized({16u, 48u})) {
     const std::vector<double> solved = t.solve_half_space(t.a_h[i]);
     int compared = 0;
     for (std::size_t m = 0; m < solved.size(); ++m) {
@@ -118,8 +119,9 @@ TEST(SkinStackTable, HalfSpaceProfilesMatchTheSolverBetweenNodes) {
 // 0.8 %). The four stacks checked here: 0.5 % and 2.3 %.
 TEST(SkinStackTable, PresetProfilesMatchTheSolverBetweenNodes) {
   const skin::RadialGrid radii = skin::RadialGrid::logarithmic(0.02, 10.0, 80);
-  for (const auto& [name, lambda] :
-       {std::pair{"caucasian", 650.0}, {"pale", 450.0}, {"tanned", 400.0}, {"asian", 600.0}}) {
+  // (The first only under the sanitizers.)
+  for (const auto& [name, lambda] : skin::test::sanitized<std::pair<const char*, double>>(
+           {{"caucasian", 650.0}, {"pale", 450.0}, {"tanned", 400.0}, {"asian", 600.0}})) {
     const skin::LayerStack s = preset_stack(name, lambda);
     const skin::accurate::AccurateStack table(s);
     ASSERT_TRUE(table.skin_table()) << name;
