@@ -1,6 +1,7 @@
 #pragma once
 // Reference numerics shared by the test suites (the test targets link skin_test_support):
-// Chandrasekhar's H-function by brute force and the chi-square tests of samplers.
+// Chandrasekhar's H-function by brute force, the chi-square tests of samplers, and which cases a
+// test runs under the sanitizers.
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include <algorithm>
