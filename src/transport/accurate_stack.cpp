@@ -13,9 +13,9 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
 
 AccurateStack::AccurateStack(const LayerStack& stack, const Options& options, const Cache& cache)
     : totals_(adding_doubling(stack, options, cache)) {
-  if (const SkinStackTable& skin = SkinStackTable::builtin(); skin.gap(stack).empty()) {
+  if (reads_skin_table(stack)) {
     // The two-layer skin geometry: the frequency-domain profile, tabulated.
-    skin_ = std::make_unique<SkinStackProfile>(skin, stack, totals_.R_d);
+    skin_ = std::make_unique<SkinStackProfile>(SkinStackTable::builtin(), stack, totals_.R_d);
     return;
   }
   FrequencyProfileOptions o;
@@ -24,6 +24,10 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options, co
 }
 
 AccurateStack::~AccurateStack() = default;
+
+bool AccurateStack::reads_skin_table(const LayerStack& stack) {
+  return SkinStackTable::builtin().gap(stack).empty();
+}
 
 double AccurateStack::singular(double r) const {
   return skin_ ? (*skin_)(r) : frequency_->singular(r);

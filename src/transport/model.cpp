@@ -11,7 +11,6 @@
 #include "skin/physics/fresnel.hpp"
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/diffusion.hpp"
-#include "skin/transport/skin_stack_table.hpp"
 #include "skin/transport/stack.hpp"
 #include "skin/util/error.hpp"
 
@@ -111,7 +110,7 @@ class Accurate final : public AddingDoublingModel {
     return std::make_unique<accurate::AccurateStack>(stack, accurate::Options{}, cache_);
   }
   bool response_is_solved(const LayerStack& stack) const override {
-    return !accurate::SkinStackTable::builtin().gap(stack).empty();
+    return !accurate::AccurateStack::reads_skin_table(stack);
   }
 };
 

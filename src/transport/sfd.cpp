@@ -394,8 +394,9 @@ int detail::azimuthal_orders(const LayerStack& stack, double k, const FrequencyO
   // The coupling is strongest in the layer of least extinction (kappa = k / sigma_t there).
   double sigma_t = kInfinity, depth = 0;
   for (const auto& l : stack.layers) {
-    sigma_t = std::min(sigma_t, scaled_extinction(l));
-    depth += scaled_extinction(l) * l.thickness;  // infinite for a semi-infinite layer
+    const double e = scaled_extinction(l);
+    sigma_t = std::min(sigma_t, e);
+    depth += e * l.thickness;  // infinite for a semi-infinite layer
   }
   if (depth < kThinStackDepth) return kThinStackOrders;
   const double kappa = k / sigma_t;

@@ -196,6 +196,9 @@ class AccurateStack final : public RadialResponse {
   // True when the profile is read from the built-in SkinStackTable (FrequencyStack's, tabulated;
   // otherwise it is solved).
   bool skin_table() const { return skin_ != nullptr; }
+  // Whether AccurateStack(stack) reads the table (the one routing rule; the model registry asks
+  // it before building a response).
+  static bool reads_skin_table(const LayerStack& stack);
 
  private:
   Totals totals_;
