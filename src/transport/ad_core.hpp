@@ -83,14 +83,18 @@ Vec escape_weights(const Streams& st, const LayerStack& stack);
 // extinction, at most kMaxAutomaticOrders; docs/accurate-solver.md, sec. 5). A stack less than
 // kThinStackDepth scaled mean free paths deep in all (a thin slab: little multiple scattering
 // smooths the radiance's dependence on azimuth, and light trapped by total internal reflection
-// runs far along it) gets kThinStackOrders at every k > 0: more orders there, and no step in
-// their number between nodes, whose jump in R(k) would ring in the far field.
+// runs far along it) gets the same number of orders at every k > 0 (no step in their number
+// between nodes, whose jump in R(k) would ring in the far field): kThinStackOrders, or
+// kThinStackOrderDepth / depth rounded up to an even number where that is more (the azimuthal structure of the trapped light
+// narrows as its damping per bounce, ~ the depth, falls; sec. 5), at most kThinStackMostOrders.
 // scaled_extinction: sigma_a + sigma_s (1 - g^16), close to the delta-M scaled extinction of the
 // default quadrature (it sets only how many orders and nodes are used).
 double scaled_extinction(const Layer& l);
 inline constexpr int kMaxAutomaticOrders = 8;
 inline constexpr int kThinStackOrders = 24;
 inline constexpr double kThinStackDepth = 0.5;
+inline constexpr double kThinStackOrderDepth = 1.5;
+inline constexpr int kThinStackMostOrders = 64;
 int azimuthal_orders(const LayerStack& stack, double k, const FrequencyOptions& options);
 
 // The layer equations (A, B) of the frequency-domain solver for one medium at kappa = k /

@@ -398,7 +398,10 @@ int detail::azimuthal_orders(const LayerStack& stack, double k, const FrequencyO
     sigma_t = std::min(sigma_t, e);
     depth += e * l.thickness;  // infinite for a semi-infinite layer
   }
-  if (depth < kThinStackDepth) return kThinStackOrders;
+  // An even number: with 47 orders the slab of sec. 5 is -4.6 % near the beam, with 48 +2.8 %.
+  if (depth < kThinStackDepth)
+    return std::clamp(2 * static_cast<int>(std::ceil(kThinStackOrderDepth / (2 * depth))),
+                      kThinStackOrders, kThinStackMostOrders);
   const double kappa = k / sigma_t;
   return std::min(kMaxAutomaticOrders, 3 + static_cast<int>(std::ceil(4 * std::sqrt(kappa))));
 }
