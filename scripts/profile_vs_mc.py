@@ -8,7 +8,8 @@ the model over each annulus (4-point Gauss-Legendre in r with weight r) and repo
 and how many annuli are off by more than 5 % + 3 SE (the criterion of issue 15), and R_d against
 the Monte Carlo R_d.
 
-Cases: the named ones (CASES below; --cases picks some by substring), or with --random N the first
+Cases: the named ones (CASES below; --cases picks some by substring), with --presets every skin
+preset at 400-700 nm every 50 nm (PRESETS; --cases filters them too), or with --random N the first
 N stacks of a seeded random family (random_stack(): 1-4 layers, index steps, g 0-0.95, dark tops
 over bright layers, thin tops, semi-infinite or finite bottoms; stack i depends on --seed and i
 only, so --random 3 gives the first 3 stacks of --random 50).
@@ -35,6 +36,8 @@ Usage:
       --solvers sfd,multipole,multipole-shape --cache /tmp/sfd-cache --markdown docs/validation/random-stacks.md
   (--random 25 --first 25 runs stacks 25-49 alone, e.g. in a second process; with the same --cache
   a later run of all 50 reuses their profiles)
+  scripts/profile_vs_mc.py --presets --photons 5000000 --mc-cpu 60 --solvers accurate,sfd,multipole \
+      --markdown docs/validation/preset-profiles.md
   scripts/profile_vs_mc.py --mcml /tmp/mcml/mcml --mcml-runs 4 --photons 1000000 --solvers sfd,accurate,multipole
   scripts/profile_vs_mc.py --random 3 --seed 347 --photons 30000 --max-rse 0.1 --threads 1 \
       --solvers sfd,multipole-shape --check sfd --check-fails multipole-shape   # the CI test (tests/mc)
@@ -78,6 +81,11 @@ for preset, nm, flag, value in [("caucasian", 650, "g", "0.95"), ("african", 650
                                 ("caucasian", 650, "dermis-scattering-scale", "0.25")]:
     CASES[f"{preset} {nm} nm {flag}={value}"] = ["--preset", preset, "--wavelength", str(nm),
                                                 f"--{flag}", value]
+
+# Every preset of the paper at 400-700 nm (--presets).
+PRESETS = {f"{preset} {nm} nm": ["--preset", preset, "--wavelength", str(nm)]
+           for preset in ["caucasian", "asian", "african", "pale", "tanned", "ear"]
+           for nm in range(400, 701, 50)}
 
 GL4 = [(-0.8611363115940526, 0.3478548451374538), (-0.3399810435848563, 0.6521451548625461),
        (0.3399810435848563, 0.6521451548625461), (0.8611363115940526, 0.3478548451374538)]
@@ -352,6 +360,7 @@ def main():
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--solvers", default="sfd,accurate,multipole")
     ap.add_argument("--cases", default="")
+    ap.add_argument("--presets", action="store_true", help="every preset at 400-700 nm every 50 nm")
     ap.add_argument("--random", type=int, default=0, help="the first N stacks of the random family")
     ap.add_argument("--first", type=int, default=0, help="with --random: start at stack K (to split a run)")
     ap.add_argument("--markdown", default="", help="also write the full table (with stacks) to this file")
@@ -371,7 +380,8 @@ def main():
             name, layers, eta_below = random_stack(a.seed, i)
             cases.append((name, stack_args(layers, eta_below), stack_text(layers, eta_below)))
     else:
-        cases = [(c, CASES[c], " ".join(CASES[c])) for c in CASES
+        named = PRESETS if a.presets else CASES
+        cases = [(c, named[c], " ".join(named[c])) for c in named
                  if not a.cases or any(s in c for s in a.cases.split(","))]
     head = ("| case | " + " | ".join(f"{s}: worst (r mm)" for s in solvers) + " | annuli beyond 5 % + 3 SE: "
             + " / ".join(solvers) + " |")
@@ -414,6 +424,7 @@ def write_markdown(a, solvers, full, total):
     reference = "MCML 1.2.2" if a.mcml else "Monte Carlo"
     where = ("Stacks: `random_stack()` in that script (ranges in its docstring and in "
              "docs/accurate-solver.md, section 8). " if a.random else
+             "Stacks: PRESETS in that script (every preset of the paper at 400-700 nm). " if a.presets else
              "Stacks: CASES in that script (docs/accurate-solver.md, section 8). ")
     run_text = (f"{a.mcml_runs} runs of MCML 1.2.2 (Wang, Jacques & Zheng 1995, built from its "
                 "public source; seeds from the clock), their mean and its standard error, on "
