@@ -327,8 +327,10 @@ def evaluate(a, name, mc_args, solvers):
         else:
             R_d, prof = model(s)
         worst, worst_r, fails, worst_excess = 0.0, 0.0, 0, -1.0
+        means = []
         for (lo, hi, R, se), pts in zip(rows, nodes):
             m = sum(w * p * prof[p] for p, w in pts) / sum(w * p for p, w in pts)
+            means.append(m)
             dev = m / R - 1 if R > 0 else 0
             if abs(dev) > abs(worst):
                 worst, worst_r = dev, 0.5 * (lo + hi)
@@ -338,14 +340,15 @@ def evaluate(a, name, mc_args, solvers):
                 if a.verbose:
                     print(f"  {name} {s}: r {lo:.3f}-{hi:.3f} mm model {m:.4g} mc {R:.4g} "
                           f"+- {se:.2g} ({100 * dev:+.1f} %)", file=sys.stderr)
-        results[s] = {"worst": worst, "worst_r": worst_r, "fails": fails, "excess": worst_excess,
+        results[s] = {"worst": worst, "worst_r": worst_r, "fails": fails, "excess": worst_excess, "means": means,
                       "R_d": R_d, "R_d_dev": R_d / mc["R_d"] - 1, "R_d_z": (R_d - mc["R_d"]) / mc["R_d_se"]}
     # Noise of the reference: relative SE of the annuli within 1 mm and beyond.
     rse = [se / R for lo, hi, R, se in rows if R > 0]
     near = [se / R for lo, hi, R, se in rows if R > 0 and hi <= 1.0]
     info = {"photons": photons, "mc_cpu": mc_cpu, "model_cpu": cpu, "annuli": len(rows),
             "R_d": mc["R_d"], "R_d_se": mc["R_d_se"], "rse_near_max": max(near) if near else float("nan"),
-            "rse_max": max(rse) if rse else float("nan")}
+            "rse_max": max(rse) if rse else float("nan"),
+            "annuli_rows": [(0.5 * (lo + hi), R, se) for lo, hi, R, se in rows]}
     return results, info
 
 
@@ -371,6 +374,8 @@ def main():
                          "(with few photons per annulus the standard error is itself unreliable)")
     ap.add_argument("--cache", default="", help="keep the models' profiles in this directory and "
                     "reuse them (same stack, radii and skin binary)")
+    ap.add_argument("--plot", default="", help="also draw every case's profiles (PNG): Monte Carlo "
+                    "with 3 SE bars, each solver as a line")
     ap.add_argument("--verbose", action="store_true", help="print every annulus that fails")
     a = ap.parse_args()
     solvers = a.solvers.split(",")
@@ -395,6 +400,8 @@ def main():
         full.append((name, text, res, info))
         if a.markdown:  # after every case, so that a long run can be stopped and still reports
             write_markdown(a, solvers, full, len(cases))
+    if a.plot:
+        write_plot(a.plot, solvers, full)
     status = 0
     for s in filter(None, a.check.split(",")):
         bad = [n for n, _, r, _ in full if r[s]["fails"] > 0]
@@ -408,6 +415,48 @@ def main():
               f"({sum(fails)} annuli; expected: at least one case)", file=sys.stderr)
         status = 1 if not any(fails) else status
     return status
+
+
+def write_plot(path, solvers, full):
+    """One panel per case: the Monte Carlo R(r) per annulus with 3-SE bars, each solver's annulus
+    means as a line, on log axes over the annuli checked. With --presets the panels are laid out
+    preset by row and wavelength by column."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import matplotlib.ticker
+    n = len(full)
+    cols = min(7, n)
+    rows = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rows, cols, figsize=(2.3 * cols, 2.0 * rows), squeeze=False)
+    colours = {"accurate": "#0072B2", "sfd": "#009E73", "multipole": "#D55E00",
+               "multipole-shape": "#CC79A7"}
+    styles = {"accurate": "-", "sfd": "--", "multipole": "-", "multipole-shape": ":"}
+    for k, (name, _, res, info) in enumerate(full):
+        ax = axes[k // cols][k % cols]
+        r = [x[0] for x in info["annuli_rows"]]
+        R = [x[1] for x in info["annuli_rows"]]
+        se = [min(3 * x[2], 0.999 * x[1]) for x in info["annuli_rows"]]
+        ax.errorbar(r, R, yerr=se, fmt="o", ms=1.2, lw=0.5, color="#555555", label="Monte Carlo (3 SE)")
+        for s in solvers:
+            ax.plot(r, res[s]["means"], styles.get(s, "-"), lw=0.9, color=colours.get(s),
+                    label=f"{s}")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        fails = " / ".join(str(res[s]["fails"]) for s in solvers)
+        ax.set_title(f"{name}\nannuli off: {fails}", fontsize=6.5)
+        ax.tick_params(labelsize=5)
+    for k in range(n, rows * cols):
+        axes[k // cols][k % cols].axis("off")
+    handles, labels = axes[0][0].get_legend_handles_labels()
+    top = 1 - 0.3 / fig.get_figheight()  # 0.3 inch for the legend
+    fig.legend(handles, labels, loc="upper center", ncol=len(labels), fontsize=7, frameon=False)
+    fig.supxlabel("r [mm]", fontsize=7)
+    fig.supylabel("R(r) [1/mm^2]", fontsize=7)
+    fig.tight_layout(rect=(0, 0, 1, top))
+    fig.savefig(path + ".tmp.png", dpi=110)
+    os.replace(path + ".tmp.png", path)
 
 
 def write_markdown(a, solvers, full, total):

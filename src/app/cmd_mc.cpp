@@ -30,7 +30,7 @@ namespace {
 // Photons per second per thread for the time estimate of a run on this stack: the reference
 // rate (pale skin at 650 nm), unless with it the run would be announced as long; then pilots on
 // one thread measure this stack's own rate, so that the announcement is right (a 14 um slab in
-// air runs ~1000 times faster than skin, a bright half-space slower). Each pilot has 4 times the
+// air runs ~800 times faster than skin, a bright half-space slower). Each pilot has 4 times the
 // photons of the last until one takes kPilotSeconds of CPU time (~0.1 s in all): below that the
 // run's fixed start-up cost would dominate the rate.
 double mc_rate(const LayerStack& stack, const mc::Options& opts) {

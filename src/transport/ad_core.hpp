@@ -85,8 +85,9 @@ Vec escape_weights(const Streams& st, const LayerStack& stack);
 // smooths the radiance's dependence on azimuth, and light trapped by total internal reflection
 // runs far along it) gets the same number of orders at every k > 0 (no step in their number
 // between nodes, whose jump in R(k) would ring in the far field): kThinStackOrders, or
-// kThinStackOrderDepth / depth rounded up to an even number where that is more (the azimuthal structure of the trapped light
-// narrows as its damping per bounce, ~ the depth, falls; sec. 5), at most kThinStackMostOrders.
+// kThinStackOrderDepth / depth rounded up to an even number where that is more (the azimuthal
+// structure of the trapped light narrows as its damping per bounce, ~ the depth, falls; sec. 5),
+// at most kThinStackMostOrders.
 // scaled_extinction: sigma_a + sigma_s (1 - g^16), close to the delta-M scaled extinction of the
 // default quadrature (it sets only how many orders and nodes are used).
 double scaled_extinction(const Layer& l);

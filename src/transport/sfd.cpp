@@ -399,9 +399,12 @@ int detail::azimuthal_orders(const LayerStack& stack, double k, const FrequencyO
     depth += e * l.thickness;  // infinite for a semi-infinite layer
   }
   // An even number: with 47 orders the slab of sec. 5 is -4.6 % near the beam, with 48 +2.8 %.
-  if (depth < kThinStackDepth)
-    return std::clamp(2 * static_cast<int>(std::ceil(kThinStackOrderDepth / (2 * depth))),
+  // (Clamped before the conversion: a clear stack has depth 0.)
+  if (depth < kThinStackDepth) {
+    const double half = std::ceil(kThinStackOrderDepth / (2 * depth));
+    return std::clamp(2 * static_cast<int>(std::min(half, 0.5 * kThinStackMostOrders)),
                       kThinStackOrders, kThinStackMostOrders);
+  }
   const double kappa = k / sigma_t;
   return std::min(kMaxAutomaticOrders, 3 + static_cast<int>(std::ceil(4 * std::sqrt(kappa))));
 }

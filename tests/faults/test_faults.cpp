@@ -239,8 +239,8 @@ TEST_F(Faults, HoursLongRequestsAreAnnouncedWithAnEstimate) {
   }
 }
 
-// The Monte Carlo's estimate is of the stack asked for: a 14 um slab in air runs ~400 times faster
-// than skin, so 10^10 photons there (92 hours at skin's speed, ~5 CPU-minutes here) are not
+// The Monte Carlo's estimate is of the stack asked for: a 14 um slab in air runs ~800 times faster
+// than skin, so 10^10 photons there (92 hours at skin's speed, ~4 CPU-minutes here) are not
 // announced as hours; the run is then stopped with Ctrl-C, without output.
 TEST_F(Faults, MonteCarloEstimatesAreOfTheStackAsked) {
   Spawn s{dir_, "mc --layer sigma_a=0.017,sigma_s_prime=1.97,eta=1.47,g=0.13,thickness=0.014 "
