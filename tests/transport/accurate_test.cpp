@@ -561,7 +561,7 @@ TEST(FrequencyStack, ProfileIntegratesToTheAddingDoublingTotal) {
 // annuli near the beam are high: 24 orders +8.3 and +7.7 % at 0.03-0.05 mm, 32 orders +6.7 and
 // +5.3 %; with the 8 of a deeper stack +5 to +11 % over 0.06-0.2 mm (random stack #2 failed at
 // 0.13-0.14 mm). 64 orders are within 1.7 %; 47, an odd number, -4.6 % at 0.02-0.03 mm.
-// The solve takes ~40 s in Release; under the sanitizers the test checks the rule and runs the
+// The solve takes ~45 s in Release on 2 cores; under the sanitizers the test checks the rule and runs the
 // same code with 8 orders (the totals and the ballistic return do not depend on the orders).
 TEST(FrequencyStack, TheBallisticReturnStaysAtTheBeamAndAThinSlabGetsTheOrdersItNeeds) {
   const LayerStack s{{Layer{0.017, 1.97, 0.014, 1.47, 0.13}}, 1.0, 1.0};

@@ -67,9 +67,9 @@ class Model {
 //   stack; integrating exactly to those totals (docs/accurate-solver.md, sec. 3, 8, 9).
 // - sfd: the same totals, every profile from the spatial-frequency domain (accurate::
 //   FrequencyStack): within 5 % + 3 SE of Monte Carlo over 0.02-10 mm in every case measured
-//   (against `skin mc` and MCML; a slab of a few tens of um is still +6-8 % at 0.03-0.06 mm
-//   against 4e8 photons), at ~0.3 s (skin, 2 cores) to minutes (index steps, 4 layers) per
-//   stack.
+//   (against `skin mc` and MCML; a slab thinner than ~0.023 scaled mean free paths reaches the
+//   cap of 64 azimuthal orders and may miss near the beam), at ~0.3 s (skin, 2 cores) to minutes
+//   (index steps, 4 layers; a 14 um slab in air with its 48 orders: 47 s) per stack.
 // - multipole: the paper's method (DJ05 multipole, convolved in the frequency domain), kept
 //   unchanged to reproduce the paper; outside it where a layer is thinner than z_r.
 // The default is accurate because the multipole overstates dark skin's reflectance 2-3x in the
