@@ -2,7 +2,7 @@
 # Installs the Debian packages Spectral Skin builds with. Idempotent; safe to re-run.
 set -euo pipefail
 PKGS=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config ccache  # ccache: rebuilds (CI reuses this machine's cache)
   libgtest-dev libgmock-dev libbenchmark-dev       # tests, benchmarks
   libeigen3-dev libboost-dev                       # linear algebra, Boost.Math (quadrature, Bessel)
   libcli11-dev nlohmann-json3-dev                  # command line, JSON

@@ -24,7 +24,9 @@ if [ "${1:-}" = "--sanitize" ]; then
   exit 0
 fi
 dir=build
-cmake -S . -B "$dir" -G Ninja -DSKIN_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release
+launcher=()
+if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+cmake -S . -B "$dir" -G Ninja -DSKIN_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release "${launcher[@]}"
 cmake --build "$dir"
 ctest --test-dir "$dir" --output-on-failure -j 2
 # The Python package as users install it: pip into a fresh virtual environment (Debian's
