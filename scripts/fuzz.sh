@@ -7,11 +7,15 @@
 # A crash, hang (> 10 s on one input), out-of-memory (> 2 GB) or sanitizer report stops that
 # target and leaves its input in build-asan/fuzz-findings/; the script then exits 1. At the end it
 # prints one line per target: executions, and the corpus size.
+#   SKIN_FUZZ_MERGE=1 bash scripts/fuzz.sh ...   then minimises each target's seeds together with
+#       what the run found (libFuzzer -merge=1) into fuzz/corpus/<target>/, the corpus kept in the
+#       repository (so that later runs, CI's included, start from the coverage already found).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
 dir=build-asan
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR=1  # (scripts/test.sh)
 [ -f "$dir/CMakeCache.txt" ] || bash scripts/configure-asan.sh
 cmake --build "$dir" --target fuzz_all
 targets=("$@")
@@ -37,4 +41,15 @@ for t in "${targets[@]}"; do
     "$(ls "$dir/fuzz-corpus/$t" | wc -l)" "$status")")
 done
 printf '%s\n' "${summary[@]}"
+if [ "${SKIN_FUZZ_MERGE:-0}" = 1 ] && [ $failed = 0 ]; then
+  for t in "${targets[@]}"; do
+    merged=$(mktemp -d)
+    "$dir/bin/$t" -merge=1 -timeout=10 -rss_limit_mb=2048 "$merged" "fuzz/corpus/$t" "$dir/fuzz-corpus/$t" \
+      >"$dir/fuzz-logs/$t.merge.log" 2>&1
+    rm -rf "fuzz/corpus/$t"
+    mv "$merged" "fuzz/corpus/$t"
+    chmod 755 "fuzz/corpus/$t"
+    echo "$t: fuzz/corpus/$t minimised to $(ls "fuzz/corpus/$t" | wc -l) files"
+  done
+fi
 exit $failed

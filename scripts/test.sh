@@ -10,6 +10,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
+# ccache (when installed) keys compilations by paths relative to the checkout, so that a fresh
+# clone elsewhere on the same machine (CI) reuses them.
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
+export CCACHE_NOHASHDIR=1  # (the sanitizer build's debug info then names the first checkout)
 if [ "${1:-}" = "--sanitize" ]; then
   # Golden.FrequencyDomainProfilesUnchanged (~45 CPU-s in Release, over 10 min under ASan) runs in
   # the Release suite only; the frequency-domain code runs under the sanitizers in accurate_test.

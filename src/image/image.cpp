@@ -11,6 +11,7 @@
 #include <ImfStdIO.h>
 #include <ImfStringAttribute.h>
 #include <jpeglib.h>
+#include <openexr.h>
 #include <png.h>
 #include <stb_image.h>
 
@@ -277,18 +278,146 @@ Image read_jpeg(const std::string& path, bool srgb) {
   return img;
 }
 
-Image read_exr(const std::string& path) {
-  try {
-    Imf::InputFile file(path.c_str());
-    const Imath::Box2i dw = file.header().dataWindow();
-    const auto [w, h] = checked_size(dw, "image", path);
-    Image img(w, h);
+// What an OpenEXR file can hold, checked by OpenEXR's own core library before the C++ reader
+// allocates anything (a header's attribute sizes, the data window, the chunk table): the image
+// at most 8192 x 8192 (OpenEXR's maximum image and tile size), one part, flat (not deep), at most
+// kMaxExrChannels channels, every chunk of the first level inside the file with a size the
+// file can hold, and at most 4096 pixels per byte of the file (as for the other formats; a flat
+// DWA image packs more, a real texture far less). Costs one read of the header and of the chunk
+// table: milliseconds and kilobytes whatever the file declares.
+constexpr int kMaxExrChannels = 256;
+
+void check_exr(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const auto file_bytes = static_cast<long long>(std::filesystem::file_size(path, ec));
+  if (ec) throw InputError(what + " = '" + path + "': cannot read: " + ec.message());
+  struct Context {
+    exr_context_t ctx = nullptr;
+    std::string message;
+    ~Context() { exr_finish(&ctx); }
+  } c;
+  exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+  init.user_data = &c.message;
+  init.error_handler_fn = [](exr_const_context_t ctx, exr_result_t code, const char* msg) {
+    void* user = nullptr;
+    exr_get_user_data(ctx, &user);
+    auto* m = static_cast<std::string*>(user);
+    if (m && m->empty()) *m = msg ? msg : exr_get_default_error_message(code);
+  };
+  init.max_image_width = init.max_image_height = 8192;
+  init.max_tile_width = init.max_tile_height = 8192;
+  init.flags = EXR_CONTEXT_FLAG_STRICT_HEADER;
+  auto fail = [&](const std::string& why) {
+    std::string m = why;
+    for (char& ch : m)
+      if (static_cast<unsigned char>(ch) < 0x20) ch = ' ';
+    return InputError(what + " = '" + path + "': cannot read EXR: " + m);
+  };
+  auto check = [&](exr_result_t r) {
+    if (r != EXR_ERR_SUCCESS) throw fail(c.message.empty() ? exr_get_default_error_message(r) : c.message);
+  };
+  // (exr_start_read returns success on a header it could only partly parse: its errors count.)
+  check(exr_start_read(&c.ctx, path.c_str(), &init));
+  if (!c.message.empty()) throw fail(c.message);
+  int parts = 0;
+  check(exr_get_count(c.ctx, &parts));
+  if (parts != 1) throw fail("has " + std::to_string(parts) + " parts; allowed: a single-part image");
+  exr_storage_t storage{};
+  check(exr_get_storage(c.ctx, 0, &storage));
+  if (storage != EXR_STORAGE_SCANLINE && storage != EXR_STORAGE_TILED)
+    throw fail("deep data; allowed: a flat scanline or tiled image");
+  exr_attr_box2i_t dw{};
+  check(exr_get_data_window(c.ctx, 0, &dw));
+  const auto [w, h] = checked_size(static_cast<long long>(dw.max.x) - dw.min.x + 1,
+                                   static_cast<long long>(dw.max.y) - dw.min.y + 1, what, path);
+  if (static_cast<long long>(w) * h > 4096 * file_bytes)
+    throw InputError(what + " = '" + path + "': declares " + std::to_string(w) + "x" + std::to_string(h) +
+                     " pixels, more than a file of " + std::to_string(file_bytes) +
+                     " bytes can hold (truncated or corrupt)");
+  const exr_attr_chlist_t* channels = nullptr;
+  check(exr_get_channels(c.ctx, 0, &channels));
+  if (!channels || channels->num_channels < 1 || channels->num_channels > kMaxExrChannels)
+    throw fail("has " + std::to_string(channels ? channels->num_channels : 0) + " channels; allowed: 1 to " +
+               std::to_string(kMaxExrChannels));
+  // Every chunk of the image (level 0 of a tiled one) inside the file.
+  unsigned long long packed = 0;
+  auto add = [&](const exr_chunk_info_t& ci) {
+    packed += ci.packed_size;
+    if (ci.packed_size == 0 || static_cast<long long>(ci.data_offset + ci.packed_size) > file_bytes ||
+        static_cast<long long>(packed) > file_bytes)
+      throw fail("a pixel block lies outside the file (truncated or corrupt)");
+  };
+  exr_chunk_info_t ci{};
+  if (storage == EXR_STORAGE_SCANLINE) {
+    int32_t lines = 0;
+    check(exr_get_scanlines_per_chunk(c.ctx, 0, &lines));
+    if (lines < 1) throw fail("invalid scanlines per block");
+    for (long long y = dw.min.y; y <= dw.max.y; y += lines) {
+      check(exr_read_scanline_chunk_info(c.ctx, 0, static_cast<int>(y), &ci));
+      add(ci);
+    }
+  } else {
+    int32_t tw = 0, th = 0;
+    check(exr_get_tile_sizes(c.ctx, 0, 0, 0, &tw, &th));
+    if (tw < 1 || th < 1) throw fail("invalid tile size");
+    const int nx = (w + tw - 1) / tw, ny = (h + th - 1) / th;
+    for (int ty = 0; ty < ny; ++ty)
+      for (int tx = 0; tx < nx; ++tx) {
+        check(exr_read_tile_chunk_info(c.ctx, 0, tx, ty, 0, 0, &ci));
+        add(ci);
+      }
+  }
+}
+
+// Reads the float channels `names` of an EXR file (already checked by check_exr) band by band of
+// at most 64 rows, appending each band to `out` (pixel-interleaved when `interleaved`, one vector
+// per channel otherwise): memory grows with the data that actually decodes, so a truncated file
+// fails before it costs the declared image's size.
+// A channel missing from the file reads as 0, or is refused when `required`.
+void read_exr_bands(const std::string& path, const std::vector<std::string>& names, bool interleaved,
+                    bool required, const std::string& what, int* width, int* height,
+                    std::vector<std::vector<float>>& out) {
+  Imf::InputFile file(path.c_str());
+  if (required)
+    for (const auto& name : names)
+      if (!file.header().channels().findChannel(name))
+        throw InputError(what + " '" + path + "': channel '" + name + "' is missing");
+  const Imath::Box2i dw = file.header().dataWindow();
+  const auto [w, h] = checked_size(dw, what, path);
+  *width = w;
+  *height = h;
+  const std::size_t nc = names.size(), row = static_cast<std::size_t>(w) * (interleaved ? nc : 1);
+  out.assign(interleaved ? 1 : nc, {});
+  for (auto& v : out) v.reserve(row * static_cast<std::size_t>(h));
+  constexpr int kBand = 64;
+  std::vector<float> band;
+  for (int y0 = dw.min.y; y0 <= dw.max.y; y0 += kBand) {
+    const int y1 = std::min(dw.max.y, y0 + kBand - 1), rows = y1 - y0 + 1;
+    band.assign(row * static_cast<std::size_t>(rows) * (interleaved ? 1 : nc), 0.0f);
     Imf::FrameBuffer fb;
-    const std::size_t xs = sizeof(float) * 3, ys = xs * static_cast<std::size_t>(w);
-    const char* names[3] = {"R", "G", "B"};
-    for (int k = 0; k < 3; ++k) fb.insert(names[k], float_slice(img.rgb.data() + k, dw, xs, ys));
+    const std::size_t xs = sizeof(float) * (interleaved ? nc : 1), ys = sizeof(float) * row;
+    Imath::Box2i window = dw;
+    window.min.y = y0;
+    for (std::size_t k = 0; k < nc; ++k) {
+      float* base = interleaved ? band.data() + k : band.data() + k * row * static_cast<std::size_t>(rows);
+      fb.insert(names[k], float_slice(base, window, xs, ys));
+    }
     file.setFrameBuffer(fb);
-    file.readPixels(dw.min.y, dw.max.y);
+    file.readPixels(y0, y1);
+    const std::size_t n = row * static_cast<std::size_t>(rows);
+    for (std::size_t k = 0; k < out.size(); ++k)
+      out[k].insert(out[k].end(), band.begin() + static_cast<std::ptrdiff_t>(k * n),
+                    band.begin() + static_cast<std::ptrdiff_t>((k + 1) * n));
+  }
+}
+
+Image read_exr(const std::string& path) {
+  check_exr(path, "image");
+  try {
+    std::vector<std::vector<float>> data;
+    Image img;
+    read_exr_bands(path, {"R", "G", "B"}, true, false, "image", &img.width, &img.height, data);
+    img.rgb = std::move(data.front());
     return img;
   } catch (const InputError&) {
     throw;
@@ -367,23 +496,11 @@ void write_exr_planes(const std::string& path, const Planes& planes,
 Planes read_exr_planes(const std::string& path, const std::vector<std::string>& names,
                        const std::string& what) {
   io::check_input_file(path, what);
+  check_exr(path, what);
   try {
-    Imf::InputFile in(path.c_str());
-    const Imath::Box2i dw = in.header().dataWindow();
     Planes planes;
-    std::tie(planes.width, planes.height) = checked_size(dw, what, path);
-    const std::size_t npix = static_cast<std::size_t>(planes.width) * static_cast<std::size_t>(planes.height);
     planes.names = names;
-    planes.values.assign(names.size(), std::vector<float>(npix, 0.0f));
-    Imf::FrameBuffer fb;
-    for (std::size_t c = 0; c < names.size(); ++c) {
-      if (!in.header().channels().findChannel(names[c]))
-        throw InputError(what + " '" + path + "': channel '" + names[c] + "' is missing");
-      fb.insert(names[c], float_slice(planes.values[c].data(), dw, sizeof(float),
-                                      sizeof(float) * static_cast<std::size_t>(planes.width)));
-    }
-    in.setFrameBuffer(fb);
-    in.readPixels(dw.min.y, dw.max.y);
+    read_exr_bands(path, names, false, true, what, &planes.width, &planes.height, planes.values);
     return planes;
   } catch (const InputError&) {
     throw;

@@ -22,6 +22,17 @@ namespace skin::accurate {
 namespace {
 
 constexpr double kFloor = 1e-13;  // of a node's peak
+// A table's ln rho (rho in units of s^2) lies within kMaxLnRho of 0 (the built-in table's within
+// -27.5 and 2.8), and each row within -ln kFloor = 29.93 of its own peak: parse() refuses other
+// values. Interpolated values are clamped to kMaxLnRho + kOvershoot, so that exp() of them is finite
+// whatever the weights (4-point Lagrange weights grow without bound on nodes nearly together): a
+// table that parses gives a finite, non-negative profile by construction. Neither bound is reached
+// by interpolation between real nodes (an overshoot of 30 e-folds is not a smooth profile's).
+constexpr double kMaxLnRho = 100, kOvershoot = 30, kMaxRowSpan = 29.94;
+double clamp_ln(double v) {
+  constexpr double lim = kMaxLnRho + kOvershoot;
+  return std::isnan(v) ? -lim : std::clamp(v, -lim, lim);
+}
 
 std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
   std::vector<double> out(v.size());
@@ -201,8 +212,9 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
     if (v == &t.a_h && v->empty()) continue;
     if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
     for (std::size_t i = 0; i < v->size(); ++i)
-      if (!((*v)[i] > 0) || (i > 0 && !((*v)[i] > (*v)[i - 1])))
-        throw InputError(src + ": '" + key + "' must be positive and increase");
+      if (!((*v)[i] >= 1e-9 && (*v)[i] <= 1e9) ||
+          (i > 0 && !(std::sqrt((*v)[i]) > std::sqrt((*v)[i - 1]) && std::log((*v)[i]) > std::log((*v)[i - 1]))))
+        throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
   }
   // Simpson's rule and the cubic in ln x need an odd number of x nodes, evenly spaced in ln x.
   const double h = std::log(t.x.back() / t.x.front()) / static_cast<double>(t.x.size() - 1);
@@ -241,11 +253,17 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
                            : t.ln_rho.data() + ((i_t * t.a_e.size() + i_e) * n_d + j - 1) * n_x;
     for (std::size_t i = 0; i < n_x; ++i) {
       const double v = data.data[3 + i][r];
-      if (!std::isfinite(v))
-        throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[3 + i] +
-                         " is not a finite number");
+      if (!(std::abs(v) <= kMaxLnRho))
+        throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[3 + i] + " = " +
+                         format_number(v) + " is not a finite number within " + format_number(kMaxLnRho) +
+                         " of 0 (ln rho)");
       out[i] = v;
     }
+    const auto [lo, hi] = std::minmax_element(out, out + n_x);
+    if (!(*hi - *lo <= kMaxRowSpan))
+      throw InputError(src + ": row " + std::to_string(r + 1) + " spans " + format_number(*hi - *lo) +
+                       " in ln rho; allowed: at most " + format_number(kMaxRowSpan) +
+                       " (the table's floor, 1e-13 of a row's peak)");
   }
   return t;
 }
@@ -304,6 +322,7 @@ std::vector<double> SkinStackTable::ln_rho_half_space_at(double a) const {
     const double* v = ln_rho_half.data() + (sh.first + i) * n_x;
     for (std::size_t m = 0; m < n_x; ++m) out[m] += sh.weights[i] * v[m];
   }
+  for (double& v : out) v = clamp_ln(v);
   return out;
 }
 
@@ -328,7 +347,7 @@ std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) co
         for (std::size_t m = 0; m < n_x; ++m) below[m] += wb * b[m];
       }
     }
-  for (std::size_t m = 0; m < n_x; ++m) top[m] = log_sum(top[m], below[m]);
+  for (std::size_t m = 0; m < n_x; ++m) top[m] = clamp_ln(log_sum(clamp_ln(top[m]), clamp_ln(below[m])));
   return top;
 }
 
@@ -365,6 +384,7 @@ SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack
   if (decay_ > 0 && ln_rho_[n - 1] >= cutoff_)
     integral += 2 * std::numbers::pi * std::exp(ln_rho_[n - 1]) * (x1 / decay_ + 1 / (decay_ * decay_));
   scale_ = integral > 0 ? R_d * s_ * s_ / integral : 0.0;
+  if (!std::isfinite(scale_)) scale_ = 0.0;
 }
 
 double SkinStackProfile::operator()(double r) const {
@@ -382,7 +402,9 @@ double SkinStackProfile::operator()(double r) const {
   const std::array<double, 4> w = lagrange4_weights(u - static_cast<double>(i0));
   double v = 0;
   for (std::size_t a = 0; a < 4; ++a) v += w[a] * ln_rho_[i0 + a];
-  return v < cutoff_ ? 0.0 : scale_ * std::exp(v);
+  if (v < cutoff_) return 0.0;
+  const double out = scale_ * std::exp(clamp_ln(v));
+  return std::isfinite(out) ? out : 0.0;  // (a table of nodes ~1e-9 apart in x: see clamp_ln)
 }
 
 }  // namespace skin::accurate

@@ -247,6 +247,48 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
   bad = good;
   bad.replace(bad.find("# x: 0.1,1,10,100,1000"), 22, "# x: 0.1,1,10,100,2000");
   refused(bad, "evenly spaced");
+  // ln rho far from any profile's (the fuzzer's -20000.1, fuzz/regressions/fuzz_skin_stack_table:
+  // 4-point weights turned it into exp(+1200)), and a row spanning more than the table's floor.
+  bad = good;
+  bad.replace(bad.rfind("-1.0000"), 7, "-20000.1");
+  refused(bad, "-20000.1 is not a finite number within 100 of 0");
+  bad = good;
+  bad.replace(bad.rfind("-1.0000"), 7, "-40.0000");
+  refused(bad, "spans 39 in ln rho; allowed: at most 29.94");
+  bad = good;
+  bad.replace(bad.find("# a_e: 0.01,0.1,1,10"), 20, "# a_e: 0.01,0.1,1,1e10");
+  refused(bad, "'a_e' must lie within [1e-9, 1e9] and increase");
+}
+
+// What parses gives a finite, non-negative profile by construction: nodes nearly together make
+// the 4-point weights between the far nodes ~1e5, and rows alternating between ln rho -60 and
+// +30 (each row flat, so within the floor) then interpolate to exp(+1e6): without the clamp of
+// skin_stack_table.cpp this test fails at 72 radii.
+TEST(SkinStackTable, ProfilesOfAnyParsedTableAreFiniteAndNonNegative) {
+  SkinStackTable t = SkinStackTable::default_nodes();
+  t.tau = {1, 1.000001, 1.000002, 4};
+  t.a_e = t.a_d = {0.01, 0.01000001, 1, 10};
+  t.x = {0.1, 1, 10, 100, 1000};
+  t.ln_rho.resize(4 * 4 * 4 * 5);
+  for (std::size_t i = 0; i < t.ln_rho.size(); ++i) t.ln_rho[i] = (i / 5) % 2 ? 30.0 : -60.0;
+  t.ln_rho_top.resize(4 * 4 * 5);
+  for (std::size_t i = 0; i < t.ln_rho_top.size(); ++i) t.ln_rho_top[i] = (i / 5) % 2 ? -60.0 : 30.0;
+  t.a_h = {0.01, 0.01000001, 1, 10};
+  t.ln_rho_half = t.ln_rho_top;
+  const SkinStackTable table = SkinStackTable::parse(t.to_csv(), "t.csv");
+  const double s = 5.0;
+  skin::LayerStack two, half;
+  two.layers = {Layer{0.3 * s, s, 2.5 / s, table.eta, table.g},
+                Layer{0.3 * s, table.dermis_ratio * s, skin::kInfinity, table.eta, table.g}};
+  half.layers = {Layer{0.3 * s, s, skin::kInfinity, table.eta, table.g}};
+  for (const auto* st : {&two, &half}) {
+    ASSERT_EQ(table.gap(*st), "");
+    const skin::accurate::SkinStackProfile profile(table, *st, 0.5);
+    for (double r = 0; r < 100; r = r == 0 ? 1e-6 : r * 1.3) {
+      const double v = profile(r);
+      EXPECT_TRUE(std::isfinite(v) && v >= 0) << "r " << r << ": " << v;
+    }
+  }
 }
 
 }  // namespace
