@@ -20,6 +20,16 @@ std::string stem_of(const std::string& path) {
   return p.has_extension() ? p.replace_extension().string() : path;
 }
 
+// Whether `path` is written in place rather than as a file (io::write_file_atomic): standard
+// output ("-"), or an existing FIFO or device (behind any symbolic links: /dev/stdout).
+bool written_in_place(const std::string& path) {
+  if (path == "-") return true;
+  std::error_code ec;
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  return !ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) &&
+         !std::filesystem::is_directory(st);
+}
+
 std::string percent(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%+.1f%%", 100.0 * v);
@@ -58,8 +68,9 @@ void register_export(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--name", o->name, "Material or asset name")->capture_default_str();
   sub->add_option("-o,--output", o->output,
-                  "Main file (default NAME + the target's extension; beside it FILE.fit.json and "
-                  "any other files); with --target all, a folder")
+                  "Main file (default NAME.TARGET + the target's extension; beside it FILE.fit.json "
+                  "and any other files); with --target all, a folder. A FIFO, a device or - "
+                  "(standard output) takes the main file alone")
       ->group("Output");
   sub->add_option("--parameter-maps", o->maps,
                   "Per-texel parameters (the EXR `skin fit --texture` writes): per-texel colour and "
@@ -107,48 +118,81 @@ void register_export(CLI::App& app) {
       std::error_code ec;
       if (!std::filesystem::is_directory(folder, ec))
         throw InputError(folder + ": not a folder (with --target all, -o names an existing folder)");
-    } else if (o->output == "-") {
-      throw InputError("output: '-' (stdout) is not possible: an export writes several files");
     }
+    // Every target's files and report are made, and every name checked, before the first file is
+    // written: a refusal (a file name a format cannot hold, a pipe for a main file that needs
+    // files beside it) leaves nothing half-written.
+    struct Job {
+      exporting::Export e;
+      std::string main_path, stem, report;
+      bool in_place = false;  // the main file goes to a pipe, a device or standard output
+      std::vector<std::string> written, skipped;
+    };
+    std::vector<Job> jobs;
     for (const exporting::Target* t : chosen) {
-      const std::string main_path =
-          all ? (std::filesystem::path(folder) / (o->name + "." + std::string(t->name) +
-                                                  std::string(t->extension)))
-                    .string()
-          : o->output.empty() ? o->name + std::string(t->extension)
-                              : o->output;
-      const std::string stem = stem_of(main_path);
-      opt.stem = std::filesystem::path(stem).filename().string();
-      const exporting::Export e =
-          maps ? exporting::export_skin(t->name, p, model, opt, &*maps, progress_bar("texels"))
-               : exporting::export_prepared(t->name, *ours, opt);
-      std::vector<std::string> written;
-      for (const exporting::TextFile& f : e.files) {
-        const std::string path = f.suffix.empty() ? main_path : stem + f.suffix;
-        io::write_file_atomic(path, f.content);
-        written.push_back(path);
+      Job j;
+      const std::string main_name =
+          exporting::default_stem(*t, o->name) + std::string(t->extension);
+      j.main_path = all ? (std::filesystem::path(folder) / main_name).string()
+                    : o->output.empty() ? main_name
+                                        : o->output;
+      j.stem = stem_of(j.main_path);
+      j.in_place = !all && written_in_place(j.main_path);
+      opt.stem = std::filesystem::path(j.stem).filename().string();
+      j.e = maps ? exporting::export_skin(t->name, p, model, opt, &*maps, progress_bar("texels"))
+                 : exporting::export_prepared(t->name, *ours, opt);
+      // Written in place, the main file goes alone: no side file is created beside a pipe or a
+      // device (/dev/null.fit.json). A main file that names its side files is refused there.
+      auto side = [&](const std::string& suffix, bool referenced) {
+        const std::string path = j.stem + suffix;
+        if (!j.in_place) return j.written.push_back(path);
+        if (referenced)
+          throw InputError("output = '" + j.main_path + "' is not a regular file (a pipe, a device "
+                           "or standard output), where the " + std::string(t->name) +
+                           " export's main file names " + path +
+                           " beside it: give a file name");
+        j.skipped.push_back(path);
+      };
+      for (const exporting::TextFile& f : j.e.files) {
+        if (f.suffix.empty()) j.written.push_back(j.main_path);
+        else side(f.suffix, f.referenced);
       }
+      for (const exporting::ImageFile& f : j.e.images) side(f.suffix, f.referenced);
+      side(".fit.json", false);
+      if (!j.in_place) j.report = exporting::fit_report_json(j.e.report, p, o->solver.name, j.written);
+      jobs.push_back(std::move(j));
+    }
+    for (const Job& j : jobs) {
+      const exporting::Export& e = j.e;
+      for (const exporting::TextFile& f : e.files)
+        if (f.suffix.empty() || !j.in_place)
+          io::write_file_atomic(f.suffix.empty() ? j.main_path : j.stem + f.suffix, f.content);
       for (const exporting::ImageFile& f : e.images) {
-        const std::string path = stem + f.suffix;
+        if (j.in_place) continue;
+        const std::string path = j.stem + f.suffix;
         if (io::extension(path) == "exr")
           image::write_exr_planes(path, f.planes, {{"skin_export", e.report.target}},
                                   "export " + e.report.target);
         else
           image::write_image(path, f.rgb);
-        written.push_back(path);
       }
-      const std::string fit_path = stem + ".fit.json";
-      written.push_back(fit_path);
-      io::write_file_atomic(fit_path, exporting::fit_report_json(e.report, p, o->solver.name, written));
+      if (!j.in_place) io::write_file_atomic(j.stem + ".fit.json", j.report);
+      // Beside data written to standard output or a pipe the summary goes to standard error.
+      std::ostream& out = j.in_place ? std::cerr : std::cout;
       const auto& r = e.report;
-      std::cout << r.target << ": wrote";
-      for (const std::string& w : written) std::cout << ' ' << w;
+      out << r.target << ": wrote";
+      for (const std::string& w : j.written) out << ' ' << w;
+      if (!j.skipped.empty()) {
+        out << " (alone: not a regular file; not written:";
+        for (const std::string& w : j.skipped) out << ' ' << w;
+        out << ")";
+      }
       char buf[200];
       std::snprintf(buf, sizeof buf,
                     "\n  colour dE2000 %.2f; profile L1 r/g/b %.2f/%.2f/%.2f; mean radius %.3g/%.3g/%.3g mm",
                     r.delta_e_2000, r.profile_l1[0], r.profile_l1[1], r.profile_l1[2],
                     r.mean_radius_mm[0], r.mean_radius_mm[1], r.mean_radius_mm[2]);
-      std::cout << buf << " (target " << percent(r.mean_radius_error[0]) << "/"
+      out << buf << " (target " << percent(r.mean_radius_error[0]) << "/"
                 << percent(r.mean_radius_error[1]) << "/" << percent(r.mean_radius_error[2])
                 << ")\n";
       if (!r.representable) std::cerr << "skin: warning: " << r.target << ": " << r.notes.front() << '\n';

@@ -21,6 +21,7 @@
 #include "skin/transport/random_walk_table.hpp"
 #include "skin/util/charconv.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/escape.hpp"
 
 namespace skin::exporting {
 
@@ -69,6 +70,10 @@ const std::vector<Target>& targets() {
   return t;
 }
 
+std::string default_stem(const Target& target, std::string_view name) {
+  return std::string(name) + "." + std::string(target.name);
+}
+
 std::string target_names_text() {
   std::string s;
   for (const Target& t : targets()) s += (s.empty() ? "" : ", ") + std::string(t.name);
@@ -105,6 +110,18 @@ namespace {
 
 // ---------------------------------------------------------------------------------------------
 // Formatting
+
+// The options names and paths come from, as messages name them: every name and path a writer
+// puts into a file goes through the escaping function of the file's format (skin/util/escape.hpp)
+// with one of these.
+constexpr std::string_view kName = "name";
+constexpr std::string_view kOutput = "output";
+// A name or path for a JSON document (nlohmann-json escapes it when it writes the document):
+// UTF-8 text, or an InputError naming `what`.
+std::string json_text(const std::string& text, std::string_view what) {
+  escape::require_utf8(text, what);
+  return text;
+}
 
 // Every number an export writes carries 6 significant digits (num), in text and JSON alike
 // (rounded): well above float precision of the renderers, well below the noise of the last bits
@@ -342,8 +359,8 @@ MapsFit fit_maps(std::string_view target, const SkinParameters& base,
 // The two textures of a maps fit: colour (PNG, sRGB-encoded) and radius (EXR, linear, in the
 // file's unit).
 void add_textures(Export& e, const MapsFit& mf, double radius_scale) {
-  ImageFile color{".subsurface_color.png", {}, image::Image(mf.width, mf.height)};
-  ImageFile radius{".subsurface_radius.exr", {mf.width, mf.height, {"R", "G", "B"}, {}}, {}};
+  ImageFile color{".subsurface_color.png", {}, image::Image(mf.width, mf.height), true};
+  ImageFile radius{".subsurface_radius.exr", {mf.width, mf.height, {"R", "G", "B"}, {}}, {}, true};
   for (int c = 0; c < 3; ++c) radius.planes.values.emplace_back(mf.texels.size());
   for (std::size_t i = 0; i < mf.texels.size(); ++i) {
     const int x = static_cast<int>(i % mf.width), y = static_cast<int>(i / mf.width);
@@ -404,7 +421,8 @@ Export export_materialx(bool openpbr, const Reference& ref, const Options& o, Un
                      {"specular_roughness", {perceptual_roughness(p)}},
                      {"specular_weight", {p.oiliness}}};
   std::ostringstream x;
-  const std::string shader = o.name + "_surface";
+  const std::string material = escape::xml_attribute(o.name, kName);
+  const std::string shader = material + "_surface";
   x << "<?xml version=\"1.0\"?>\n";
   x << "<materialx version=\"" << (openpbr ? "1.39" : "1.38") << "\" colorspace=\"lin_rec709\">\n";
   x << "  <!--\n" << header_lines("   ", e, p, *ref.model, unit, o.world_scale) << "  -->\n";
@@ -415,13 +433,14 @@ Export export_materialx(bool openpbr, const Reference& ref, const Options& o, Un
       << extra << " />\n";
   };
   if (mf) {
-    x << "  <image name=\"" << o.name << "_subsurface_color_map\" type=\"color3\">\n"
-      << "    <input name=\"file\" type=\"filename\" value=\"" << o.stem
-      << ".subsurface_color.png\" colorspace=\"srgb_texture\" />\n  </image>\n";
-    x << "  <image name=\"" << o.name << "_subsurface_radius_map\" type=\"color3\">\n"
+    x << "  <image name=\"" << material << "_subsurface_color_map\" type=\"color3\">\n"
+      << "    <input name=\"file\" type=\"filename\" value=\""
+      << escape::xml_attribute(o.stem + ".subsurface_color.png", kOutput)
+      << "\" colorspace=\"srgb_texture\" />\n  </image>\n";
+    x << "  <image name=\"" << material << "_subsurface_radius_map\" type=\"color3\">\n"
       << "    <!-- linear data in " << u << " (no colour space) -->\n"
-      << "    <input name=\"file\" type=\"filename\" value=\"" << o.stem
-      << ".subsurface_radius.exr\" />\n  </image>\n";
+      << "    <input name=\"file\" type=\"filename\" value=\""
+      << escape::xml_attribute(o.stem + ".subsurface_radius.exr", kOutput) << "\" />\n  </image>\n";
   }
   const std::string dist = " unittype=\"distance\" unit=\"" + u + "\"";
   auto connect = [&](const std::string& name, const std::string& type, const std::string& node) {
@@ -445,17 +464,17 @@ Export export_materialx(bool openpbr, const Reference& ref, const Options& o, Un
                                 "subsurface_radius", false};
   x << "  <" << s.node << " name=\"" << shader << "\" type=\"surfaceshader\">\n";
   input(s.base, "float", "1");
-  if (mf) connect("base_color", "color3", o.name + "_subsurface_color_map");
+  if (mf) connect("base_color", "color3", material + "_subsurface_color_map");
   else input("base_color", "color3", triple(w.A));
   input(s.specular, "float", num(p.oiliness));
   input("specular_roughness", "float", num(perceptual_roughness(p)));
   input(s.ior, "float", num(p.eta));
   input(s.subsurface, "float", "1");
-  if (mf) connect("subsurface_color", "color3", o.name + "_subsurface_color_map");
+  if (mf) connect("subsurface_color", "color3", material + "_subsurface_color_map");
   else input("subsurface_color", "color3", triple(w.A));
   auto scalar = [&] { input(s.radius_scalar, "float", mf ? "1" : num(d_max), dist); };
   auto colour = [&] {
-    if (mf) connect(s.radius_colour, "color3", o.name + "_subsurface_radius_map");
+    if (mf) connect(s.radius_colour, "color3", material + "_subsurface_radius_map");
     else input(s.radius_colour, "color3", triple(d_rel));
   };
   if (s.scalar_first) {
@@ -467,10 +486,10 @@ Export export_materialx(bool openpbr, const Reference& ref, const Options& o, Un
   }
   input(s.anisotropy, "float", "0");
   x << "  </" << s.node << ">\n";
-  x << "  <surfacematerial name=\"" << o.name << "\" type=\"material\">\n"
+  x << "  <surfacematerial name=\"" << material << "\" type=\"material\">\n"
     << "    <input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"" << shader
     << "\" />\n  </surfacematerial>\n</materialx>\n";
-  e.files.push_back({"", x.str()});
+  e.files.push_back({"", x.str(), false});
   if (mf) add_textures(e, *mf, scale);
   return e;
 }
@@ -509,7 +528,7 @@ Export export_cycles(const Reference& ref, const Options& o, Unit unit, const Ma
   s << "# Run: blender --background --python THIS_FILE [-- --blend OUT.blend], or from Blender's\n"
        "# text editor. Creates (or updates) the material NAME and returns it from make_material().\n"
        "import os\nimport sys\n\nimport bpy\n\n";
-  s << "NAME = \"" << o.name << "\"\n";
+  s << "NAME = " << escape::python_string(o.name, kName) << "\n";
   s << "SUBSURFACE_COLOR = (" << triple(w.A) << ")  # linear Rec.709\n";
   s << "SUBSURFACE_RADIUS = (" << triple(radius) << ")  # " << unit_name(unit)
     << " (Blender units): 4 pi x mean free path\n";
@@ -518,8 +537,10 @@ Export export_cycles(const Reference& ref, const Options& o, Unit unit, const Ma
   s << "SPECULAR = " << num(specular_3x) << "  # 3.x: F0 / 0.08 x oiliness\n";
   s << "SPECULAR_IOR_LEVEL = " << num(0.5 * p.oiliness) << "  # 4.x: 0.5 = the IOR's own F0\n";
   if (mf)
-    s << "COLOR_MAP = \"" << o.stem << ".subsurface_color.png\"  # sRGB\n"
-      << "RADIUS_MAP = \"" << o.stem << ".subsurface_radius.exr\"  # linear, Blender units\n";
+    s << "COLOR_MAP = " << escape::python_string(o.stem + ".subsurface_color.png", kOutput)
+      << "  # sRGB\n"
+      << "RADIUS_MAP = " << escape::python_string(o.stem + ".subsurface_radius.exr", kOutput)
+      << "  # linear, Blender units\n";
   else
     s << "COLOR_MAP = None\nRADIUS_MAP = None\n";
   s << R"PY(
@@ -589,7 +610,7 @@ if __name__ == "__main__":
         bpy.ops.wm.save_as_mainfile(filepath=argv[argv.index("--blend") + 1])
     print("spectral_skin: material '%s' ready (Blender %s)" % (material.name, bpy.app.version_string))
 )PY";
-  e.files.push_back({"", s.str()});
+  e.files.push_back({"", s.str(), false});
   if (mf) add_textures(e, *mf, scale);
   return e;
 }
@@ -624,17 +645,17 @@ Export export_unreal(const Reference& ref, const Options& o, Unit unit) {
                      {"ior", {p.eta}}};
   json j;
   j["format"] = "Spectral Skin export: Unreal Engine Subsurface Profile (Burley)";
-  j["name"] = o.name;
+  j["name"] = json_text(o.name, kName);
   j["color_space"] = "linear Rec.709 (sRGB primaries, D65)";
   j["units"] = {{"mean_free_path_distance", "cm"}, {"world_unit_scale", "cm per world unit"}};
   j["settings"] = report_values_json(e.report);
   j["settings"]["enable_burley"] = true;
-  e.files.push_back({"", rounded(j).dump(2) + "\n"});
+  e.files.push_back({"", rounded(j).dump(2) + "\n", false});
   std::ostringstream s;
   s << header_lines("#", e, p, *ref.model, unit, o.world_scale);
   s << "# Run inside the Unreal Editor (Python Editor Script Plugin): creates or updates the\n"
-       "# Subsurface Profile asset /Game/" << o.name << ".\nimport unreal\n\n";
-  s << "NAME = \"" << o.name << "\"\n";
+       "# Subsurface Profile asset /Game/NAME.\nimport unreal\n\n";
+  s << "NAME = " << escape::python_string(o.name, kName) << "\n";
   s << "SETTINGS = {\n"
     << "    \"enable_burley\": True,\n"
     << "    \"surface_albedo\": unreal.LinearColor(" << triple(b.A) << ", 1.0),\n"
@@ -668,7 +689,7 @@ def make_profile(path="/Game"):
 if __name__ == "__main__":
     make_profile()
 )PY";
-  e.files.push_back({".py", s.str()});
+  e.files.push_back({".py", s.str(), false});
   return e;
 }
 
@@ -696,15 +717,18 @@ Export export_unity(const Reference& ref, const Options& o, Unit unit) {
                      {"world_scale", {world}}};
   std::ostringstream s;
   s << header_lines("//", e, p, *ref.model, unit, o.world_scale);
+  // The name is also the class's (Options::validate: an identifier); in strings it is escaped.
   s << "// Put this file in an Editor folder of an HDRP project; run Tools > Spectral Skin > "
        "Create " << o.name << ".\n// The material's base colour (linear): " << triple(b.A)
     << " (sRGB " << color::hex(color::srgb8(b.A)) << ").\n";
   s << "using UnityEditor;\nusing UnityEngine;\nusing UnityEngine.Rendering.HighDefinition;\n\n";
   s << "public static class SpectralSkin_" << o.name << "\n{\n";
-  s << "    [MenuItem(\"Tools/Spectral Skin/Create " << o.name << "\")]\n";
+  s << "    [MenuItem(" << escape::csharp_string("Tools/Spectral Skin/Create " + o.name, kName)
+    << ")]\n";
   s << "    public static void Create()\n    {\n";
   s << "        var asset = ScriptableObject.CreateInstance<DiffusionProfileSettings>();\n";
-  s << "        AssetDatabase.CreateAsset(asset, \"Assets/" << o.name << ".asset\");\n";
+  s << "        AssetDatabase.CreateAsset(asset, "
+    << escape::csharp_string("Assets/" + o.name + ".asset", kName) << ");\n";
   s << "        var so = new SerializedObject(asset);\n";
   s << "        so.FindProperty(\"profile.scatteringDistance\").colorValue = new Color(" << num(d_rel.r)
     << "f, " << num(d_rel.g) << "f, " << num(d_rel.b) << "f, 1f);\n";
@@ -717,16 +741,16 @@ Export export_unity(const Reference& ref, const Options& o, Unit unit) {
   s << "        so.FindProperty(\"profile.worldScale\").floatValue = " << num(world)
     << "f; // metres per world unit\n";
   s << "        so.ApplyModifiedProperties();\n        AssetDatabase.SaveAssets();\n    }\n}\n";
-  e.files.push_back({"", s.str()});
+  e.files.push_back({"", s.str(), false});
   json j;
   j["format"] = "Spectral Skin export: Unity HDRP Diffusion Profile";
-  j["name"] = o.name;
+  j["name"] = json_text(o.name, kName);
   j["color_space"] = "linear Rec.709 (sRGB primaries, D65)";
   j["units"] = {{"scattering_distance_multiplier", "mm"},
                 {"thickness_remap", "mm"},
                 {"world_scale", "m per world unit"}};
   j["profile"] = report_values_json(e.report);
-  e.files.push_back({".json", rounded(j).dump(2) + "\n"});
+  e.files.push_back({".json", rounded(j).dump(2) + "\n", false});
   return e;
 }
 
@@ -836,7 +860,8 @@ Export export_pbrt(const Reference& ref, const Options& o, Unit unit) {
   std::ostringstream s;
   s << header_lines("#", e, p, model, unit, o.world_scale);
   s << "# sigma_a, sigma_s in " << unit_text << " (spectra as wavelength [nm], value pairs).\n";
-  s << "MakeNamedMaterial \"" << o.name << "\"\n"
+  const std::string name = escape::pbrt_string(o.name, kName);
+  s << "MakeNamedMaterial " << name << "\n"
     << "    \"string type\" [ \"subsurface\" ]\n"
     << "    \"float eta\" [ " << num(p.eta) << " ]\n"
     << "    \"float g\" [ " << num(p.g) << " ]\n"
@@ -844,16 +869,16 @@ Export export_pbrt(const Reference& ref, const Options& o, Unit unit) {
     << "    \"bool remaproughness\" [ false ]\n"
     << "    \"float scale\" [ 1 ]\n";
   if (o.spectra_files) {
-    s << "    \"spectrum sigma_a\" \"" << o.stem << ".sigma_a.spd\"\n"
-      << "    \"spectrum sigma_s\" \"" << o.stem << ".sigma_s.spd\"\n";
-    e.files.push_back({"", ""});  // placeholder, filled below
-    e.files.push_back({".sigma_a.spd", spd_file(grid, sa_u, "sigma_a [" + unit_text + "]")});
-    e.files.push_back({".sigma_s.spd", spd_file(grid, ss_u, "sigma_s [" + unit_text + "]")});
+    s << "    \"spectrum sigma_a\" " << escape::pbrt_string(o.stem + ".sigma_a.spd", kOutput) << "\n"
+      << "    \"spectrum sigma_s\" " << escape::pbrt_string(o.stem + ".sigma_s.spd", kOutput) << "\n";
+    e.files.push_back({"", "", false});  // placeholder, filled below
+    e.files.push_back({".sigma_a.spd", spd_file(grid, sa_u, "sigma_a [" + unit_text + "]"), true});
+    e.files.push_back({".sigma_s.spd", spd_file(grid, ss_u, "sigma_s [" + unit_text + "]"), true});
   } else {
     s << "    \"spectrum sigma_a\" " << pbrt_spectrum(grid, sa_u) << "\n"
       << "    \"spectrum sigma_s\" " << pbrt_spectrum(grid, ss_u) << "\n";
   }
-  if (e.files.empty()) e.files.push_back({"", ""});
+  if (e.files.empty()) e.files.push_back({"", "", false});
   e.files[0].content = s.str();
   // Two layers as nested media.
   const std::vector<LayerStack> layers = skin_layer_stacks(p, grid);
@@ -869,7 +894,7 @@ Export export_pbrt(const Reference& ref, const Options& o, Unit unit) {
       a[i] = layers[i].layers[l].sigma_a / scale;
       sc[i] = layers[i].layers[l].sigma_s() / scale;
     }
-    t << "MakeNamedMedium \"" << o.name << "_" << names[l] << "\"\n"
+    t << "MakeNamedMedium " << escape::pbrt_string(o.name + "_" + names[l], kName) << "\n"
       << "    \"string type\" [ \"homogeneous\" ]\n"
       << "    \"float g\" [ " << num(layers[0].layers[l].g) << " ]\n"
       << "    \"float scale\" [ 1 ]\n"
@@ -887,14 +912,16 @@ Export export_pbrt(const Reference& ref, const Options& o, Unit unit) {
          "2 7 6  3 0 4 3 4 7 ]\n";
     return b.str();
   };
-  t << "AttributeBegin\n    MediumInterface \"" << o.name << "_epidermis\" \"\"\n"
+  const std::string epidermis = escape::pbrt_string(o.name + "_epidermis", kName);
+  const std::string dermis = escape::pbrt_string(o.name + "_dermis", kName);
+  t << "AttributeBegin\n    MediumInterface " << epidermis << " \"\"\n"
     << "    Material \"dielectric\" \"float eta\" [ " << num(p.eta) << " ] \"float roughness\" [ "
     << num(p.roughness) << " ] \"bool remaproughness\" [ false ]\n"
     << box(-depth, 0.0, half) << "AttributeEnd\n";
-  t << "AttributeBegin\n    MediumInterface \"" << o.name << "_dermis\" \"" << o.name
-    << "_epidermis\"\n    Material \"interface\"\n"
+  t << "AttributeBegin\n    MediumInterface " << dermis << " " << epidermis
+    << "\n    Material \"interface\"\n"
     << box(-depth + 0.5 * te, -te, half - 0.5 * te) << "AttributeEnd\n";
-  e.files.push_back({".two-layer.pbrt", t.str()});
+  e.files.push_back({".two-layer.pbrt", t.str(), false});
   return e;
 }
 
@@ -918,8 +945,10 @@ Export export_mitsuba(const Reference& ref, const Options& o, Unit unit) {
     e.report.notes.push_back("the rough dielectric's specular lobe is not scaled by oiliness (" +
                              num(p.oiliness) + ")");
   std::ostringstream x;
-  auto spectrum = [&](const std::string& name, const std::vector<double>& v) {
-    std::string s = "        <spectrum name=\"" + name + "\" value=\"";
+  // Ids NAME_epidermis, ...: the name escaped (and checked) for Mitsuba, the suffixes plain.
+  const std::string name = escape::mitsuba_attribute(o.name, kName);
+  auto spectrum = [&](const std::string& quantity, const std::vector<double>& v) {
+    std::string s = "        <spectrum name=\"" + quantity + "\" value=\"";
     for (std::size_t i = 0; i < grid.size(); ++i) {
       if (i) s += ", ";
       s += num(grid[i]);
@@ -941,18 +970,18 @@ Export export_mitsuba(const Reference& ref, const Options& o, Unit unit) {
       st[i] = (L.sigma_a + L.sigma_s()) / scale;
       al[i] = L.sigma_s() / (L.sigma_a + L.sigma_s());
     }
-    x << "    <medium type=\"homogeneous\" id=\"" << o.name << "_" << names[l] << "\">\n"
+    x << "    <medium type=\"homogeneous\" id=\"" << name << "_" << names[l] << "\">\n"
       << spectrum("sigma_t", st) << spectrum("albedo", al)
       << "        <float name=\"scale\" value=\"1\"/>\n"
       << "        <phase type=\"hg\"><float name=\"g\" value=\"" << num(layers[0].layers[l].g)
       << "\"/></phase>\n    </medium>\n";
   }
-  x << "    <bsdf type=\"roughdielectric\" id=\"" << o.name << "_surface\">\n"
+  x << "    <bsdf type=\"roughdielectric\" id=\"" << name << "_surface\">\n"
     << "        <string name=\"distribution\" value=\"beckmann\"/>\n"
     << "        <float name=\"alpha\" value=\"" << num(p.roughness) << "\"/>\n"
     << "        <float name=\"int_ior\" value=\"" << num(p.eta) << "\"/>\n"
     << "        <float name=\"ext_ior\" value=\"1.0\"/>\n    </bsdf>\n";
-  x << "    <bsdf type=\"null\" id=\"" << o.name << "_interface\"/>\n";
+  x << "    <bsdf type=\"null\" id=\"" << name << "_interface\"/>\n";
   const double half = 50.0 * scale, te = p.epidermis_thickness * scale, depth = 20.0 * scale;
   auto cube = [&](double hx, double z0, double z1, const std::string& bsdf,
                   const std::string& interior, const std::string& exterior) {
@@ -967,11 +996,11 @@ Export export_mitsuba(const Reference& ref, const Options& o, Unit unit) {
     return c.str();
   };
   x << "    <!-- Example: a slab 10 cm wide, the epidermis on a 2 cm deep dermis, top at z = 0. -->\n";
-  x << cube(half, -depth, 0.0, o.name + "_surface", o.name + "_epidermis", "");
-  x << cube(half - 0.5 * te, -depth + 0.5 * te, -te, o.name + "_interface", o.name + "_dermis",
-            o.name + "_epidermis");
+  x << cube(half, -depth, 0.0, name + "_surface", name + "_epidermis", "");
+  x << cube(half - 0.5 * te, -depth + 0.5 * te, -te, name + "_interface", name + "_dermis",
+            name + "_epidermis");
   x << "</scene>\n";
-  e.files.push_back({"", x.str()});
+  e.files.push_back({"", x.str(), false});
   return e;
 }
 
@@ -1059,7 +1088,7 @@ Export export_realtime(const Reference& ref, const Options& o, Unit unit) {
                          unit, ref, R_d_t, g.R);
   json j;
   j["format"] = "Spectral Skin export: real-time subsurface kernels";
-  j["name"] = o.name;
+  j["name"] = json_text(o.name, kName);
   j["color_space"] = "linear Rec.709 (sRGB primaries, D65)";
   j["units"] = {{"variance", std::string(unit_name(unit)) + "^2"},
                 {"offset", std::string(unit_name(unit))}};
@@ -1110,7 +1139,7 @@ Export export_realtime(const Reference& ref, const Options& o, Unit unit) {
                         for (double x2 : g.v) v.push_back(x2 * scale * scale);
                         return v;
                       }()}};
-  e.files.push_back({"", rounded(j).dump(2) + "\n"});
+  e.files.push_back({"", rounded(j).dump(2) + "\n", false});
   return e;
 }
 
@@ -1131,7 +1160,7 @@ Export export_profile(const Reference& ref, const Options& o, Unit unit) {
   csv << "r_" << u << ",R_r,R_g,R_b\n";
   json j;
   j["format"] = "Spectral Skin radial profile";
-  j["name"] = o.name;
+  j["name"] = json_text(o.name, kName);
   j["color_space"] = "linear Rec.709 (sRGB primaries, D65)";
   j["units"] = {{"r", u}, {"R", "1/" + u + "^2"}};
   j["R_d"] = vec(ref.R_d);
@@ -1155,9 +1184,9 @@ Export export_profile(const Reference& ref, const Options& o, Unit unit) {
   }
   j["r"] = r;
   j["R"] = {{"r", R[0]}, {"g", R[1]}, {"b", R[2]}};
-  e.files.push_back({"", csv.str()});
-  e.files.push_back({".json", rounded(j).dump(1) + "\n"});
-  ImageFile exr{".exr", std::move(planes), {}};
+  e.files.push_back({"", csv.str(), false});
+  e.files.push_back({".json", rounded(j).dump(1) + "\n", false});
+  ImageFile exr{".exr", std::move(planes), {}, false};
   e.images.push_back(std::move(exr));
   for (int c = 0; c < 3; ++c)
     if (std::abs(check[c] / ref.R_d[c] - 1.0) > 0.01)
@@ -1189,7 +1218,9 @@ std::string fit_report_json(const FitReport& r, const SkinParameters& p, std::st
   j["units"] = {{"files", std::string(unit_name(r.unit))},
                 {"mean_radius_mm", "mm"},
                 {"colors", "linear Rec.709 (sRGB primaries, D65)"}};
-  j["files"] = files;
+  json names = json::array();
+  for (const std::string& f : files) names.push_back(json_text(f, kOutput));
+  j["files"] = names;
   j["representable"] = r.representable;
   j["notes"] = r.notes;
   j["R_d_ours"] = rgb(r.R_d_ours);

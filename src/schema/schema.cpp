@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "skin/util/error.hpp"
+#include "skin/util/escape.hpp"
 #include "skin/util/input_file.hpp"
 
 namespace skin::schema {
@@ -16,12 +17,7 @@ Column constant_column(std::string name, double value, std::size_t rows) {
 }
 
 namespace {
-std::string csv_field(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string q = "\"";
-  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
-}
+using escape::csv_field;
 // Numbers of CSV files: ten significant digits.
 std::string num(double v) {
   char buf[32];
@@ -115,7 +111,7 @@ std::string format_text_table(const std::vector<std::vector<std::string>>& rows)
 std::string format_csv(const std::vector<std::string>& header,
                        const std::vector<std::vector<double>>& columns) {
   std::ostringstream os;
-  for (std::size_t c = 0; c < header.size(); ++c) os << (c ? "," : "") << header[c];
+  for (std::size_t c = 0; c < header.size(); ++c) os << (c ? "," : "") << csv_field(header[c]);
   os << '\n';
   const std::size_t rows = columns.empty() ? 0 : columns.front().size();
   for (std::size_t r = 0; r < rows; ++r) {

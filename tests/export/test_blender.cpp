@@ -8,6 +8,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 #include <string>
 
@@ -119,3 +121,40 @@ TEST_P(Blender, CyclesRenderOfTheExportMatchesOurPrediction) {
 }
 
 INSTANTIATE_TEST_SUITE_P(LightAndDark, Blender, ::testing::Values("caucasian", "african"));
+
+namespace {
+// For sh: in single quotes, each ' as '\''.
+std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+}  // namespace
+
+TEST(BlenderHostileName, TheCyclesScriptOfAHostileFileNameRunsNothing) {
+  // Issue 29: a file name ending the script's string literal ran its code when Blender opened
+  // the script. The script of that name, run by Blender as a user runs it, loads the textures
+  // by their names and runs nothing else.
+  if (!have_blender()) GTEST_SKIP() << "blender is not installed (scripts/install-deps.sh installs it)";
+  const fs::path dir = temp_dir("hostile");
+  image::write_exr_planes((dir / "maps.exr").string(),
+                          {1, 1, {"melanin", "melanin_blend", "hemoglobin"}, {{0.05f}, {0.5f}, {0.01f}}},
+                          {}, "parameter maps");
+  const std::string stem = "q\"+__import__(\"os\").system(\"touch PWNED\")+\"q";
+  run("cd " + quoted(dir.string()) + " && " + SKIN_BINARY +
+      " export --target cycles --solver multipole --parameter-maps maps.exr -o " +
+      quoted(stem + ".py") + " > /dev/null");
+  const std::string list =
+      "import bpy; print('IMAGES', sorted(bpy.path.basename(i.filepath) for i in bpy.data.images if i.filepath))";
+  run("cd " + quoted(dir.string()) + " && blender --background --factory-startup --python " +
+      quoted(stem + ".py") + " --python-expr " + quoted(list) + " > blender.log 2>&1");
+  std::ifstream in(dir / "blender.log");
+  const std::string log((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_FALSE(fs::exists(dir / "PWNED")) << log;
+  EXPECT_NE(log.find("material 'spectral_skin' ready"), std::string::npos) << log;
+  EXPECT_NE(log.find("IMAGES ['" + stem + ".subsurface_color.png', '" + stem +
+                     ".subsurface_radius.exr']"),
+            std::string::npos)
+      << log;
+  fs::remove_all(dir);
+}

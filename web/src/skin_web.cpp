@@ -214,8 +214,8 @@ json melanin_strip(const json& req) {
 }
 
 // `skin export --target T` in a folder of its own, without -o: the files it writes (named as it
-// names them: NAME + the target's extension, NAME + each file's suffix) with their text, and
-// NAME.fit.json. {"target", "files": [{"name", "content"}], "images": [name], "report"}: "report"
+// names them: NAME.TARGET + the target's extension, NAME.TARGET + each file's suffix) with their
+// text, and NAME.TARGET.fit.json. {"target", "files": [{"name", "content"}], "images": [name], "report"}: "report"
 // is the fit report (the last file, parsed). Images (the profile target's .exr) are listed, as
 // the report lists them, but not written: the module has no OpenEXR.
 json export_files(const json& req) {
@@ -229,20 +229,20 @@ json export_files(const json& req) {
   opt.gaussians = get_or(req, "gaussians", opt.gaussians);
   opt.taps = get_or(req, "taps", opt.taps);
   opt.spectra_files = get_or(req, "spectra_files", opt.spectra_files);
-  opt.stem = opt.name;
+  opt.stem = exporting::default_stem(target, opt.name);
   opt.validate();
   const exporting::Export e = exporting::export_skin(target.name, p, model, opt);
   json out{{"target", std::string(target.name)}, {"files", json::array()}, {"images", json::array()}};
   std::vector<std::string> written;
   for (const exporting::TextFile& f : e.files) {
-    written.push_back(opt.name + (f.suffix.empty() ? std::string(target.extension) : f.suffix));
+    written.push_back(opt.stem + (f.suffix.empty() ? std::string(target.extension) : f.suffix));
     out["files"].push_back({{"name", written.back()}, {"content", f.content}});
   }
   for (const exporting::ImageFile& f : e.images) {
-    written.push_back(opt.name + f.suffix);
+    written.push_back(opt.stem + f.suffix);
     out["images"].push_back(written.back());
   }
-  written.push_back(opt.name + ".fit.json");
+  written.push_back(opt.stem + ".fit.json");
   const std::string report = exporting::fit_report_json(e.report, p, model.name(), written);
   out["files"].push_back({{"name", written.back()}, {"content", report}});
   out["report"] = json::parse(report);

@@ -211,7 +211,7 @@ async function main() {
     const cdp = await browser.target().createCDPSession();
     await press('hemoglobin', 'ArrowRight', 7);
     for (const target of ['openpbr', 'pbrt-v4', 'profile']) {
-      // A folder per target: every target writes NAME.fit.json.
+      // A folder per target: every target writes NAME.TARGET.fit.json.
       const downloads = fs.mkdtempSync(path.join(TMP, `downloads-${target}-`));
       await cdp.send('Browser.setDownloadBehavior', { behavior: 'allow', downloadPath: downloads });
       await page.select('#export-target', target);

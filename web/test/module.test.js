@@ -111,7 +111,7 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
     const files = Object.fromEntries(e.files.map((f) => [f.name, f.content]));
     const ref = cliExport(t.name, args, params);
     fail(compareExport(files, e.images, ref), `export ${t.name} ${JSON.stringify(params)}`);
-    const report = compare(e.report, JSON.parse(ref[`${options.name || 'spectral_skin'}.fit.json`]), 0, 'report');
+    const report = compare(e.report, JSON.parse(ref[`${options.name || 'spectral_skin'}.${t.name}.fit.json`]), 0, 'report');
     fail(report.failures, `export ${t.name}: report`);
   });
   console.log(`exports: ${targets.map((t) => t.name).join(', ')}: the files of skin export, byte for byte`);

@@ -43,6 +43,11 @@ struct Target {
   bool takes_textures;           // accepts --parameter-maps
 };
 const std::vector<Target>& targets();
+// The main file's stem when the user names none: NAME.TARGET (e.g. "spectral_skin.cycles"; the
+// main file adds the target's extension, the other files their suffixes), as --target all names
+// them in its folder. The dot keeps a Python file from shadowing a module: spectral_skin.py
+// beside a script would be imported as the package spectral_skin, NAME.TARGET.py cannot be.
+std::string default_stem(const Target& target, std::string_view name);
 // InputError listing the targets' names otherwise.
 const Target& find_target(std::string_view name);
 std::string target_names_text();  // "openpbr, standard-surface, ..."
@@ -52,26 +57,34 @@ void require_textures(const Target& target);
 struct Options {
   std::optional<Unit> unit;   // default: the target's
   double world_scale = 1.0;   // scene units per `unit` (> 0): lengths written are x world_scale
-  std::string name = "spectral_skin";  // material or asset name: [A-Za-z_][A-Za-z0-9_]*
+  // Material or asset name: [A-Za-z_][A-Za-z0-9_]*, at most 64 (it names classes and nodes, which
+  // cannot be escaped; where it is written in a string it is escaped all the same).
+  std::string name = "spectral_skin";
   int gaussians = 5;          // realtime: Gaussians in the sum, [2, 8]
   int taps = 17;              // realtime: taps of the separable kernel, odd, [3, 63]
   bool spectra_files = false; // pbrt-v4: sigma_a / sigma_s as .spd files instead of inline
   // File name stem the files use to refer to each other (textures, .spd files, the main file):
-  // the main file's name without its extension. Default: name.
+  // the main file's name without its extension (the user's -o). Default: name. Any text: each
+  // writer escapes it for its format, or refuses it (InputError naming "output") where the format
+  // cannot hold it (skin/util/escape.hpp).
   std::string stem;
   void validate() const;      // InputError naming the option
 };
 
 // A file of the export, named by the application: `suffix` "" is the main file (the -o path);
 // otherwise the main file's stem + suffix (e.g. ".two-layer.pbrt").
+// `referenced`: the main file names this file (stem + suffix), so that the main file is of no use
+// without it beside it (textures, pbrt-v4's .spd files).
 struct TextFile {
   std::string suffix;
   std::string content;
+  bool referenced = false;
 };
 struct ImageFile {
   std::string suffix;   // ".exr" (float planes) or ".png" (8-bit sRGB-encoded colour)
   image::Planes planes; // for .exr
   image::Image rgb;     // for .png (linear values; encoded when written)
+  bool referenced = false;
 };
 
 // How close the target comes to our skin, per linear sRGB channel. "Ours" is the skin model with
@@ -124,6 +137,7 @@ Export export_skin(std::string_view target, const SkinParameters& parameters,
 
 // The fit report as the JSON document written beside the files (FILE.fit.json) and returned by
 // Python's export(): the report, the parameters, the solver and the files written.
+// `files` are file names as given (InputError naming "output" unless UTF-8 text: JSON holds text).
 std::string fit_report_json(const FitReport& report, const SkinParameters& parameters,
                             std::string_view solver, const std::vector<std::string>& files);
 
