@@ -13,9 +13,14 @@
 // dimmed, "Ready", the same colour. Then two fields at once (both flagged, fixing one leaves the
 // other's error), the constraint between two parameters (melanin + epidermal_hemoglobin <= 1:
 // both flagged), and a slider moved after bad text (the field's error cleared).
-// Run: node web/test/inputs.test.js (after scripts/web.sh and npm ci in web/).
+// Run: node web/test/inputs.test.js (after scripts/web.sh and npm ci in web/). Screenshot of two
+// fields in error: build-web/screenshots/page-input-error.png.
 'use strict';
-const { fail, openPage } = require('./common');
+const fs = require('fs');
+const path = require('path');
+const { ROOT, fail, openPage } = require('./common');
+
+const SHOTS = path.join(ROOT, 'build-web', 'screenshots');
 
 const BAD_TEXT = ['', 'NaN', 'abc', '1e999', '-1e999', '-'];
 
@@ -38,9 +43,11 @@ async function main() {
       window.skinState.module = { run: (command, request) => { window.skinCalls.push([command, request]); return m.run(command, request); } };
     });
     const table = await page.evaluate(() => window.skinState.table);
+    const tLoaded = Date.now();
 
-    // What the page shows.
-    const shown = () => page.evaluate(() => {
+    // What the page shows, once it has no update pending and has made at least `updates`.
+    const shown = (updates = 0) => page.evaluate(async (n) => {
+      while (window.skinPending || window.skinState.updates < n) await new Promise((r) => requestAnimationFrame(r));
       const fields = [...document.querySelectorAll('#parameters input.value')];
       return {
         flagged: fields.filter((f) => f.getAttribute('aria-invalid') === 'true').map((f) => f.id.slice(2)),
@@ -60,16 +67,14 @@ async function main() {
         calls: window.skinCalls.length,
         commands: window.skinCalls.map((c) => c[0]),
       };
-    });
-    // Types `text` into the field of `key` as a user does (the old text selected and replaced,
-    // Tab to leave the field) and waits for the page's update.
+    }, updates);
+    // Types `text` into the field of `key` as a user does: the old text selected and replaced,
+    // Tab to leave the field (shown() then waits for the page's update).
     const type = async (key, text) => {
-      await page.focus(`#n-${key}`);
-      await page.evaluate((id) => document.getElementById(id).select(), `n-${key}`);
+      await page.evaluate((id) => { const f = document.getElementById(id); f.focus(); f.select(); }, `n-${key}`);
       if (text === '') await page.keyboard.press('Backspace');
       else await page.keyboard.type(text);
       await page.keyboard.press('Tab');
-      await page.waitForFunction(() => !window.skinPending);
     };
     const normal = (s, before, what) => {
       const failures = [];
@@ -127,8 +132,7 @@ async function main() {
           : new RegExp(`^${label(p)} (is empty|= .* is (not a number|out of range)): allowed range is ${range(p)}$`);
         if (!inError(await shown(), before, [p.key], what, { called: c.called, message })) failed += 1;
         await type(p.key, original);
-        await page.waitForFunction((n) => window.skinState.updates > n, {}, before.updates);
-        if (!normal(await shown(), before, `${what}, then ${original} again`)) failed += 1;
+        if (!normal(await shown(before.updates + 1), before, `${what}, then ${original} again`)) failed += 1;
       }
     }
     console.log(`every field (${table.length}), typed ${BAD_TEXT.map((t) => JSON.stringify(t)).join(' ')} and a number below ` +
@@ -140,26 +144,25 @@ async function main() {
       await type('melanin', 'abc');
       await type('g', '');
       inError(await shown(), before, ['melanin', 'g'], 'melanin and g', { message: /^melanin \(C_m\) = 'abc' is not a number: allowed range is \[0, 1\] \(and 1 more field\)$/ });
+      fs.mkdirSync(SHOTS, { recursive: true });
+      await page.screenshot({ path: path.join(SHOTS, 'page-input-error.png') });
       await type('melanin', String(await page.evaluate(() => window.skinState.values.melanin)));
       inError(await shown(), before, ['g'], 'g still empty', { message: /^g is empty: allowed range is \(-1, 1\)$/ });
       await type('g', String(await page.evaluate(() => window.skinState.values.g)));
-      await page.waitForFunction((n) => window.skinState.updates > n, {}, before.updates);
-      normal(await shown(), before, 'melanin and g fixed');
+      normal(await shown(before.updates + 1), before, 'melanin and g fixed');
     }
     // The model's constraint between two parameters: both named by its reply, both flagged.
     {
       const before = await shown();
       const values = await page.evaluate(() => ({ ...window.skinState.values }));
       await type('melanin', '0.6');
-      await page.waitForFunction((n) => window.skinState.updates > n, {}, before.updates);
-      const mid = await shown();
+      const mid = await shown(before.updates + 1);
       await type('epidermal_hemoglobin', '0.5');
       inError(await shown(), mid, ['melanin', 'epidermal_hemoglobin'], 'melanin + epidermal_hemoglobin > 1',
               { called: true, message: /^melanin \+ epidermal-hemoglobin = 1\.1 is out of range/ });
       await type('epidermal_hemoglobin', String(values.epidermal_hemoglobin));
       await type('melanin', String(values.melanin));
-      await page.waitForFunction((n) => window.skinState.updates > n + 1, {}, mid.updates);
-      normal(await shown(), before, 'melanin and epidermal_hemoglobin restored');
+      normal(await shown(mid.updates + 2), before, 'melanin and epidermal_hemoglobin restored');
     }
     // The slider after bad text: the field takes the slider's number, the error is gone.
     {
@@ -168,13 +171,12 @@ async function main() {
       inError(await shown(), before, ['hemoglobin'], 'hemoglobin = "x"');
       await page.focus('#s-hemoglobin');
       await page.keyboard.press('ArrowRight');
-      await page.waitForFunction((n) => window.skinState.updates > n, {}, before.updates);
-      const s = await shown();
+      const s = await shown(before.updates + 1);
       const field = await page.evaluate(() => [document.getElementById('n-hemoglobin').value, document.getElementById('s-hemoglobin').value, window.skinState.values.hemoglobin]);
       normal(s, null, 'hemoglobin slider moved after bad text');
       if (field[0] !== field[1] || Number(field[0]) !== field[2]) fail([`field ${field[0]}, slider ${field[1]}, value ${field[2]}`], 'slider after bad text');
     }
-    console.log(`input test: ${checks} checks in ${((Date.now() - t0) / 1000).toFixed(1)} s`);
+    console.log(`input test: ${checks} checks in ${((Date.now() - t0) / 1000).toFixed(1)} s (the page loaded in ${((tLoaded - t0) / 1000).toFixed(1)} s)`);
   } finally {
     await close();
   }
