@@ -5,6 +5,8 @@
 #   web/test/browser.test.js  the page in headless Chromium (puppeteer-core, pinned in
 #                             web/package-lock.json, installed by `npm ci`; it downloads no
 #                             browser), screenshots and update time in build-web/screenshots.
+#   web/test/inputs.test.js   bad text typed into every parameter field of the page (the same
+#                             browser): flagged, results dimmed, nothing computed; restored.
 # Skips with a message only where Emscripten or the browser cannot be installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -20,3 +22,4 @@ if [ ! -x /usr/bin/chromium ]; then
 fi
 (cd web && npm ci --no-audit --no-fund --loglevel=error)
 node web/test/browser.test.js
+node web/test/inputs.test.js

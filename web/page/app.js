@@ -8,7 +8,9 @@ const state = {
   table: [],        // skin parameters --format json
   presets: [],      // skin presets --format json
   preset: 'caucasian',
-  values: {},       // current parameter values by key
+  values: {},       // current parameter values by key (the last valid number of each field)
+  fieldErrors: {},  // by key: the message of a field whose text is not a number (nothing is computed)
+  modelError: null, // the last update's refusal: {message, parameters: [key]}
   solver: 'accurate',
   solveProfile: false,  // the next update solves a profile that needs solving (the button)
   profilePending: null, // the update's "profile_pending": the profile was not solved
@@ -32,9 +34,14 @@ window.skinState = state;
 const $ = (id) => document.getElementById(id);
 const num = (v) => Number(v).toPrecision(10).replace(/\.?0+(e|$)/, '$1');  // as %.10g
 
+// A refusal of the module: its one-line message, and the keys of the parameters it is about
+// (the reply's "parameters"; none for other errors).
 function run(command, request) {
   const text = state.module.run(command, JSON.stringify(request));
-  if (text.startsWith('{"error":')) throw new Error(JSON.parse(text).error);
+  if (text.startsWith('{"error":')) {
+    const reply = JSON.parse(text);
+    throw Object.assign(new Error(reply.error), { parameters: reply.parameters || [] });
+  }
   return text;
 }
 const runJson = (command, request) => JSON.parse(run(command, request));
@@ -54,6 +61,26 @@ function sliderRange(p) {
   return { min: p.min_exclusive ? Math.max(min, max / 1000) : min, max };
 }
 
+// The parameter's range as the model's messages write it ("[0, 1]", "(0, inf)").
+const rangeText = (p) => `${p.min_exclusive ? '(' : '['}${p.min === null ? '-inf' : p.min}, ${p.max === null ? 'inf' : p.max}${p.max_exclusive ? ')' : ']'}`;
+// The parameter as the model's messages name it: "melanin-blend (beta_m)".
+const label = (p) => p.flag.replace(/^--/, '') + (p.symbol ? ` (${p.symbol})` : '');
+
+// The number a field's text holds ({value}), or the line naming the parameter and its range
+// ({error}): empty text, text that is not a decimal number ("NaN", "abc", "-", "0x1") and numbers
+// beyond a double ("1e999") are refused here and never reach the model; a finite number outside
+// the range goes to the model, which refuses it with its own line.
+const DECIMAL = /^[+-]?(\d+\.?\d*|\.\d+)(e[+-]?\d+)?$/i;
+function parseField(p, text) {
+  const t = text.trim();
+  const allowed = `allowed range is ${rangeText(p)}`;
+  if (t === '') return { error: `${label(p)} is empty: ${allowed}` };
+  if (!DECIMAL.test(t)) return { error: `${label(p)} = '${t}' is not a number: ${allowed}` };
+  const value = Number(t);
+  if (!Number.isFinite(value)) return { error: `${label(p)} = ${t} is out of range: ${allowed}` };
+  return { value };
+}
+
 function buildControls() {
   const box = $('parameters');
   for (const p of state.table) {
@@ -62,15 +89,16 @@ function buildControls() {
     row.className = 'param';
     row.dataset.key = p.key;
     const unit = p.unit === '1' ? '' : ` [${p.unit}]`;
-    const range = `${p.min_exclusive ? '(' : '['}${p.min === null ? '-inf' : p.min}, ${p.max === null ? 'inf' : p.max}${p.max_exclusive ? ')' : ']'}`;
-    const tip = `${p.help}${unit}; range ${range}; default ${p.default}; CLI ${p.flag}${p.symbol ? ' (--' + p.symbol + ')' : ''}`;
+    const tip = `${p.help}${unit}; range ${rangeText(p)}; default ${p.default}; CLI ${p.flag}${p.symbol ? ' (--' + p.symbol + ')' : ''}`;
+    // The field is text (inputmode decimal), not type=number: the page sees what was typed and
+    // names it, where a number field hands over "" for "abc" or "1e999" alike.
     row.innerHTML = `<label title="${tip}" for="n-${p.key}">${p.key}${p.symbol ? ' <span class="muted">' + p.symbol + '</span>' : ''}${unit}</label>` +
       `<input type="range" id="s-${p.key}" min="${min}" max="${max}" step="${(max - min) / 1000}" title="${tip}">` +
-      `<input type="number" id="n-${p.key}" step="any" title="${tip}">`;
+      `<input type="text" inputmode="decimal" autocomplete="off" spellcheck="false" class="value" id="n-${p.key}" title="${tip}">`;
     box.appendChild(row);
-    const slider = row.querySelector('input[type=range]'), field = row.querySelector('input[type=number]');
-    slider.addEventListener('input', () => { field.value = slider.value; setValue(p.key, Number(slider.value)); });
-    field.addEventListener('change', () => { slider.value = field.value; setValue(p.key, Number(field.value)); });
+    const slider = row.querySelector('input[type=range]'), field = row.querySelector('input.value');
+    slider.addEventListener('input', () => { field.value = slider.value; setField(p, slider.value); });
+    field.addEventListener('change', () => setField(p, field.value));
   }
   for (const pr of state.presets) {
     const b = document.createElement('button');
@@ -100,6 +128,7 @@ function showValues() {
     $('s-' + p.key).value = state.values[p.key];
     $('n-' + p.key).value = state.values[p.key];
   }
+  state.fieldErrors = {};
   for (const b of $('presets').children) b.classList.toggle('active', b.dataset.preset === state.preset);
 }
 
@@ -110,9 +139,54 @@ function applyPreset(name) {
   scheduleUpdate();
 }
 
-function setValue(key, v) {
-  state.values[key] = v;
+// A field's text: a number becomes the parameter's value (the slider follows when it holds
+// it); anything else is the field's error, the value stays the last valid one, and the update
+// shows the error instead of computing.
+function setField(p, text) {
+  const { value, error } = parseField(p, text);
+  if (error) {
+    state.fieldErrors[p.key] = error;
+  } else {
+    delete state.fieldErrors[p.key];
+    state.values[p.key] = value;
+    if (String(value) !== $('s-' + p.key).value) $('s-' + p.key).value = value;
+  }
   scheduleUpdate();
+}
+
+// The first field error in the table's order: {message, parameters: [every field in error]}.
+function fieldError() {
+  const keys = state.table.map((p) => p.key).filter((k) => k in state.fieldErrors);
+  if (keys.length === 0) return null;
+  const more = keys.length > 1 ? ` (and ${keys.length - 1} more field${keys.length > 2 ? 's' : ''})` : '';
+  return { message: state.fieldErrors[keys[0]] + more, parameters: keys };
+}
+
+// The page in error (err: {message, parameters}) or not (null): the message in the status line,
+// the fields of the named parameters flagged (aria-invalid and a red outline), the results
+// dimmed (they belong to the last valid parameters) and the actions that would compute with
+// the current parameters disabled.
+function showError(err) {
+  const flagged = new Set(err ? err.parameters : []);
+  for (const row of document.querySelectorAll('.param')) {
+    const bad = flagged.has(row.dataset.key), field = row.querySelector('input.value');
+    row.classList.toggle('invalid', bad);
+    if (bad) {
+      field.setAttribute('aria-invalid', 'true');
+      field.setAttribute('aria-describedby', 'status');
+    } else {
+      field.removeAttribute('aria-invalid');
+      field.removeAttribute('aria-describedby');
+    }
+  }
+  $('results').classList.toggle('stale', !!err);
+  $('results').setAttribute('aria-disabled', err ? 'true' : 'false');
+  for (const id of ['dl-params', 'dl-spectrum-json', 'dl-spectrum-csv', 'dl-profile-json', 'dl-profile-csv', 'export-run', 'fit'])
+    $(id).disabled = !!err;
+  if (err) {
+    $('status').textContent = err.message;
+    $('status').className = 'error';
+  }
 }
 
 // --- Updates ----------------------------------------------------------------------------------
@@ -128,6 +202,13 @@ function scheduleUpdate() {
 // One full update: spectrum (R_d, layer coefficients, colour) and the RGB profile at 256 radii,
 // through the module, then the page redrawn. The time covers both computations and the drawing.
 function update() {
+  // A field that holds no number: nothing is computed, the error is shown.
+  const invalid = fieldError();
+  if (invalid) {
+    state.modelError = null;
+    showError(invalid);
+    return;
+  }
   const t0 = performance.now();
   let spectrum, profile, color;
   try {
@@ -138,14 +219,14 @@ function update() {
     state.solveProfile = false;
     state.profilePending = pendingProfile || null;
   } catch (e) {
-    $('status').textContent = e.message;
-    $('status').className = 'error';
-    for (const row of document.querySelectorAll('.param'))
-      row.classList.toggle('invalid', e.message.includes(row.dataset.key));
+    // The model's refusal: the fields of the parameters it names (by key, from its reply).
+    state.modelError = { message: e.message, parameters: e.parameters || [] };
+    showError(state.modelError);
     return;
   }
   const tModel = performance.now() - t0;
-  for (const row of document.querySelectorAll('.param')) row.classList.remove('invalid');
+  state.modelError = null;
+  showError(null);
   state.spectrum = spectrum;
   state.profile = profile;
   state.color = color || null;

@@ -1,7 +1,10 @@
 // The WebAssembly module of the browser page (web/page): the model behind the same schemas as the
 // `skin` command (src/schema), so that the page, a Node script and the CLI agree. Every entry
 // point takes a request as JSON text and returns the command's output as text (JSON, or CSV /
-// table with "format"), or {"error": "..."} with the one-line message the CLI would print.
+// table with "format"), or {"error": "..."} with the one-line message the CLI would print. An
+// error about the skin parameters also lists their keys, {"error": "...", "parameters": [key]}:
+// the entry of "params" the message is about, or the parameters a constraint between them names
+// ("melanin + epidermal-hemoglobin = ..." names both); the page flags those fields.
 //
 // "update" returns both documents the page shows at each change ({"spectrum", "profile"}, and
 // "color" under an illuminant other than D65). Request keys mirror the command-line options:
@@ -18,6 +21,8 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "fit_schema.hpp"
 #include "schema.hpp"
@@ -25,6 +30,7 @@
 #include "skin/fit/fit.hpp"
 #include "skin/color/illuminant.hpp"
 #include "skin/model/skin_model.hpp"
+#include "skin/physics/skin_parameters.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/table.hpp"
 
@@ -46,11 +52,69 @@ T get_or(const json& req, const char* key, T fallback) {
 
 std::string preset_of(const json& req) { return get_or<std::string>(req, "preset", "caucasian"); }
 
-// As ParameterOptions::resolve: the preset, then the --params object, validated.
+// An InputError about skin parameters, with their keys (the "parameters" of the error reply).
+class ParameterError : public InputError {
+ public:
+  ParameterError(const std::string& message, std::vector<std::string> keys)
+      : InputError(message), keys(std::move(keys)) {}
+  std::vector<std::string> keys;
+};
+
+// The keys of the entries of a "params" object that ParameterFile::parse refuses, each parsed
+// alone (unknown keys and "preset" name no parameter and are left out).
+std::vector<std::string> refused_keys(const json& params) {
+  std::vector<std::string> keys;
+  const json& obj = params.is_object() && params.contains("parameters") ? params["parameters"] : params;
+  if (!obj.is_object()) return keys;
+  for (auto it = obj.begin(); it != obj.end(); ++it) {
+    const ParameterInfo* info = find_parameter(it.key());
+    if (info == nullptr) continue;
+    try {
+      schema::ParameterFile::parse(json{{it.key(), *it}}, "");
+    } catch (const InputError&) {
+      keys.emplace_back(info->key);
+    }
+  }
+  return keys;
+}
+
+// The keys of the parameters of `p` that SkinParameters::validate refuses (its `message`): each
+// one out of its own range, else those a constraint between them names on the left of its
+// " = " ("melanin + epidermal-hemoglobin = 1.2 is out of range: ...").
+std::vector<std::string> invalid_keys(const SkinParameters& p, const std::string& message) {
+  std::vector<std::string> keys;
+  for (const ParameterInfo& info : parameter_table())
+    if (!info.in_range(p.*(info.member))) keys.emplace_back(info.key);
+  if (!keys.empty()) return keys;
+  const auto eq = message.find(" = ");
+  if (eq == std::string::npos) return keys;
+  const std::string subject = message.substr(0, eq);
+  for (std::size_t start = 0; start <= subject.size();) {
+    const auto plus = subject.find(" + ", start);
+    const std::string term = subject.substr(start, plus == std::string::npos ? std::string::npos : plus - start);
+    if (const ParameterInfo* info = find_parameter(term)) keys.emplace_back(info->key);
+    if (plus == std::string::npos) break;
+    start = plus + 3;
+  }
+  return keys;
+}
+
+// As ParameterOptions::resolve: the preset, then the --params object, validated. Refusals are
+// ParameterErrors naming the keys.
 SkinParameters parameters_of(const json& req) {
   SkinParameters p = find_preset(preset_of(req)).parameters;
-  if (req.contains("params")) schema::ParameterFile::parse(req["params"], "params: ").apply(p);
-  p.validate();
+  if (req.contains("params")) {
+    try {
+      schema::ParameterFile::parse(req["params"], "params: ").apply(p);
+    } catch (const InputError& e) {
+      throw ParameterError(e.what(), refused_keys(req["params"]));
+    }
+  }
+  try {
+    p.validate();
+  } catch (const InputError& e) {
+    throw ParameterError(e.what(), invalid_keys(p, e.what()));
+  }
   return p;
 }
 
@@ -256,6 +320,8 @@ std::string guarded(const std::string& request, const F& f) {
     return f(req);
   } catch (const json::exception& e) {
     return json{{"error", std::string("request: not valid JSON (") + e.what() + ")"}}.dump();
+  } catch (const ParameterError& e) {
+    return json{{"error", e.what()}, {"parameters", e.keys}}.dump();
   } catch (const std::exception& e) {
     return json{{"error", e.what()}}.dump();
   }

@@ -8,25 +8,11 @@
 // Run: node web/test/browser.test.js (after scripts/web.sh, the native build and npm ci in web/).
 'use strict';
 const fs = require('fs');
-const http = require('http');
 const os = require('os');
 const path = require('path');
-const { ROOT, SITE, SPECTRA, TMP, cli, cliExport, compareExport, compare, fail } = require('./common');
+const { ROOT, SPECTRA, TMP, cli, cliExport, compareExport, compare, fail, openPage } = require('./common');
 
-const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
 const SHOTS = path.join(ROOT, 'build-web', 'screenshots');
-
-function serve() {
-  const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css' };
-  const server = http.createServer((req, res) => {
-    const file = path.join(SITE, path.normalize(decodeURIComponent(req.url.split('?')[0])).replace(/^(\.\.[/\\])+/, '') || 'index.html');
-    const target = fs.existsSync(file) && fs.statSync(file).isDirectory() ? path.join(file, 'index.html') : file;
-    if (!target.startsWith(SITE) || !fs.existsSync(target)) { res.writeHead(404); res.end(); return; }
-    res.writeHead(200, { 'Content-Type': types[path.extname(target)] || 'application/octet-stream' });
-    fs.createReadStream(target).pipe(res);
-  });
-  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
-}
 
 // The numbers the page shows (10 significant digits, as the CLI's table) against the CLI's JSON.
 function checkDisplayed(shown, ref, what) {
@@ -48,27 +34,12 @@ function checkDisplayed(shown, ref, what) {
 }
 
 async function main() {
-  if (!fs.existsSync(CHROMIUM)) {
-    console.log(`SKIP browser test: no browser at ${CHROMIUM} (install Debian's chromium: scripts/install-deps.sh)`);
-    return;
-  }
-  const puppeteer = require('puppeteer-core');
-  const server = await serve();
-  const url = `http://127.0.0.1:${server.address().port}/index.html`;
-  const profileDir = fs.mkdtempSync(path.join(os.tmpdir(), 'skin-chromium-'));
-  const browser = await puppeteer.launch({
-    executablePath: CHROMIUM,
-    headless: true,
-    userDataDir: profileDir,
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-  });
+  const opened = await openPage('browser test');
+  if (!opened) return;
+  const { browser, page, url, server, close } = opened;
   try {
-    const page = await browser.newPage();
-    await page.setViewport({ width: 1280, height: 1000 });
     const requests = [];
     page.on('request', (r) => requests.push(r.url()));
-    page.on('pageerror', (e) => fail([String(e)], 'page error'));
     await page.goto(url);
     await page.waitForFunction('window.skinReady === true', { timeout: 120000 });
     await page.waitForFunction('window.skinState.updates >= 1');
@@ -271,9 +242,7 @@ async function main() {
     fail(outside.map((u) => `request to ${u}`), 'network access outside the local server');
     console.log(`screenshots: ${SHOTS}`);
   } finally {
-    await browser.close();
-    server.close();
-    fs.rmSync(profileDir, { recursive: true, force: true });
+    await close();
   }
 }
 

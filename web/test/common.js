@@ -83,6 +83,54 @@ function check(a, b, tol, where, abs_floor, out) {
   else if (a !== b) out.worst = Math.max(out.worst, d);
 }
 
+// The page (build-web/site) served from a local server and opened in headless Chromium (Debian's
+// chromium through puppeteer-core), ready: {browser, page, url, server, close()}; null, with a
+// SKIP line, when there is no browser at $CHROMIUM.
+const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
+function serve() {
+  const http = require('http');
+  const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css' };
+  const server = http.createServer((req, res) => {
+    const file = path.join(SITE, path.normalize(decodeURIComponent(req.url.split('?')[0])).replace(/^(\.\.[/\\])+/, '') || 'index.html');
+    const target = fs.existsSync(file) && fs.statSync(file).isDirectory() ? path.join(file, 'index.html') : file;
+    if (!target.startsWith(SITE) || !fs.existsSync(target)) { res.writeHead(404); res.end(); return; }
+    res.writeHead(200, { 'Content-Type': types[path.extname(target)] || 'application/octet-stream' });
+    fs.createReadStream(target).pipe(res);
+  });
+  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
+}
+async function openPage(what) {
+  if (!fs.existsSync(CHROMIUM)) {
+    console.log(`SKIP ${what}: no browser at ${CHROMIUM} (install Debian's chromium: scripts/install-deps.sh)`);
+    return null;
+  }
+  const puppeteer = require('puppeteer-core');
+  const server = await serve();
+  const url = `http://127.0.0.1:${server.address().port}/index.html`;
+  const profileDir = fs.mkdtempSync(path.join(os.tmpdir(), 'skin-chromium-'));
+  const browser = await puppeteer.launch({
+    executablePath: CHROMIUM,
+    headless: true,
+    userDataDir: profileDir,
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+           '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+  });
+  const close = async () => {
+    await browser.close();
+    server.close();
+    fs.rmSync(profileDir, { recursive: true, force: true });
+  };
+  try {
+    const page = await browser.newPage();
+    await page.setViewport({ width: 1280, height: 1000 });
+    page.on('pageerror', (e) => fail([String(e)], 'page error'));
+    return { browser, page, url, server, close };
+  } catch (e) {
+    await close();
+    throw e;
+  }
+}
+
 // A small deterministic generator (mulberry32) for reproducible random parameter sets.
 function rng(seed) {
   return () => {
@@ -113,4 +161,4 @@ function fail(failures, what) {
   process.exitCode = 1;
 }
 
-module.exports = { ROOT, SITE, SKIN, SPECTRA, TMP, cli, cliExport, compareExport, compare, rng, randomParameters, fail };
+module.exports = { ROOT, SITE, SKIN, SPECTRA, TMP, cli, cliExport, compareExport, compare, rng, randomParameters, fail, openPage };

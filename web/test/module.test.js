@@ -123,6 +123,21 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   const badIlluminant = JSON.parse(m.run('color', JSON.stringify({ illuminant: 'F13' })));
   if (!badIlluminant.error || !badIlluminant.error.startsWith("illuminant = 'F13' is unknown: must be one of D65, D50, A,")) fail([JSON.stringify(badIlluminant)], 'illuminant error message');
   if (!badTarget.error || !badTarget.error.startsWith("target = 'renderman' is unknown")) fail([JSON.stringify(badTarget)], 'export error message');
+  // A refusal of the parameters lists their keys ("parameters": the page flags those fields):
+  // the entry refused (by key or paper symbol, a number or not), or both sides of the constraint
+  // melanin + epidermal_hemoglobin <= 1; an unknown key or another error names none.
+  for (const [params, keys] of [
+    [{ melanin: 2 }, ['melanin']], [{ C_m: 2 }, ['melanin']], [{ g: 'x', melanin: 0.1 }, ['g']],
+    [{ 'melanin-blend': -1, g: 1 }, ['melanin_blend', 'g']], [{ epidermis_thickness: 0 }, ['epidermis_thickness']],
+    [{ melanin: 0.6, epidermal_hemoglobin: 0.5 }, ['melanin', 'epidermal_hemoglobin']], [{ beta_carotene: true }, ['beta_carotene']],
+    [{ gg: 1 }, []], [[1], []],
+  ]) {
+    for (const command of ['update', 'color', 'export']) {
+      const r = JSON.parse(m.run(command, JSON.stringify({ params, target: 'openpbr' })));
+      if (!r.error || JSON.stringify(r.parameters) !== JSON.stringify(keys)) fail([`${JSON.stringify(r)}, expected parameters ${JSON.stringify(keys)}`], `${command} parameter error keys ${JSON.stringify(params)}`);
+    }
+  }
+  if ('parameters' in badIlluminant) fail([JSON.stringify(badIlluminant)], 'illuminant error: parameters');
 
   if (!fs.existsSync(SPECTRA)) {
     console.log(`SKIP fit: ${SPECTRA} is absent`);
