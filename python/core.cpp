@@ -850,13 +850,21 @@ PYBIND11_MODULE(_core, m) {
         if (py::isinstance<py::str>(image)) {
           img = image::read_image(py::cast<std::string>(image));
         } else {
-          const py::array raw = py::module_::import("numpy").attr("asarray")(image);
+          const std::string allowed = "image must be a file name or an array of numbers of shape (height, width, 3) "
+                                      "(height, width >= 1) of linear sRGB in [0, 1], not ";
+          py::array raw;
+          try {
+            raw = py::module_::import("numpy").attr("asarray")(image);
+          } catch (const py::error_already_set&) {  // ragged nested lists
+            throw InputError(allowed + one_line(py::cast<std::string>(py::repr(image))).substr(0, 80));
+          }
           const char kind = raw.dtype().kind();
           if ((kind != 'i' && kind != 'u' && kind != 'f') || raw.ndim() != 3 || raw.shape(2) != 3 ||
               raw.shape(0) < 1 || raw.shape(1) < 1 || raw.shape(0) > INT_MAX || raw.shape(1) > INT_MAX)
-            throw InputError("image must be a file name or an array of numbers of shape (height, width, 3) "
-                             "(height, width >= 1) of linear sRGB in [0, 1], not " +
-                             std::string(kind == 'O' || kind == 'U' || kind == 'S' ? "an array of " + py::cast<std::string>(py::str(raw.dtype())) + " " : "") +
+            throw InputError(allowed +
+                             std::string(kind == 'O' || kind == 'U' || kind == 'S' || kind == 'b' || kind == 'c'
+                                             ? "an array of " + py::cast<std::string>(py::str(raw.dtype())) + " of "
+                                             : "") +
                              "shape " + py::cast<std::string>(py::str(raw.attr("shape"))));
           const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(raw);
           if (!a) throw py::error_already_set();
