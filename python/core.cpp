@@ -833,7 +833,7 @@ PYBIND11_MODULE(_core, m) {
       "free"_a = py::none(), "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
       ("`skin fit --hex/--srgb`: the parameters (melanin, melanin_blend, hemoglobin by default) "
-       "whose colour matches an 8-bit sRGB colour: hex='a98f74' or srgb='169,143,116'. "
+       "whose colour matches an 8-bit sRGB colour: hex='a98f74', srgb='169,143,116' or srgb=(169, 143, 116). "
        "melanin_blend_prior, melanin_blend_weight [Lab units]: the weak prior that resolves "
        "beta_m. Returns target, parameters, fitted, delta_e_2000. " + solver_doc() + params).c_str());
 
