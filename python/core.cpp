@@ -6,15 +6,22 @@
 // "axes". Parameter keywords may be arrays: they broadcast against each other, every set is
 // computed in C++ on all cores (skin::batch) with the GIL released, and the set axes lead the
 // result's shape. Units: mm, 1/mm, nm.
+#include <chrono>
+#include <climits>
 #include <cmath>
+#include <future>
+#include <iterator>
+#include <span>
 #include <map>
 #include <optional>
 #include <sstream>
+#include <thread>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "convert.hpp"
 #include "skin/util/allocator.hpp"
 #include "skin/batch/batch.hpp"
 #include "skin/fit/color_fit.hpp"
@@ -23,7 +30,9 @@
 #include "skin/export/export.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/model.hpp"
+#include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/work_estimate.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -70,6 +79,87 @@ double number(std::string_view key, const py::handle& v) {
   }
 }
 
+// A whole number in [lo, hi]: a Python int or a numpy integer (not bool, not a float, not text).
+// Anything else is refused as the command line's options are ("<name> = -1 is out of range:
+// must be a whole number >= 1").
+long long whole_number(std::string_view name, const py::handle& v, long long lo,
+                       long long hi = std::numeric_limits<long long>::max()) {
+  const std::string allowed = hi == std::numeric_limits<long long>::max()
+                                  ? ">= " + std::to_string(lo)
+                                  : "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  if (py::isinstance<py::bool_>(v) || py::isinstance(v, py::module_::import("numpy").attr("bool_")) ||
+      PyIndex_Check(v.ptr()) == 0)
+    throw InputError(std::string(name) + " must be a whole number " + allowed + ", not " +
+                     py::cast<std::string>(py::repr(v)));
+  const py::object i = py::reinterpret_steal<py::object>(PyNumber_Index(v.ptr()));
+  if (!i) throw py::error_already_set();
+  int overflow = 0;
+  const long long x = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+  if (x == -1 && PyErr_Occurred()) throw py::error_already_set();
+  if (overflow != 0 || x < lo || x > hi)
+    throw InputError(std::string(name) + " = " + py::cast<std::string>(py::str(i)) +
+                     " is out of range: must be a whole number " + allowed);
+  return x;
+}
+// Worker threads, as the command line's --threads: 0 (all cores) to 4096.
+int thread_count(const py::handle& v) { return static_cast<int>(whole_number("threads", v, 0, 4096)); }
+
+// Runs work() (C++ only: no Python object is touched) on a worker thread with the GIL released,
+// while the calling thread looks for Python's signals every 50 ms: on a KeyboardInterrupt (Ctrl-C)
+// it requests skin::cancel, which the library's loops poll, waits for the work to end (well
+// within a second) and raises the KeyboardInterrupt. Work cancelled otherwise (another call's
+// interrupt: the flag is the process's) raises KeyboardInterrupt too.
+template <class F>
+auto interruptible(F&& work) -> decltype(work()) {
+  using R = decltype(work());
+  std::packaged_task<R()> task(std::forward<F>(work));
+  std::future<R> done = task.get_future();
+  bool interrupted = false;
+  {
+    py::gil_scoped_release unlocked;
+    std::thread worker(std::move(task));
+    while (done.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      if (interrupted) continue;
+      py::gil_scoped_acquire locked;
+      if (PyErr_CheckSignals() != 0) {
+        interrupted = true;
+        cancel::request();
+      }
+    }
+    worker.join();
+  }
+  if (interrupted) {
+    cancel::reset();
+    try {
+      (void)done.get();  // the work's own end (Cancelled, most likely) gives way to the signal's
+    } catch (...) {
+    }
+    throw py::error_already_set();  // the KeyboardInterrupt (or whatever the handler raised)
+  }
+  try {
+    return done.get();
+  } catch (const Cancelled&) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+}
+
+// batch(first, count) -> std::vector<R> over [0, n) in chunks of kChunkSets sets, polling skin::cancel
+// between them: batch's functions prepare all their sets before the first is computed (a second
+// and more for a million sets), which Ctrl-C would have to wait for.
+constexpr std::size_t kChunkSets = 8192;
+template <class F>
+auto in_chunks(std::size_t n, F&& batch) -> decltype(batch(std::size_t{0}, std::size_t{0})) {
+  decltype(batch(std::size_t{0}, std::size_t{0})) out;
+  out.reserve(n);
+  for (std::size_t first = 0; first < n; first += kChunkSets) {
+    cancel::check();
+    auto part = batch(first, std::min(kChunkSets, n - first));
+    std::move(part.begin(), part.end(), std::back_inserter(out));
+  }
+  return out;
+}
+
 // The parameter sets of one call: the preset's values overridden by the keywords, broadcast.
 struct Sets {
   std::vector<SkinParameters> values;  // row-major over `shape`
@@ -106,13 +196,29 @@ Sets parameter_sets(const std::string& preset, const py::kwargs& kw) {
     }
     const char kind = a.dtype().kind();
     if (kind != 'i' && kind != 'u' && kind != 'f') not_a_number(info.key, v);
+    if (a.size() == 0)
+      throw InputError(std::string(info.key) + " is an empty array (shape " +
+                       py::cast<std::string>(py::str(a.attr("shape"))) +
+                       "): must be a number or an array of numbers with at least one element");
     arrays.emplace_back(&info, np.attr("asarray")(a, "dtype"_a = "float64"));
   }
   Sets s;
   py::list shapes;
   for (const auto& [info, a] : arrays) shapes.append(a.attr("shape"));
-  const auto shape = py::cast<std::vector<py::ssize_t>>(np.attr("broadcast_shapes")(*shapes));
+  std::vector<py::ssize_t> shape;
+  try {
+    shape = py::cast<std::vector<py::ssize_t>>(np.attr("broadcast_shapes")(*shapes));
+  } catch (const py::error_already_set&) {
+    std::string list;
+    for (const auto& [info, a] : arrays)
+      list += (list.empty() ? "" : ", ") + std::string(info->key) + " " + py::cast<std::string>(py::str(a.attr("shape")));
+    throw InputError("the parameter arrays do not broadcast together (numpy's rules): shapes " + list);
+  }
   s.shape = shape;
+  double sets = 1;
+  for (auto d : shape) sets *= static_cast<double>(d);
+  check_memory(format_number(sets) + " parameter sets",
+               sets * (sizeof(SkinParameters) + 8.0 * static_cast<double>(arrays.size() + parameter_table().size())));
   std::size_t n = 1;
   for (auto d : shape) n *= static_cast<std::size_t>(d);
   s.values.assign(n, base);
@@ -121,7 +227,11 @@ Sets parameter_sets(const std::string& preset, const py::kwargs& kw) {
         np.attr("broadcast_to")(a, py::cast(shape)).attr("ravel")());
     for (std::size_t i = 0; i < n; ++i) s.values[i].*(info->member) = flat.data()[i];
   }
-  for (const SkinParameters& p : s.values) p.validate();
+  for (std::size_t i = 0; i < n; ++i) {
+    // Ctrl-C during the checks of a million sets (a fraction of a second with the GIL held)
+    if (i % 4096 == 0 && PyErr_CheckSignals() != 0) throw py::error_already_set();
+    s.values[i].validate();
+  }
   const auto ndim = static_cast<py::ssize_t>(shape.size());
   for (py::ssize_t axis = 0; axis < ndim; ++axis) {
     std::vector<std::string> varying;
@@ -240,19 +350,18 @@ LayerStack layer_stack(const std::vector<py::dict>& layers, double eta_above, do
   LayerStack st;
   st.eta_above = eta_above;
   st.eta_below = eta_below;
-  for (const py::dict& l : layers) {
-    Layer x;
-    for (auto [k, v] : l) {
+  if (layers.empty()) throw InputError("layers is empty: give at least one layer (a dict with sigma_a, sigma_s_prime)");
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    const std::string where = "layer " + std::to_string(i + 1);
+    std::vector<std::pair<std::string, std::optional<double>>> entries;
+    for (auto [k, v] : layers[i]) {
+      if (!py::isinstance<py::str>(k))
+        throw InputError(where + ": key " + py::cast<std::string>(py::repr(k)) + " is not a string (" +
+                         std::string(python::kLayerKeys) + ")");
       const auto key = py::cast<std::string>(k);
-      if (key == "thickness_mm" || key == "thickness") {
-        if (!v.is_none()) x.thickness = number(key, v);
-      } else if (key == "sigma_a") x.sigma_a = number(key, v);
-      else if (key == "sigma_s_prime") x.sigma_s_prime = number(key, v);
-      else if (key == "eta") x.eta = number(key, v);
-      else if (key == "g") x.g = number(key, v);
-      else throw InputError("unknown layer key '" + key + "': known keys are sigma_a, sigma_s_prime, thickness_mm, eta, g");
+      entries.emplace_back(key, v.is_none() ? std::nullopt : std::optional<double>(number(where + " " + key, v)));
     }
-    st.layers.push_back(x);
+    st.layers.push_back(python::layer_from_entries(entries, i));
   }
   st.validate();
   return st;
@@ -275,6 +384,25 @@ std::vector<std::pair<fit::Parameter, fit::Bounds>> fit_bounds(
     out.emplace_back(fit::parse_parameter(name), fit::Bounds{b.first, b.second});
   }
   return out;
+}
+
+// fit_color's srgb: the command line's text 'R,G,B', or any sequence (or array) of three numbers.
+std::string srgb_text(const py::object& srgb) {
+  if (py::isinstance<py::str>(srgb)) return py::cast<std::string>(srgb);
+  const std::string wrong = "srgb = " + one_line(py::cast<std::string>(py::repr(srgb))) +
+                            " must be three numbers R,G,B (8-bit sRGB, 0-255): a text 'R,G,B' or a sequence of 3";
+  if (py::isinstance<py::bytes>(srgb) || py::isinstance<py::bool_>(srgb)) throw InputError(wrong);
+  py::array a;
+  try {
+    a = py::module_::import("numpy").attr("asarray")(srgb);
+  } catch (const py::error_already_set&) {
+    throw InputError(wrong);
+  }
+  if (a.ndim() != 1 || a.shape(0) != 3) throw InputError(wrong);
+  std::string text;
+  for (const py::handle item : srgb)  // each a number (not bool, not text)
+    text += (text.empty() ? "" : ",") + format_number(number("srgb", item));
+  return text;
 }
 
 py::dict color_target_dict(const color::ColorSummary& c) {
@@ -318,21 +446,27 @@ PYBIND11_MODULE(_core, m) {
 
   // `skin spectrum` and `skin color` for one set or an array of sets.
   auto spectra = [](const std::string& preset, double lambda_min, double lambda_max,
-                    double lambda_step, const std::string& solver, int threads, bool with_spectra,
-                    const std::string& illuminant, const py::kwargs& kw) {
+                    double lambda_step, const std::string& solver, const py::object& threads_arg,
+                    bool with_spectra, const std::string& illuminant, const py::kwargs& kw) {
+    const int threads = thread_count(threads_arg);
     const Sets sets = parameter_sets(preset, kw);
     const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
     const transport::Model& model = transport::find_model(solver);
     const color::Illuminant& light = color::find_illuminant(illuminant);
-    std::vector<SkinSpectrum> s;
-    {
-      py::gil_scoped_release unlocked;
-      s = batch::spectra(sets.values, grid, model, {threads});
+    // The five spectra of each set (batch::spectra's) and, with_spectra, their arrays.
+    check_memory("the spectra of " + std::to_string(sets.size()) + " parameter sets",
+                 static_cast<double>(sets.size()) *
+                     (sizeof(SkinSpectrum) + 8.0 * 5 * static_cast<double>(grid.size()) * (with_spectra ? 2 : 1)));
+    const std::vector<SkinSpectrum> s = interruptible([&] {
+      std::vector<SkinSpectrum> out = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
+        return batch::spectra(std::span(sets.values).subspan(first, count), grid, model, {threads});
+      });
       if (light.name() != color::kDefaultIlluminant) {  // D65 is what batch::spectra gives
         const color::Colorimetry cm(grid, light);
-        for (SkinSpectrum& x : s) x.color = color::summarize(cm, x.R_d);
+        for (SkinSpectrum& x : out) x.color = color::summarize(cm, x.R_d);
       }
-    }
+      return out;
+    });
     py::dict d, axes;
     d["preset"] = preset;
     d["parameters"] = sets.parameters;
@@ -368,12 +502,12 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "spectrum",
       [spectra](const std::string& preset, double lambda_min, double lambda_max, double lambda_step,
-                const std::string& solver, int threads, const py::kwargs& kw) {
+                const std::string& solver, const py::object& threads, const py::kwargs& kw) {
         return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, true,
                        std::string(color::kDefaultIlluminant), kw);
       },
       "preset"_a = "caucasian", py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
-      "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
+      "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = py::int_(0),
       ("`skin spectrum`: total diffuse reflectance R_d(lambda), the layers' sigma_a and "
        "sigma_s_prime [1/mm] (epidermis, dermis), the colour under D65 (color: XYZ, srgb_linear, "
        "srgb8, hex, lab) and the parameters used. Wavelengths lambda_min..lambda_max every "
@@ -383,11 +517,12 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "color",
       [spectra](const std::string& preset, double lambda_min, double lambda_max, double lambda_step,
-                const std::string& solver, int threads, const std::string& illuminant, const py::kwargs& kw) {
+                const std::string& solver, const py::object& threads, const std::string& illuminant,
+                const py::kwargs& kw) {
         return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, false, illuminant, kw);
       },
       "preset"_a = "caucasian", py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
-      "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0,
+      "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = py::int_(0),
       "illuminant"_a = std::string(color::kDefaultIlluminant),
       ("`skin color`: the colour of R_d under a CIE illuminant (illuminant=, as `skin color "
        "--illuminant`; D65 by default; illuminants() lists them) with the CIE 1931 2-degree "
@@ -401,18 +536,30 @@ PYBIND11_MODULE(_core, m) {
   // `skin profile` (per wavelength or, rgb, per channel) for one set or an array of sets.
   auto profiles = [](bool rgb, const std::string& preset, const std::vector<double>& r_mm,
                      double lambda_min, double lambda_max, double lambda_step,
-                     const std::string& solver, int threads, const py::kwargs& kw) {
+                     const std::string& solver, const py::object& threads_arg, const py::kwargs& kw) {
+    const int threads = thread_count(threads_arg);
     const Sets sets = parameter_sets(preset, kw);
     const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
     const transport::Model& model = transport::find_model(solver);
+    if (r_mm.empty()) throw InputError("r_mm is empty: give at least one radius [mm] (increasing, >= 0)");
     const RadialGrid radii = RadialGrid::from(r_mm);
+    // R of every set (channels or wavelengths x radii), held twice (the results, the array).
+    check_memory("the profiles of " + std::to_string(sets.size()) + " parameter sets",
+                 2.0 * static_cast<double>(sets.size()) * static_cast<double>(rgb ? 3 : grid.size()) *
+                     static_cast<double>(radii.size()) * 8.0);
     std::vector<batch::RgbProfileResult> by_channel;
     std::vector<batch::SpectralProfileResult> by_wavelength;
-    {
-      py::gil_scoped_release unlocked;
-      if (rgb) by_channel = batch::rgb_profiles(sets.values, grid, radii, model, {threads});
-      else by_wavelength = batch::spectral_profiles(sets.values, grid, radii, model, {threads});
-    }
+    interruptible([&] {
+      const std::span<const SkinParameters> all(sets.values);
+      if (rgb)
+        by_channel = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
+          return batch::rgb_profiles(all.subspan(first, count), grid, radii, model, {threads});
+        });
+      else
+        by_wavelength = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
+          return batch::spectral_profiles(all.subspan(first, count), grid, radii, model, {threads});
+        });
+    });
     std::vector<transport::Validity> v;
     for (const auto& x : by_channel) v.push_back(x.validity);
     for (const auto& x : by_wavelength) v.push_back(x.validity);
@@ -455,12 +602,12 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         name,
         [profiles, rgb](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
-                        double lambda_max, double lambda_step, const std::string& solver, int threads,
-                        const py::kwargs& kw) {
+                        double lambda_max, double lambda_step, const std::string& solver,
+                        const py::object& threads, const py::kwargs& kw) {
           return profiles(rgb, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
         },
         "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
-        "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = 0, (doc + solver_doc() + params).c_str());
+        "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = py::int_(0), (doc + solver_doc() + params).c_str());
   };
   def_profile("rgb_profile", true,
               "`skin profile --rgb`: radial profile R(r) [1/mm^2] per linear sRGB channel (r, g, b) at "
@@ -480,11 +627,11 @@ PYBIND11_MODULE(_core, m) {
         const transport::Model& model = transport::find_model(solver);
         transport::Totals t;
         std::vector<double> R;
-        {
-          py::gil_scoped_release unlocked;
+        const RadialGrid radii = RadialGrid::from(r_mm);
+        interruptible([&] {
           t = model.totals(st);
-          if (!r_mm.empty()) R = ProfileSolver(RadialGrid::from(r_mm)).profile(*model.response(st));
-        }
+          if (!r_mm.empty()) R = ProfileSolver(radii).profile(*model.response(st));
+        });
         py::dict d;
         d["solver"] = std::string(model.name());
         d["eta_above"] = st.eta_above;
@@ -514,8 +661,16 @@ PYBIND11_MODULE(_core, m) {
   m.def(
       "mc",
       [](const std::optional<std::vector<py::dict>>& layers, std::optional<double> wavelength,
-         const std::optional<std::string>& preset, std::uint64_t photons, std::uint64_t seed, int threads,
-         double radius_max, std::size_t bins, double eta_above, double eta_below, const py::kwargs& kw) {
+         const std::optional<std::string>& preset, const py::object& photons, const py::object& seed,
+         const py::object& threads, double radius_max, const py::object& bins, double eta_above, double eta_below,
+         const py::kwargs& kw) {
+        // The same limits as `skin mc`'s options.
+        mc::Options o;
+        o.photons = static_cast<std::uint64_t>(whole_number("photons", photons, 1));
+        o.seed = static_cast<std::uint64_t>(whole_number("seed", seed, 0));
+        o.threads = thread_count(threads);
+        o.r_max = radius_max;
+        o.bins = static_cast<std::size_t>(whole_number("bins", bins, 1, 1000000));
         LayerStack st;
         py::dict d;
         if (layers && wavelength)
@@ -535,17 +690,14 @@ PYBIND11_MODULE(_core, m) {
         } else {
           throw InputError("mc: give either layers or wavelength (with the skin parameters)");
         }
-        mc::Options o;
-        o.photons = photons;
-        o.seed = seed;
-        o.threads = threads;
-        o.r_max = radius_max;
-        o.bins = bins;
-        mc::Result r;
-        {
-          py::gil_scoped_release unlocked;
-          r = mc::simulate(st, o);
+        // The time estimate of `skin mc` (a pilot on this stack): refused beyond a week, a
+        // RuntimeWarning beyond an hour.
+        const WorkEstimate estimate = interruptible([&] { return mc::estimate(st, o); });
+        if (estimate.long_run()) {
+          const std::string text = estimate.text + "; Ctrl-C stops it";
+          if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
         }
+        const mc::Result r = interruptible([&] { return mc::simulate(st, o); });
         d["solver"] = "monte-carlo";
         d["eta_above"] = st.eta_above;
         d["eta_below"] = st.eta_below;
@@ -557,7 +709,8 @@ PYBIND11_MODULE(_core, m) {
         d["R_d_incident"] = r.R_d_incident;
         d["T_d_incident"] = r.T_d_incident;
         d["photons"] = r.photons;
-        d["seed"] = seed;
+        d["lost"] = r.lost;
+        d["seed"] = o.seed;
         d["seconds"] = r.seconds;
         d["profile"] = py::dict("r_mm"_a = vector_array(r.r_mm), "R"_a = vector_array(r.R),
                                 "R_se"_a = vector_array(r.R_se));
@@ -566,13 +719,17 @@ PYBIND11_MODULE(_core, m) {
         return d;
       },
       py::kw_only(), "layers"_a = py::none(), "wavelength"_a = py::none(), "preset"_a = py::none(),
-      "photons"_a = 100000, "seed"_a = 1, "threads"_a = 0, "radius_max"_a = 10.0, "bins"_a = 200,
+      "photons"_a = py::int_(100000), "seed"_a = py::int_(1), "threads"_a = py::int_(0),
+      "radius_max"_a = 10.0, "bins"_a = py::int_(200),
       "eta_above"_a = 1.0, "eta_below"_a = 1.0,
       ("`skin mc`: Monte Carlo photon transport (MCML method) in a layer stack (layers= as in "
        "layers(), plus g) or in the skin at one wavelength [nm] (wavelength=, the preset and "
        "parameter keywords). R_d, T_d per power that entered with standard errors (_se), per "
-       "incident power (_incident), R(r) [1/mm^2] on `bins` annuli out to radius_max [mm]. The "
-       "same seed gives the same numbers for any thread count." + params).c_str());
+       "incident power (_incident), R(r) [1/mm^2] on `bins` annuli out to radius_max [mm], lost: the "
+       "weight of packets ended after the longest path allowed (nearly non-absorbing media). The "
+       "same seed gives the same numbers for any thread count. As `skin mc`, a pilot estimates the "
+       "time: a run over a week is refused (ValueError), one over an hour warned of "
+       "(RuntimeWarning); Ctrl-C stops it (KeyboardInterrupt)." + params).c_str());
 
   m.def(
       "fit_spectrum",
@@ -592,11 +749,7 @@ PYBIND11_MODULE(_core, m) {
         opt.bounds = fit_bounds(bounds);
         opt.model = fit::forward_model(solver);
         const fit::MeasuredSpectrum m{"spectrum", wavelength_nm, R};
-        fit::FitResult r;
-        {
-          py::gil_scoped_release unlocked;
-          r = fit::SpectrumFitter(opt).fit(m);
-        }
+        const fit::FitResult r = interruptible([&] { return fit::SpectrumFitter(opt).fit(m); });
         py::dict d, uncertainty, at_bound;
         std::vector<std::string> free_keys;
         for (std::size_t i = 0; i < r.free.size(); ++i) {
@@ -651,20 +804,16 @@ PYBIND11_MODULE(_core, m) {
 
   m.def(
       "fit_color",
-      [color_fit_options](const std::optional<std::string>& hex, const std::optional<std::string>& srgb,
+      [color_fit_options](const std::optional<std::string>& hex, const py::object& srgb,
                           const std::string& preset, const std::optional<std::vector<std::string>>& free,
                           double melanin_blend_prior, double melanin_blend_weight,
                           const std::map<std::string, std::pair<double, double>>& bounds,
                           const std::string& solver, const py::kwargs& kw) {
-        if (hex.has_value() == srgb.has_value()) throw InputError("fit_color: give one target: hex or srgb");
+        if (hex.has_value() == !srgb.is_none()) throw InputError("fit_color: give one target: hex or srgb");
         const fit::ColorFitOptions opt = color_fit_options(parameter_sets(preset, kw), free, melanin_blend_prior,
                                                            melanin_blend_weight, bounds, solver);
-        const color::Rgb target = hex ? fit::parse_hex(*hex) : fit::parse_srgb8(*srgb);
-        fit::ColorFitResult r;
-        {
-          py::gil_scoped_release unlocked;
-          r = fit::ColorFitter(opt).fit(target);
-        }
+        const color::Rgb target = hex ? fit::parse_hex(*hex) : fit::parse_srgb8(srgb_text(srgb));
+        const fit::ColorFitResult r = interruptible([&] { return fit::ColorFitter(opt).fit(target); });
         const color::Colorimetry cm{WavelengthGrid{}};
         const color::ColorSummary in = color::summarize_rgb(cm, target);
         const color::ColorSummary out = color::summarize_rgb(cm, r.fitted_srgb_linear);
@@ -684,7 +833,7 @@ PYBIND11_MODULE(_core, m) {
       "free"_a = py::none(), "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
       ("`skin fit --hex/--srgb`: the parameters (melanin, melanin_blend, hemoglobin by default) "
-       "whose colour matches an 8-bit sRGB colour: hex='a98f74' or srgb='169,143,116'. "
+       "whose colour matches an 8-bit sRGB colour: hex='a98f74', srgb='169,143,116' or srgb=(169, 143, 116). "
        "melanin_blend_prior, melanin_blend_weight [Lab units]: the weak prior that resolves "
        "beta_m. Returns target, parameters, fitted, delta_e_2000. " + solver_doc() + params).c_str());
 
@@ -701,17 +850,29 @@ PYBIND11_MODULE(_core, m) {
         if (py::isinstance<py::str>(image)) {
           img = image::read_image(py::cast<std::string>(image));
         } else {
-          const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(image);
-          if (!a || a.ndim() != 3 || a.shape(2) != 3)
-            throw InputError("image must be a file name or an array of shape (height, width, 3) of linear sRGB");
+          const std::string allowed = "image must be a file name or an array of numbers of shape (height, width, 3) "
+                                      "(height, width >= 1) of linear sRGB in [0, 1], not ";
+          py::array raw;
+          try {
+            raw = py::module_::import("numpy").attr("asarray")(image);
+          } catch (const py::error_already_set&) {  // ragged nested lists
+            throw InputError(allowed + one_line(py::cast<std::string>(py::repr(image))).substr(0, 80));
+          }
+          const char kind = raw.dtype().kind();
+          if ((kind != 'i' && kind != 'u' && kind != 'f') || raw.ndim() != 3 || raw.shape(2) != 3 ||
+              raw.shape(0) < 1 || raw.shape(1) < 1 || raw.shape(0) > INT_MAX || raw.shape(1) > INT_MAX)
+            throw InputError(allowed +
+                             std::string(kind == 'O' || kind == 'U' || kind == 'S' || kind == 'b' || kind == 'c'
+                                             ? "an array of " + py::cast<std::string>(py::str(raw.dtype())) + " of "
+                                             : "") +
+                             "shape " + py::cast<std::string>(py::str(raw.attr("shape"))));
+          const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(raw);
+          if (!a) throw py::error_already_set();
           img = image::Image(static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)));
           std::copy(a.data(), a.data() + a.size(), img.rgb.begin());
         }
-        fit::ParameterMaps maps;
-        {
-          py::gil_scoped_release unlocked;
-          maps = fit::TextureFitter(opt).fit(img);
-        }
+        python::check_linear_rgb(img.rgb, static_cast<std::size_t>(img.width));
+        const fit::ParameterMaps maps = interruptible([&] { return fit::TextureFitter(opt).fit(img); });
         const Shape hw{maps.height, maps.width};
         auto plane = [&](const std::vector<float>& v) {
           return make_array<float>(hw, [&](float* o) { std::copy(v.begin(), v.end(), o); });
@@ -742,22 +903,18 @@ PYBIND11_MODULE(_core, m) {
       "export",
       [](const std::string& target, const std::string& preset, const std::string& solver,
          const std::optional<std::string>& units, double world_scale, const std::string& name,
-         int gaussians, int taps, bool spectra_files, const py::kwargs& kw) {
+         const py::object& gaussians, const py::object& taps, bool spectra_files, const py::kwargs& kw) {
         const Sets sets = parameter_sets(preset, kw);
         if (sets.size() != 1) throw InputError("export: one parameter set (no arrays)");
         exporting::Options o;
         if (units) o.unit = exporting::parse_unit(*units);
         o.world_scale = world_scale;
         o.name = name;
-        o.gaussians = gaussians;
-        o.taps = taps;
+        o.gaussians = static_cast<int>(whole_number("gaussians", gaussians, INT_MIN, INT_MAX));
+        o.taps = static_cast<int>(whole_number("taps", taps, INT_MIN, INT_MAX));
         o.spectra_files = spectra_files;
         const transport::Model& model = transport::find_model(solver);
-        exporting::Export e;
-        {
-          py::gil_scoped_release unlocked;
-          e = exporting::export_skin(target, sets.values[0], model, o);
-        }
+        const exporting::Export e = interruptible([&] { return exporting::export_skin(target, sets.values[0], model, o); });
         py::dict files;
         for (const auto& f : e.files) files[py::cast(f.suffix)] = f.content;
         py::dict images;
@@ -784,8 +941,8 @@ PYBIND11_MODULE(_core, m) {
         return d;
       },
       "target"_a, "preset"_a = "caucasian", py::kw_only(), "solver"_a = default_solver,
-      "units"_a = py::none(), "world_scale"_a = 1.0, "name"_a = "spectral_skin", "gaussians"_a = 5,
-      "taps"_a = 17, "spectra_files"_a = false,
+      "units"_a = py::none(), "world_scale"_a = 1.0, "name"_a = "spectral_skin", "gaussians"_a = py::int_(5),
+      "taps"_a = py::int_(17), "spectra_files"_a = false,
       ("`skin export --target TARGET`: the files of a renderer or engine target (" +
        exporting::target_names_text() +
        ") as {suffix: text} ('' is the main file), images as float32 arrays (height, width, "

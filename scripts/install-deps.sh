@@ -15,6 +15,7 @@ PKGS=(
   python3-numpy python3-pybind11 python3-setuptools python3-venv python3-pip python3-wheel
                                                    # Python package: numpy results, pip install
                                                    # into a venv (scripts/test.sh)
+  python3-hypothesis                               # property-based tests of the Python API
   python3-matplotlib                               # Python example (examples/melanin_sweep.py)
   emscripten node-acorn                            # web page: WebAssembly build (acorn: its JS optimizer)
   chromium                                         # web page: the browser test (headless)

@@ -106,35 +106,14 @@ std::function<SkinParameters(const SkinParameters&)> ParameterOptions::change() 
   };
 }
 
-namespace {
-std::string duration_text(double seconds) {
-  char buf[64];
-  if (seconds < 2 * 3600.0) std::snprintf(buf, sizeof buf, "%.0f minutes", seconds / 60);
-  else if (seconds < 2 * 86400.0) std::snprintf(buf, sizeof buf, "%.1f hours", seconds / 3600);
-  else if (seconds < 2 * 365 * 86400.0) std::snprintf(buf, sizeof buf, "%.0f days", seconds / 86400);
-  else std::snprintf(buf, sizeof buf, "%.2g years", seconds / (365 * 86400.0));
-  return buf;
+void warn_if_long(const WorkEstimate& estimate) {
+  if (estimate.long_run())
+    std::cerr << "skin: warning: " << estimate.text << "; Ctrl-C stops it without writing anything\n";
 }
-std::string bytes_text(double bytes) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g GB", bytes / 1e9);
-  return buf;
-}
-}  // namespace
 
 void check_request(const std::string& what, double units, double units_per_second_per_thread,
                    int threads, double bytes) {
-  const double memory = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) * static_cast<double>(::sysconf(_SC_PAGE_SIZE));
-  if (memory > 0 && bytes > memory)
-    throw InputError(what + " needs about " + bytes_text(bytes) + " of memory, more than this machine's " +
-                     bytes_text(memory) + "; make it smaller");
-  const int n = threads > 0 ? threads : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  const double seconds = units / (units_per_second_per_thread * n);
-  const std::string estimate = what + " would take about " + duration_text(seconds) + " on " + std::to_string(n) +
-                               " thread" + (n > 1 ? "s" : "") + " (estimate from the measured speed)";
-  if (seconds > kRefusedSeconds) throw InputError(estimate + ": refused, make it smaller");
-  if (seconds > kWarnedSeconds)
-    std::cerr << "skin: warning: " << estimate << "; Ctrl-C stops it without writing anything\n";
+  warn_if_long(estimate_work(what, units, units_per_second_per_thread, threads, bytes));
 }
 
 CLI::Validator whole_number(long long lo, long long hi) {

@@ -16,6 +16,7 @@
 #include "skin/physics/layer.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/physics/spectrum.hpp"
+#include "skin/util/work_estimate.hpp"
 
 namespace skin::cli {
 
@@ -63,13 +64,14 @@ struct ParameterOptions {
 // would wrap "-1" around in an unsigned option).
 CLI::Validator whole_number(long long lo, long long hi = std::numeric_limits<long long>::max());
 
-// Checks a request before long or large work starts: refuses it (InputError) when its memory
-// estimate exceeds the machine's physical memory or its time estimate a week (a typo, surely);
-// warns once on stderr with the time estimate when it would take more than an hour (SIGINT or
-// SIGTERM stop it cleanly). `what` names the work ("a render of 16384x16384 pixels"), `units` /
+// Checks a request before long or large work starts (skin::estimate_work,
+// skin/util/work_estimate.hpp): refuses it (InputError) when its memory estimate exceeds the
+// machine's physical memory or its time estimate a week (a typo, surely); warns once on stderr
+// with the time estimate when it would take more than an hour (SIGINT or SIGTERM stop it
+// cleanly). `what` names the work ("a render of 16384x16384 pixels"), `units` /
 // `units_per_second_per_thread` give the time estimate for `threads` (0 = all cores); `bytes`
 // the memory.
-inline constexpr double kWarnedSeconds = 3600, kRefusedSeconds = 7 * 86400;
+void warn_if_long(const WorkEstimate& estimate);
 void check_request(const std::string& what, double units, double units_per_second_per_thread,
                    int threads, double bytes);
 // Measured rates for those estimates (README, Benchmarks; reference machine, one thread):

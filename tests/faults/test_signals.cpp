@@ -58,6 +58,9 @@ INSTANTIATE_TEST_SUITE_P(
         Case{"render", "render --resolution 1024x1024 --spp 4096 -o out.png", {"out.png"}, SIGINT},
         Case{"render_term", "render --resolution 1024x1024 --spp 4096 --time-budget 600 -o out.exr", {"out.exr"}, SIGTERM},
         Case{"mc", "mc --preset pale --wavelength 650 --photons 100000000 -o out.json", {"out.json"}, SIGTERM},
+        // Issue 29: in a non-absorbing half-space one photon can take seconds; it took 68 s to stop.
+        Case{"mc_non_absorbing", "mc --layer sigma_a=0,sigma_s_prime=1 --photons 10000000 -o out.json", {"out.json"}, SIGINT},
+        Case{"mc_non_absorbing_term", "mc --layer sigma_a=0,sigma_s_prime=1 --photons 10000000 -o out.json", {"out.json"}, SIGTERM},
         Case{"validate", "validate --out report --photons 100000000", {"report/README.md", "report/measured/README.md"}, SIGINT},
         Case{"fit_texture", "fit --texture noise.png -o params.exr", {"params.exr"}, SIGTERM},
         Case{"tabulate_random_walk", "tabulate-random-walk --photons 100000000 -o table.csv", {"table.csv"}, SIGINT},

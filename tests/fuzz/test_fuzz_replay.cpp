@@ -14,7 +14,7 @@
 #define SKIN_FUZZ_TARGETS(X)                                                               \
   X(layer) X(params_json) X(spectrum_csv) X(parameter_maps) X(scene_json) \
   X(mesh_obj) X(mesh_gltf) X(mesh_glb) X(texture_png) X(texture_jpg) X(texture_exr) X(batch_sets) \
-  X(random_walk_table) X(skin_stack_table)
+  X(random_walk_table) X(skin_stack_table) X(python_convert)
 
 #define SKIN_DECLARE(name) extern "C" int skin_fuzz_##name(const std::uint8_t* data, std::size_t size);
 SKIN_FUZZ_TARGETS(SKIN_DECLARE)

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -55,6 +56,20 @@ TEST(CliMc, JsonHasTheDocumentedKeysAndIsReproducibleAcrossThreads) {
   EXPECT_NEAR(ja["layers"][0]["sigma_s"].get<double>(), 10.0, 1e-12);
   EXPECT_EQ(ja["R_d"], jb["R_d"]);
   EXPECT_EQ(ja["profile"]["R"], jb["profile"]["R"]);
+}
+
+// Issue 29: a non-absorbing half-space ran for minutes (no photon ends but by escaping, and that
+// takes a number of steps without a finite mean). Now every path is bounded: the 200 photons
+// end in about a second and the weight stopped at the bound is reported as "lost".
+TEST(CliMc, NonAbsorbingHalfSpaceEndsAndReportsTheLostWeight) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const CliRun r = run_skin("mc --layer sigma_a=0,sigma_s_prime=1 --photons 200 --format json");
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_EQ(r.status, 0);
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NEAR(j["R_d"].get<double>() + j["lost"].get<double>(), 1.0, 1e-12);
+  EXPECT_LT(j["lost"].get<double>(), 0.05);
+  EXPECT_LT(seconds, 30.0);
 }
 
 TEST(CliMc, PresetAtOneWavelength) {

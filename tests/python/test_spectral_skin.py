@@ -240,7 +240,7 @@ class Bindings(unittest.TestCase):
         r = ss.layers([{"sigma_a": 0.01, "sigma_s_prime": 1.0}], solver="multipole")
         self.assertAlmostEqual(r["R_d"], expected, places=12)
         self.assertEqual(r["T_d"], 0.0)
-        with self.assertRaisesRegex(ValueError, "^sigma_a must be a number, not True$"):
+        with self.assertRaisesRegex(ValueError, "^layer 1 sigma_a must be a number, not True$"):
             ss.layers([{"sigma_a": True, "sigma_s_prime": 1.0}])
 
     def test_spectrum_keywords_and_solvers(self):
@@ -297,6 +297,114 @@ class Bindings(unittest.TestCase):
         self.assertIn("ear", ss.presets())
         with self.assertRaisesRegex(ValueError, "^solver = 'diffusion' is unknown: allowed values are accurate, multipole, sfd$"):
             ss.color(solver="diffusion")
+
+
+class EveryDoorHolds(unittest.TestCase):
+    """Issue 29: input that crashed the interpreter, was defaulted silently or could not be stopped
+    is a ValueError naming the parameter, as the command's line; long calls stop on Ctrl-C."""
+
+    def test_empty_arrays_are_refused_not_a_crash(self):
+        empty = "^melanin is an empty array \\(shape \\(0(, 3)?,?\\)\\): must be a number or an array of numbers with at least one element$"
+        with self.assertRaisesRegex(ValueError, empty):
+            ss.spectrum(melanin=[])
+        with self.assertRaisesRegex(ValueError, empty):
+            ss.color(melanin=np.zeros((0, 3)))
+        with self.assertRaisesRegex(ValueError, empty):
+            ss.rgb_profile(melanin=[], r_mm=[1])
+        with self.assertRaisesRegex(ValueError, "^r_mm is empty: give at least one radius"):
+            ss.profile(r_mm=[])
+        with self.assertRaisesRegex(ValueError, "^the parameter arrays do not broadcast together .*: shapes melanin \\(2,\\), hemoglobin \\(3,\\)$"):
+            ss.color(melanin=[0.1, 0.2], hemoglobin=[0.01, 0.02, 0.03])
+
+    def test_whole_numbers_are_checked_as_the_command_checks_them(self):
+        with self.assertRaisesRegex(ValueError, "^threads = 1000000 is out of range: must be a whole number in \\[0, 4096\\]$"):
+            ss.spectrum(threads=10**6)
+        with self.assertRaisesRegex(ValueError, "^threads = -1 is out of range"):
+            ss.color(threads=-1)
+        for photons in (0, -1, 10**30):
+            with self.assertRaisesRegex(ValueError, f"^photons = {photons} is out of range: must be a whole number >= 1$"):
+                ss.mc(wavelength=650, photons=photons)
+        for photons in (1.5, True, "10", None):
+            with self.assertRaisesRegex(ValueError, "^photons must be a whole number >= 1, not "):
+                ss.mc(wavelength=650, photons=photons)
+        with self.assertRaisesRegex(ValueError, "^bins = 0 is out of range: must be a whole number in \\[1, 1000000\\]$"):
+            ss.mc(wavelength=650, photons=10, bins=0)
+        self.assertEqual(ss.mc(wavelength=650, photons=np.int64(10), bins=np.uint8(4), threads=1)["photons"], 10)
+
+    def test_layers_need_both_coefficients(self):
+        with self.assertRaisesRegex(ValueError, "^layer 1: sigma_s_prime is missing: sigma_a and sigma_s_prime are required"):
+            ss.layers([{"sigma_a": 1}])
+        with self.assertRaisesRegex(ValueError, "^layer 1: sigma_a is missing: sigma_a and sigma_s_prime are required"):
+            ss.layers([{}])
+        with self.assertRaisesRegex(ValueError, "^layer 2: sigma_a is missing"):
+            ss.mc(layers=[{"sigma_a": 1, "sigma_s_prime": 1, "thickness_mm": 1}, {"sigma_s_prime": 1}], photons=10)
+        with self.assertRaisesRegex(ValueError, "^layers is empty"):
+            ss.layers([])
+        with self.assertRaisesRegex(ValueError, "^layer 1 eta is None: must be a number$"):
+            ss.layers([{"sigma_a": 1, "sigma_s_prime": 1, "eta": None}])
+
+    def test_a_huge_monte_carlo_run_is_refused_with_the_commands_line(self):
+        line = (r"^a Monte Carlo run of 10000000000000 photons would take about [0-9.e+]+ (days|years) on 2 threads "
+                r"\(estimate from the measured speed\): refused, make it smaller$")
+        with self.assertRaisesRegex(ValueError, line):
+            ss.mc(wavelength=650, photons=10**13, threads=2)
+        if SKIN:
+            out = subprocess.run([SKIN, "mc", "--wavelength", "650", "--photons", str(10**13), "--threads", "2"],
+                                 capture_output=True, text=True)
+            self.assertEqual(out.returncode, 2)
+            self.assertRegex(out.stderr.strip().removeprefix("skin: error: "), line)
+
+    def test_fit_texture_refuses_values_outside_0_1(self):
+        image = np.full((2, 2, 3), 0.3)
+        image[1, 0, 2] = np.nan
+        with self.assertRaisesRegex(ValueError, r"^image\[1, 0, 2\] = nan is out of range: linear sRGB must be in \[0, 1\]$"):
+            ss.fit_texture(image)
+        image[1, 0, 2] = 1.5
+        with self.assertRaisesRegex(ValueError, r"^image\[1, 0, 2\] = 1.5 is out of range"):
+            ss.fit_texture(image)
+        with self.assertRaisesRegex(ValueError, "^image must be a file name or an array of numbers of shape"):
+            ss.fit_texture(np.zeros((0, 2, 3)))
+
+    def test_fit_color_takes_a_sequence_of_three_numbers(self):
+        text = ss.fit_color(srgb="169,143,116", solver="multipole")
+        self.assertEqual(ss.fit_color(srgb=(169, 143, 116), solver="multipole"), text)
+        self.assertEqual(ss.fit_color(srgb=np.array([169, 143, 116]), solver="multipole"), text)
+        for bad in ((1, 2), [1, 2, 3, 4], "1,2", (1, 2, "x"), (True, 1, 2)):
+            with self.assertRaises(ValueError):
+                ss.fit_color(srgb=bad)
+        with self.assertRaisesRegex(ValueError, "^srgb = 300 is out of range"):
+            ss.fit_color(srgb=(300, 1, 2))
+
+    def interrupted_after(self, seconds, call):
+        """Sends SIGINT to this process after `seconds`; returns the seconds from it to the
+        KeyboardInterrupt that `call` must raise."""
+        import signal
+        import threading
+        import time
+        sent = []
+        timer = threading.Timer(seconds, lambda: (sent.append(time.monotonic()), os.kill(os.getpid(), signal.SIGINT)))
+        timer.start()
+        try:
+            with self.assertRaises(KeyboardInterrupt):
+                call()
+            return time.monotonic() - sent[0]
+        finally:
+            timer.cancel()
+
+    def test_long_calls_stop_on_ctrl_c(self):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)  # "would take about ... hours"
+            self.assertLess(self.interrupted_after(0.5, lambda: ss.mc(wavelength=650, photons=10**9)), 1.0)
+        self.assertLess(self.interrupted_after(0.5, lambda: ss.color(melanin=np.linspace(0, 0.5, 200000))), 1.0)
+        # A non-absorbing half-space: one photon can take seconds.
+        clear = [{"sigma_a": 0, "sigma_s_prime": 1}]
+        self.assertLess(self.interrupted_after(0.5, lambda: ss.mc(layers=clear, photons=10**6)), 1.0)
+        self.assertEqual(ss.mc(wavelength=650, photons=100, threads=1)["photons"], 100)  # nothing left cancelled
+
+    def test_a_non_absorbing_half_space_ends(self):
+        r = ss.mc(layers=[{"sigma_a": 0, "sigma_s_prime": 1}], photons=200)
+        self.assertAlmostEqual(r["R_d"] + r["lost"], 1.0, places=12)
+        self.assertLess(r["lost"], 0.05)
 
 
 @unittest.skipUnless(os.environ.get("SKIN_EXPECT_INSTALLED"), "set by scripts/test.sh in its venv")

@@ -17,6 +17,7 @@
 
 #include "skin/physics/layer.hpp"
 #include "skin/util/progress.hpp"
+#include "skin/util/work_estimate.hpp"
 
 namespace skin::mc {
 
@@ -40,7 +41,9 @@ struct Options {
   int threads = 0;       // 0 = all cores
   double r_max = 10.0;   // outer radius of the radial profile [mm], > 0
   std::size_t bins = 200;  // annular bins of width r_max / bins, >= 1
-  // Photons finished of options.photons, after each round of batches (may be empty).
+  // Photons finished of options.photons, after each round of batches (may be empty). Every
+  // photon ends: by escaping, by the roulette, or after a bounded number of steps (a nearly
+  // non-absorbing medium; its weight is then counted in Result::lost).
   ProgressCallback progress;
   Source source = Source::pencil;
   // Exit-radius histograms of both surfaces on logarithmic bins (0 = none): bin 0 is
@@ -62,6 +65,9 @@ struct Result {
   // T_d includes the unscattered (ballistic) transmission, as MCML's total transmittance.
   double R_d = 0, R_d_se = 0, T_d = 0, T_d_se = 0;
   double R_d_incident = 0, T_d_incident = 0;  // the same per incident power
+  // Weight per power that entered of the packets ended after the longest path allowed (millions
+  // of steps): 0 but in (nearly) non-absorbing media, where R_d + T_d falls short of 1 by it.
+  double lost = 0;
   std::uint64_t photons = 0;
   double seconds = 0;  // wall time
   // R(r) per power that entered [1/mm^2] averaged over annuli [r_i, r_i + dr] (bin-centred
@@ -73,8 +79,19 @@ struct Result {
 };
 std::ostream& operator<<(std::ostream& os, const Result& r);
 
-// Validates the stack and the options (InputError naming the parameter), then runs.
+// Validates the stack and the options (InputError naming the parameter), then runs. Polls
+// skin::cancel (skin/util/cancel.hpp) at every photon and within long ones: throws Cancelled.
 Result simulate(const LayerStack& stack, const Options& options);
+
+// Photons per second per thread of `options` on `stack`: a pilot on the calling thread that
+// traces photons until it has used a few hundredths of a second of CPU time (or traced
+// options.photons), plus at most one photon's longest path. Validates as simulate() does; polls
+// skin::cancel.
+double photons_per_second(const LayerStack& stack, const Options& options);
+// The check before a run, shared by `skin mc` and the Python module: its time from
+// photons_per_second() and its memory (memory_bytes()) for "a Monte Carlo run of N photons".
+// Throws InputError when refused (skin::estimate_work); long_run() when it should be announced.
+WorkEstimate estimate(const LayerStack& stack, const Options& options);
 
 // The 2D Fourier (Hankel) transform F(k) = sum_i w_i J0(k r_i) of exits histogrammed on
 // `edges` (weights `w`, one per bin), each bin's weight spread uniformly over its annulus:
