@@ -271,7 +271,7 @@ void OutputOptions::add_to(CLI::App& app, bool table_allowed) {
   CLI::Option* format_option = app.get_option("--format");
   std::string own_help;
   for (const std::string& e : own_extensions) own_help += (own_help.empty() ? " (." : ", .") + e;
-  if (!own_help.empty()) own_help += " is the command's own output)";
+  if (!own_help.empty()) own_help += ": written by the command itself)";
   app.add_option("-o,--output", output,
                  std::string("Write to FILE instead of standard output ('-'): a regular file is replaced "
                  "atomically (complete or not at all), a symbolic link's target likewise, a FIFO "

@@ -45,7 +45,7 @@ message(STATUS "consumer:\n${consumer}")
 string(REPLACE "," ";" parts "${PARTS}")
 run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/install/all_targets -B ${WORK_DIR}/all_targets -G ${GENERATOR}
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
-  "-DEXPECTED_PARTS=${parts}")
+  -DEXPECTED_PARTS=${PARTS})
 run(${CMAKE_COMMAND} --build ${WORK_DIR}/all_targets)
 run(${WORK_DIR}/all_targets/all_targets)
 list(REMOVE_ITEM parts util physics transport color model)
