@@ -229,4 +229,20 @@ TEST_F(Cli, ParamsFileRefusesARepeatedParameterAndBinaryInput) {
   EXPECT_EQ(z.err, "skin: error: params = '/dev/zero': not a text file (a NUL byte at byte 0)\n");
 }
 
+// A measured spectrum's "nan" sample is refused naming its line (it was dropped silently, as an
+// empty field is); a file without its header line is refused, not read with its first sample as
+// the column names (issue 29, item 5).
+TEST_F(Cli, SpectrumCsvRefusesNanSamplesAndAMissingHeader) {
+  std::ofstream(dir_ / "s.csv") << "lambda_nm,R\n400,0.3\n410,nan\n420,0.35\n";
+  const CmdResult r = run("fit --spectrum s.csv");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "skin: error: s.csv:3: column 'R' (field 2) is 'nan', not a number (leave the field empty for "
+                   "a missing value)\n");
+  std::ofstream(dir_ / "n.csv") << "400,0.3\n410,0.32\n";
+  const CmdResult n = run("fit --spectrum n.csv");
+  EXPECT_EQ(n.code, 2);
+  EXPECT_EQ(n.err.rfind("skin: error: n.csv:1: the first line ('400,0.3') holds numbers, not column names", 0), 0u)
+      << n.err;
+}
+
 }  // namespace
