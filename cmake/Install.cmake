@@ -34,6 +34,30 @@ endforeach()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/spectral_skin/data
   FILES_MATCHING PATTERN "*.csv")
 
+# Every imported target that an installed library links (privately too: static libraries pass
+# them on) must be found by the package's config file; checked here, at configure time, so that
+# a new dependency cannot be forgotten there. skin::render links tinyobjloader's imported target
+# when its CMake package exists (src/render/CMakeLists.txt), the plain library otherwise.
+file(READ ${PROJECT_SOURCE_DIR}/cmake/SpectralSkinConfig.cmake.in skin_config_text)
+set(skin_render_tinyobjloader_package FALSE)
+foreach(t ${skin_install_targets})
+  get_target_property(libs ${t} LINK_LIBRARIES)
+  if(NOT libs)
+    continue()
+  endif()
+  foreach(lib ${libs})
+    if(lib MATCHES "^([A-Za-z0-9_]+)::" AND NOT CMAKE_MATCH_1 STREQUAL "skin")
+      if(CMAKE_MATCH_1 STREQUAL "tinyobjloader")
+        set(skin_render_tinyobjloader_package TRUE)
+      endif()
+      string(FIND "${skin_config_text}" "find_dependency(${CMAKE_MATCH_1}" at)
+      if(at EQUAL -1)
+        message(FATAL_ERROR "${t} links ${lib}: cmake/SpectralSkinConfig.cmake.in needs "
+          "find_dependency(${CMAKE_MATCH_1}) for consumers of the installed package")
+      endif()
+    endif()
+  endforeach()
+endforeach()
 set(config_dir ${CMAKE_INSTALL_LIBDIR}/cmake/SpectralSkin)
 install(EXPORT SpectralSkinTargets NAMESPACE SpectralSkin:: DESTINATION ${config_dir})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/SpectralSkinConfig.cmake.in

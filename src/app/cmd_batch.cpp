@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -150,7 +151,8 @@ void register_batch(CLI::App& app) {
     const batch::Options run{o->threads};
     const std::size_t chunk = 256;
     const ProgressCallback progress = progress_bar("sets");  // empty unless stderr is a terminal
-    auto write_all = [&](std::ostream& out) {
+    // `put` writes the text of a chunk (and throws when it cannot).
+    auto write_all = [&](const std::function<void(const std::string&)>& put) {
       for (std::size_t a = first; a < end; a += chunk) {
         const std::size_t b = std::min(end, a + chunk);
         std::vector<SkinParameters> chunk_sets;
@@ -184,19 +186,20 @@ void register_batch(CLI::App& app) {
               columns.push_back(col);
             }
         }
-        if (a == 0) out << csv_header(columns);
-        out << csv_rows(columns) << std::flush;
-        if (!out) throw InputError("batch: writing the output failed");
+        put(a == 0 ? csv_header(columns) + csv_rows(columns) : csv_rows(columns));
         if (progress) progress(b - first, end - first);
       }
     };
     if (o->output.empty() || o->output == "-") {
-      write_all(std::cout);
+      write_all([](const std::string& text) { io::write_stdout(text); });
     } else {
       io::write_via_temporary(o->output, [&](const std::string& tmp) {
         std::ofstream f(tmp, std::ios::binary);
         if (!f) throw InputError(o->output + ": cannot open for writing");
-        write_all(f);
+        write_all([&](const std::string& text) {
+          f << text << std::flush;
+          if (!f) throw InputError(o->output + ": write failed");
+        });
         f.close();
         if (!f) throw InputError(o->output + ": write failed");
       });

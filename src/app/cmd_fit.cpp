@@ -270,6 +270,7 @@ void register_fit(CLI::App& app) {
   o->solver.add_to(*sub)->group(g_fit);
 
   o->params.add_to(*sub);
+  o->out.own_extensions = {"exr"};  // --texture's parameter maps
   o->out.add_to(*sub);
   auto* o_plot = sub->add_option("--plot", o->plot, "Spectrum fit: draw measurement and model to FILE.png or FILE.svg")->group("Output");
   auto* o_fitted = sub->add_option("--fitted", o->fitted, "Spectrum fit: write the fitted spectrum to FILE.csv or FILE.json")->group("Output");

@@ -236,7 +236,7 @@ void register_validate_command(CLI::App& app) {
       if (measured) fits.emplace_back(solver, fit::fit_measured_spectra(o->spectra_dir, fit::forward_model(solver)));
 #endif
     std::ostringstream md;
-    write_validation_report(md, run, o->out, "");
+    const std::size_t plots = write_validation_report(md, run, o->out, "");
     md << "\n## Measured skin spectra\n\n";
 #ifdef SKIN_HAVE_FIT
     if (measured) {
@@ -253,7 +253,7 @@ void register_validate_command(CLI::App& app) {
     md << "Not built (the fitting library is needed).\n";
 #endif
     io::write_file_atomic(o->out + "/README.md", md.str());
-    std::cout << "wrote " << o->out << "/README.md and " << run.cases.size() + 1
+    std::cout << "wrote " << o->out << "/README.md and " << plots
               << " plots (" << run.cases.size() << " cases, " << format_number(run.seconds)
               << " s)\n";
   });

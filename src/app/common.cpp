@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <thread>
 #include <algorithm>
@@ -29,11 +30,39 @@ CommandRegistration::CommandRegistration(int order, Registrar registrar) {
   registrations().emplace_back(order, registrar);
 }
 
+namespace {
+// The validators of an option, for putting a check before those the command added (CLI11 runs
+// them in order and reports the first failure; its public interface only appends).
+struct OptionValidators : CLI::Option {
+  static std::vector<CLI::Validator>& of(CLI::Option& o) { return o.*(&OptionValidators::validators_); }
+};
+
+// An empty value ("--melanin ''", "--melanin=", an unset shell variable) would otherwise reach
+// CLI11's conversion, which reads it as 0 (or an empty name): refused for every option that
+// takes a value, before that option's own checks.
+void refuse_empty_values(CLI::App& app) {
+  for (CLI::Option* o : app.get_options()) {
+    if (o->get_type_size_max() == 0) continue;  // a flag
+    CLI::Validator not_empty(
+        [](std::string& value) {
+          return value.empty() ? std::string("the value is empty (an unset shell variable?): give a value or leave the option out")
+                               : std::string();
+        },
+        "");
+    not_empty.non_modifying();
+    auto& validators = OptionValidators::of(*o);
+    validators.insert(validators.begin(), std::move(not_empty));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) refuse_empty_values(*sub);
+}
+}  // namespace
+
 void register_commands(CLI::App& app) {
   auto list = registrations();
   std::stable_sort(list.begin(), list.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   for (const auto& r : list) r.second(app);
+  refuse_empty_values(app);
 }
 
 bool stdout_is_terminal() { return ::isatty(STDOUT_FILENO) != 0; }
@@ -218,11 +247,38 @@ void OutputOptions::add_to(CLI::App& app, bool table_allowed) {
                               "extension (.csv, .json)")
       ->check(with_table ? CLI::IsMember({"table", "csv", "json"}) : CLI::IsMember({"csv", "json"}))
       ->group("Output");
+  CLI::Option* format_option = app.get_option("--format");
+  std::string own_help;
+  for (const std::string& e : own_extensions) own_help += (own_help.empty() ? " (." : ", .") + e;
+  if (!own_help.empty()) own_help += ": written by the command itself)";
   app.add_option("-o,--output", output,
-                 "Write to FILE instead of standard output ('-'): a regular file is replaced "
+                 std::string("Write to FILE instead of standard output ('-'): a regular file is replaced "
                  "atomically (complete or not at all), a symbolic link's target likewise, a FIFO "
-                 "or device is written in place")
+                 "or device is written in place. Its extension chooses the format (") +
+                     (with_table ? ".json, .csv, .txt" : ".json, .csv") +
+                     "); another one, or none, needs --format" + own_help)
+      ->check(CLI::Validator(
+          [this, format_option](std::string& path) {
+            return format_option->count() > 0 ? std::string() : extension_problem(path, true);
+          },
+          ""))
       ->group("Output");
+}
+
+std::string OutputOptions::extension_problem(const std::string& path, bool or_own) const {
+  if (path.empty() || path == "-") return {};
+  const std::string ext = io::extension(path);
+  if (ext == "json" || ext == "csv" || (ext == "txt" && with_table)) return {};
+  if (or_own && std::find(own_extensions.begin(), own_extensions.end(), ext) != own_extensions.end()) return {};
+  // A FIFO or device (/dev/null, a pipe) has no format of its own: the default, as on a pipe.
+  std::error_code ec;
+  const auto st = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(st) && !std::filesystem::is_regular_file(st) &&
+      !std::filesystem::is_directory(st))
+    return {};
+  return "'" + path + "' " + (ext.empty() ? std::string("has no extension") : "has the extension ." + ext) +
+         ", which names no format: use " + (with_table ? ".json, .csv or .txt" : ".json or .csv") +
+         ", or give --format";
 }
 
 Format OutputOptions::resolve() const {
@@ -232,6 +288,9 @@ Format OutputOptions::resolve() const {
   if (ext == "json") from_extension = Format::json;
   if (ext == "csv") from_extension = Format::csv;
   if (ext == "txt" && with_table) from_extension = Format::table;
+  if (format.empty())
+    if (const std::string problem = extension_problem(output); !problem.empty())
+      throw InputError("output = " + problem);
   if (!format.empty()) {
     const Format f = format == "table" ? Format::table : format == "csv" ? Format::csv : Format::json;
     if (from_extension && *from_extension != f)
@@ -244,12 +303,8 @@ Format OutputOptions::resolve() const {
 }
 
 void OutputOptions::emit(const std::string& text) const {
-  if (output.empty() || output == "-") {
-    std::cout << text;
-    std::cout.flush();
-  } else {
-    io::write_file_atomic(output, text);
-  }
+  if (output.empty() || output == "-") io::write_stdout(text);
+  else io::write_file_atomic(output, text);
 }
 
 void OutputOptions::write(const Result& result) const {

@@ -136,7 +136,15 @@ struct OutputOptions {
   std::string output;  // -o FILE; empty or "-": stdout
   bool with_table = true;
   void add_to(CLI::App& app, bool table_allowed = true);
+  // The format; InputError for an extension of -o that names none (.xml, no extension) when
+  // --format is not given (a FIFO or device takes the default).
   Format resolve() const;
+  // Why `path` cannot choose the format ("'x.xml' has the extension .xml, which ..."); "" if it
+  // can. `or_own`: the command's own extensions (below) are accepted too.
+  std::string extension_problem(const std::string& path, bool or_own = false) const;
+  // Extensions of -o that the command writes itself, not a Result (skin fit --texture: .exr);
+  // set before add_to.
+  std::vector<std::string> own_extensions;
   // Writes the text to the file (see skin::io) or stdout.
   void emit(const std::string& text) const;
   // The one result writer: the result in the resolved format, to the file or stdout.

@@ -5,9 +5,11 @@
 // process at once (its default action).
 #include <csignal>
 #include <iostream>
+#include <sstream>
 
 #include "common.hpp"
 #include "skin/util/allocator.hpp"
+#include "skin/util/atomic_file.hpp"
 #include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
@@ -43,6 +45,8 @@ extern "C" const char* __lsan_default_suppressions();
 extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfig\n"; }
 #endif
 
+// Standard output is checked once more at the end: what a command wrote there and could not
+// (a full disk, /dev/full) is an error, exit 2, never a silent success.
 int main(int argc, char** argv) {
   using namespace skin::cli;
   skin::keep_matrix_memory();
@@ -54,14 +58,20 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("skin 0.1.0"));
   register_commands(app);
   install_signal_handlers();
+  int code = 0;
   try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
+    // --help and --version: the text goes out through the one checked writer.
+    std::ostringstream text;
+    try {
+      app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+      code = app.exit(e, text);
+    } catch (const CLI::CallForAllHelp& e) {
+      code = app.exit(e, text);
+    } catch (const CLI::CallForVersion& e) {
+      code = app.exit(e, text);
+    }
+    skin::io::write_stdout(text.str());  // (flushes what the command wrote first)
   } catch (const CLI::ParseError& e) {
     std::cerr << "skin: error: " << e.what() << " (run with --help for the options)\n";
     return 2;
@@ -77,5 +87,5 @@ int main(int argc, char** argv) {
     std::cerr << "skin: error: " << e.what() << '\n';
     return 1;
   }
-  return 0;
+  return code;
 }

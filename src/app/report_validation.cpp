@@ -62,7 +62,9 @@ void check_table_header(std::ostream& md, const std::vector<std::string>& names,
   md << '\n';
 }
 
-void plot_case(const CaseResult& cr, const std::vector<std::string>& names,
+// Draws the case's profiles to `path`; false (nothing written) when no Monte Carlo bin has a
+// meaningful estimate (too few photons).
+bool plot_case(const CaseResult& cr, const std::vector<std::string>& names,
                const std::string& path) {
   plot::Figure fig;
   fig.title = cr.c.title;
@@ -82,7 +84,7 @@ void plot_case(const CaseResult& cr, const std::vector<std::string>& names,
       y_max = std::max(y_max, cr.mc.R[i]);
     }
   }
-  if (mc.x.empty()) return;
+  if (mc.x.empty()) return false;
   const double y_min = *std::min_element(mc.y.begin(), mc.y.end());
   fig.series.push_back(mc);
   for (std::size_t k = 0; k < names.size(); ++k) {
@@ -102,6 +104,7 @@ void plot_case(const CaseResult& cr, const std::vector<std::string>& names,
   fig.y_min = 0.5 * y_min;
   fig.y_max = 2.0 * y_max;
   plot::save(fig, path);
+  return true;
 }
 
 void plot_overview(const ValidationRun& run, const std::string& path) {
@@ -140,8 +143,9 @@ void plot_overview(const ValidationRun& run, const std::string& path) {
 
 }  // namespace
 
-void write_validation_report(std::ostream& md, const ValidationRun& run,
-                             const std::string& plot_dir, const std::string& link_prefix) {
+std::size_t write_validation_report(std::ostream& md, const ValidationRun& run,
+                                    const std::string& plot_dir, const std::string& link_prefix) {
+  std::size_t plots = 0;
   const auto& names = run.solver_names;
   const std::size_t ns = names.size();
   md << "# Validation: the transport models against a Monte Carlo reference\n\n";
@@ -336,6 +340,7 @@ void write_validation_report(std::ostream& md, const ValidationRun& run,
   if (!plot_dir.empty()) {
     plot_overview(run, plot_dir + "/rd_relative_error.png");
     md << "![R_d errors](" << link_prefix << "rd_relative_error.png)\n\n";
+    ++plots;
   }
 
   // Tables by group, in order of first appearance.
@@ -380,11 +385,17 @@ void write_validation_report(std::ostream& md, const ValidationRun& run,
       md << "\n\n";
       if (!plot_dir.empty()) {
         const std::string file = "profile_" + c.c.id + ".png";
-        plot_case(c, names, plot_dir + "/" + file);
-        md << "![" << c.c.id << "](" << link_prefix << file << ")\n\n";
+        if (plot_case(c, names, plot_dir + "/" + file)) {
+          md << "![" << c.c.id << "](" << link_prefix << file << ")\n\n";
+          ++plots;
+        } else {
+          md << "(No profile plot: no annulus has a Monte Carlo estimate with a relative standard "
+                "error below 30 %.)\n\n";
+        }
       }
     }
   }
+  return plots;
 }
 
 std::string validation_case_line(const CaseResult& c,

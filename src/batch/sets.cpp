@@ -92,12 +92,8 @@ void Sets::validate(std::size_t first, std::size_t end) const {
 Sets sets_from_table(const Table& table, const SkinParameters& base) {
   Sets sets;
   sets.base = base;
-  for (const std::string& name : table.columns) {
-    const ParameterInfo* info = &parameter_info(name, table.source + ": column");
-    if (std::find(sets.keys.begin(), sets.keys.end(), info) != sets.keys.end())
-      throw InputError(table.source + ": column '" + name + "' repeats parameter " + std::string(info->key));
-    sets.keys.push_back(info);
-  }
+  ParameterNames names(table.source + ": column");
+  for (const std::string& name : table.columns) sets.keys.push_back(&names.add(name));
   sets.count = table.rows();
   sets.value = [t = &table](std::size_t k, std::size_t i) { return t->data[k][i]; };
   sets.source = table.source;

@@ -106,6 +106,16 @@ const ParameterInfo& parameter_info(std::string_view name, std::string_view what
                    " (or the paper's symbols C_m, beta_m, C_h, rho_s, gamma)");
 }
 
+const ParameterInfo& ParameterNames::add(std::string_view name) {
+  const ParameterInfo& info = parameter_info(name, what_);
+  for (const auto& [seen, as] : named_)
+    if (seen == &info)
+      throw InputError(what_ + " '" + std::string(name) + "' repeats parameter " + std::string(info.key) +
+                       " (given as '" + as + "' already)");
+  named_.emplace_back(&info, std::string(name));
+  return info;
+}
+
 void SkinParameters::validate() const {
   for (const auto& p : kParameters) p.check(this->*(p.member));
   if (melanin + epidermal_hemoglobin > 1.0)

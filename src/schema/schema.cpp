@@ -213,6 +213,7 @@ ParameterFile ParameterFile::parse(const json& doc, const std::string& where) {
   if (!obj.is_object())
     throw InputError(where + "expected an object of parameter keys (or a \"parameters\" object)");
   ParameterFile file;
+  ParameterNames names(where + "key");
   for (auto it = obj.begin(); it != obj.end(); ++it) {
     if (!nested && it.key() == "preset") {
       if (!it->is_string()) throw InputError(where + "\"preset\" must be a string");
@@ -220,7 +221,7 @@ ParameterFile ParameterFile::parse(const json& doc, const std::string& where) {
       in_file([&] { return &find_preset(file.preset); });
       continue;
     }
-    const ParameterInfo* info = in_file([&] { return &parameter_info(it.key(), "key"); });
+    const ParameterInfo* info = &names.add(it.key());
     if (it->is_null()) continue;
     if (!it->is_number() || it->is_boolean())
       throw InputError(where + std::string(info->key) + " must be a number, not " + it->dump());

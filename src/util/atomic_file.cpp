@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <system_error>
 
 #include "skin/util/error.hpp"
@@ -114,8 +115,7 @@ Target find_target(const std::string& path) {
 // Writes complete data where the target says, in place (standard output, FIFO, device).
 void write_data_in_place(const std::string& shown, const Target& t, const std::string& data) {
   if (!t.to_stdout) return write_in_place(shown, t.path, data);
-  if (!write_all(STDOUT_FILENO, data.data(), data.size()))
-    throw InputError("standard output: write failed: " + std::string(std::strerror(errno)));
+  write_stdout(data);
 }
 
 // Writes `content` to a new file `tmp` (which must not exist).
@@ -128,6 +128,28 @@ void write_new_file(const std::string& shown, const std::string& tmp, const std:
   if (!ok || !closed) throw InputError(shown + ": write failed: " + std::strerror(ok ? errno : err));
 }
 }  // namespace
+
+namespace {
+[[noreturn]] void stdout_failed(int err) {
+  throw InputError(std::string("output = '-': write failed") + (err != 0 ? ": " + std::string(std::strerror(err)) : ""));
+}
+}  // namespace
+
+void flush_stdout() {
+  errno = 0;
+  std::cout.flush();
+  int err = errno;
+  const bool cout_ok = !std::cout.fail();  // (badbit stays from an earlier failed write)
+  errno = 0;
+  const bool stdio_ok = std::fflush(stdout) == 0 && std::ferror(stdout) == 0;
+  if (errno != 0) err = errno;
+  if (!cout_ok || !stdio_ok) stdout_failed(err);
+}
+
+void write_stdout(std::string_view data) {
+  flush_stdout();
+  if (!write_all(STDOUT_FILENO, data.data(), data.size())) stdout_failed(errno);
+}
 
 void write_via_temporary(const std::string& path, const std::function<void(const std::string&)>& write) {
   const Target t = find_target(path);

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -53,7 +54,10 @@ std::string read_file(const std::string& path, const std::string& what, std::uin
   std::string data;
   char buffer[1 << 16];
   for (;;) {
-    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    // At most max_bytes + 1 bytes in all: one more than allowed proves a stream too long.
+    const std::uintmax_t remaining = max_bytes - data.size();  // (data.size() <= max_bytes here)
+    const std::size_t want = remaining >= sizeof buffer ? sizeof buffer : static_cast<std::size_t>(remaining) + 1;
+    const ssize_t n = ::read(fd, buffer, want);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       const int err = errno;
@@ -61,6 +65,12 @@ std::string read_file(const std::string& path, const std::string& what, std::uin
       fail(path, what, std::string("read error: ") + std::strerror(err));
     }
     if (n == 0) break;
+    // Text never holds a NUL byte: a binary file, or /dev/zero, which never ends.
+    if (const void* nul = std::memchr(buffer, '\0', static_cast<std::size_t>(n))) {
+      ::close(fd);
+      const auto at = data.size() + static_cast<std::size_t>(static_cast<const char*>(nul) - buffer);
+      fail(path, what, "not a text file (a NUL byte at byte " + std::to_string(at) + ")");
+    }
     data.append(buffer, static_cast<std::size_t>(n));
     if (data.size() > max_bytes) {  // a stream (FIFO) that does not end
       ::close(fd);

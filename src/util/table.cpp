@@ -1,5 +1,7 @@
 #include "skin/util/table.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -42,9 +44,29 @@ std::size_t Table::column(std::string_view name) const {
   throw InputError(source + ": no column named '" + std::string(name) + "'");
 }
 
+namespace {
+// "nan", "NaN", "-nan", "+NAN"...: text a number parser reads as NaN, which the tables reserve
+// for an empty field (a missing value).
+bool is_nan_text(std::string_view f) {
+  if (!f.empty() && (f.front() == '-' || f.front() == '+')) f.remove_prefix(1);
+  if (f.size() < 3) return false;
+  for (std::size_t i = 0; i < 3; ++i)
+    if (std::tolower(static_cast<unsigned char>(f[i])) != "nan"[i]) return false;
+  return true;
+}
+bool is_number(std::string_view f) {
+  if (!f.empty() && f.front() == '+') f.remove_prefix(1);
+  double v = 0;
+  const auto res = skin::from_chars(f.data(), f.data() + f.size(), v);
+  return !f.empty() && res.ec == std::errc() && res.ptr == f.data() + f.size();
+}
+}  // namespace
+
 Table parse_csv(std::string_view text, const std::string& source) {
   Table t;
   t.source = source;
+  // A UTF-8 byte-order mark (spreadsheets write one) is not part of the first column's name.
+  if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   std::size_t pos = 0, line_no = 0;
   bool have_header = false;
   while (pos <= text.size()) {
@@ -59,6 +81,11 @@ Table parse_csv(std::string_view text, const std::string& source) {
     }
     auto fields = split(line);
     if (!have_header) {
+      // A file without its header line would lose its first row as column names.
+      if (std::all_of(fields.begin(), fields.end(), is_number))
+        throw InputError(source + ":" + std::to_string(line_no) + ": the first line ('" + std::string(line) +
+                         "') holds numbers, not column names: the file needs a header line naming its "
+                         "columns");
       for (auto f : fields) t.columns.emplace_back(f);
       t.data.resize(t.columns.size());
       have_header = true;
@@ -69,6 +96,10 @@ Table parse_csv(std::string_view text, const std::string& source) {
                          std::to_string(fields.size()));
       for (std::size_t c = 0; c < fields.size(); ++c) {
         double v = std::nan("");
+        if (is_nan_text(fields[c]))
+          throw InputError(source + ":" + std::to_string(line_no) + ": column '" + t.columns[c] +
+                           "' (field " + std::to_string(c + 1) + ") is '" + std::string(fields[c]) +
+                           "', not a number (leave the field empty for a missing value)");
         if (!fields[c].empty()) {
           auto f = fields[c];
           if (!f.empty() && f.front() == '+') f.remove_prefix(1);

@@ -34,10 +34,12 @@ class Cli : public ::testing::Test {
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
-  CmdResult run(const std::string& args) {
+  // `stdout_to`: a path standard output goes to instead (e.g. /dev/full); `out` is then empty.
+  CmdResult run(const std::string& args, const std::string& stdout_to = "") {
     const fs::path out = dir_ / "stdout.txt", err = dir_ / "stderr.txt";
     const std::string cmd = std::string("cd '") + dir_.string() + "' && '" + SKIN_BINARY + "' " + args +
-                            " > '" + out.string() + "' 2> '" + err.string() + "' < /dev/null";
+                            " > '" + (stdout_to.empty() ? out.string() : stdout_to) + "' 2> '" + err.string() +
+                            "' < /dev/null";
     const int status = std::system(cmd.c_str());
     CmdResult r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -154,3 +154,28 @@ TEST_F(Cli, BatchBadInputIsOneLineBeforeAnyRow) {
   EXPECT_EQ(to_file.out, "");
   EXPECT_EQ(skin_test::slurp(dir_ / "sets-out.csv"), run("batch --sweep melanin=0:0.5:3").out);
 }
+
+// A cell "nan" in --sets is refused naming its line and column (it once took the base value,
+// like an empty cell); a UTF-8 byte-order mark (spreadsheets write one) is not part of the first
+// column's name; a table without its header line is refused, not read with its first set as the
+// names (issue 29, items 5 and 9).
+TEST_F(Cli, BatchSetsRefuseNanCellsAndHeaderlessTablesAndSkipAByteOrderMark) {
+  for (const std::string nan : {"nan", "NaN", "-nan"}) {
+    std::ofstream(dir_ / "sets.csv") << "melanin,hemoglobin\n0.1,0.02\n0.2," << nan << "\n";
+    const CmdResult r = run("batch --sets sets.csv");
+    EXPECT_EQ(r.code, 2) << nan;
+    EXPECT_EQ(r.out, "");
+    EXPECT_EQ(r.err, "skin: error: sets.csv:3: column 'hemoglobin' (field 2) is '" + nan +
+                         "', not a number (leave the field empty for a missing value)\n");
+  }
+  std::ofstream(dir_ / "bom.csv") << "\xEF\xBB\xBFmelanin\n0.1\n";
+  std::ofstream(dir_ / "plain.csv") << "melanin\n0.1\n";
+  const CmdResult bom = run("batch --sets bom.csv");
+  ASSERT_EQ(bom.code, 0) << bom.err;
+  EXPECT_EQ(bom.out, run("batch --sets plain.csv").out);
+  std::ofstream(dir_ / "noheader.csv") << "0.1,0.02\n0.2,0.03\n";
+  const CmdResult h = run("batch --sets noheader.csv");
+  EXPECT_EQ(h.code, 2);
+  EXPECT_EQ(h.err, "skin: error: noheader.csv:1: the first line ('0.1,0.02') holds numbers, not column names: "
+                   "the file needs a header line naming its columns\n");
+}

@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include <nlohmann/json.hpp>
+#include <chrono>
 #include <thread>
 
 #include "cli_fixture.hpp"
@@ -116,4 +117,132 @@ INSTANTIATE_TEST_SUITE_P(
         BadCount{"render --max-depth -1 -o x.png", "--max-depth: -1 is out of range"},
         BadCount{"figure 9 -o x.png", "9 is out of range: must be one of 3, 4, 5, 6, 7, 8, 10"},
         BadCount{"tabulate-random-walk --photons -1 -o t.csv", "--photons: -1 is out of range"}));
+}  // namespace
+
+namespace {
+using skin_test::Cli;
+using skin_test::CmdResult;
+namespace fs = std::filesystem;
+
+// Every command's output to a full standard output (/dev/full): exit 2 with one line, never a
+// silent success (issue 29, item 4). Help and version text go through the same final check.
+TEST_F(Cli, FullStandardOutputIsOneLineExitTwo) {
+  const char* commands[] = {
+      "spectrum",
+      "color",
+      "profile --samples 20",
+      "layers --layer sigma_a=1,sigma_s_prime=10",
+      "mc --layer sigma_a=1,sigma_s_prime=10 --photons 2000 --bins 10",
+      "fit --srgb 169,143,116",
+      "presets",
+      "parameters",
+      "illuminants",
+      "illuminants --format csv",
+      "batch --sweep melanin=0:0.1:2",
+      "color --format json -o -",
+      "--help",
+      "color --help",
+      "--version",
+  };
+  for (const char* args : commands) {
+    const CmdResult r = run(args, "/dev/full");
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.err;
+    EXPECT_EQ(r.err, "skin: error: output = '-': write failed: No space left on device\n") << args;
+  }
+}
+
+// -o with an extension that names no format (or none) is refused before any work, with the
+// allowed ones; --format makes any name acceptable; a device takes the default (issue 29, item 9).
+TEST_F(Cli, OutputExtensionThatNamesNoFormatIsRefused) {
+  const struct {
+    std::string args, message;
+  } cases[] = {
+      {"color -o x.xml", "skin: error: --output: 'x.xml' has the extension .xml, which names no format: use "
+                         ".json, .csv or .txt, or give --format"},
+      {"spectrum -o noext", "skin: error: --output: 'noext' has no extension, which names no format: use "
+                            ".json, .csv or .txt, or give --format"},
+      {"parameters -o p.YAML", "skin: error: --output: 'p.YAML' has the extension .yaml, which names no "
+                               "format: use .json, .csv or .txt, or give --format"},
+      {"mc --layer sigma_a=1,sigma_s_prime=10 -o x.xml", "skin: error: --output: 'x.xml' has the extension"},
+  };
+  for (const auto& c : cases) {
+    const CmdResult r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args;
+    EXPECT_EQ(r.err.rfind(c.message, 0), 0u) << c.args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args;
+  }
+  EXPECT_EQ(file_count(), 0u);
+  ASSERT_EQ(run("color -o noext --format csv").code, 0);
+  EXPECT_EQ(slurp(dir_ / "noext").find("XYZ.X,XYZ.Y,XYZ.Z"), 0u);
+  ASSERT_EQ(run("color -o x.xml --format json").code, 0);
+  EXPECT_TRUE(json::parse(slurp(dir_ / "x.xml")).contains("color"));
+  EXPECT_EQ(run("presets -o /dev/null").code, 0);
+}
+
+// An empty value (an unset shell variable) is refused for every option that takes one, naming
+// the option; it once read as 0 (issue 29, item 5).
+TEST_F(Cli, EmptyValueIsRefusedNamingTheOption) {
+  const struct {
+    std::string args, option;
+  } cases[] = {
+      {"color --melanin ''", "--melanin"},
+      {"color --C_m ''", "--melanin"},
+      {"spectrum --lambda-min ''", "--lambda-min"},
+      {"layers --layer sigma_a=1,sigma_s_prime=10 --eta-above ''", "--eta-above"},
+      {"batch --sweep melanin=0:0.1:2 --wavelength ''", "--wavelength"},
+      {"mc --layer sigma_a=1,sigma_s_prime=10 --photons ''", "--photons"},
+      {"color --format ''", "--format"},
+      {"color -o ''", "--output"},
+      {"spectrum --plot ''", "--plot"},
+      {"color --preset ''", "--preset"},
+      {"color --illuminant ''", "--illuminant"},
+  };
+  for (const auto& c : cases) {
+    const CmdResult r = run(c.args);
+    EXPECT_EQ(r.code, 2) << c.args;
+    EXPECT_EQ(r.out, "") << c.args;
+    EXPECT_EQ(r.err.rfind("skin: error: " + c.option + ": the value is empty", 0), 0u) << c.args << "\n" << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.args;
+  }
+  const CmdResult r = run("color --melanin=");  // (CLI11: no value at all)
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err.rfind("skin: error: --melanin: ", 0), 0u) << r.err;
+}
+
+// --params: a parameter named twice (key and symbol) is refused, as in a --sets table and in
+// Python, instead of one value silently winning (issue 29, item 5); a file that is no text
+// (/dev/zero) is refused at once, not after 256 MiB (item 9).
+TEST_F(Cli, ParamsFileRefusesARepeatedParameterAndBinaryInput) {
+  std::ofstream(dir_ / "p.json") << R"({"C_m": 0.1, "melanin": 0.2})";
+  const CmdResult r = run("color --params p.json");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "skin: error: params = 'p.json': key 'melanin' repeats parameter melanin (given as 'C_m' "
+                   "already)\n");
+  std::ofstream(dir_ / "sets.csv") << "melanin,C_m\n0.1,0.2\n";
+  const CmdResult b = run("batch --sets sets.csv");
+  EXPECT_EQ(b.code, 2);
+  EXPECT_EQ(b.err, "skin: error: sets.csv: column 'C_m' repeats parameter melanin (given as 'melanin' already)\n");
+  const auto start = std::chrono::steady_clock::now();
+  const CmdResult z = run("color --params /dev/zero");
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+  EXPECT_EQ(z.code, 2);
+  EXPECT_EQ(z.err, "skin: error: params = '/dev/zero': not a text file (a NUL byte at byte 0)\n");
+}
+
+// A measured spectrum's "nan" sample is refused naming its line (it was dropped silently, as an
+// empty field is); a file without its header line is refused, not read with its first sample as
+// the column names (issue 29, item 5).
+TEST_F(Cli, SpectrumCsvRefusesNanSamplesAndAMissingHeader) {
+  std::ofstream(dir_ / "s.csv") << "lambda_nm,R\n400,0.3\n410,nan\n420,0.35\n";
+  const CmdResult r = run("fit --spectrum s.csv");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "skin: error: s.csv:3: column 'R' (field 2) is 'nan', not a number (leave the field empty for "
+                   "a missing value)\n");
+  std::ofstream(dir_ / "n.csv") << "400,0.3\n410,0.32\n";
+  const CmdResult n = run("fit --spectrum n.csv");
+  EXPECT_EQ(n.code, 2);
+  EXPECT_EQ(n.err.rfind("skin: error: n.csv:1: the first line ('400,0.3') holds numbers, not column names", 0), 0u)
+      << n.err;
+}
+
 }  // namespace

@@ -1,5 +1,5 @@
 # cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DGENERATOR=... -DCXX_COMPILER=...
-#   -P install_and_consume.cmake
+#   -DPARTS=a,b,... -P install_and_consume.cmake
 file(REMOVE_RECURSE ${WORK_DIR})
 set(prefix ${WORK_DIR}/prefix)
 function(run)
@@ -40,3 +40,18 @@ if(NOT n EQUAL 5)
   message(FATAL_ERROR "consumer printed:\n${consumer}")
 endif()
 message(STATUS "consumer:\n${consumer}")
+
+# Every exported target in one project (tests/install/all_targets): configures, builds, runs.
+string(REPLACE "," ";" parts "${PARTS}")
+run(${CMAKE_COMMAND} -S ${SOURCE_DIR}/tests/install/all_targets -B ${WORK_DIR}/all_targets -G ${GENERATOR}
+  -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH=${prefix} -DCMAKE_CXX_COMPILER=${CXX_COMPILER}
+  -DEXPECTED_PARTS=${PARTS})
+run(${CMAKE_COMMAND} --build ${WORK_DIR}/all_targets)
+run(${WORK_DIR}/all_targets/all_targets)
+list(REMOVE_ITEM parts util physics transport color model)
+string(REPLACE ";" " " expected_line "ok util physics transport color model ${parts}")
+string(STRIP "${expected_line}" expected_line)
+if(NOT out STREQUAL "${expected_line}\n")
+  message(FATAL_ERROR "all_targets printed '${out}', expected '${expected_line}'")
+endif()
+message(STATUS "all_targets: ${out}")

@@ -5,6 +5,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "skin/physics/layer.hpp"
@@ -67,6 +68,19 @@ std::span<const ParameterInfo> parameter_table();
 const ParameterInfo* find_parameter(std::string_view name);
 // The same; throws InputError "<what> '<name>' is unknown: known parameters are ..." otherwise.
 const ParameterInfo& parameter_info(std::string_view name, std::string_view what = "parameter");
+// The parameters named by one source (a parameter file's keys, a table's columns): each name
+// resolved as parameter_info(name, what) does, and a second name for a parameter already named
+// (its key and its symbol, "melanin" and "C_m") refused, since one of the two values would be
+// dropped: InputError "<what> '<name>' repeats parameter <key> (given as '<first>' already)".
+class ParameterNames {
+ public:
+  explicit ParameterNames(std::string what = "parameter") : what_(std::move(what)) {}
+  const ParameterInfo& add(std::string_view name);
+
+ private:
+  std::string what_;
+  std::vector<std::pair<const ParameterInfo*, std::string>> named_;
+};
 
 // Absorption and reduced scattering of the two layers at one wavelength [1/mm] (eqs 3-8).
 struct LayerCoefficients {

@@ -5,11 +5,12 @@
 // - a symbolic link: the same, for the file the link points to (the link stays a link);
 // - a FIFO, character or block device (/dev/null, /dev/stdout, a pipe): written in place, never
 //   replaced;
-// - "-": standard output.
+// - "-": standard output (write_stdout).
 // On failure (a full disk, an unwritable directory, an exception of the writer) the temporary
 // file is removed and nothing that existed is touched; an InputError names the file.
 #include <functional>
 #include <string>
+#include <string_view>
 
 namespace skin::io {
 
@@ -20,6 +21,15 @@ void write_file_atomic(const std::string& path, const std::string& content);
 // target's extension, since some writers choose the format from it), then puts it in place as
 // above. For libraries that insist on writing to a path themselves (PNG, EXR, Cairo).
 void write_via_temporary(const std::string& path, const std::function<void(const std::string&)>& write);
+
+// Standard output, the one way every command's output goes there: writes `data` after what
+// std::cout and C's stdout still buffer (so the order is kept), and throws InputError
+// "output = '-': write failed: <reason>" when it cannot (a full disk, /dev/full, a closed pipe
+// with SIGPIPE ignored).
+void write_stdout(std::string_view data);
+// Flushes std::cout and C's stdout; the same InputError when that fails or when any earlier write
+// to them failed. The `skin` command calls it before it exits, so that no output is lost silently.
+void flush_stdout();
 
 // Lower-case extension of a path without the dot ("png"), or "" if none.
 std::string extension(const std::string& path);

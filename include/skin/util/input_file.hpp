@@ -16,8 +16,10 @@ inline constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{256} << 20;
 void check_input_file(const std::string& path, const std::string& what,
                       std::uintmax_t max_bytes = UINTMAX_MAX);
 
-// The whole content of a file, checked as above, at most `max_bytes` bytes; a FIFO or character
-// device (/dev/stdin, a process substitution) is read as a stream, up to the same limit.
+// The whole content of a text file, checked as above, at most `max_bytes` bytes; a FIFO or
+// character device (/dev/stdin, a process substitution) is read as a stream, never more than
+// max_bytes + 1 bytes. A NUL byte, which no text holds (a binary file, /dev/zero), is refused
+// as soon as it is read.
 std::string read_file(const std::string& path, const std::string& what,
                       std::uintmax_t max_bytes = kMaxTextFileBytes);
 

@@ -1,7 +1,9 @@
 #pragma once
 // Numeric CSV tables: the project's data files and users' measured spectra.
-// Lines starting with '#' are comments; the first other line holds the column names; every
-// following non-empty line holds numbers (an empty field reads as NaN).
+// Lines starting with '#' are comments; the first other line holds the column names (a first
+// line of numbers only is refused: a file without its header line); every following non-empty
+// line holds numbers (an empty field reads as NaN, the mark of a missing value; the text "nan"
+// is refused). A UTF-8 byte-order mark at the start is skipped.
 #include <map>
 #include <string>
 #include <string_view>
