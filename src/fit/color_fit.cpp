@@ -466,6 +466,15 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   if (img.width <= 0 || img.height <= 0 || img.rgb.size() != static_cast<std::size_t>(img.width) * img.height * 3)
     throw InputError("texture: expected an RGB image, got " + std::to_string(img.width) + "x" +
                      std::to_string(img.height) + " with " + std::to_string(img.rgb.size()) + " values");
+  // An albedo is a reflectance: every texel's linear channel finite and within [0, 1] (an EXR
+  // may hold anything; NaN or 1.7 is a damaged or wrongly exposed texture, not a skin colour).
+  for (std::size_t i = 0; i < img.rgb.size(); ++i)
+    if (!(img.rgb[i] >= 0.0f && img.rgb[i] <= 1.0f)) {
+      const std::size_t texel = i / 3;
+      throw InputError("texture: texel (" + std::to_string(texel % static_cast<std::size_t>(img.width)) + ", " +
+                       std::to_string(texel / static_cast<std::size_t>(img.width)) + ") channel " + "RGB"[i % 3] +
+                       " = " + format_number(img.rgb[i]) + "; allowed: a linear albedo within [0, 1]");
+    }
   prepare();
   const std::size_t npix = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
   // Distinct colours (16 bits per linear channel: distinct 8- and 16-bit sRGB inputs stay

@@ -14,9 +14,18 @@
 
 namespace skin {
 
+namespace {
+void require_radius_in_range(const char* name, double r) {
+  if (!(r <= kMaxRadius))
+    throw InputError(std::string(name) + " = " + format_number(r) + " mm is out of range: allowed at most " +
+                     format_number(kMaxRadius) + " mm");
+}
+}  // namespace
+
 RadialGrid RadialGrid::logarithmic(double r_min, double r_max, std::size_t n) {
   require_positive("radius-min", r_min, "mm");
   require_positive("radius-max", r_max, "mm");
+  require_radius_in_range("radius-max", r_max);
   if (r_max < r_min)
     throw InputError("radius-max = " + format_number(r_max) + " mm is out of range: must be >= radius-min = " + format_number(r_min) + " mm");
   if (n < 2 || n > 1000000)
@@ -33,6 +42,7 @@ RadialGrid RadialGrid::logarithmic(double r_min, double r_max, std::size_t n) {
 
 RadialGrid RadialGrid::linear(double r_max, std::size_t n) {
   require_positive("radius-max", r_max, "mm");
+  require_radius_in_range("radius-max", r_max);
   if (n < 2 || n > 1000000)
     throw InputError("samples = " + std::to_string(n) + " is out of range: allowed range is [2, 1000000]");
   RadialGrid g;
@@ -45,6 +55,7 @@ RadialGrid RadialGrid::linear(double r_max, std::size_t n) {
 RadialGrid RadialGrid::from(std::vector<double> r) {
   for (std::size_t i = 0; i < r.size(); ++i) {
     require_non_negative("radius", r[i], "mm");
+    require_radius_in_range("radius", r[i]);
     if (i > 0 && !(r[i] > r[i - 1]))
       throw InputError("radius = " + format_number(r[i]) + " mm is out of range: radii must increase (previous " + format_number(r[i - 1]) + " mm)");
   }

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include "skin_test_paths.hpp"
 
 namespace skin_test {
 namespace fs = std::filesystem;

@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 
 #include "cli_fixture.hpp"
+#include "skin_test_paths.hpp"
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;

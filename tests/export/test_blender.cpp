@@ -17,6 +17,7 @@
 #include "skin/image/image.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/render/microfacet.hpp"
+#include "skin_test_paths.hpp"
 
 using namespace skin;
 namespace fs = std::filesystem;

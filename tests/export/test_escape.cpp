@@ -19,6 +19,7 @@
 #include "skin/export/export.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/escape.hpp"
+#include "skin_test_paths.hpp"
 
 using namespace skin;
 namespace fs = std::filesystem;

@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 #include <vector>
+#include "skin_test_paths.hpp"
 
 namespace skin_test {
 namespace fs = std::filesystem;

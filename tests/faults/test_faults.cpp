@@ -11,6 +11,7 @@
 
 #include "process.hpp"
 #include "skin/image/image.hpp"
+#include "skin_test_paths.hpp"
 
 namespace {
 using namespace skin_test;

@@ -12,6 +12,7 @@
 #include "../temp_dir.hpp"
 #include "skin/fit/fit.hpp"
 #include "test_params.hpp"
+#include "skin_test_paths.hpp"
 
 namespace fs = std::filesystem;
 

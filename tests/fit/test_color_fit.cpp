@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <filesystem>
 #include <random>
 
@@ -120,6 +121,25 @@ TEST(TextureFit, TableInterpolationMatchesExactModel) {
     worst = std::max(worst, color::delta_e_2000(tex.lab(p), exact.lab(p)));
   }
   EXPECT_LT(worst, 0.3);
+}
+
+// An albedo texture holding NaN or a value outside [0, 1] (an EXR can) is refused before any
+// table is built, naming the texel: before, NaN reached std::lround (undefined) and 1.7 was
+// clamped to 1 without a word.
+TEST(TextureFit, TexelsOutsideAnAlbedoAreRefusedByName) {
+  const TextureFitter tex(skin_test::multipole_color_options());
+  for (const float bad : {std::nanf(""), 1.7f, -0.1f, std::numeric_limits<float>::infinity()}) {
+    Image img(3, 2);
+    img.rgb.assign(img.rgb.size(), 0.5f);
+    img.rgb[(1 * 3 + 2) * 3 + 1] = bad;  // texel (2, 1), channel G
+    try {
+      tex.fit(img);
+      ADD_FAILURE() << bad << " accepted";
+    } catch (const skin::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("texture: texel (2, 1) channel G = "), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("allowed: a linear albedo within [0, 1]"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(TextureFit, PngToExrMapsRoundTrip) {

@@ -17,6 +17,7 @@
 #include "skin/util/error.hpp"
 
 #include "test_params.hpp"
+#include "skin_test_paths.hpp"
 
 using namespace skin::fit;
 

@@ -22,6 +22,7 @@
 #include "skin/fit/fit.hpp"
 #include "skin/mc/mc.hpp"
 #include "skin/model/skin_model.hpp"
+#include "skin_test_paths.hpp"
 
 namespace {
 

@@ -17,6 +17,7 @@
 #include "../temp_dir.hpp"
 #include "skin/mc/tabulate.hpp"
 #include "skin/transport/random_walk_table.hpp"
+#include "skin_test_paths.hpp"
 
 namespace {
 

@@ -18,6 +18,7 @@
 
 #include "skin/render/figure.hpp"
 #include "skin/util/error.hpp"
+#include "skin_test_paths.hpp"
 
 namespace skin::render {
 namespace {

@@ -11,6 +11,7 @@
 #include "scene_impl.hpp"
 #include "skin/render/image.hpp"
 #include "skin/render/scene.hpp"
+#include "skin_test_paths.hpp"
 
 namespace fs = std::filesystem;
 

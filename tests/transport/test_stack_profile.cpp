@@ -9,6 +9,7 @@
 #include "skin/model/skin_model.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/transport/stack.hpp"
+#include "skin/util/error.hpp"
 #include "test_support.hpp"
 
 using namespace skin;
@@ -190,6 +191,27 @@ TEST(Profile, AppearanceIsSpectrumAndRgbProfileExactly) {
       }
     }
   }
+}
+
+// Radii beyond a metre are refused by every way of making a grid (a profile at 1e10 mm ran for
+// minutes through the Python binding); a metre itself is allowed.
+TEST(RadialGridRange, RadiiBeyondAMetreAreRefused) {
+  auto message = [](auto&& make) {
+    try {
+      make();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message([] { RadialGrid::from({0.0, 1.0, 1e10}); }),
+            "radius = 1e+10 mm is out of range: allowed at most 1000 mm");
+  EXPECT_EQ(message([] { RadialGrid::logarithmic(0.01, 1e6, 10); }),
+            "radius-max = 1e+06 mm is out of range: allowed at most 1000 mm");
+  EXPECT_EQ(message([] { RadialGrid::linear(1001, 10); }),
+            "radius-max = 1001 mm is out of range: allowed at most 1000 mm");
+  EXPECT_EQ(RadialGrid::from({0.0, kMaxRadius}).max(), kMaxRadius);
+  EXPECT_EQ(RadialGrid::logarithmic(0.01, kMaxRadius, 5).max(), kMaxRadius);
 }
 }  // namespace
 }  // namespace skin

@@ -19,7 +19,12 @@
 
 namespace skin {
 
-// Radii at which a profile is evaluated [mm], increasing, >= 0.
+// The largest radius a profile is evaluated at [mm]: a metre of tissue, far beyond any rendering or
+// measurement of skin. The panels of the product integration grow with the largest radius (a
+// profile to 1e10 mm ran for minutes without ending), so larger radii are refused.
+inline constexpr double kMaxRadius = 1000.0;
+
+// Radii at which a profile is evaluated [mm], increasing, >= 0, at most kMaxRadius.
 struct RadialGrid {
   std::vector<double> r;
   // n radii spaced evenly in log r from r_min to r_max (both > 0).
