@@ -243,7 +243,10 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
   EXPECT_EQ(no_half.gap(h), "the skin table has no half-space nodes");
   bad = good;
   bad.replace(bad.rfind("-1.0000"), 7, "nan");
-  refused(bad, "not a finite number");
+  refused(bad, "is 'nan', not a number");  // (parse_csv)
+  bad = good;
+  bad.replace(bad.rfind("-1.0000"), 7, "inf");
+  refused(bad, "= inf is not a finite number");
   bad = good;
   bad.replace(bad.find("# x: 0.1,1,10,100,1000"), 22, "# x: 0.1,1,10,100,2000");
   refused(bad, "evenly spaced");
