@@ -116,19 +116,59 @@ std::pair<int, int> checked_size(long long w, long long h, const std::string& wh
   return {static_cast<int>(w), static_cast<int>(h)};
 }
 
-// PNG, JPEG, TGA, BMP, HDR (stb_image): at most 4096 pixels per byte of the file. None of these
-// codecs packs more (deflate stops near 1032:1 of at least one byte per pixel; JPEG needs at
-// least one bit per 8x8 block, 512 pixels per byte), and stb_image fills a truncated file's
-// missing pixels without a word: a larger claim is a truncated or forged header. (OpenEXR
-// reports truncation itself, and its DWA compression may legitimately pack more.)
-void check_pixels_per_byte(int w, int h, const std::string& path) {
-  constexpr long long kPixelsPerByte = 4096;
+// At most `per_byte` pixels per byte of the file: no codec packs more (PNG: deflate stops near
+// 1032:1 of at least one byte per pixel, 4096; JPEG needs at least one bit per 8x8 block, 4096;
+// the run lengths of BMP, TGA and Radiance HDR at most 255 pixels per 2 bytes, 128), and
+// stb_image fills a truncated file's missing pixels without a word: a larger claim is a truncated
+// or forged header. (OpenEXR is checked by its own core library: check_exr.)
+void check_pixels_per_byte(int w, int h, const std::string& path, long long per_byte = 4096) {
   std::error_code ec;
   const auto bytes = static_cast<long long>(std::filesystem::file_size(path, ec));
-  if (!ec && static_cast<long long>(w) * h > kPixelsPerByte * bytes)
+  if (!ec && static_cast<long long>(w) * h > per_byte * bytes)
     throw InputError("image = '" + path + "': declares " + std::to_string(w) + "x" + std::to_string(h) +
                      " pixels, more than a file of " + std::to_string(bytes) +
                      " bytes can hold (truncated or corrupt)");
+}
+
+// The formats read_image decodes, told by their first bytes (TGA has no signature: by its
+// extension alone, so that no other damaged file is read as one).
+enum class Format { png, jpeg, hdr, bmp, tga, unknown };
+Format format_of(const std::string& path, const std::string& ext) {
+  unsigned char m[10] = {};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return Format::unknown;
+  const std::size_t n = std::fread(m, 1, sizeof m, f);
+  std::fclose(f);
+  if (n >= 8 && std::memcmp(m, "\x89PNG\r\n\x1a\n", 8) == 0) return Format::png;
+  if (n >= 3 && m[0] == 0xFF && m[1] == 0xD8 && m[2] == 0xFF) return Format::jpeg;
+  if ((n >= 10 && std::memcmp(m, "#?RADIANCE", 10) == 0) || (n >= 6 && std::memcmp(m, "#?RGBE", 6) == 0))
+    return Format::hdr;
+  if (n >= 2 && m[0] == 'B' && m[1] == 'M') return Format::bmp;
+  if (ext == "tga") return Format::tga;
+  return Format::unknown;
+}
+
+// A PNG's chunks, each inside the file, walked before stb_image reads it: stb_image allocates
+// a chunk's declared length before it reads it (an 82-byte file declaring a 1.5 GB IDAT held the
+// fuzzer for 12 s under ASan).
+void check_png_chunks(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::error_code ec;
+  const auto size = static_cast<unsigned long long>(std::filesystem::file_size(path, ec));
+  if (!in || ec) throw InputError("image = '" + path + "': cannot read");
+  unsigned long long at = 8;
+  while (at + 12 <= size) {
+    unsigned char head[8];
+    in.seekg(static_cast<std::streamoff>(at));
+    if (!in.read(reinterpret_cast<char*>(head), 8)) break;
+    const unsigned long long length = (static_cast<unsigned long long>(head[0]) << 24) | (head[1] << 16) |
+                                      (head[2] << 8) | head[3];
+    if (at + 12 + length > size)
+      throw InputError("image = '" + path + "': a PNG chunk of " + std::to_string(length) +
+                       " bytes runs past the end of the file (truncated or corrupt)");
+    if (std::memcmp(head + 4, "IEND", 4) == 0) return;
+    at += 12 + length;
+  }
 }
 
 // The size of an EXR file's data window, checked.
@@ -443,13 +483,18 @@ Image read_image(const std::string& path, bool srgb) {
   io::check_input_file(path, "image");
   const std::string ext = io::extension(path);
   if (ext == "exr") return read_exr(path);
-  if (is_jpeg(path)) return read_jpeg(path, srgb);  // (by content: stb never sees a JPEG)
+  const Format format = format_of(path, ext);
+  if (format == Format::jpeg) return read_jpeg(path, srgb);  // (stb never sees a JPEG)
+  if (format == Format::unknown)
+    throw InputError("image = '" + path + "': not a PNG, JPEG, Radiance HDR or BMP file (by its first bytes), nor an "
+                     "OpenEXR or TGA file (by its extension .exr, .tga)");
+  if (format == Format::png) check_png_chunks(path);
   int w = 0, h = 0, n = 0;
   auto fail = [&] { return InputError("image = '" + path + "': cannot read: " + stbi_failure_reason()); };
   if (stbi_info(path.c_str(), &w, &h, &n) == 0) throw fail();
   checked_size(w, h, "image", path);
-  check_pixels_per_byte(w, h, path);
-  if (ext == "hdr") {
+  check_pixels_per_byte(w, h, path, format == Format::png ? 4096 : 128);
+  if (format == Format::hdr) {
     std::unique_ptr<float, void (*)(void*)> data(stbi_loadf(path.c_str(), &w, &h, &n, 3), stbi_image_free);
     if (!data) throw fail();
     Image img(w, h);
