@@ -7,19 +7,25 @@
 #                             browser), screenshots and update time in build-web/screenshots.
 #   web/test/inputs.test.js   bad text typed into every parameter field of the page (the same
 #                             browser): flagged, results dimmed, nothing computed; restored.
-# Skips with a message only where Emscripten or the browser cannot be installed.
+# Skips with a message only where Emscripten or the browser cannot be installed. Each step's wall
+# time is printed after it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+timed() {
+  local t0=$SECONDS
+  "$@"
+  echo "[$* took $((SECONDS - t0)) s]"
+}
 if ! command -v emcmake >/dev/null; then
   echo "SKIP web tests: Debian's emscripten is not installed (scripts/install-deps.sh installs it)"
   exit 0
 fi
-bash scripts/web.sh
-node web/test/module.test.js
+timed bash scripts/web.sh
+timed node web/test/module.test.js
 if [ ! -x /usr/bin/chromium ]; then
   echo "SKIP browser test: Debian's chromium is not installed (scripts/install-deps.sh installs it)"
   exit 0
 fi
-(cd web && npm ci --no-audit --no-fund --loglevel=error)
-node web/test/browser.test.js
-node web/test/inputs.test.js
+(cd web && timed npm ci --no-audit --no-fund --loglevel=error)
+timed node web/test/browser.test.js
+timed node web/test/inputs.test.js

@@ -17,6 +17,11 @@ ln -sfn /usr/include/eigen3/Eigen "$third_party/Eigen"
 ln -sfn /usr/include/boost "$third_party/boost"
 ln -sfn /usr/include/nlohmann "$third_party/nlohmann"
 gen=(); command -v ninja >/dev/null && gen=(-G Ninja)
+# ccache (when installed) caches the compilations: emcc runs clang through it, and it keys them
+# by paths relative to the checkout, so that a fresh build-web or clone reuses them (CI).
+if command -v ccache >/dev/null; then
+  export EM_COMPILER_WRAPPER=ccache CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
+fi
 emcmake cmake -S web -B build-web "${gen[@]}" -DCMAKE_BUILD_TYPE=Release \
   -DSKIN_WEB_THIRD_PARTY="$PWD/$third_party" >/dev/null
 cmake --build build-web

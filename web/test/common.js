@@ -140,18 +140,22 @@ function rng(seed) {
     return ((t ^ (t >>> 14)) >>> 0) / 4294967296;
   };
 }
-// Random skin within the paper's ranges (C_m 0-0.5, C_h 0-0.2) and around the other defaults.
-// The dermis scattering stays the paper's half of the epidermis': with another, the accurate
-// solver leaves its table of skin profiles and solves every wavelength in the frequency domain
-// (~1 s each in the module), minutes per comparison; a thin epidermis (below 0.59 / sigma_s')
-// still takes that route at some wavelengths.
-function randomParameters(u) {
+// Random skin within the paper's ranges (C_m 0-0.5, C_h 0-0.2) and around the other defaults,
+// for `solver`. The dermis scattering stays the paper's half of the epidermis': with another, the
+// accurate solver leaves its table of skin profiles and solves every wavelength in the frequency
+// domain (~1 s each in the module), minutes per comparison. For the accurate solver the epidermis
+// also keeps its default thickness, 0.25 mm: a thinner one (below 0.59 / sigma_s') or a thicker
+// one (above 4.5 / sigma_s') leaves the table at some wavelengths too. Both are drawn all the
+// same, so that the sequence of draws does not depend on the solver.
+function randomParameters(u, solver) {
+  if (solver !== 'accurate' && solver !== 'multipole') throw new Error(`randomParameters: solver ${solver}`);
   const p = {
     melanin: 0.5 * u() ** 2, melanin_blend: u(), hemoglobin: 0.2 * u() ** 2, oiliness: u(),
     oxygenation: 0.5 + 0.5 * u(), epidermis_thickness: 0.1 + 0.3 * u(),
     dermis_scattering_scale: 0.3 + 0.5 * u(), beta_carotene: 50 * u(), bilirubin: 10 * u(),
   };
-  p.dermis_scattering_scale = 0.5;  // drawn above so that the sequence of draws stays the same
+  p.dermis_scattering_scale = 0.5;
+  if (solver === 'accurate') p.epidermis_thickness = 0.25;
   return p;
 }
 

@@ -1,9 +1,11 @@
 // The built WebAssembly module (build-web/site/skin.js) against the `skin` command: for random
-// parameter sets and both solvers, `spectrum`, `profile --rgb` and the page's `update` (both at
+// parameter sets and both solvers (the accurate one on its skin table), and once for the accurate
+// solver off its table (every 50 nm, three wavelengths solved in the frequency domain),
+// `spectrum`, `profile --rgb` and the page's `update` (both at
 // once) give the same JSON (keys, text, hex exactly; numbers to 1e-9, profiles to 1e-8), as do `color` and
 // `update` under illuminants A and LED-B3 (`skin color --illuminant X`), and the spectrum fit of
 // a Vrhel spectrum the same fit; `export` gives, for every target, the same files byte for byte
-// as `skin export --target T`.
+// as `skin export --target T`. Each part prints its wall time.
 // Run: node web/test/module.test.js (after scripts/web.sh and the native build).
 'use strict';
 const fs = require('fs');
@@ -27,27 +29,58 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
     if (doc && doc.error) throw new Error(doc.error);
     return doc;
   };
-  const u = rng(16);
+  // Each part's wall time, printed with its result line.
+  let lapStart = Date.now();
+  const lap = () => { const t = Date.now(); const s = ((t - lapStart) / 1000).toFixed(1); lapStart = t; return `(${s} s)`; };
+  // The wavelengths at which the model solves the profile for `request` (the accurate solver off
+  // its skin table: in the frequency domain): the update's "profile_pending" without a profile.
+  const solves = (request) => {
+    const r = run('update', { ...request, solve_profile: false });
+    return r.profile_pending ? r.profile_pending.wavelengths : 0;
+  };
+  // `spectrum`, `profile --rgb` and the page's `update` (both documents from one pass) against
+  // skin's for one parameter set; `grid`: the request's lambda_min, lambda_max, lambda_step.
   let worst = 0, cases = 0;
+  const comparePair = (preset, solver, params, grid = {}) => {
+    const args = ['--preset', preset, '--solver', solver];
+    for (const [key, value] of Object.entries(grid)) args.push(`--${key.replace(/_/g, '-')}`, String(value));
+    const refSpectrum = cli(['spectrum', ...args], params);
+    const refProfile = cli(['profile', '--rgb', ...args], params);
+    const spectrum = compare(run('spectrum', { preset, params, solver, ...grid }), refSpectrum, TOL, 'spectrum');
+    fail(spectrum.failures, `spectrum ${solver} ${JSON.stringify(params)}`);
+    const profile = compare(run('profile', { preset, params, solver, rgb: true, ...grid }), refProfile, PROFILE_TOL, 'profile', PROFILE_FLOOR);
+    fail(profile.failures, `profile ${solver} ${JSON.stringify(params)}`);
+    const both = run('update', { preset, params, solver, ...grid });
+    const update = compare(both, { spectrum: refSpectrum, profile: refProfile }, PROFILE_TOL, 'update', PROFILE_FLOOR);
+    fail(update.failures, `update ${solver} ${JSON.stringify(params)}`);
+    worst = Math.max(worst, spectrum.worst, profile.worst, update.worst);
+    cases += 2;
+  };
+  // Random skin, both solvers: the accurate one on its skin table (randomParameters keeps the
+  // epidermis thickness there; checked: no wavelength solved), the multipole model with the
+  // thickness drawn too.
+  const u = rng(16);
   for (let i = 0; i < 6; i++) {
     for (const solver of ['accurate', 'multipole']) {
-      const params = randomParameters(u);
+      const params = randomParameters(u, solver);
       const preset = ['caucasian', 'asian', 'african'][i % 3];
-      const refSpectrum = cli(['spectrum', '--preset', preset, '--solver', solver], params);
-      const refProfile = cli(['profile', '--rgb', '--preset', preset, '--solver', solver], params);
-      const spectrum = compare(run('spectrum', { preset, params, solver }), refSpectrum, TOL, 'spectrum');
-      fail(spectrum.failures, `spectrum ${solver} ${JSON.stringify(params)}`);
-      const profile = compare(run('profile', { preset, params, solver, rgb: true }), refProfile, PROFILE_TOL, 'profile', PROFILE_FLOOR);
-      fail(profile.failures, `profile ${solver} ${JSON.stringify(params)}`);
-      // The page's update: both documents from one pass.
-      const both = run('update', { preset, params, solver });
-      const update = compare(both, { spectrum: refSpectrum, profile: refProfile }, PROFILE_TOL, 'update', PROFILE_FLOOR);
-      fail(update.failures, `update ${solver} ${JSON.stringify(params)}`);
-      worst = Math.max(worst, spectrum.worst, profile.worst, update.worst);
-      cases += 2;
+      if (solver === 'accurate' && solves({ preset, params, solver }) !== 0) fail([JSON.stringify(params)], 'accurate solver off its skin table');
+      comparePair(preset, solver, params);
     }
   }
-  console.log(`module vs skin: ${cases} spectrum/profile pairs, largest relative difference ${worst.toExponential(2)}`);
+  console.log(`module vs skin: ${cases} spectrum/profile pairs (the accurate solver on its skin table), largest relative difference ${worst.toExponential(2)} ${lap()}`);
+  // Off the skin table: a 0.1 mm epidermis (at 600, 650 and 700 nm below 0.59 / sigma_s'), where
+  // the accurate solver solves those wavelengths' profiles in the frequency domain (the inverse
+  // transform of hundreds of nodes; seconds per wavelength in the module), every 50 nm.
+  {
+    const params = { ...randomParameters(rng(29), 'multipole'), epidermis_thickness: 0.1 };
+    const grid = { lambda_step: 50 };
+    const n = solves({ preset: 'asian', params, solver: 'accurate', ...grid });
+    if (!(n > 0)) fail([`${n} wavelengths solved`], 'the case off the skin table');
+    worst = 0; cases = 0;
+    comparePair('asian', 'accurate', params, grid);
+    console.log(`module vs skin off the skin table (${n} of 7 wavelengths in the frequency domain): largest relative difference ${worst.toExponential(2)} ${lap()}`);
+  }
 
   // The page's update with "solve_profile": false. On the skin table it is the full update;
   // off it (g = 0.85: every wavelength) the spectrum is skin spectrum's and the profile waits.
@@ -63,7 +96,7 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
       failures.push(`profile_pending ${JSON.stringify(off.profile_pending)}`);
     failures.push(...compare(off.spectrum, cli(['spectrum', '--preset', 'tanned'], params), TOL, 'spectrum').failures);
     fail(failures, 'update off the skin table');
-    console.log('update with solve_profile false: the full update on the skin table; off it the spectrum alone, the profile pending');
+    console.log('update with solve_profile false: the full update on the skin table; off it the spectrum alone, the profile pending ' + lap());
   }
 
   // Illuminants: the CLI's list, D65 first; `color` and `update` under A and LED-B3 give the
@@ -73,9 +106,9 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   if (JSON.stringify(names) !== JSON.stringify(refNames) || names[0] !== 'D65') fail([`${names} != ${refNames}`], 'illuminants');
   let worstColor = 0, colorCases = 0;
   for (let i = 0; i < 3; i++) {
-    const params = randomParameters(u);
-    const preset = ['caucasian', 'asian', 'african'][i % 3];
     const solver = i === 2 ? 'multipole' : 'accurate';
+    const params = randomParameters(u, solver);
+    const preset = ['caucasian', 'asian', 'african'][i % 3];
     for (const illuminant of ['A', 'LED-B3']) {
       const ref = cli(['color', '--preset', preset, '--solver', solver, '--illuminant', illuminant], params);
       if (ref.illuminant !== illuminant) fail([`skin color gave illuminant ${ref.illuminant}`], 'skin color --illuminant');
@@ -90,7 +123,7 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
     }
   }
   if ('color' in run('update', { illuminant: 'd65' })) fail(['a color key under D65'], 'update D65');
-  console.log(`color and update under A, LED-B3 vs skin color --illuminant: ${colorCases} cases, largest relative difference ${worstColor.toExponential(2)}`);
+  console.log(`color and update under A, LED-B3 vs skin color --illuminant: ${colorCases} cases, largest relative difference ${worstColor.toExponential(2)} ${lap()}`);
 
   // CSV: the same columns (headers exactly), numbers to 1e-9.
   const csv = m.run('spectrum', JSON.stringify({ preset: 'tanned', format: 'csv' }));
@@ -101,9 +134,10 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   // both solvers, options of the CLI passed through).
   const targets = run('targets', {});
   targets.forEach((t, i) => {
-    const params = randomParameters(u);
-    const preset = ['caucasian', 'asian', 'african'][i % 3];
+    const t0 = Date.now();
     const solver = i % 4 === 3 ? 'multipole' : 'accurate';
+    const params = randomParameters(u, solver);
+    const preset = ['caucasian', 'asian', 'african'][i % 3];
     const options = i % 2 ? { units: 'cm', world_scale: 2.5, name: 'skin_b' } : {};
     const args = ['--preset', preset, '--solver', solver];
     if (options.units) args.push('--units', options.units, '--world-scale', String(options.world_scale), '--name', options.name);
@@ -113,8 +147,9 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
     fail(compareExport(files, e.images, ref), `export ${t.name} ${JSON.stringify(params)}`);
     const report = compare(e.report, JSON.parse(ref[`${options.name || 'spectral_skin'}.${t.name}.fit.json`]), 0, 'report');
     fail(report.failures, `export ${t.name}: report`);
+    console.log(`  export ${t.name} ${solver}: ${((Date.now() - t0) / 1000).toFixed(1)} s`);
   });
-  console.log(`exports: ${targets.map((t) => t.name).join(', ')}: the files of skin export, byte for byte`);
+  console.log(`exports: ${targets.map((t) => t.name).join(', ')}: the files of skin export, byte for byte ${lap()}`);
 
   // Errors: the CLI's one line.
   const bad = JSON.parse(m.run('color', JSON.stringify({ params: { melanin: 2 } })));
@@ -152,5 +187,5 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
   // may move its end point within that tolerance (1e-8 measured), so the fit is compared to 1e-7.
   const f = compare(web, ref, 1e-7, "fit");
   fail(f.failures, 'fit of vrhel_117');
-  console.log(`fit of vrhel_117: largest relative difference ${f.worst.toExponential(2)}`);
+  console.log(`fit of vrhel_117: largest relative difference ${f.worst.toExponential(2)} ${lap()}`);
 }).catch((e) => { console.error(e); process.exitCode = 1; });
