@@ -62,9 +62,11 @@ int encode_8bit(ToneMap t, double v);
 // untouched then.
 void write_image(const std::string& path, const Image& img, double exposure = 0.0, ToneMap tone_map = ToneMap::clip);
 
-// Reads .exr, .hdr (linear) or 8- and 16-bit .png / .jpg / .tga / .bmp (grey expanded to RGB,
-// alpha dropped; the sRGB transfer curve decoded to linear when `srgb`). Throws InputError naming
-// the file when it is missing, unreadable or declares more than kMaxImagePixels.
+// Reads OpenEXR (by the extension .exr) and Radiance HDR (linear), 8- and 16-bit PNG, JPEG, BMP
+// (told by their first bytes) and TGA (by the extension .tga) (grey expanded to RGB, alpha
+// dropped; the sRGB transfer curve decoded to linear when `srgb`). Throws InputError naming the
+// file when it is missing, unreadable, of another format, or declares more than kMaxImagePixels
+// or more pixels than its bytes can hold (checked before anything is decoded).
 Image read_image(const std::string& path, bool srgb = true);
 
 // Named float channels of one size, row 0 at the top (each plane width * height values).
