@@ -11,6 +11,15 @@
 #include "report_validation.hpp"
 #include "skin/mc/validation.hpp"
 
+// The report draws plots with Cairo, whose fontconfig keeps a process-lifetime cache it never
+// frees (not a leak of ours): the same LeakSanitizer suppression as the skin binary's (main.cpp).
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer)
+extern "C" const char* __lsan_default_suppressions();
+extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfig\n"; }
+#endif
+#endif
+
 namespace {
 namespace mc = skin::mc;
 
