@@ -15,15 +15,18 @@ bash scripts/install-deps.sh
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
 export CCACHE_NOHASHDIR=1  # (the sanitizer build's debug info then names the first checkout)
 if [ "${1:-}" = "--sanitize" ]; then
-  # Golden.FrequencyDomainProfilesUnchanged (~45 CPU-s in Release, over 10 min under ASan) runs in
-  # the Release suite only; the frequency-domain code runs under the sanitizers in accurate_test.
+  # Release only (each 70-130 s under ASan at -j2, ~500 CPU-s together; their physics is the
+  # Release suite's, and the same frequency-domain code runs under the sanitizers in the other
+  # accurate_test and skin_stack_table_test cases): Golden.FrequencyDomainProfilesUnchanged (over
+  # 10 min under ASan), and five accuracy sweeps of the frequency-domain solver.
+  release_only='^(Golden\.FrequencyDomainProfilesUnchanged|FrequencyStack\.ForwardScatteringGetsMoreDirectionsAndNoRipple|FrequencyStack\.TheProfileDoesNotDependOnTheScaleOfTheSolve|PresetProfilesOffTheSkinTable\.WithinFivePercentAndThreeSEOfMonteCarlo|Convergence\.IndexStepsUseMorePointsAndStayConverged|SkinStackTable\.NodesAreTheFrequencyDomainProfiles)$'
   bash scripts/configure-asan.sh
   cmake --build build-asan
   # (print_suppressions=0: the fontconfig leak suppression of src/app/main.cpp stays silent, so
   # that commands print only their own lines)
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     LSAN_OPTIONS=print_suppressions=0 \
-    ctest --test-dir build-asan --output-on-failure -j 2 -E '^Golden\.FrequencyDomainProfilesUnchanged$'
+    ctest --test-dir build-asan --output-on-failure -j 2 -E "$release_only"
   bash scripts/fuzz.sh "${SKIN_FUZZ_SECONDS:-5}"
   exit 0
 fi
