@@ -383,8 +383,8 @@ void check_exr(const std::string& path, const std::string& what) {
   unsigned long long packed = 0;
   auto add = [&](const exr_chunk_info_t& ci) {
     packed += ci.packed_size;
-    if (ci.packed_size == 0 || static_cast<long long>(ci.data_offset + ci.packed_size) > file_bytes ||
-        static_cast<long long>(packed) > file_bytes)
+    const auto size = static_cast<unsigned long long>(file_bytes);
+    if (ci.packed_size == 0 || ci.data_offset > size || ci.packed_size > size - ci.data_offset || packed > size)
       throw fail("a pixel block lies outside the file (truncated or corrupt)");
   };
   exr_chunk_info_t ci{};
