@@ -181,6 +181,8 @@ void register_validate_command(CLI::App& app) {
     std::string spectra_dir;
     std::vector<double> wavelengths{450, 550, 650};
     McOptions mc;
+    std::size_t domain = 0;
+    std::uint64_t domain_seed = 1;
   };
   auto o = std::make_shared<Opts>();
 #ifdef SKIN_HAVE_FIT
@@ -202,12 +204,45 @@ void register_validate_command(CLI::App& app) {
                   "directory)")
       ->capture_default_str();
   o->mc.add_to(*sub, 1000000, 200, false);
-  sub->callback([o] {
+  sub->add_option("--domain", o->domain,
+                  "Instead of the presets and stacks: this many skin cases drawn from the skin domain "
+                  "(skin parameters), each at one wavelength, checked as issue 31 states (annuli of "
+                  "0.02 mm unless --bins is given); writes OUT/README.md with maps of the domain")
+      ->check(whole_number(1, 100000));
+  sub->add_option("--domain-seed", o->domain_seed, "Seed of the --domain draw (the same cases for the same seed)")
+      ->capture_default_str();
+  sub->callback([sub, o] {
     for (double l : o->wavelengths) require_in_range("wavelength", l, 250.0, 1000.0, "nm");
     mc::Options opts = o->mc.resolve();
     opts.progress = {};  // one line per case instead (below)
     // Check the options before the long run starts (simulate() checks them again per case).
     if (opts.photons < 1) throw InputError("photons = 0 is out of range: must be >= 1");
+    if (o->domain > 0) {
+      if (sub->count("--bins") == 0) opts.bins = 500;  // annuli of 0.02 mm to 10 mm
+      const std::vector<mc::ValidationCase> cases = mc::domain_cases(o->domain, o->domain_seed);
+      check_request("a validation of " + std::to_string(cases.size()) + " cases of " +
+                        std::to_string(opts.photons) + " photons",
+                    static_cast<double>(cases.size()) * static_cast<double>(opts.photons),
+                    kMcPhotonsPerSecond, opts.threads, mc::memory_bytes(opts));
+      std::filesystem::create_directories(o->out);
+      const std::vector<mc::SolverColumn> solvers{
+          mc::solver_column(transport::find_model("multipole")),
+          mc::solver_column(transport::find_model("accurate"))};
+      mc::CaseDone log;
+      if (stderr_is_terminal())
+        log = [&solvers](std::size_t done, std::size_t total, const mc::CaseResult& c) {
+          std::vector<std::string> names;
+          for (const auto& s : solvers) names.push_back(s.name);
+          std::cerr << "[" << done << "/" << total << "] " << validation_case_line(c, names) << '\n';
+        };
+      const mc::ValidationRun run = mc::run_validation(cases, solvers, opts, log);
+      std::ostringstream md;
+      write_domain_report(md, run, o->out, o->domain_seed);
+      io::write_file_atomic(o->out + "/README.md", md.str());
+      std::cout << "wrote " << o->out << "/README.md and 4 maps (" << run.cases.size() << " cases, "
+                << format_number(run.seconds) << " s)\n";
+      return;
+    }
     std::vector<mc::ValidationCase> cases = mc::preset_cases(o->wavelengths);
     for (auto& c : mc::generic_cases()) cases.push_back(std::move(c));
     check_request("a validation of " + std::to_string(cases.size()) + " cases of " + std::to_string(opts.photons) + " photons",

@@ -61,11 +61,48 @@ std::vector<ValidationCase> preset_cases(const std::vector<double>& wavelengths)
   return cases;
 }
 
+std::vector<ValidationCase> domain_cases(std::size_t n, std::uint64_t seed) {
+  const std::vector<SkinParameters> sets = sample_skin_domain(n, seed);
+  // The wavelengths from their own sequence (splitmix64, as sample_skin_domain), so that the
+  // parameter sets are those of sample_skin_domain(n, seed).
+  std::uint64_t state = seed ^ 0x5bd1e9955bd1e995ULL;
+  auto uniform = [&state] {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  std::vector<ValidationCase> cases;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double pick = uniform(), u = uniform();
+    const double lambda = pick < 0.25 ? 400 + 80 * u
+                          : pick < 0.3125 ? 380.0
+                          : pick < 0.375 ? 780.0
+                                         : 380 + 400 * u;
+    const double l = std::round(lambda);
+    const SkinParameters& p = sets[i];
+    ValidationCase c;
+    c.id = "domain-" + std::to_string(i + 1) + "-" + fmt("%.0f", l) + "nm";
+    c.group = "Skin domain (seed " + std::to_string(seed) + ")";
+    c.title = "C_m " + fmt("%.3g", p.melanin) + ", beta_m " + fmt("%.2g", p.melanin_blend) + ", C_h " +
+              fmt("%.3g", p.hemoglobin) + ", d " + fmt("%.3g", p.epidermis_thickness) + " mm, g " +
+              fmt("%.3g", p.g) + ", n " + fmt("%.3g", p.eta) + ", dermis " +
+              fmt("%.2g", p.dermis_scattering_scale) + ", scale " + fmt("%.2g", p.scattering_scale) +
+              " at " + fmt("%.0f", l) + " nm";
+    c.stack = skin_layer_stack(p, l);
+    c.r_max = 10.0;
+    c.parameters = p;
+    c.wavelength = l;
+    cases.push_back(std::move(c));
+  }
+  return cases;
+}
+
 std::vector<ValidationCase> generic_cases() {
   std::vector<ValidationCase> cases;
   auto add = [&](std::string id, std::string group, std::string title, LayerStack s, bool regime,
                  double r_max) {
-    cases.push_back({std::move(id), std::move(group), std::move(title), std::move(s), regime, r_max});
+    cases.push_back({std::move(id), std::move(group), std::move(title), std::move(s), regime, r_max, std::nullopt, 0.0});
   };
   const double g = 0.9;
   // Semi-infinite, sigma_t' = 1/mm (transport mean free path 1 mm).
@@ -173,6 +210,29 @@ CaseResult::ProfileCheck CaseResult::check_annuli(std::size_t solver, double r_l
     }
   }
   return pc;
+}
+
+CaseResult::ProfileCheck CaseResult::check_domain(std::size_t solver) const {
+  ProfileCheck pc;
+  const auto& P = R.at(solver);
+  if (mc.r_mm.empty()) return pc;
+  const double half = 0.5 * (mc.r_mm.size() > 1 ? mc.r_mm[1] - mc.r_mm[0] : 2 * mc.r_mm[0]);
+  for (std::size_t i = 0; i < P.size() && i < mc.R.size(); ++i) {
+    const double r = mc.r_mm[i];
+    if (r - half < 0.02 - 1e-12 || r + half > 10.0 + 1e-9 || !(mc.R_se[i] < 0.03 * mc.R[i])) continue;
+    ++pc.checked;
+    const double dev = P[i] / mc.R[i] - 1.0;
+    if (std::abs(P[i] - mc.R[i]) > 0.05 * mc.R[i] + 3.0 * mc.R_se[i]) ++pc.beyond;
+    if (std::abs(dev) > std::abs(pc.worst)) {
+      pc.worst = dev;
+      pc.worst_r = r;
+    }
+  }
+  return pc;
+}
+
+bool CaseResult::rd_within(std::size_t solver, double rel) const {
+  return std::abs(R_d.at(solver) - mc.R_d) <= rel * mc.R_d + 3.0 * mc.R_d_se;
 }
 
 double CaseResult::top_mfp() const {

@@ -1,5 +1,6 @@
 #include "skin/physics/skin_parameters.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <ostream>
 
@@ -15,33 +16,33 @@ constexpr double kInf = kInfinity;
 // to catch unit mistakes, and eta, bounded by the media the Fresnel terms are meant for.
 const ParameterInfo kParameters[] = {
     {"melanin", "C_m", "1", 0, 1, false, false,
-     "melanin volume fraction of the epidermis", &SkinParameters::melanin},
+     "melanin volume fraction of the epidermis", &SkinParameters::melanin, 0, 0.5},
     {"melanin_blend", "beta_m", "1", 0, 1, false, false,
-     "eumelanin share of the melanin (the rest is pheomelanin)", &SkinParameters::melanin_blend},
+     "eumelanin share of the melanin (the rest is pheomelanin)", &SkinParameters::melanin_blend, 0, 1},
     {"hemoglobin", "C_h", "1", 0, 1, false, false, "blood volume fraction of the dermis",
-     &SkinParameters::hemoglobin},
+     &SkinParameters::hemoglobin, 0, 0.3},
     {"oiliness", "rho_s", "1", 0, 1, false, false, "scale of the specular (oily) surface lobe",
-     &SkinParameters::oiliness},
+     &SkinParameters::oiliness, 0, 1},
     {"oxygenation", "gamma", "1", 0, 1, false, false, "oxygenated share of the hemoglobin",
-     &SkinParameters::oxygenation},
+     &SkinParameters::oxygenation, 0, 1},
     {"epidermis_thickness", "", "mm", 0, kInf, true, true, "thickness of the epidermis",
-     &SkinParameters::epidermis_thickness},
+     &SkinParameters::epidermis_thickness, 0.02, 0.5},
     {"dermis_scattering_scale", "", "1", 0, kInf, true, true,
-     "dermis sigma_s_prime relative to the epidermis'", &SkinParameters::dermis_scattering_scale},
-    {"eta", "", "1", 1, 3, false, false, "refractive index of both layers", &SkinParameters::eta},
+     "dermis sigma_s_prime relative to the epidermis'", &SkinParameters::dermis_scattering_scale, 0.2, 2},
+    {"eta", "", "1", 1, 3, false, false, "refractive index of both layers", &SkinParameters::eta, 1.33, 1.55},
     {"roughness", "", "1", 0, kInf, true, true, "Beckmann RMS slope of the surface",
-     &SkinParameters::roughness},
+     &SkinParameters::roughness, 0.1, 0.6},
     {"g", "", "1", -1, 1, true, true,
      "Henyey-Greenstein anisotropy (transport models; the paper gives sigma_s_prime only)",
-     &SkinParameters::g},
+     &SkinParameters::g, 0.7, 0.97},
     {"epidermal_hemoglobin", "", "1", 0, 1, false, false,
-     "extended model: blood volume fraction of the epidermis", &SkinParameters::epidermal_hemoglobin},
+     "extended model: blood volume fraction of the epidermis", &SkinParameters::epidermal_hemoglobin, 0, 1},
     {"beta_carotene", "", "umol/L", 0, 1000, false, false,
-     "extended model: beta-carotene in the epidermis", &SkinParameters::beta_carotene},
+     "extended model: beta-carotene in the epidermis", &SkinParameters::beta_carotene, 0, 1000},
     {"bilirubin", "", "umol/L", 0, 1000, false, false, "extended model: bilirubin in the dermis",
-     &SkinParameters::bilirubin},
+     &SkinParameters::bilirubin, 0, 1000},
     {"scattering_scale", "", "1", 1e-6, 10, false, false,
-     "extended model: factor on sigma_s_prime of both layers", &SkinParameters::scattering_scale},
+     "extended model: factor on sigma_s_prime of both layers", &SkinParameters::scattering_scale, 0.25, 4},
 };
 
 std::string unit_suffix(std::string_view unit) {
@@ -68,6 +69,52 @@ std::string ParameterInfo::range_text() const {
 }
 
 double ParameterInfo::default_value() const { return SkinParameters{}.*member; }
+
+std::string ParameterInfo::domain_text() const {
+  return "[" + format_number(domain_min) + ", " + format_number(domain_max) + "]";
+}
+
+std::vector<std::string> outside_skin_domain(const SkinParameters& p) {
+  std::vector<std::string> out;
+  for (const auto& info : kParameters) {
+    const double v = p.*(info.member);
+    if (!info.in_domain(v))
+      out.push_back(info.label() + " = " + format_number(v) + " (skin domain " + info.domain_text() + ")");
+  }
+  return out;
+}
+
+std::vector<SkinParameters> sample_skin_domain(std::size_t n, std::uint64_t seed) {
+  // splitmix64 (Steele, Lea & Flood 2014): a fixed sequence on every platform, unlike the
+  // standard library's distributions.
+  std::uint64_t state = seed;
+  auto next = [&state] {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  };
+  auto uniform = [&next] { return static_cast<double>(next() >> 11) * 0x1.0p-53; };  // [0, 1)
+  std::vector<SkinParameters> out(n);
+  for (auto& p : out) {
+    for (const auto& info : kParameters) {
+      const double lo = info.domain_min, hi = info.domain_max;
+      const double edge = uniform(), u = uniform();
+      double v;
+      if (edge < 0.125) {
+        v = lo;
+      } else if (edge < 0.25) {
+        v = hi;
+      } else if (lo > 0 && hi > 4 * lo) {
+        v = lo * std::pow(hi / lo, u);
+      } else {
+        v = lo + (hi - lo) * u;
+      }
+      p.*(info.member) = std::clamp(v, lo, hi);
+    }
+  }
+  return out;
+}
 
 bool ParameterInfo::in_range(double v) const {
   if (std::isnan(v)) return false;

@@ -300,6 +300,11 @@ json profile_document(const SkinParameters& p, const std::string& preset, const 
   j["parameters"] = to_json(p);
   j["solver"] = solver;
   j["validity"] = to_json(validity);
+  // Whether the parameters lie in the skin domain (the range the models are validated over:
+  // skin parameters), and which do not.
+  const std::vector<std::string> outside = outside_skin_domain(p);
+  j["validity"]["skin_domain"] = outside.empty();
+  if (!outside.empty()) j["validity"]["outside_skin_domain"] = outside;
   return j;
 }
 }  // namespace
@@ -365,9 +370,10 @@ Result parameters_result() {
   std::vector<Column> cols = {{"key", {}, {}},      {"flag", {}, {}},    {"symbol", {}, {}},
                               {"unit", {}, {}},     {"min", {}, {}},     {"max", {}, {}},
                               {"min_exclusive", {}, {}}, {"max_exclusive", {}, {}},
-                              {"default", {}, {}},  {"help", {}, {}}};
+                              {"default", {}, {}},  {"skin_domain.min", {}, {}},
+                              {"skin_domain.max", {}, {}}, {"help", {}, {}}};
   std::vector<std::vector<std::string>> rows = {
-      {"key", "symbol", "unit", "range", "default", "help"}};
+      {"key", "symbol", "unit", "range", "skin domain", "default", "help"}};
   for (const auto& p : parameter_table()) {
     result.document.push_back({{"key", p.key},
                                {"flag", "--" + p.flag()},
@@ -378,14 +384,17 @@ Result parameters_result() {
                                {"min_exclusive", p.min_open},
                                {"max_exclusive", p.max_open},
                                {"default", p.default_value()},
+                               {"skin_domain", {{"min", p.domain_min}, {"max", p.domain_max}}},
                                {"help", p.help}});
     const std::string text[] = {std::string(p.key), "--" + p.flag(), std::string(p.symbol),
                                 std::string(p.unit), format_number(p.min), format_number(p.max),
                                 p.min_open ? "true" : "false", p.max_open ? "true" : "false",
-                                format_number(p.default_value()), std::string(p.help)};
+                                format_number(p.default_value()), format_number(p.domain_min),
+                                format_number(p.domain_max), std::string(p.help)};
     for (std::size_t c = 0; c < cols.size(); ++c) cols[c].text.push_back(text[c]);
     rows.push_back({std::string(p.key), std::string(p.symbol), std::string(p.unit),
-                    p.range_text(), format_number(p.default_value()), std::string(p.help)});
+                    p.range_text(), p.domain_text(), format_number(p.default_value()),
+                    std::string(p.help)});
   }
   result.columns = cols;
   result.table = format_text_table(rows);

@@ -8,7 +8,9 @@
 // LayerStack, radii -> R(r)), so another model (for example a more accurate transport solver)
 // is compared by appending a SolverColumn; the report's tables, plots and error summary grow a
 // column, a curve and a line for it.
+#include <cstdint>
 #include <functional>
+#include <optional>
 #include <iosfwd>
 #include <string>
 #include <utility>
@@ -16,6 +18,7 @@
 
 #include "skin/mc/mc.hpp"
 #include "skin/physics/layer.hpp"
+#include "skin/physics/skin_parameters.hpp"
 #include "skin/transport/model.hpp"
 
 namespace skin::mc {
@@ -40,6 +43,9 @@ struct ValidationCase {
   // known to be accurate and the report expects agreement within a few per cent.
   bool diffusion_regime = false;
   double r_max = 10.0;  // outer radius of the profile [mm]
+  // For a skin case: its parameters and wavelength [nm] (domain_cases; the report's maps).
+  std::optional<SkinParameters> parameters;
+  double wavelength = 0;
 };
 std::ostream& operator<<(std::ostream& os, const ValidationCase& c);
 
@@ -48,6 +54,11 @@ std::vector<ValidationCase> preset_cases(const std::vector<double>& wavelengths)
 // Generic stacks: semi-infinite (matched and mismatched, several albedos), slabs of 0.5-20
 // transport mean free paths, bright-over-dark and dark-over-bright pairs, mismatched indices.
 std::vector<ValidationCase> generic_cases();
+
+// `n` skin cases drawn from the skin domain (sample_skin_domain(n, seed), skin_parameters.hpp),
+// each at one wavelength: a quarter in 400-480 nm (dark skin's far field in the blue), one in
+// sixteen at 380 nm and at 780 nm, the rest uniform over 380-780 nm. Outer radius 10 mm.
+std::vector<ValidationCase> domain_cases(std::size_t n, std::uint64_t seed);
 
 struct CaseResult {
   ValidationCase c;
@@ -80,6 +91,12 @@ struct CaseResult {
   // R / mc.R - 1 (signed, in `worst`) with its radius.
   ProfileCheck check_annuli(std::size_t solver, double r_lo, double r_hi, double rel,
                             double floor) const;
+  // The check of the skin domain (issue 31; docs/accurate-solver.md): over the annuli within
+  // 0.02-10 mm whose Monte Carlo relative standard error is below 3 %, how many lie beyond 5 %
+  // + 3 SE, the largest relative deviation (signed) and its radius.
+  ProfileCheck check_domain(std::size_t solver) const;
+  // Whether R_d lies within 0.5 % + 3 standard errors of the Monte Carlo's.
+  bool rd_within(std::size_t solver, double rel = 0.005) const;
   // Transport mean free path 1 / sigma_t' of the top layer [mm].
   double top_mfp() const;
 };

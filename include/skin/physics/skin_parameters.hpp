@@ -2,6 +2,7 @@
 // The biophysical parameters of the two-layer skin model (DJ06 section 3, Table 1) and the
 // fixed choices of the paper as named, documented defaults.
 #include <iosfwd>
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -53,6 +54,10 @@ struct ParameterInfo {
   bool min_open, max_open;  // whether the bound itself is excluded
   std::string_view help;    // one line
   double SkinParameters::*member;
+  // The skin domain: the range a person would use for human skin (the transport models are
+  // validated over it, docs/accurate-solver.md; the validity report names what lies outside).
+  // Inside [min, max].
+  double domain_min, domain_max;
 
   std::string flag() const;        // the CLI spelling: key with dashes ("melanin-blend")
   std::string label() const;       // for messages: "melanin-blend (beta_m)"
@@ -61,9 +66,20 @@ struct ParameterInfo {
   bool in_range(double v) const;   // false for NaN
   // Throws InputError "<label> = <v> [unit] is out of range: ..." unless in_range(v).
   void check(double v) const;
+  bool in_domain(double v) const { return v >= domain_min && v <= domain_max; }
+  std::string domain_text() const;  // "[0.02, 0.5]"
 };
 // All parameters, in the order of SkinParameters' members.
 std::span<const ParameterInfo> parameter_table();
+// The parameters of `p` outside the skin domain, as "<label> = <v> (skin domain [lo, hi])",
+// in the table's order; empty when `p` lies in it.
+std::vector<std::string> outside_skin_domain(const SkinParameters& p);
+// `n` parameter sets drawn from the skin domain by a generator seeded with `seed` (the same
+// sets for the same seed on every platform). Each parameter independently: with probability
+// 1/8 its lower edge, 1/8 its upper edge, otherwise uniform over the domain (uniform in the
+// logarithm when the domain spans more than a factor of 4 above 0: epidermis thickness and the
+// scattering scales), so that samples reach the domain's edges and corners.
+std::vector<SkinParameters> sample_skin_domain(std::size_t n, std::uint64_t seed);
 // By key, key with dashes, or paper symbol; nullptr if unknown.
 const ParameterInfo* find_parameter(std::string_view name);
 // The same; throws InputError "<what> '<name>' is unknown: known parameters are ..." otherwise.
