@@ -74,7 +74,7 @@ CLI::Validator whole_number(long long lo, long long hi = std::numeric_limits<lon
 void warn_if_long(const WorkEstimate& estimate);
 void check_request(const std::string& what, double units, double units_per_second_per_thread,
                    int threads, double bytes);
-// Measured rates for those estimates (README, Benchmarks; reference machine, one thread):
+// Measured rates for those estimates (docs/benchmarks.md; reference machine, one thread):
 // renderer camera samples (default scene ~1.0e6/s, the head ~0.7e6/s) and Monte Carlo photons
 // (pale skin at 650 nm, g = 0.9: 32 CPU s per 1e6).
 inline constexpr double kRenderSamplesPerSecond = 1.0e6;

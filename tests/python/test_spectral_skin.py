@@ -281,15 +281,16 @@ class Bindings(unittest.TestCase):
         self.assertEqual(maps["axes"]["melanin"], ("y", "x"))
         self.assertLess(maps["error_delta_e_2000"]["max"], 0.5)
 
-    def test_the_readme_example_runs(self):
-        readme = os.path.join(SOURCE_DIR, "README.md")
-        with open(readme, encoding="utf-8") as f:
+    def test_the_tour_example_runs(self):
+        # The Python example of the tour (docs/tour.md, moved there from the README).
+        tour = os.path.join(SOURCE_DIR, "docs", "tour.md")
+        with open(tour, encoding="utf-8") as f:
             text = f.read()
-        section = text[text.index("### Python"):]
+        section = text[text.index("\n## Python"):]
         start = section.index("```python\n") + len("```python\n")
         block = section[start:section.index("```\n", start)]
         self.assertIn("import spectral_skin", block)
-        exec(compile(block, "README.md (### Python)", "exec"), {})
+        exec(compile(block, "docs/tour.md (## Python)", "exec"), {})
 
     def test_bad_input_raises_value_error_naming_the_parameter(self):
         with self.assertRaisesRegex(ValueError, r"melanin \(C_m\) = 1.5 is out of range"):
