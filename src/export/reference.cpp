@@ -10,6 +10,8 @@ namespace skin::exporting::detail {
 
 RadialGrid reference_radii() { return RadialGrid::logarithmic(1e-5, 60.0, 400); }
 
+WavelengthGrid spectral_grid() { return WavelengthGrid(400.0, 700.0, 10.0); }
+
 double area_integral(const RadialGrid& radii, const std::vector<double>& f) {
   double sum = 0;
   for (std::size_t j = 1; j < radii.size(); ++j) {

@@ -1,6 +1,6 @@
 #pragma once
 // What every export starts from: our skin's RGB profile, colour and mean exit radii, and the
-// target-model helpers shared by the writers (export.cpp). Internal to skin::export.
+// helpers the fits and the reports share. Internal to skin::export.
 #include <array>
 #include <functional>
 #include <vector>
@@ -25,6 +25,8 @@ Reference make_reference(const SkinParameters& p, const transport::Model& model,
                          ProfileSolver& solver);
 // The radial grid every reference uses.
 RadialGrid reference_radii();
+// The grid of the spectra the files hold (400-700 nm, 10 nm).
+WavelengthGrid spectral_grid();
 
 // int f(r) 2 pi r dr on the log grid (trapezoid in ln r).
 double area_integral(const RadialGrid& radii, const std::vector<double>& f);

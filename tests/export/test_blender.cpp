@@ -11,7 +11,9 @@
 #include <fstream>
 #include <iterator>
 #include <numbers>
+#include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "skin/color/color.hpp"
 #include "skin/image/image.hpp"
@@ -55,6 +57,23 @@ double delta_e(const Rgb& a, const Rgb& b) {
 
 class Blender : public ::testing::TestWithParam<const char*> {};
 
+// What each preset is held to: Cycles' render against our prediction, measured here (Blender 3.4
+// from Debian, the seeds and sample counts below; 2026-12-03) times 1.5, rounded up. Colour under
+// uniform light: dE2000 0.14 (caucasian), 0.36 (african). Bleed into the shadow, largest error
+// over the channels: 2.3 % (caucasian, blue), 10.6 % (african, red).
+struct Held {
+  std::string_view preset;
+  double delta_e_2000;  // uniform light
+  double bleed;         // relative error of the shadow's bleed width, per channel
+};
+constexpr Held kHeld[] = {{"caucasian", 0.22, 0.035}, {"african", 0.55, 0.16}};
+
+const Held& held(std::string_view preset) {
+  for (const Held& h : kHeld)
+    if (h.preset == preset) return h;
+  throw std::invalid_argument("no measured bounds for preset " + std::string(preset));
+}
+
 }  // namespace
 
 TEST_P(Blender, CyclesRenderOfTheExportMatchesOurPrediction) {
@@ -65,6 +84,7 @@ TEST_P(Blender, CyclesRenderOfTheExportMatchesOurPrediction) {
   run(std::string(SKIN_BINARY) + " export --target cycles --units m --preset " + preset + " -o " +
       material.string() + " > /dev/null");
   const SkinParameters p = find_preset(preset).parameters;
+  const Held& bound = held(preset);
 
   // 1. Uniform white light, seen from straight above. Our prediction (the closed form our own
   // renderer reproduces to 1 %, tests/render/test_known_answer.cpp): the surface reflects
@@ -79,7 +99,7 @@ TEST_P(Blender, CyclesRenderOfTheExportMatchesOurPrediction) {
     for (int c = 0; c < 3; ++c) ours[c] = rho_o + (1 - rho_o) * R_d[c] * (1 - rho_mean);
     const double dE = delta_e(cycles, ours);
     RecordProperty("uniform_delta_e_2000", std::to_string(dE));
-    EXPECT_LE(dE, 2.0) << "Cycles " << cycles << " ours " << ours;
+    EXPECT_LE(dE, bound.delta_e_2000) << "Cycles " << cycles << " ours " << ours;
   }
 
   // 2. A vertical sun, the half x < 0 in a sharp shadow. The light bleeding into the shadow,
@@ -114,7 +134,9 @@ TEST_P(Blender, CyclesRenderOfTheExportMatchesOurPrediction) {
     for (int c = 0; c < 3; ++c) {
       const double measured = shadow[c] * (w / 2) * dx_mm / lit[c];      // [mm]
       RecordProperty(std::string("shadow_width_mm_") + "rgb"[c], std::to_string(measured));
-      EXPECT_NEAR(measured, predicted[c], 0.15 * predicted[c])
+      RecordProperty(std::string("shadow_width_predicted_mm_") + "rgb"[c],
+                     std::to_string(predicted[c]));
+      EXPECT_NEAR(measured, predicted[c], bound.bleed * predicted[c])
           << "channel " << c << ": light bleeding into the shadow, Cycles vs our profile";
     }
   }

@@ -2,8 +2,11 @@
 // target for every preset.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
+#include <iterator>
 #include <numbers>
+#include <string_view>
 
 #include "skin/export/export.hpp"
 #include "skin/mc/mc.hpp"
@@ -34,8 +37,10 @@ TEST(ExportModels, BurleyProfileIsNormalisedWithMeanRadius2point5d) {
 
 TEST(ExportModels, AlbedoInversionsAreMonotoneAndMatchTheWalk) {
   // Both inversions were fitted so that the random walk's total reflectance is the albedo A:
-  // through our Monte Carlo table of that walk they give R(alpha(A)) = A within 2.5 % for
-  // A in [0.1, 0.8] (their fits' own accuracy; skin's channels lie there) and increase with A.
+  // through our Monte Carlo table of that walk they give R(alpha(A)) = A for A in [0.1, 0.8]
+  // (skin's channels lie there) within their fits' own accuracy, and increase with A. Measured
+  // here (2026-12-03, data/random_walk_g0.csv): Chiang's largest |R / A - 1| 2.10 % (A = 0.1),
+  // Cycles' 1.44 % (A = 0.8); held to 2.5 % and 1.8 % (1.2x and 1.25x).
   const auto& table = transport::RandomWalkTable::builtin();
   double prev_c = -1, prev_y = -1;
   for (double A = 0.1; A <= 0.8001; A += 0.05) {
@@ -45,13 +50,16 @@ TEST(ExportModels, AlbedoInversionsAreMonotoneAndMatchTheWalk) {
     prev_c = ac;
     prev_y = ay;
     EXPECT_NEAR(table.reflectance(ac), A, 0.025 * A) << A;
-    EXPECT_NEAR(table.reflectance(ay), A, 0.025 * A) << A;
+    EXPECT_NEAR(table.reflectance(ay), A, 0.018 * A) << A;
   }
 }
 
 TEST(ExportModels, RandomWalkTableAgreesWithAFreshMonteCarloRun) {
   // The embedded table against an independent run (another seed) at an off-node albedo:
-  // R_d within 4 standard errors + 0.5 % (interpolation), mean radius within 3 %.
+  // R_d within 4 standard errors + 0.5 % (interpolation); measured 0.67 standard errors. Mean
+  // radius: measured 0.47 % (2026-12-03), about the run's own standard error (the exit radius
+  // spreads ~1.8 mean free paths around its mean of 1.6 over ~6e4 exiting photons: ~0.45 %);
+  // held to 1.5 % (3x: about 3 standard errors).
   const auto& table = transport::RandomWalkTable::builtin();
   mc::RandomWalkOptions o;
   o.alpha = {0.95, 0.96};
@@ -59,7 +67,7 @@ TEST(ExportModels, RandomWalkTableAgreesWithAFreshMonteCarloRun) {
   o.seed = 12345;
   const transport::RandomWalkTable fresh = mc::tabulate_random_walk(o);
   EXPECT_NEAR(table.reflectance(0.95), fresh.R_d[0], 4 * fresh.R_d_se[0] + 0.005 * fresh.R_d[0]);
-  EXPECT_NEAR(table.mean_rho(0.95), fresh.mean_rho(0.95), 0.03 * fresh.mean_rho(0.95));
+  EXPECT_NEAR(table.mean_rho(0.95), fresh.mean_rho(0.95), 0.015 * fresh.mean_rho(0.95));
 }
 
 TEST(ExportModels, RandomWalkTableRoundTripsThroughCsv) {
@@ -77,29 +85,56 @@ TEST(ExportModels, RandomWalkTableRoundTripsThroughCsv) {
     EXPECT_THROW(transport::RandomWalkTable::from_csv(head + row, "bad"), InputError) << row;
 }
 
-TEST(Export, EveryTargetForEveryPresetFitsTheColourAndMeanRadius) {
-  // Colour: each target's albedo inversion hits our R_d (dE2000 < 0.5; realtime and the
-  // two-layer media by construction); mean exit radius within 3 % where the target fits it
-  // (pbrt-v4 fits per wavelength: 12 % in RGB; realtime fits the shape instead). The profile's
-  // L1 error is the shape within the target's family: below 0.6 for every target (measured:
-  // docs/export.md).
+namespace {
+
+// Per target, how far its export may be from our skin, per linear sRGB channel: the largest value
+// over the six presets, measured with the accurate solver (2026-12-03; this test's own numbers,
+// also in FILE.fit.json of `skin export --target all --preset P` to 6 digits and in
+// docs/export.md, "Measured error"), times 1.25 rounded up to two digits. Colours matched by
+// construction (bisection to double precision: measured <= 3.5e-13) are held to 1e-9; targets
+// whose profile is ours (mitsuba3's media are our layers, profile is our table) to exactly 0.
+struct Held {
+  std::string_view target;
+  double delta_e_2000;
+  std::array<double, 3> profile_l1, mean_radius_error;  // |relative error|
+};
+constexpr double kExact = 1e-9;
+constexpr Held kHeld[] = {
+    // Random walk (its shape; the mean radius matched up to the table's interpolation).
+    {"openpbr", kExact, {0.33, 0.20, 0.26}, {3.9e-5, 3.4e-5, 3.2e-5}},
+    {"standard-surface", kExact, {0.33, 0.20, 0.26}, {3.9e-5, 3.4e-5, 3.2e-5}},
+    {"cycles", kExact, {0.34, 0.21, 0.27}, {3.5e-5, 4.3e-5, 2.3e-5}},
+    // Burley (its shape; the mean radius set in closed form, 2.5 d, measured on the radial grid).
+    {"unreal", kExact, {0.32, 0.23, 0.29}, {3.9e-4, 7.4e-4, 1.8e-3}},
+    {"unity", kExact, {0.32, 0.23, 0.29}, {3.9e-4, 7.4e-4, 1.8e-3}},
+    // An effective half-space fitted per wavelength, then projected to RGB: measured largest
+    // dE 0.032 (ear), L1 0.42 (asian, red), mean radius 9.3 % (tanned, blue).
+    {"pbrt-v4", 0.040, {0.53, 0.39, 0.17}, {2.2e-3, 0.062, 0.12}},
+    {"mitsuba3", 0, {0, 0, 0}, {0, 0, 0}},
+    // Gaussians fitted to the shape (least L1), not to the mean radius: asian's red 36.9 %.
+    {"realtime", kExact, {0.22, 0.15, 0.20}, {0.47, 0.090, 0.15}},
+    {"profile", 0, {0, 0, 0}, {0, 0, 0}},
+};
+
+}  // namespace
+
+TEST(Export, EveryTargetForEveryPresetIsHeldToItsMeasuredError) {
   const transport::Model& model = transport::default_model();
-  for (const Preset& preset : presets()) {
-    for (const Target& t : targets()) {
+  ASSERT_EQ(std::size(kHeld), targets().size()) << "a target without its measured bounds";
+  for (const Held& held : kHeld) {
+    const Target& t = find_target(held.target);
+    for (const Preset& preset : presets()) {
       SCOPED_TRACE(std::string(preset.name) + " / " + std::string(t.name));
-      Options o;
-      const Export e = export_skin(t.name, preset.parameters, model, o);
+      const Export e = export_skin(t.name, preset.parameters, model, Options{});
       ASSERT_FALSE(e.files.empty());
       EXPECT_FALSE(e.files[0].content.empty());
       const FitReport& r = e.report;
       EXPECT_TRUE(r.representable);
-      EXPECT_LT(r.delta_e_2000, 0.5);
+      EXPECT_LE(r.delta_e_2000, held.delta_e_2000);
       for (int c = 0; c < 3; ++c) {
-        // realtime fits the shape (L1), not the mean radius
-        if (t.name != "realtime") {
-          EXPECT_LT(std::abs(r.mean_radius_error[c]), t.name == "pbrt-v4" ? 0.12 : 0.03) << c;
-        }
-        EXPECT_LT(r.profile_l1[c], 0.6) << c;
+        EXPECT_LE(r.profile_l1[c], held.profile_l1[c]) << "channel " << "rgb"[c];
+        EXPECT_LE(std::abs(r.mean_radius_error[c]), held.mean_radius_error[c])
+            << "channel " << "rgb"[c];
       }
     }
   }
