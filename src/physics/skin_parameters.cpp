@@ -79,7 +79,11 @@ std::vector<std::string> outside_skin_domain(const SkinParameters& p) {
   for (const auto& info : kParameters) {
     const double v = p.*(info.member);
     if (!info.in_domain(v))
-      out.push_back(info.label() + " = " + format_number(v) + " (skin domain " + info.domain_text() + ")");
+    {
+      const std::string u = unit_suffix(info.unit);
+      out.push_back(info.label() + " = " + format_number(v) + (u.empty() ? "" : " " + u) +
+                    " (skin domain " + info.domain_text() + ")");
+    }
   }
   return out;
 }

@@ -3,7 +3,12 @@
 // ones computed.
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <random>
 #include <filesystem>
 #include <set>
 #include <sstream>
@@ -11,6 +16,7 @@
 #include "../temp_dir.hpp"
 #include "report_validation.hpp"
 #include "skin/mc/validation.hpp"
+#include "skin/transport/model.hpp"
 #include "skin/transport/stack.hpp"
 
 namespace {
@@ -128,3 +134,79 @@ TEST(ValidationCases, AnnulusCheckCountsWhatTheCriterionSays) {
 // exit; LeakSanitizer reports it as a leak in sanitizer builds. It is not ours: suppress only it.
 extern "C" const char* __lsan_default_suppressions();
 extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfig\n"; }
+
+namespace {
+
+// Issue 31's check, on a fresh handful of cases drawn from the skin domain in every run (the
+// seed is printed; SKIN_DOMAIN_SEED=N repeats a run): the default model within 5 % + 3 SE of the
+// Monte Carlo in every annulus of 0.02-10 mm whose relative standard error is below 3 %, and R_d
+// within 0.5 % + 3 SE. 10^6 photons per case (~3-4 s each on 2 cores in Release, mostly the
+// frequency-domain solve of a case off the skin table); Release only (scripts/test.sh). The
+// multipole fails the same check in every case drawn so far (at least two of the four are
+// required to fail, so that the check can fail).
+std::uint64_t domain_seed() {
+  if (const char* s = std::getenv("SKIN_DOMAIN_SEED")) return std::strtoull(s, nullptr, 10);
+  return (static_cast<std::uint64_t>(std::random_device{}()) << 32) ^ std::random_device{}();
+}
+
+}  // namespace
+
+TEST(SkinDomainAgainstMonteCarlo, FreshCasesWithinFivePercentAndThreeSE) {
+  const std::uint64_t seed = domain_seed();
+  RecordProperty("domain_seed", std::to_string(seed));
+  std::cout << "skin domain seed " << seed << " (SKIN_DOMAIN_SEED=" << seed << " repeats it)\n";
+  const auto cases = mc::domain_cases(4, seed);
+  mc::Options o;
+  o.photons = 1000000;
+  o.bins = 500;  // annuli of 0.02 mm to 10 mm
+  o.seed = 1;
+  const mc::ValidationRun run = mc::run_validation(
+      cases, {mc::solver_column(skin::transport::find_model("multipole")),
+              mc::solver_column(skin::transport::find_model("accurate"))},
+      o);
+  int checked = 0, multipole_failing = 0;
+  for (const auto& c : run.cases) {
+    const auto pc = c.check_domain(1);
+    checked += pc.checked;
+    EXPECT_EQ(pc.beyond, 0) << "seed " << seed << ", " << c.c.title << ": " << pc.beyond << " of "
+                            << pc.checked << " annuli beyond 5 % + 3 SE, worst " << 100 * pc.worst
+                            << " % at " << pc.worst_r << " mm";
+    EXPECT_TRUE(c.rd_within(1)) << "seed " << seed << ", " << c.c.title << ": R_d " << c.R_d[1]
+                                << ", Monte Carlo " << c.mc.R_d << " +- " << c.mc.R_d_se;
+    multipole_failing += c.check_domain(0).beyond > 0 || !c.rd_within(0);
+  }
+  EXPECT_GT(checked, 0) << "seed " << seed;
+  EXPECT_GE(multipole_failing, 2) << "seed " << seed;
+}
+
+// The domain's cases and report: valid stacks inside the domain, ids unique, and a report with
+// its summary, four maps and a row per case (cheap: the multipole and 2000 photons).
+TEST(ValidationReport, DomainReportHasItsSummaryMapsAndCases) {
+  const auto cases = mc::domain_cases(6, 3);
+  std::set<std::string> ids;
+  for (const auto& c : cases) {
+    EXPECT_NO_THROW(c.stack.validate()) << c;
+    ASSERT_TRUE(c.parameters.has_value());
+    EXPECT_TRUE(skin::outside_skin_domain(*c.parameters).empty()) << c;
+    EXPECT_GE(c.wavelength, 380);
+    EXPECT_LE(c.wavelength, 780);
+    ids.insert(c.id);
+  }
+  EXPECT_EQ(ids.size(), cases.size());
+  EXPECT_EQ(mc::domain_cases(6, 3)[5].title, cases[5].title);
+  mc::Options o;
+  o.photons = 2000;
+  o.bins = 50;
+  const auto run = mc::run_validation(
+      {cases[0], cases[1]}, {mc::solver_column(skin::transport::find_model("multipole"))}, o);
+  const skin::test::TempDir dir("skin_domain_report");
+  std::ostringstream md;
+  EXPECT_EQ(skin::cli::write_domain_report(md, run, dir.path().string(), 3), 2u);
+  const std::string text = md.str();
+  EXPECT_NE(text.find("--domain 2 --domain-seed 3"), std::string::npos);
+  EXPECT_NE(text.find("| multipole | "), std::string::npos);
+  EXPECT_NE(text.find(cases[1].title), std::string::npos);
+  for (const char* f : {"domain_thickness_melanin.png", "domain_g_eta.png",
+                        "domain_wavelength_melanin.png", "domain_wavelength_blood.png"})
+    EXPECT_TRUE(std::filesystem::exists(dir.path() / f)) << f;
+}

@@ -102,3 +102,63 @@ TEST(ParameterTable, CoversEveryMemberOnceWithValidDefaults) {
   EXPECT_EQ(skin::find_parameter("colour"), nullptr);
   EXPECT_THROW(skin::parameter_info("colour"), skin::InputError);
 }
+
+// The skin domain (issue 31): inside every parameter's allowed range, the paper's presets and the
+// defaults inside it, and the issue's values.
+TEST(SkinDomain, InsideTheAllowedRangesAndHoldsThePresets) {
+  for (const auto& info : parameter_table()) {
+    EXPECT_TRUE(info.in_range(info.domain_min)) << info.key;
+    EXPECT_TRUE(info.in_range(info.domain_max)) << info.key;
+    EXPECT_LT(info.domain_min, info.domain_max) << info.key;
+  }
+  EXPECT_TRUE(outside_skin_domain(SkinParameters{}).empty());
+  for (const auto& p : presets())
+    EXPECT_TRUE(outside_skin_domain(p.parameters).empty()) << p.name;
+  auto domain = [](std::string_view key) {
+    const auto& i = parameter_info(key);
+    return std::pair{i.domain_min, i.domain_max};
+  };
+  EXPECT_EQ(domain("melanin"), std::pair(0.0, 0.5));
+  EXPECT_EQ(domain("hemoglobin"), std::pair(0.0, 0.3));
+  EXPECT_EQ(domain("epidermis_thickness"), std::pair(0.02, 0.5));
+  EXPECT_EQ(domain("dermis_scattering_scale"), std::pair(0.2, 2.0));
+  EXPECT_EQ(domain("scattering_scale"), std::pair(0.25, 4.0));
+  EXPECT_EQ(domain("g"), std::pair(0.7, 0.97));
+  EXPECT_EQ(domain("eta"), std::pair(1.33, 1.55));
+  SkinParameters p;
+  p.g = 0.6;
+  p.epidermis_thickness = 0.01;
+  const auto out = outside_skin_domain(p);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0], "epidermis-thickness = 0.01 mm (skin domain [0.02, 0.5])");
+  EXPECT_EQ(out[1], "g = 0.6 (skin domain [0.7, 0.97])");
+}
+
+// The draw: the same sets for the same seed, inside the domain, both edges of every parameter
+// reached, the interior too (1 - 2 x 7/8^400 of the edges missing would fail: never).
+TEST(SkinDomain, SamplesAreReproducibleInsideAndReachEveryEdge) {
+  const auto a = sample_skin_domain(400, 42), b = sample_skin_domain(400, 42);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, sample_skin_domain(400, 43));
+  for (const auto& info : parameter_table()) {
+    int lo = 0, hi = 0, inside = 0;
+    for (const auto& p : a) {
+      const double v = p.*(info.member);
+      ASSERT_TRUE(info.in_domain(v)) << info.key << " " << v;
+      lo += v == info.domain_min;
+      hi += v == info.domain_max;
+      inside += v > info.domain_min && v < info.domain_max;
+    }
+    EXPECT_GT(lo, 20) << info.key;
+    EXPECT_GT(hi, 20) << info.key;
+    EXPECT_GT(inside, 250) << info.key;
+  }
+  // A thickness drawn uniformly in its logarithm: about half below the geometric mean 0.1 mm.
+  int thin = 0, interior = 0;
+  for (const auto& p : a)
+    if (p.epidermis_thickness > 0.02 && p.epidermis_thickness < 0.5) {
+      ++interior;
+      thin += p.epidermis_thickness < 0.1;
+    }
+  EXPECT_NEAR(static_cast<double>(thin) / interior, 0.5, 0.1);
+}
