@@ -100,6 +100,9 @@ struct Preset {
   SkinParameters parameters;
 };
 const std::vector<Preset>& presets();
+// The preset a command, a Python call or the web page starts from when none is named (its
+// parameters are a default-constructed SkinParameters').
+inline constexpr std::string_view kDefaultPreset = "caucasian";
 // Throws InputError listing the known names when `name` is unknown. Accepts aliases
 // ("several-lights" for "ear").
 const Preset& find_preset(std::string_view name);
