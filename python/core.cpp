@@ -781,9 +781,9 @@ PYBIND11_MODULE(_core, m) {
       "includes_specular"_a = false, "fit_lambda_min"_a = 400.0, "fit_lambda_max"_a = 700.0,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
       ("`skin fit --spectrum`: the parameters whose R_d best matches a measured reflectance R "
-       "(0-1) at wavelength_nm [nm] (increasing, covering 450-650 nm). free: parameter keys to "
-       "fit (default melanin, melanin_blend, hemoglobin); the others keep the preset's or the "
-       "keywords' values (the start). bounds: {key: (lo, hi)}. includes_specular: the "
+       "(0-1) at wavelength_nm [nm] (increasing, covering 450-650 nm). free: parameter keys (or "
+       "the paper's symbols) to fit (default melanin, melanin_blend, hemoglobin); the others keep the preset's or the "
+       "keywords' values (the start). bounds: {key or symbol: (lo, hi)}. includes_specular: the "
        "measurement includes the surface reflection. Returns parameters, uncertainty (one sigma), "
        "at_bound, rms, fitted. " + solver_doc() + params).c_str());
 
