@@ -506,7 +506,7 @@ PYBIND11_MODULE(_core, m) {
         return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, true,
                        std::string(color::kDefaultIlluminant), kw);
       },
-      "preset"_a = "caucasian", py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
+      "preset"_a = std::string(kDefaultPreset), py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
       "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = py::int_(0),
       ("`skin spectrum`: total diffuse reflectance R_d(lambda), the layers' sigma_a and "
        "sigma_s_prime [1/mm] (epidermis, dermis), the colour under D65 (color: XYZ, srgb_linear, "
@@ -521,7 +521,7 @@ PYBIND11_MODULE(_core, m) {
                 const py::kwargs& kw) {
         return spectra(preset, lambda_min, lambda_max, lambda_step, solver, threads, false, illuminant, kw);
       },
-      "preset"_a = "caucasian", py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
+      "preset"_a = std::string(kDefaultPreset), py::kw_only(), "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
       "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = py::int_(0),
       "illuminant"_a = std::string(color::kDefaultIlluminant),
       ("`skin color`: the colour of R_d under a CIE illuminant (illuminant=, as `skin color "
@@ -606,7 +606,7 @@ PYBIND11_MODULE(_core, m) {
                         const py::object& threads, const py::kwargs& kw) {
           return profiles(rgb, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
         },
-        "preset"_a = "caucasian", py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
+        "preset"_a = std::string(kDefaultPreset), py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
         "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = py::int_(0), (doc + solver_doc() + params).c_str());
   };
   def_profile("rgb_profile", true,
@@ -681,10 +681,10 @@ PYBIND11_MODULE(_core, m) {
           st = layer_stack(*layers, eta_above, eta_below);
         } else if (wavelength) {
           require_in_range("wavelength", *wavelength, 250.0, 1000.0, "nm");
-          const Sets sets = parameter_sets(preset.value_or("caucasian"), kw);
+          const Sets sets = parameter_sets(preset.value_or(std::string(kDefaultPreset)), kw);
           if (!sets.shape.empty()) throw InputError("mc: one parameter set at a time (no arrays)");
           st = skin_layer_stack(sets.values.front(), *wavelength);
-          d["preset"] = preset.value_or("caucasian");
+          d["preset"] = preset.value_or(std::string(kDefaultPreset));
           d["parameters"] = sets.parameters;
           d["wavelength_nm"] = *wavelength;
         } else {
@@ -777,13 +777,13 @@ PYBIND11_MODULE(_core, m) {
                              "fitted.R"_a = py::make_tuple("wavelength_nm"));
         return d;
       },
-      "wavelength_nm"_a, "R"_a, "preset"_a = "caucasian", py::kw_only(), "free"_a = py::none(),
+      "wavelength_nm"_a, "R"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "free"_a = py::none(),
       "includes_specular"_a = false, "fit_lambda_min"_a = 400.0, "fit_lambda_max"_a = 700.0,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
       ("`skin fit --spectrum`: the parameters whose R_d best matches a measured reflectance R "
-       "(0-1) at wavelength_nm [nm] (increasing, covering 450-650 nm). free: parameter keys to "
-       "fit (default melanin, melanin_blend, hemoglobin); the others keep the preset's or the "
-       "keywords' values (the start). bounds: {key: (lo, hi)}. includes_specular: the "
+       "(0-1) at wavelength_nm [nm] (increasing, covering 450-650 nm). free: parameter keys (or "
+       "the paper's symbols) to fit (default melanin, melanin_blend, hemoglobin); the others keep the preset's or the "
+       "keywords' values (the start). bounds: {key or symbol: (lo, hi)}. includes_specular: the "
        "measurement includes the surface reflection. Returns parameters, uncertainty (one sigma), "
        "at_bound, rms, fitted. " + solver_doc() + params).c_str());
 
@@ -829,7 +829,7 @@ PYBIND11_MODULE(_core, m) {
         d["melanin_blend_weight"] = melanin_blend_weight;
         return d;
       },
-      py::kw_only(), "hex"_a = py::none(), "srgb"_a = py::none(), "preset"_a = "caucasian",
+      py::kw_only(), "hex"_a = py::none(), "srgb"_a = py::none(), "preset"_a = std::string(kDefaultPreset),
       "free"_a = py::none(), "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
       ("`skin fit --hex/--srgb`: the parameters (melanin, melanin_blend, hemoglobin by default) "
@@ -891,7 +891,7 @@ PYBIND11_MODULE(_core, m) {
         d["axes"] = axes;
         return d;
       },
-      "image"_a, "preset"_a = "caucasian", py::kw_only(), "free"_a = py::none(),
+      "image"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "free"_a = py::none(),
       "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
       ("`skin fit --texture`: per-pixel parameter maps (float32, axes y, x) melanin, "
@@ -940,7 +940,7 @@ PYBIND11_MODULE(_core, m) {
         d["report"] = loads(exporting::fit_report_json(e.report, sets.values[0], solver, {}));
         return d;
       },
-      "target"_a, "preset"_a = "caucasian", py::kw_only(), "solver"_a = default_solver,
+      "target"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "solver"_a = default_solver,
       "units"_a = py::none(), "world_scale"_a = 1.0, "name"_a = "spectral_skin", "gaussians"_a = py::int_(5),
       "taps"_a = py::int_(17), "spectra_files"_a = false,
       ("`skin export --target TARGET`: the files of a renderer or engine target (" +

@@ -250,7 +250,8 @@ void register_fit(CLI::App& app) {
 
   auto* g_fit = "Fit";
   sub->add_option("--free", o->free,
-                  "Parameters to fit, comma-separated CLI names (default melanin,melanin-blend,hemoglobin); "
+                  "Parameters to fit, comma-separated names or the paper's symbols (default "
+                  "melanin,melanin-blend,hemoglobin); "
                   "extended: epidermal-hemoglobin, beta-carotene, bilirubin, epidermis-thickness, "
                   "oxygenation, scattering-scale")
       ->group(g_fit);
@@ -258,7 +259,7 @@ void register_fit(CLI::App& app) {
                 "The measurement includes the surface reflection: add rho_s F (F = Fresnel at normal "
                 "incidence, 0.028) and fit oiliness")
       ->group(g_fit);
-  sub->add_option("--bound", o->bounds, "Search interval NAME=LO:HI (repeatable), e.g. melanin=0:0.3")->group(g_fit);
+  sub->add_option("--bound", o->bounds, "Search interval NAME=LO:HI (repeatable; NAME or symbol), e.g. melanin=0:0.3")->group(g_fit);
   auto* o_lmin = sub->add_option("--fit-lambda-min", o->lambda_min, "Fit only samples at or above this wavelength [nm]")
       ->capture_default_str()->group(g_fit);
   auto* o_lmax = sub->add_option("--fit-lambda-max", o->lambda_max, "Fit only samples at or below this wavelength [nm]")

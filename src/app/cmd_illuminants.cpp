@@ -96,7 +96,7 @@ void register_illuminants(CLI::App& app) {
     std::vector<std::string> names = o->illuminants;
     if (names.empty()) names = {"D65", "D50", "A", "FL2", "FL11", "LED-B3"};
     const WavelengthGrid grid = o->grid.resolve();
-    const color::Colorimetry d65(grid);
+    const color::Colorimetry d65(grid, color::find_illuminant(color::kSrgbWhite));
     std::vector<color::Colorimetry> under;
     for (const std::string& n : names) under.emplace_back(grid, color::find_illuminant(n));
 

@@ -43,7 +43,7 @@ bool stderr_is_terminal();
 // and the paper's symbol as an alias): the preset, then the file, then the flags given after it
 // (a flag given before --params is overridden by the file when the file sets that parameter).
 struct ParameterOptions {
-  std::string preset = "caucasian";
+  std::string preset{kDefaultPreset};
   std::string params_file;
   SkinParameters values;  // targets of the flags
   std::vector<std::pair<CLI::Option*, const ParameterInfo*>> flags;

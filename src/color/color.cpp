@@ -119,7 +119,7 @@ Xyz white_of(const std::vector<std::array<double, 3>>& w) {
 Colorimetry::Colorimetry(const WavelengthGrid& grid, const Illuminant& illuminant)
     : grid_(grid), illuminant_(&illuminant), xyz_weights_(xyz_weights(grid, illuminant)) {
   white_ = white_of(xyz_weights_);
-  const Illuminant& d65 = find_illuminant(kDefaultIlluminant);
+  const Illuminant& d65 = find_illuminant(kSrgbWhite);
   // Under D65 no adaptation at all (not a matrix that is the identity only to rounding): the
   // numbers of the default stay what they were.
   if (&illuminant == &d65) {
@@ -262,7 +262,7 @@ ColorSummary summarize(const Colorimetry& cm, const Spectrum& R) {
 }
 
 RgbVsSpectral rgb_vs_spectral(const Colorimetry& d65, const Colorimetry& under, const Spectrum& R_d) {
-  if (!(d65.illuminant().name() == kDefaultIlluminant) || !(d65.grid() == under.grid()))
+  if (!(d65.illuminant().name() == kSrgbWhite) || !(d65.grid() == under.grid()))
     throw InputError("rgb_vs_spectral: the first colorimetry must be D65's, on the same grid");
   RgbVsSpectral r;
   r.rgb_rendering = d65.srgb_linear(R_d) * under.illuminant_rgb();

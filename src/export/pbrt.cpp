@@ -83,7 +83,7 @@ Export write(const Context& ctx) {
     responses.push_back(model.response(s));
     ptrs.push_back(responses.back().get());
   }
-  const color::Colorimetry cm(grid);
+  const color::Colorimetry cm(grid, color::find_illuminant(color::kSrgbWhite));
   const RgbProfile target = solver.rgb(ptrs, cm.srgb_weights());
   std::array<std::vector<double>, 3> R_t;
   for (int c = 0; c < 3; ++c) {

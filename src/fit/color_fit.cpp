@@ -155,6 +155,7 @@ ColorFitter::ColorFitter(ColorFitOptions options) {
   require_non_negative("melanin-blend-weight", options.melanin_blend_weight);
   require_in_range("melanin-blend-prior", options.melanin_blend_prior, 0.0, 1.0);
   if (options.free.empty()) throw InputError("free parameters: the list is empty");
+  check_bounds(options.bounds);
   for (Parameter p : options.free)
     if (p != Parameter::melanin && p != Parameter::melanin_blend && p != Parameter::hemoglobin)
       throw InputError("free parameter '" + flag(p) +

@@ -1,4 +1,5 @@
-// Parameter names, bounds and access; reading and checking measured spectra.
+// The fit's parameters (the parameter table's rows with a fit interval): names, bounds and
+// access; reading and checking measured spectra.
 #include <algorithm>
 #include <cmath>
 #include <ostream>
@@ -10,44 +11,24 @@
 
 namespace skin::fit {
 
-namespace {
-struct Entry {
-  Parameter p;
-  const char* key;
-  double SkinParameters::*member;
-  Bounds bounds;
-};
-// Default search intervals. C_m and C_h: the ranges of the paper's figures (DJ06 Figs 3-4, 7:
-// C_m up to 50 %, C_h up to 20 %). Epidermal blood: a few percent at most (the papillary
-// plexus reaching into the rete ridges; 10 % is generous). Carotene and bilirubin: up to
-// 200 umol/L (bilirubin: clinical jaundice is > ~50 umol/L; carotene in skin is far lower, the
-// bound only keeps the search finite). Epidermis: 0.02-0.5 mm covers thin eyelid to palm
-// (Sandby-Moller et al. 2003 measure 0.03-0.1 mm on most sites; the paper assumes 0.25).
-// Scattering: a factor 4 either way around the paper's eq 8.
-const Entry kTable[] = {
-    {Parameter::melanin, "melanin", &SkinParameters::melanin, {0.0, 0.5}},
-    {Parameter::melanin_blend, "melanin_blend", &SkinParameters::melanin_blend, {0.0, 1.0}},
-    {Parameter::hemoglobin, "hemoglobin", &SkinParameters::hemoglobin, {0.0, 0.2}},
-    {Parameter::oiliness, "oiliness", &SkinParameters::oiliness, {0.0, 1.0}},
-    {Parameter::epidermal_hemoglobin, "epidermal_hemoglobin", &SkinParameters::epidermal_hemoglobin,
-     {0.0, 0.1}},
-    {Parameter::beta_carotene, "beta_carotene", &SkinParameters::beta_carotene, {0.0, 200.0}},
-    {Parameter::bilirubin, "bilirubin", &SkinParameters::bilirubin, {0.0, 200.0}},
-    {Parameter::epidermis_thickness, "epidermis_thickness", &SkinParameters::epidermis_thickness,
-     {0.02, 0.5}},
-    {Parameter::oxygenation, "oxygenation", &SkinParameters::oxygenation, {0.0, 1.0}},
-    {Parameter::scattering_scale, "scattering_scale", &SkinParameters::scattering_scale,
-     {0.25, 4.0}},
-};
-const Entry& entry(Parameter p) { return kTable[static_cast<int>(p)]; }
-}  // namespace
-
-std::string_view key(Parameter p) { return entry(p).key; }
-std::string flag(Parameter p) {
-  std::string s(entry(p).key);
-  std::replace(s.begin(), s.end(), '_', '-');
-  return s;
+Parameter Parameter::of(const ParameterInfo& row) {
+  if (!row.fittable()) {
+    std::string known;
+    for (Parameter p : all_parameters()) known += (known.empty() ? "" : ", ") + flag(p);
+    throw InputError("free parameter '" + row.flag() + "' cannot be fitted: the fit frees " + known);
+  }
+  return Parameter(row.member);
 }
+
+const ParameterInfo& Parameter::info() const {
+  for (const ParameterInfo& row : parameter_table())
+    if (row.member == member_) return row;
+  ::skin::assertion_failed("row.member == member_", __FILE__, __LINE__,
+                           "a fit parameter without its row in the parameter table");
+}
+
+std::string_view key(Parameter p) { return p.info().key; }
+std::string flag(Parameter p) { return p.info().flag(); }
 std::ostream& operator<<(std::ostream& os, Parameter p) { return os << key(p); }
 std::ostream& operator<<(std::ostream& os, const Bounds& b) {
   return os << '[' << b.lo << ", " << b.hi << ']';
@@ -56,19 +37,20 @@ std::ostream& operator<<(std::ostream& os, const Bounds& b) {
 const std::vector<Parameter>& all_parameters() {
   static const std::vector<Parameter> all = [] {
     std::vector<Parameter> v;
-    for (const auto& e : kTable) v.push_back(e.p);
+    for (const ParameterInfo& row : parameter_table())
+      if (row.fittable()) v.push_back(Parameter::of(row));
     return v;
   }();
   return all;
 }
 
 Parameter parse_parameter(std::string_view name) {
-  std::string s(name);
-  std::replace(s.begin(), s.end(), '-', '_');
-  for (const auto& e : kTable)
-    if (s == e.key) return e.p;
+  if (const ParameterInfo* row = find_parameter(name)) return Parameter::of(*row);
   std::string known;
-  for (const auto& e : kTable) known += (known.empty() ? "" : ", ") + flag(e.p);
+  for (Parameter p : all_parameters()) {
+    known += (known.empty() ? "" : ", ") + flag(p);
+    if (!p.info().symbol.empty()) known += " (" + std::string(p.info().symbol) + ")";
+  }
   throw InputError("free parameter '" + std::string(name) + "' is unknown: known are " + known);
 }
 
@@ -90,9 +72,16 @@ std::vector<Parameter> parse_parameter_list(std::string_view list) {
   return out;
 }
 
-double get(const SkinParameters& s, Parameter p) { return s.*(entry(p).member); }
-void set(SkinParameters& s, Parameter p, double value) { s.*(entry(p).member) = value; }
-Bounds default_bounds(Parameter p) { return entry(p).bounds; }
+double get(const SkinParameters& s, Parameter p) { return s.*(p.member()); }
+void set(SkinParameters& s, Parameter p, double value) { s.*(p.member()) = value; }
+Bounds default_bounds(Parameter p) { return {p.info().fit_min, p.info().fit_max}; }
+
+void check_bounds(const std::vector<std::pair<Parameter, Bounds>>& bounds) {
+  for (std::size_t i = 0; i < bounds.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (bounds[i].first == bounds[j].first)
+        throw InputError("bounds of " + flag(bounds[i].first) + " are given twice");
+}
 
 std::ostream& operator<<(std::ostream& os, const MeasuredSpectrum& m) {
   os << "MeasuredSpectrum{" << m.name << ", " << m.wavelength_nm.size() << " samples";

@@ -176,6 +176,7 @@ SpectrumFitter::SpectrumFitter(SpectrumFitOptions options) : impl_(std::make_uni
   m.F = specular_albedo(m.opt);
   require_in_range("specular-albedo", m.F, 0.0, 1.0);
   if (m.opt.free.empty()) throw InputError("free parameters: the list is empty");
+  check_bounds(m.opt.bounds);
   for (std::size_t i = 0; i < m.opt.free.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (m.opt.free[i] == m.opt.free[j])

@@ -25,6 +25,12 @@ std::vector<DiffusionStack> skin_diffusion_stacks(const SkinParameters& p,
 }
 
 namespace {
+// The colour weights of an RGB profile: linear sRGB under sRGB's own white (the colour an RGB
+// renderer multiplies its lights' colours by), whatever the default illuminant of colours is.
+color::Colorimetry srgb_colorimetry(const WavelengthGrid& grid) {
+  return color::Colorimetry(grid, color::find_illuminant(color::kSrgbWhite));
+}
+
 // A spectrum on `grid` without R_d and colour yet; `set_layers` fills wavelength i's coefficients.
 SkinSpectrum empty_spectrum(const SkinParameters& p, const WavelengthGrid& grid, const Model& model) {
   return SkinSpectrum{p, std::string(model.name()), grid, Spectrum(grid), Spectrum(grid),
@@ -82,7 +88,7 @@ RgbProfile skin_rgb_profile(const SkinParameters& p, const WavelengthGrid& grid,
                             ProfileSolver& profiles, const Model& model,
                             const ProgressCallback& progress) {
   const auto r = responses(skin_layer_stacks(p, grid), model, progress);
-  return profiles.rgb(r.pointers, color::Colorimetry(grid).srgb_weights());
+  return profiles.rgb(r.pointers, srgb_colorimetry(grid).srgb_weights());
 }
 
 SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& grid,
@@ -94,9 +100,8 @@ SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& gr
     set_layers(a.spectrum, i, stacks[i]);
     a.spectrum.R_d[i] = r.pointers[i]->total();
   }
-  const color::Colorimetry colorimetry(grid);
-  a.spectrum.color = color::summarize(colorimetry, a.spectrum.R_d);
-  a.rgb = profiles.rgb(r.pointers, colorimetry.srgb_weights());
+  a.spectrum.color = color::summarize(color::Colorimetry(grid), a.spectrum.R_d);
+  a.rgb = profiles.rgb(r.pointers, srgb_colorimetry(grid).srgb_weights());
   return a;
 }
 

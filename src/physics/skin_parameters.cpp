@@ -14,35 +14,50 @@ constexpr double kInf = kInfinity;
 // Ranges: the physical domain of each quantity (a fraction within [0, 1]; a length or a scale
 // above 0), except beta-carotene and bilirubin, bounded at 1000 umol/L (far beyond physiology)
 // to catch unit mistakes, and eta, bounded by the media the Fresnel terms are meant for.
+// Skin domain (the two numbers after the member, /*domain*/): the range of human skin the models
+// are validated over (issue 31: melanin 0-0.5, blood 0-0.3, epidermis 0.02-0.5 mm, dermis
+// scattering 0.2-2, scattering scale 0.25-4, g 0.7-0.97, index 1.33-1.55, the extended
+// chromophores over their ranges; roughness 0.1-0.6 around the paper's 0.35).
+// Fit intervals (the last two numbers of a row; the rows without them are not fitted): C_m and
+// C_h, the ranges of the paper's figures (DJ06 Figs 3-4, 7: C_m up to 50 %, C_h up to 20 %).
+// Epidermal blood: a few percent at most (the papillary plexus reaching into the rete ridges;
+// 10 % is generous). Carotene and bilirubin: up to 200 umol/L (bilirubin: clinical jaundice is
+// > ~50 umol/L; carotene in skin is far lower, the bound only keeps the search finite).
+// Epidermis: 0.02-0.5 mm covers thin eyelid to palm (Sandby-Moller et al. 2003 measure
+// 0.03-0.1 mm on most sites; the paper assumes 0.25). Scattering: a factor 4 either way around
+// the paper's eq 8.
 const ParameterInfo kParameters[] = {
     {"melanin", "C_m", "1", 0, 1, false, false,
-     "melanin volume fraction of the epidermis", &SkinParameters::melanin, 0, 0.5},
+     "melanin volume fraction of the epidermis", &SkinParameters::melanin, /*domain*/ 0, 0.5, 0.0, 0.5},
     {"melanin_blend", "beta_m", "1", 0, 1, false, false,
-     "eumelanin share of the melanin (the rest is pheomelanin)", &SkinParameters::melanin_blend, 0, 1},
+     "eumelanin share of the melanin (the rest is pheomelanin)", &SkinParameters::melanin_blend, /*domain*/ 0, 1,
+     0.0, 1.0},
     {"hemoglobin", "C_h", "1", 0, 1, false, false, "blood volume fraction of the dermis",
-     &SkinParameters::hemoglobin, 0, 0.3},
+     &SkinParameters::hemoglobin, /*domain*/ 0, 0.3, 0.0, 0.2},
     {"oiliness", "rho_s", "1", 0, 1, false, false, "scale of the specular (oily) surface lobe",
-     &SkinParameters::oiliness, 0, 1},
+     &SkinParameters::oiliness, /*domain*/ 0, 1, 0.0, 1.0},
     {"oxygenation", "gamma", "1", 0, 1, false, false, "oxygenated share of the hemoglobin",
-     &SkinParameters::oxygenation, 0, 1},
+     &SkinParameters::oxygenation, /*domain*/ 0, 1, 0.0, 1.0},
     {"epidermis_thickness", "", "mm", 0, kInf, true, true, "thickness of the epidermis",
-     &SkinParameters::epidermis_thickness, 0.02, 0.5},
+     &SkinParameters::epidermis_thickness, /*domain*/ 0.02, 0.5, 0.02, 0.5},
     {"dermis_scattering_scale", "", "1", 0, kInf, true, true,
-     "dermis sigma_s_prime relative to the epidermis'", &SkinParameters::dermis_scattering_scale, 0.2, 2},
-    {"eta", "", "1", 1, 3, false, false, "refractive index of both layers", &SkinParameters::eta, 1.33, 1.55},
+     "dermis sigma_s_prime relative to the epidermis'", &SkinParameters::dermis_scattering_scale, /*domain*/ 0.2, 2},
+    {"eta", "", "1", 1, 3, false, false, "refractive index of both layers", &SkinParameters::eta, /*domain*/ 1.33, 1.55},
     {"roughness", "", "1", 0, kInf, true, true, "Beckmann RMS slope of the surface",
-     &SkinParameters::roughness, 0.1, 0.6},
+     &SkinParameters::roughness, /*domain*/ 0.1, 0.6},
     {"g", "", "1", -1, 1, true, true,
      "Henyey-Greenstein anisotropy (transport models; the paper gives sigma_s_prime only)",
-     &SkinParameters::g, 0.7, 0.97},
+     &SkinParameters::g, /*domain*/ 0.7, 0.97},
     {"epidermal_hemoglobin", "", "1", 0, 1, false, false,
-     "extended model: blood volume fraction of the epidermis", &SkinParameters::epidermal_hemoglobin, 0, 1},
+     "extended model: blood volume fraction of the epidermis", &SkinParameters::epidermal_hemoglobin, /*domain*/ 0, 1,
+     0.0, 0.1},
     {"beta_carotene", "", "umol/L", 0, 1000, false, false,
-     "extended model: beta-carotene in the epidermis", &SkinParameters::beta_carotene, 0, 1000},
+     "extended model: beta-carotene in the epidermis", &SkinParameters::beta_carotene, /*domain*/ 0, 1000, 0.0, 200.0},
     {"bilirubin", "", "umol/L", 0, 1000, false, false, "extended model: bilirubin in the dermis",
-     &SkinParameters::bilirubin, 0, 1000},
+     &SkinParameters::bilirubin, /*domain*/ 0, 1000, 0.0, 200.0},
     {"scattering_scale", "", "1", 1e-6, 10, false, false,
-     "extended model: factor on sigma_s_prime of both layers", &SkinParameters::scattering_scale, 0.25, 4},
+     "extended model: factor on sigma_s_prime of both layers", &SkinParameters::scattering_scale, /*domain*/ 0.25, 4,
+     0.25, 4.0},
 };
 
 std::string unit_suffix(std::string_view unit) {
@@ -119,6 +134,9 @@ std::vector<SkinParameters> sample_skin_domain(std::size_t n, std::uint64_t seed
   }
   return out;
 }
+
+
+bool ParameterInfo::fittable() const { return !std::isnan(fit_min); }
 
 bool ParameterInfo::in_range(double v) const {
   if (std::isnan(v)) return false;

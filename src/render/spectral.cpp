@@ -54,7 +54,7 @@ struct Observer {
     cmf[0] = tabulate_1nm([](double l) { return color::color_matching(l).X; });
     cmf[1] = tabulate_1nm([](double l) { return color::color_matching(l).Y; });
     cmf[2] = tabulate_1nm([](double l) { return color::color_matching(l).Z; });
-    const color::Illuminant& D65 = color::find_illuminant(color::kDefaultIlluminant);
+    const color::Illuminant& D65 = color::find_illuminant(color::kSrgbWhite);
     d65 = tabulate_1nm([&](double l) { return D65(l); });
     const double Y = integrate_product(d65, cmf[1]);
     for (auto& v : d65) v /= Y;
@@ -195,7 +195,7 @@ Rgb3 film_srgb_linear(const SampledSpectrum& L, const SampledWavelengths& wl) {
 
 SpectralEmission::SpectralEmission(const color::Illuminant* illuminant) {
   const Observer& o = Observer::get();
-  if (!illuminant || illuminant->name() == color::kDefaultIlluminant) {
+  if (!illuminant || illuminant->name() == color::kSrgbWhite) {
     spd_ = o.d65;
     return;
   }

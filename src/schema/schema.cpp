@@ -181,7 +181,7 @@ std::string color_table(const color::ColorSummary& c) {
      << "sRGB 8-bit              " << c.srgb8[0] << " " << c.srgb8[1] << " " << c.srgb8[2] << '\n'
      << "hex                     " << c.hex << '\n'
      << "CIELAB                  " << num(c.lab.L) << "  " << num(c.lab.a) << "  " << num(c.lab.b) << '\n';
-  if (c.illuminant != color::kDefaultIlluminant)
+  if (c.illuminant != color::kSrgbWhite)
     os << "sRGB and hex after the Bradford adaptation " << c.illuminant << " -> D65; CIELAB relative to "
        << c.illuminant << "'s white\n";
   return os.str();

@@ -1,8 +1,10 @@
 // One vocabulary: the parameter table drives every surface. `skin parameters` lists every
-// parameter; each key works as a flag (dashes), each paper symbol as an alias; --params reads the
-// JSON the CLI writes, flags after it override it; bad files get one line and exit 2.
+// parameter; each key works as a flag (dashes), each paper symbol as an alias, and each flag
+// changes what it should (the colour, or the surface's specular lobe) and nothing else; --params
+// reads the JSON the CLI writes, flags after it override it; bad files get one line and exit 2.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "cli_fixture.hpp"
@@ -38,6 +40,54 @@ TEST_F(Cli, ParametersListsEveryKeyAndEachWorksAsFlagAndSymbol) {
       const json alias = parse(run("color --format json --lambda-step 100 --" +
                                    row["symbol"].get<std::string>() + " " + json(v).dump()))["parameters"];
       EXPECT_DOUBLE_EQ(alias[key].get<double>(), v) << row["symbol"];
+    }
+  }
+}
+
+// Echoing a flag back is not enough: each parameter's flag changes the result it drives. Every
+// parameter of the layers changes the colour (R_d through the transport); the surface's two
+// (oiliness, roughness) leave it alone and change the exported specular lobe, eta its index.
+// The export's values are read from the report of `skin export --target openpbr` (multipole: the
+// specular terms do not depend on the solver, and it is fast off the skin table).
+TEST_F(Cli, EachParameterFlagChangesWhatItShould) {
+  const json table = parse(run("parameters --format json"));
+  auto color = [&](const std::string& flags) {
+    return parse(run("color --format json --lambda-step 100 " + flags))["color"]["XYZ"];
+  };
+  auto specular = [&](const std::string& flags) {
+    const CmdResult r = run("export --target openpbr --solver multipole -o m.json " + flags);
+    EXPECT_EQ(r.code, 0) << flags << ": " << r.err;
+    const json values = json::parse(skin_test::slurp(dir_ / "m.fit.json"))["values"];
+    return json{{"specular_weight", values["specular_weight"]},
+                {"specular_roughness", values["specular_roughness"]},
+                {"specular_ior", values["specular_ior"]}};
+  };
+  const json base_color = color(""), base_specular = specular("");
+  // Which specular value each surface parameter drives; the others drive none.
+  const std::map<std::string, std::string> surface = {
+      {"oiliness", "specular_weight"}, {"roughness", "specular_roughness"}, {"eta", "specular_ior"}};
+  for (const auto& row : table) {
+    const std::string key = row["key"];
+    const double lo = row["min"].get<double>();
+    const double hi = row["max"].is_null() ? lo + 2.0 : row["max"].get<double>();
+    const double v = lo + 0.37 * (hi - lo) + (row["min_exclusive"].get<bool>() ? 1e-3 : 0.0);
+    const std::string flag = row["flag"].get<std::string>() + " " + json(v).dump();
+    const bool of_the_surface = key == "oiliness" || key == "roughness";
+    if (of_the_surface) {
+      EXPECT_EQ(color(flag), base_color) << flag << " changes the colour";
+    } else {
+      EXPECT_NE(color(flag), base_color) << flag << " leaves the colour as it was";
+    }
+    if (!surface.count(key) && !(key == "melanin" || key == "g" || key == "bilirubin")) continue;
+    // The surface's parameters, and three of the layers' as a check that those leave it alone.
+    const json s = specular(flag);
+    for (const auto& [name, value] : base_specular.items()) {
+      const auto it = surface.find(key);
+      if (it != surface.end() && it->second == name) {
+        EXPECT_NE(s[name], value) << flag << " leaves " << name << " as it was";
+      } else {
+        EXPECT_EQ(s[name], value) << flag << " changes " << name;
+      }
     }
   }
 }

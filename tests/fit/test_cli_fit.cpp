@@ -114,6 +114,14 @@ TEST(CliFit, HexJson) {
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_TRUE(j["parameters"].contains("melanin"));
   EXPECT_TRUE(j.contains("delta_e_2000"));
+  // The paper's symbols name the same parameters as the keys, in --free and in --bound.
+  const CliRun keys = run("--hex c8a08c --format json --free melanin,hemoglobin --bound hemoglobin=0:0.05");
+  const CliRun symbols = run("--hex c8a08c --format json --free C_m,C_h --bound C_h=0:0.05");
+  ASSERT_EQ(keys.code, 0);
+  ASSERT_EQ(symbols.code, 0);
+  EXPECT_EQ(symbols.out, keys.out);
+  EXPECT_EQ(run("--hex c8a08c --free C_m,melanin").code, 2);  // one parameter twice
+  EXPECT_EQ(run("--hex c8a08c --bound C_m=0:0.1 --bound melanin=0:0.2").code, 2);
 }
 
 // The measured spectra are found through --spectra-dir, else SKIN_SPECTRA_DIR, else

@@ -189,6 +189,56 @@ TEST(SpectrumInput, OiilinessNeedsTheSpecularTerm) {
   EXPECT_EQ(parse_parameter("beta_carotene"), Parameter::beta_carotene);
 }
 
+// The fit's parameters are the parameter table's rows with a fit interval: their names, member
+// and bounds come from the table, the paper's symbols are accepted wherever keys are, and a
+// parameter named twice (by key and by symbol) is refused.
+TEST(FitParameters, ComeFromTheParameterTable) {
+  std::size_t fittable = 0;
+  for (const skin::ParameterInfo& row : skin::parameter_table()) {
+    if (!row.fittable()) {
+      EXPECT_THROW(parse_parameter(row.key), skin::InputError) << row.key;
+      continue;
+    }
+    ++fittable;
+    const Parameter p = parse_parameter(row.key);
+    EXPECT_EQ(&p.info(), &row);
+    EXPECT_EQ(parse_parameter(row.flag()), p);
+    if (!row.symbol.empty()) {
+      EXPECT_EQ(parse_parameter(row.symbol), p) << row.symbol;
+    }
+    EXPECT_EQ(key(p), row.key);
+    EXPECT_EQ(flag(p), row.flag());
+    // The fit interval lies inside the parameter's range.
+    const Bounds b = default_bounds(p);
+    EXPECT_LT(b.lo, b.hi) << row.key;
+    EXPECT_TRUE(row.in_range(b.lo) && row.in_range(b.hi)) << row.key;
+    skin::SkinParameters s;
+    set(s, p, 0.125);
+    EXPECT_EQ(s.*(row.member), 0.125);
+    EXPECT_EQ(get(s, p), 0.125);
+  }
+  EXPECT_EQ(all_parameters().size(), fittable);
+  for (Parameter p : {Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin, Parameter::oiliness,
+                      Parameter::oxygenation, Parameter::epidermis_thickness, Parameter::epidermal_hemoglobin,
+                      Parameter::beta_carotene, Parameter::bilirubin, Parameter::scattering_scale})
+    EXPECT_NE(std::find(all_parameters().begin(), all_parameters().end(), p), all_parameters().end()) << key(p);
+  // The intervals the fit has always used (its results depend on them).
+  EXPECT_EQ(default_bounds(Parameter::melanin).hi, 0.5);
+  EXPECT_EQ(default_bounds(Parameter::hemoglobin).hi, 0.2);
+  EXPECT_EQ(default_bounds(Parameter::epidermis_thickness).lo, 0.02);
+  EXPECT_EQ(default_bounds(Parameter::scattering_scale).lo, 0.25);
+  EXPECT_EQ(default_bounds(Parameter::scattering_scale).hi, 4.0);
+
+  EXPECT_EQ(parse_parameter_list("C_m, beta_m,C_h,gamma"),
+            (std::vector<Parameter>{Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin,
+                                    Parameter::oxygenation}));
+  EXPECT_THROW(parse_parameter_list("melanin,C_m"), skin::InputError);
+  EXPECT_THROW(parse_parameter("eta"), skin::InputError);  // in the table, not fitted
+  SpectrumFitOptions o = skin_test::multipole_spectrum_options();
+  o.bounds = {{parse_parameter("melanin"), {0.0, 0.1}}, {parse_parameter("C_m"), {0.0, 0.2}}};
+  EXPECT_THROW(SpectrumFitter{o}, skin::InputError);
+}
+
 // The multipole's real source must lie inside the epidermis (z_r = 1 / sigma_t' < d): outside
 // it the model is undefined for the fit (NaN), which keeps the search out of the region where
 // the slab transmittance changes sign.

@@ -57,6 +57,9 @@ TEST(Inputs, LayerStacks) {
 TEST(Inputs, PresetsAndGrids) {
   EXPECT_NE(message_of([] { find_preset("martian"); }).find("known presets are caucasian"), std::string::npos);
   EXPECT_EQ(&find_preset("several-lights"), &find_preset("ear"));
+  // The default preset exists and is the default-constructed parameters (what a command without
+  // --preset and a library call without parameters both mean).
+  EXPECT_EQ(find_preset(kDefaultPreset).parameters, SkinParameters{});
   EXPECT_NE(message_of([] { WavelengthGrid(400, 700, 7); }).find("whole number"), std::string::npos);
   EXPECT_NE(message_of([] { WavelengthGrid(700, 400, 2); }).find("lambda_max"), std::string::npos);
   EXPECT_EQ(WavelengthGrid().size(), 151u);

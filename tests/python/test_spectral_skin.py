@@ -144,6 +144,16 @@ class SameAsTheCommand(unittest.TestCase):
         assert_same(self, py, js)
         self.assertEqual(ss.fit_color(srgb="169,143,116", solver="multipole"), py)
 
+    def test_fit_takes_the_papers_symbols(self):
+        keys = ss.fit_color(hex="a98f74", solver="multipole", free=["melanin", "hemoglobin"],
+                            bounds={"hemoglobin": (0.0, 0.05)})
+        symbols = ss.fit_color(hex="a98f74", solver="multipole", free=["C_m", "C_h"], bounds={"C_h": (0.0, 0.05)})
+        self.assertEqual(symbols, keys)
+        with self.assertRaisesRegex(ValueError, "bounds of melanin are given twice"):
+            ss.fit_color(hex="a98f74", solver="multipole", bounds={"melanin": (0.0, 0.1), "C_m": (0.0, 0.2)})
+        with self.assertRaisesRegex(ValueError, "free parameter 'melanin' is listed twice"):
+            ss.fit_color(hex="a98f74", solver="multipole", free=["C_m", "melanin"])
+
     def test_parameters(self):
         self.assertEqual(ss.parameters(), cli("parameters"))
 

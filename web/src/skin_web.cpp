@@ -8,7 +8,7 @@
 //
 // "update" returns both documents the page shows at each change ({"spectrum", "profile"}, and
 // "color" under an illuminant other than D65). Request keys mirror the command-line options:
-// "preset" (default caucasian), "params" (the object --params FILE.json holds: parameter keys or
+// "preset" (default kDefaultPreset), "params" (the object --params FILE.json holds: parameter keys or
 // symbols, an optional "preset"), "solver", "lambda_min", "lambda_max", "lambda_step", "format";
 // for color and update also "illuminant" (default D65); for profile also "rgb",
 // "radius_min", "radius_max", "samples", "spacing"; for fit "csv" (the file's text), "file"
@@ -50,7 +50,7 @@ T get_or(const json& req, const char* key, T fallback) {
   }
 }
 
-std::string preset_of(const json& req) { return get_or<std::string>(req, "preset", "caucasian"); }
+std::string preset_of(const json& req) { return get_or<std::string>(req, "preset", std::string(kDefaultPreset)); }
 
 // An InputError about skin parameters, with their keys (the "parameters" of the error reply).
 class ParameterError : public InputError {

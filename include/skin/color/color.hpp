@@ -7,9 +7,9 @@
 #include <array>
 #include <iosfwd>
 #include <string>
+#include <vector>
 
 #include "skin/color/illuminant.hpp"
-#include "skin/transport/profile.hpp"
 #include "skin/physics/spectrum.hpp"
 #include "skin/util/rgb.hpp"
 

@@ -12,7 +12,13 @@
 
 namespace skin::color {
 
+// The illuminant a colour is computed under when none is named (skin color, Python's color(),
+// the web page, Colorimetry's default).
 inline constexpr std::string_view kDefaultIlluminant = "D65";
+// The white point of sRGB (IEC 61966-2-1): the white that linear sRGB is referred to, the target of
+// the chromatic adaptation, and the light an RGB renderer's colours are taken under. Another
+// concept than the default illuminant, though both are D65.
+inline constexpr std::string_view kSrgbWhite = "D65";
 
 // Illuminant A's closed form (ISO/CIE 11664-2:2022 eq. 1), which defines it: Planck's law with
 // c2 = 1.435e-2 m K at T = 2848 K (2856 K on today's c2 = 1.4388e-2 m K), 100 at 560 nm.

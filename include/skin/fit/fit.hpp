@@ -9,6 +9,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "skin/physics/skin_parameters.hpp"
@@ -16,39 +17,63 @@
 
 namespace skin::fit {
 
-// The parameters the fit can free. Names: JSON keys use underscores ("melanin_blend"), CLI flags
-// dashes ("melanin-blend"); both spellings are accepted by parse_parameter.
-enum class Parameter {
-  melanin,               // C_m
-  melanin_blend,         // beta_m
-  hemoglobin,            // C_h
-  oiliness,              // rho_s (only seen through the specular term, see SpectrumFitOptions)
-  epidermal_hemoglobin,  // extended model
-  beta_carotene,         // [umol/L]
-  bilirubin,             // [umol/L]
-  epidermis_thickness,   // [mm]
-  oxygenation,           // gamma
-  scattering_scale,      // factor on sigma_s' of both layers
+// A parameter the fit can free: a row of the parameter table (skin_parameters.hpp) that has a
+// fit interval (ParameterInfo::fit_min, fit_max), named by its member of SkinParameters. Its
+// names are the table's: the key ("melanin_blend"), the flag ("melanin-blend") and the paper's
+// symbol ("beta_m"), all accepted by parse_parameter.
+class Parameter {
+ public:
+  // The table's row; InputError unless the row has a fit interval.
+  static Parameter of(const ParameterInfo& row);
+  const ParameterInfo& info() const;
+  constexpr double SkinParameters::*member() const { return member_; }
+  bool operator==(const Parameter&) const = default;
+  // The rows the fit's own code names (each has a fit interval; all_parameters() lists them all).
+  static const Parameter melanin, melanin_blend, hemoglobin, oiliness, oxygenation,
+      epidermis_thickness, epidermal_hemoglobin, beta_carotene, bilirubin, scattering_scale;
+
+ private:
+  constexpr explicit Parameter(double SkinParameters::*member) : member_(member) {}
+  double SkinParameters::*member_;
 };
+inline constexpr Parameter Parameter::melanin{&SkinParameters::melanin};
+inline constexpr Parameter Parameter::melanin_blend{&SkinParameters::melanin_blend};
+inline constexpr Parameter Parameter::hemoglobin{&SkinParameters::hemoglobin};
+inline constexpr Parameter Parameter::oiliness{&SkinParameters::oiliness};
+inline constexpr Parameter Parameter::oxygenation{&SkinParameters::oxygenation};
+inline constexpr Parameter Parameter::epidermis_thickness{&SkinParameters::epidermis_thickness};
+inline constexpr Parameter Parameter::epidermal_hemoglobin{&SkinParameters::epidermal_hemoglobin};
+inline constexpr Parameter Parameter::beta_carotene{&SkinParameters::beta_carotene};
+inline constexpr Parameter Parameter::bilirubin{&SkinParameters::bilirubin};
+inline constexpr Parameter Parameter::scattering_scale{&SkinParameters::scattering_scale};
+
 std::string_view key(Parameter p);   // "melanin_blend"
 std::string flag(Parameter p);       // "melanin-blend"
 std::ostream& operator<<(std::ostream& os, Parameter p);
-// Throws InputError naming the unknown name and listing the known ones.
+// By key, flag or symbol (find_parameter). Throws InputError naming the name and listing the
+// parameters the fit frees.
 Parameter parse_parameter(std::string_view name);
-// Comma-separated list ("oxygenation,scattering-scale"); throws on unknown or repeated names.
+// Comma-separated list ("oxygenation,scattering-scale", "C_m,beta_m"); throws on unknown or
+// repeated parameters.
 std::vector<Parameter> parse_parameter_list(std::string_view list);
+// The rows of the parameter table with a fit interval, in the table's order.
 const std::vector<Parameter>& all_parameters();
 
 double get(const SkinParameters& s, Parameter p);
 void set(SkinParameters& s, Parameter p, double value);
 
-// Search interval of a parameter (inclusive). The defaults are the paper's ranges (C_m 0-0.5,
-// C_h 0-0.2) and physiological ranges for the extended terms; see docs/fit.md for sources.
+// Search interval of a parameter (inclusive).
 struct Bounds {
   double lo = 0, hi = 1;
 };
 std::ostream& operator<<(std::ostream& os, const Bounds& b);
+// The parameter table's fit interval: the paper's ranges (C_m 0-0.5, C_h 0-0.2) and
+// physiological ranges for the extended terms (sources: src/physics/skin_parameters.cpp,
+// docs/fit.md).
 Bounds default_bounds(Parameter p);
+// Throws InputError if a list of bounds overriding the defaults names a parameter twice (its key
+// and its symbol name one parameter: one of the two would be dropped). The fitters check it.
+void check_bounds(const std::vector<std::pair<Parameter, Bounds>>& bounds);
 
 // The forward model: total diffuse reflectance R_d at one wavelength [nm]. Swappable so that
 // another model (Monte Carlo tables, ...) can replace the transport models. Must be thread-safe

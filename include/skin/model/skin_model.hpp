@@ -37,9 +37,10 @@ std::vector<DiffusionStack> skin_diffusion_stacks(const SkinParameters& p,
 SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid = {},
                            const Model& model = transport::default_model());
 
-// Radial profiles per wavelength, or per linear sRGB channel (colour weights from `grid`).
-// `progress` counts the wavelengths whose response is built (the slow part off the accurate
-// model's skin table: ~0.35 s each).
+// Radial profiles per wavelength, or per linear sRGB channel (colour weights from `grid`, under
+// sRGB's white, color::kSrgbWhite). `progress` counts the wavelengths whose response is built
+// (the slow part where a response is solved rather than read from the accurate model's skin
+// table; docs/benchmarks.md).
 SpectralProfile skin_spectral_profile(const SkinParameters& p, const WavelengthGrid& grid,
                                       ProfileSolver& profiles,
                                       const Model& model = transport::default_model(),
@@ -62,7 +63,7 @@ SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& gr
                                const Model& model = transport::default_model());
 
 // How many wavelengths of `grid` the model's profile of this skin solves numerically
-// (Model::response_is_solved: ~0.35 s each on 2 cores) rather than reads: 0 for the accurate
+// (Model::response_is_solved; the cost is in docs/benchmarks.md) rather than reads: 0 for the accurate
 // model on its skin table, every wavelength for sfd.
 std::size_t skin_profile_solves(const SkinParameters& p, const WavelengthGrid& grid,
                                 const Model& model = transport::default_model());

@@ -3,6 +3,7 @@
 // fixed choices of the paper as named, documented defaults.
 #include <iosfwd>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <string_view>
@@ -45,7 +46,7 @@ std::ostream& operator<<(std::ostream& os, const SkinParameters& p);
 // The parameter table: the one home of every model parameter's name, symbol, unit, range,
 // default and help. Every surface iterates it: validation, printing, CLI flags (the key with
 // dashes), JSON keys, scene material keys, EXR channel names, Python keywords, the fit's free
-// parameters and `skin parameters`.
+// parameters (the rows with a fit interval: fit::Parameter) and `skin parameters`.
 struct ParameterInfo {
   std::string_view key;     // canonical name: JSON/scene key, EXR channel, Python keyword
   std::string_view symbol;  // the paper's symbol (accepted as an alias on input), "" if none
@@ -58,12 +59,18 @@ struct ParameterInfo {
   // validated over it, docs/accurate-solver.md; the validity report names what lies outside).
   // Inside [min, max].
   double domain_min, domain_max;
+  // The fit's default search interval [fit_min, fit_max] (inclusive, inside the range; sources
+  // in src/physics/skin_parameters.cpp and docs/fit.md); NaN for a parameter the fit does not
+  // free.
+  double fit_min = std::numeric_limits<double>::quiet_NaN();
+  double fit_max = std::numeric_limits<double>::quiet_NaN();
 
   std::string flag() const;        // the CLI spelling: key with dashes ("melanin-blend")
   std::string label() const;       // for messages: "melanin-blend (beta_m)"
   std::string range_text() const;  // "[0, 1]", "(0, inf)"
   double default_value() const;    // the value in a default-constructed SkinParameters
   bool in_range(double v) const;   // false for NaN
+  bool fittable() const;           // whether the fit can free it (it has a fit interval)
   // Throws InputError "<label> = <v> [unit] is out of range: ..." unless in_range(v).
   void check(double v) const;
   bool in_domain(double v) const { return v >= domain_min && v <= domain_max; }
@@ -116,6 +123,9 @@ struct Preset {
   SkinParameters parameters;
 };
 const std::vector<Preset>& presets();
+// The preset a command, a Python call or the web page starts from when none is named (its
+// parameters are a default-constructed SkinParameters').
+inline constexpr std::string_view kDefaultPreset = "caucasian";
 // Throws InputError listing the known names when `name` is unknown. Accepts aliases
 // ("several-lights" for "ear").
 const Preset& find_preset(std::string_view name);

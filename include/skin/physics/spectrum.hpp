@@ -2,6 +2,7 @@
 // Wavelength grids and spectra. A spectrum on a grid (Spectrum) is kept apart from a continuous
 // function of wavelength (TabulatedFunction): code can only combine spectra on the same grid.
 // Wavelengths in nm.
+#include <array>
 #include <cstddef>
 #include <iosfwd>
 #include <string>
@@ -48,6 +49,11 @@ struct Spectrum {
 };
 
 std::ostream& operator<<(std::ostream& os, const Spectrum& s);
+
+// Per-wavelength weights of three linear colour channels: channel c = sum_i weights[i][c] x
+// spectrum[i]. The colour module gives linear sRGB's (Colorimetry::srgb_weights); the transport
+// module applies them to profiles (ProfileSolver::rgb).
+using ChannelWeights = std::vector<std::array<double, 3>>;
 
 // A function of one variable given by a table, linearly interpolated. Outside the table it
 // either throws (Outside::error: the data must cover what is asked) or returns 0

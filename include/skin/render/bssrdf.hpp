@@ -129,8 +129,8 @@ class BasicBssrdf {
   // tangent probe rarely finds the surface: drawing the axis at random for each of N probes left
   // some vertices with fewer normal probes (on a flat slab most of the estimate's spread was that
   // lottery); the set always has N normal probes, and sometimes a tangent probe for creases,
-  // edges and thin parts (head, 64 spp: E 0.0391 in 15.6 CPU-s with it always, 0.0382 in 13.3
-  // with 1/4, 0.0378 in 14.0 with 1/10). The entry points of all of them are combined by a multi-sample
+  // edges and thin parts (the probability 1/4 was chosen on the head scene's error per CPU time:
+  // docs/benchmarks.md). The entry points of all of them are combined by a multi-sample
   // MIS (Veach 1997, sec. 9.2): for channel c, a point found by probe j weighs
   //   alpha_cj R_c(|x_o - x_i|) / sum_k alpha_ck pdf_k(x_i),   alpha_cj = kOwnChannelWeight if j = c, else 1,
   // summed over every point every probe found. The weights alpha_cj pdf_j / sum_k alpha_ck pdf_k

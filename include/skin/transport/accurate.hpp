@@ -176,8 +176,7 @@ class FrequencyStack final : public RadialResponse {
 //   default g, index and dermis scattering, every preset at 380-780 nm): FrequencyStack's
 //   profile, tabulated over the stack's three reduced parameters and interpolated (read, not
 //   solved; within 0.1-0.4 % of the solver on light skin, a few per cent on the darkest);
-// - every other stack: FrequencyStack, solved (~0.3 s per skin stack on 2 cores, minutes for
-//   four layers with index steps).
+// - every other stack: FrequencyStack, solved (its cost: docs/benchmarks.md).
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const LayerStack& stack, const Options& options = {});

@@ -51,10 +51,10 @@ class Model {
   // The radial response (total == R_d); validates the stack.
   virtual std::unique_ptr<RadialResponse> response(const LayerStack& stack) const = 0;
   virtual Validity validity(const LayerStack& stack) const = 0;
-  // Whether response() solves the stack numerically (the frequency-domain solver: ~0.35 s per
-  // skin-like stack on 2 cores, seconds in a browser's one thread) rather than evaluating a
-  // closed form or reading a table (microseconds to milliseconds). Interactive callers (the web
-  // page) ask before they build many responses.
+  // Whether response() solves the stack numerically (the frequency-domain solver) rather than
+  // evaluating a closed form or reading a table, which is orders of magnitude cheaper
+  // (docs/benchmarks.md). Interactive callers (the web page) ask before they build many
+  // responses.
   virtual bool response_is_solved(const LayerStack& stack) const = 0;
 };
 
@@ -63,13 +63,13 @@ class Model {
 //   Henyey-Greenstein phase function, exact Fresnel boundaries), within Monte Carlo noise for
 //   every skin type; profiles by radiative transfer in the spatial-frequency domain (as `sfd`),
 //   read from the built-in table of skin profiles for the two-layer skin geometry and the
-//   half-space of skin's medium (every preset: ~6 ms for an RGB profile), solved for every other
-//   stack; integrating exactly to those totals (docs/accurate-solver.md, sec. 3, 8, 9).
+//   half-space of skin's medium (every preset), solved for every other stack; integrating
+//   exactly to those totals (docs/accurate-solver.md, sec. 3, 8, 9).
 // - sfd: the same totals, every profile from the spatial-frequency domain (accurate::
 //   FrequencyStack): within 5 % + 3 SE of Monte Carlo over 0.02-10 mm in every case measured
 //   (against `skin mc` and MCML; a slab thinner than ~0.023 scaled mean free paths reaches the
-//   cap of 64 azimuthal orders and may miss near the beam), at ~0.3 s (skin, 2 cores) to minutes
-//   (index steps, 4 layers; a 14 um slab in air with its 48 orders: 47 s) per stack.
+//   cap of 64 azimuthal orders and may miss near the beam). Its cost per stack grows with the
+//   layers, the index steps and the azimuthal orders a thin slab needs (docs/benchmarks.md).
 // - multipole: the paper's method (DJ05 multipole, convolved in the frequency domain), kept
 //   unchanged to reproduce the paper; outside it where a layer is thinner than z_r.
 // The default is accurate because the multipole overstates dark skin's reflectance 2-3x in the

@@ -39,10 +39,6 @@ struct RadialGrid {
 };
 std::ostream& operator<<(std::ostream& os, const RadialGrid& g);
 
-// Per-wavelength weights of three linear colour channels (for example linear sRGB from the colour
-// module): channel c = sum_i weights[i][c] x spectrum[i].
-using ChannelWeights = std::vector<std::array<double, 3>>;
-
 // A profile per wavelength: R[i * radii.size() + j] = R(radii[j], grid[i]) [1/mm^2].
 struct SpectralProfile {
   WavelengthGrid grid;

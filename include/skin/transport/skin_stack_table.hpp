@@ -2,7 +2,7 @@
 // The frequency-domain profiles of the two-layer skin geometry and of a half-space of skin's
 // medium, tabulated (docs/accurate-solver.md, sec. 9): a cache of FrequencyStack for the stacks
 // every skin material asks for (and the half-spaces the export to pbrt-v4 fits), so that an RGB
-// or spectral profile of skin is read, not solved (~0.4 CPU-s per stack otherwise).
+// or spectral profile of skin is read, not solved (the cost of a solve: docs/benchmarks.md).
 //
 // Geometry: air over a finite layer (the epidermis: index eta, Henyey-Greenstein g, reduced
 // scattering s, absorption sigma_a,e, thickness d) over a half-space of the same index and g (the

@@ -12,7 +12,7 @@ inline constexpr double kWarnedSeconds = 3600, kRefusedSeconds = 7 * 86400;
 struct WorkEstimate {
   double seconds = 0;  // estimated wall time
   int threads = 1;     // the worker threads it assumes
-  // "<what> would take about 3.2 hours on 2 threads (estimate from the measured speed)"
+  // "<what> would take about <duration> on <threads> threads (estimate from the measured speed)"
   std::string text;
   bool long_run() const { return seconds > kWarnedSeconds; }
 };
