@@ -47,7 +47,9 @@ void register_profile(CLI::App& app) {
     (void)o->out.resolve();  // a contradicting --format fails before the work
     Result result;
     RgbProfile rgb;
-    // Off the accurate model's skin table a wavelength takes ~0.35 s: a bar on a terminal.
+    // Off the accurate model's skin table each wavelength is solved (docs/benchmarks.md): said
+    // before it starts, with an estimate, and a bar on a terminal.
+    note_profile_solves(skin_profile_solves(p, grid, model), grid.size());
     const ProgressCallback progress = progress_bar("wavelengths");
     if (o->rgb || !o->plot.empty()) rgb = skin_rgb_profile(p, grid, solver, model, progress);
     if (o->rgb) {

@@ -135,6 +135,16 @@ std::function<SkinParameters(const SkinParameters&)> ParameterOptions::change() 
   };
 }
 
+void note_profile_solves(std::size_t solves, std::size_t wavelengths) {
+  if (solves == 0 || !stderr_is_terminal()) return;
+  const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const double seconds = static_cast<double>(solves) / (kFrequencySolvesPerSecond * threads);
+  std::cerr << "skin: note: " << solves << " of " << wavelengths
+            << " wavelengths are off the skin table and solved in the frequency domain: about "
+            << format_number(std::round(seconds)) << " s on " << threads
+            << " threads; Ctrl-C stops it without writing anything\n";
+}
+
 void warn_if_long(const WorkEstimate& estimate) {
   if (estimate.long_run())
     std::cerr << "skin: warning: " << estimate.text << "; Ctrl-C stops it without writing anything\n";

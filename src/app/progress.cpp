@@ -41,8 +41,11 @@ class Bar {
                  std::string(static_cast<std::size_t>(fill), '#').c_str(), kWidth - fill, "",
                  percent);
     if (!unit_.empty()) std::fprintf(stderr, "  %zu/%zu %s", done, total, unit_.c_str());
-    std::fprintf(stderr, "  %.1f s%s", std::chrono::duration<double>(now - start_).count(),
-                 last ? "\n" : "");
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    std::fprintf(stderr, "  %.1f s", elapsed);
+    // The time left, from the pace so far (once there is a pace: 2 % done and a second gone).
+    if (!last && f >= 0.02 && elapsed >= 1.0) std::fprintf(stderr, ", ~%.0f s left  ", elapsed * (1 - f) / f);
+    std::fprintf(stderr, "%s", last ? "\n" : "");
     std::fflush(stderr);
     finished_ = last;
   }

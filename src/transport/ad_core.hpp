@@ -32,8 +32,10 @@ int propagating(const Streams& st, double n);
 using Mat = Eigen::MatrixXd;
 using Vec = Eigen::VectorXd;
 
-// Quadrature points per panel for a stack (Options, or automatic); validates both.
-int quadrature_points(const LayerStack& stack, const Options& options);
+// Quadrature points per panel for a stack (Options, or automatic: for the totals, or for the
+// frequency-domain solver); validates both.
+int quadrature_points(const LayerStack& stack, const Options& options,
+                      bool frequency_domain = false);
 
 // Angular data of one medium (index n, anisotropy g) on a stream set: cosines mu, sines s (of
 // the angle from the normal, in that medium), c = a / (4 mu), the delta-M forward fraction f and

@@ -472,7 +472,8 @@ void detail::add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T) {
   b.R = std::move(R);
 }
 
-int detail::quadrature_points(const LayerStack& stack, const Options& options) {
+int detail::quadrature_points(const LayerStack& stack, const Options& options,
+                              bool frequency_domain) {
   stack.validate();
   validate_options(options);
   bool index_steps = false, forward = false;
@@ -482,7 +483,8 @@ int detail::quadrature_points(const LayerStack& stack, const Options& options) {
   }
   return options.quadrature_points != 0 ? options.quadrature_points
          : index_steps                  ? kIndexStepQuadraturePoints
-         : forward                      ? kForwardQuadraturePoints
+         : forward && frequency_domain  ? kForwardQuadraturePoints
+         : forward                      ? kForwardTotalsQuadraturePoints
                                         : kDefaultQuadraturePoints;
 }
 

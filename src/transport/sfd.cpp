@@ -282,7 +282,7 @@ LayerRT frequency_layer(const Angular& geo, const Layer& layer, double k, int or
 // scalars) and crosses each interface with its transmission (docs/accurate-solver.md, sec. 8).
 std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,
                                         const FrequencyOptions& options) {
-  const int points = quadrature_points(stack, options.totals);
+  const int points = quadrature_points(stack, options.totals, true);
   const Streams st = make_streams(stack, points);
   const Vec t = escape_weights(st, stack);
   // Per layer: the delta-M scaled data of the solver, the beam's weight at the layer's top
@@ -361,7 +361,7 @@ std::vector<double> single_scattering_k(const LayerStack& stack, const std::vect
 // it is attenuated by exp(-sigma_t d) per layer and reflected by the Fresnel reflectance at
 // normal incidence of every interface. 1D adding from the bottom up.
 double ballistic_return(const LayerStack& stack, const FrequencyOptions& options) {
-  const int points = quadrature_points(stack, options.totals);
+  const int points = quadrature_points(stack, options.totals, true);
   const Streams st = make_streams(stack, points);
   const auto& ls = stack.layers;
   auto fresnel0 = [](double a, double b) { return fresnel_dielectric(1.0, a, b); };
@@ -411,7 +411,7 @@ int detail::azimuthal_orders(const LayerStack& stack, double k, const FrequencyO
 
 std::vector<double> frequency_response(const LayerStack& stack, const std::vector<double>& k,
                                        const FrequencyOptions& options) {
-  const int points = detail::quadrature_points(stack, options.totals);
+  const int points = detail::quadrature_points(stack, options.totals, true);
   if (options.azimuthal_orders < 0 || options.azimuthal_orders > 64)
     throw InputError("azimuthal-orders = " + std::to_string(options.azimuthal_orders) +
                      " is out of range: must be 0 (automatic) or in [1, 64]");

@@ -637,7 +637,8 @@ TEST(FrequencyStack, ForwardScatteringGetsMoreDirectionsAndNoRipple) {
   skin::SkinParameters p = skin::find_preset("african").parameters;
   p.g = 0.95;
   const LayerStack s = skin::skin_layer_stack(p, 650);
-  EXPECT_EQ(skin::accurate::detail::quadrature_points(s, {}), skin::accurate::kForwardQuadraturePoints);
+  EXPECT_EQ(skin::accurate::detail::quadrature_points(s, {}, true), skin::accurate::kForwardQuadraturePoints);
+  EXPECT_EQ(skin::accurate::detail::quadrature_points(s, {}), skin::accurate::kForwardTotalsQuadraturePoints);
   std::vector<double> r;
   for (double v = 0.3; v <= 1.25; v *= 1.08) r.push_back(v);
   skin::ProfileSolver ps(skin::RadialGrid::from(r));
