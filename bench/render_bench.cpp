@@ -23,10 +23,9 @@ constexpr int kBatch = 1024;
 // The caucasian preset's material (profiles, specular albedo), built once.
 const Material& caucasian() {
   static const Material m = [] {
-    Material x;
-    x.name = "caucasian";
-    prepare_skin_material(x, skin::find_preset("caucasian").parameters);
-    return x;
+    MaterialDescription d = skin_description(skin::find_preset("caucasian").parameters);
+    d.name = "caucasian";
+    return build_material(d);
   }();
   return m;
 }
@@ -234,8 +233,9 @@ BENCHMARK(BM_HeadCameraSample)->Unit(benchmark::kMillisecond);
 
 // Renders the default scene at 192 x 128, `spp` samples; threads from the argument.
 void render_default(benchmark::State& state, bool diffuse) {
-  Scene scene = Scene::default_scene();
-  if (diffuse) scene.make_translucent_diffuse();
+  SceneDescription description = SceneDescription::default_scene();
+  if (diffuse) description.make_translucent_diffuse();
+  const Scene scene = description.build();
   const std::int64_t samples = render_samples(state, scene, 192, 128, static_cast<int>(state.range(0)));
   state.counters["samples/s"] = benchmark::Counter(static_cast<double>(samples), benchmark::Counter::kIsRate);
 }

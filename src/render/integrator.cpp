@@ -83,7 +83,7 @@ struct SpectralShading {
   Value texture(const Material& m, const Rgb3& texel) const {
     Value t = RgbUpsampling::get()(texel, wl);
     for (int j = 0; j < kWavelengths; ++j) {
-      const double ref = m.spectral->texture_reference(wl.lambda[static_cast<std::size_t>(j)]);
+      const double ref = (*m.spectral_texture_reference)(wl.lambda[static_cast<std::size_t>(j)]);
       t[j] = ref > 1e-6 ? t[j] / ref : 0.0;
     }
     return t;

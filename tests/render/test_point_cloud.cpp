@@ -16,11 +16,7 @@
 namespace skin::render {
 namespace {
 
-Material caucasian() {
-  Material m;
-  prepare_skin_material(m, find_preset("caucasian").parameters);
-  return m;
-}
+Material caucasian() { return build_material(skin_description(find_preset("caucasian").parameters)); }
 
 TEST(NearFieldKernel, IntegratesToRdAndMeetsTheProfile) {
   // K is R convolved with a normalised disk, so it integrates to R_d over the plane like R, has
