@@ -21,11 +21,11 @@ using namespace skin::render;  // NOLINT(google-build-using-namespace)
 constexpr int kBatch = 1024;
 
 // The caucasian preset's material (profiles, specular albedo), built once.
-const Material& caucasian() {
-  static const Material m = [] {
+const TranslucentMaterial& caucasian() {
+  static const TranslucentMaterial m = [] {
     MaterialDescription d = skin_description(skin::find_preset("caucasian").parameters);
     d.name = "caucasian";
-    return build_material(d);
+    return build_translucent(d);
   }();
   return m;
 }
@@ -46,7 +46,7 @@ void batch(benchmark::State& state, F&& f) {
 }
 
 Bssrdf flat_bssrdf() {
-  const Material& m = caucasian();
+  const TranslucentMaterial& m = caucasian();
   // A flat exit point at the origin, normal +z, 1 mm per unit.
   return Bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), {0, 0, 0}, {0, 0, 1}, 1.0);
 }

@@ -27,6 +27,7 @@
 #include <mutex>
 #include <type_traits>
 #include <unordered_map>
+#include <variant>
 
 #include "point_cloud.hpp"
 #include "scene_impl.hpp"
@@ -48,6 +49,14 @@ struct Surface {
   std::size_t mesh = 0;
 };
 
+// Where a path is and how it got there: the ray to trace next, and the direction's pdf for MIS.
+struct PathState {
+  Vec3 o, d;
+  double prev_pdf = 0;     // solid-angle pdf of the direction that produced this ray
+  bool prev_delta = true;  // true: no MIS against lights for what the ray hits (camera ray)
+  Vec3 prev_n;             // shading normal at the vertex the ray left (environment pdf)
+};
+
 // What a path carries and how the scene's RGB data turns into it. RGB rendering: linear sRGB,
 // the material's three channel profiles, the data as they are.
 struct RgbShading {
@@ -55,14 +64,14 @@ struct RgbShading {
   using Bssrdf = render::Bssrdf;
   static constexpr int kChannels = 3;
   static Value one() { return {1, 1, 1}; }
-  Bssrdf bssrdf(const Material& m, const Vec3& x, const Vec3& n, double mm) const {
+  Bssrdf bssrdf(const TranslucentMaterial& m, const Vec3& x, const Vec3& n, double mm) const {
     return Bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), x, n, mm);
   }
   // A light's RGB radiance (light: its index, lights.size() for the environment).
   const Value& emitted(const Rgb3& L, std::size_t) const { return L; }
   const Value& reflectance(const Rgb3& albedo) const { return albedo; }
   // The albedo texture's modulation of the subsurface term: texture / R_d(reference).
-  Value texture(const Material& m, const Rgb3& texel) const { return texel * m.texture_normalisation; }
+  Value texture(const TranslucentMaterial& m, const Rgb3& texel) const { return texel * m.texture_normalisation; }
   static Value from(const double* w) { return {w[0], w[1], w[2]}; }
 };
 
@@ -75,12 +84,12 @@ struct SpectralShading {
   const std::vector<SpectralEmission>* emission;  // per light, then the environment
   SampledWavelengths wl;
   static Value one() { return Value::constant(1); }
-  Bssrdf bssrdf(const Material& m, const Vec3& x, const Vec3& n, double mm) const {
+  Bssrdf bssrdf(const TranslucentMaterial& m, const Vec3& x, const Vec3& n, double mm) const {
     return Bssrdf(m.spectral->channels(wl), m.rho_s, m.specular_albedo.get(), x, n, mm);
   }
   Value emitted(const Rgb3& L, std::size_t light) const { return (*emission)[light](L, wl); }
   Value reflectance(const Rgb3& albedo) const { return RgbUpsampling::get()(albedo, wl); }
-  Value texture(const Material& m, const Rgb3& texel) const {
+  Value texture(const TranslucentMaterial& m, const Rgb3& texel) const {
     Value t = RgbUpsampling::get()(texel, wl);
     for (int j = 0; j < kWavelengths; ++j) {
       const double ref = (*m.spectral_texture_reference)(wl.lambda[static_cast<std::size_t>(j)]);
@@ -96,7 +105,7 @@ struct SpectralShading {
 // parameter-map node, by address.
 struct PointSubsurface {
   std::vector<PointCloud> cloud;
-  std::unordered_map<const Material*, NearFieldKernel> kernel;
+  std::unordered_map<const TranslucentMaterial*, NearFieldKernel> kernel;
   double max_solid_angle = 0;
   double h = 0;  // [scene units] radius of the exitance cache's interpolation; 0: sum at x_o
   double spacing = 0;  // [mm]
@@ -147,6 +156,14 @@ class Integrator {
                       double* pdf) const;
   bool visible(const Vec3& p, const Vec3& n, const Vec3& wi, double dist) const;
   Vec3 offset(const Vec3& p, const Vec3& n, const Vec3& w) const { return p + n * (dot(w, n) > 0 ? eps_ : -eps_); }
+  // A vertex of a path: the material's own terms added to L (beta: the path's throughput), and
+  // the path continued from it (false: it ends). One per material type (Material::type).
+  template <class Shading>
+  bool vertex(const DiffuseMaterial& m, const Surface& x, int depth, Sampler& rng, const Shading& sh,
+              typename Shading::Value& L, typename Shading::Value& beta, PathState& path) const;
+  template <class Shading>
+  bool vertex(const TranslucentMaterial& m, const Surface& x, int depth, Sampler& rng, const Shading& sh,
+              typename Shading::Value& L, typename Shading::Value& beta, PathState& path) const;
   // Entry points and their weights R / pdf per channel (sample_entries).
   template <class Value>
   struct Entry {
@@ -307,7 +324,8 @@ Rgb3 Integrator::entry_irradiance(const SurfaceSample& at, std::uint64_t seed, s
   Rgb3 E;
   for (int j = 0; j < samples; ++j) {
     Sampler rng(Rng::for_sample(seed, index, static_cast<std::uint64_t>(j)));
-    const Material& m = x.mat->has_maps() && x.has_uv ? x.mat->node_at(x.uv.x, x.uv.y, rng.uniform()) : *x.mat;
+    const TranslucentMaterial& t = *x.mat->translucent();
+    const TranslucentMaterial& m = t.has_maps() && x.has_uv ? t.node_at(x.uv.x, x.uv.y, rng.uniform()) : t;
     const Bssrdf bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), x.p, x.ns, s_.mm_per_unit);
     E += direct(RgbShading{}, x.p, x.ns, x.ng, rng, [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, x.ns)); },
                 [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, x.ns)); });
@@ -324,145 +342,35 @@ template <class Shading>
 typename Shading::Value Integrator::Li(Vec3 o, Vec3 d, Sampler& rng, const Shading& sh, bool* translucent,
                                        const PathStart& start) const {
   using Value = typename Shading::Value;
-  constexpr int N = Shading::kChannels;
   Value L{}, beta = Shading::one();
-  double prev_pdf = start.prev_pdf;    // solid-angle pdf of the direction that produced this ray
-  bool prev_delta = start.prev_delta;  // camera ray: no MIS against lights
-  Vec3 prev_n = start.prev_n;          // shading normal at the vertex the ray left (environment pdf)
+  PathState path{o, d, start.prev_pdf, start.prev_delta, start.prev_n};
   for (int depth = start.depth;; ++depth) {
     RayHit h;
-    const bool hit = a_.intersect(o, d, eps_, kInf, &h);
+    const bool hit = a_.intersect(path.o, path.d, eps_, kInf, &h);
     const double t_hit = hit ? h.t : kInf;
     {
       Rgb3 Le;
       std::size_t light = 0;
       double lpdf = 0;
-      if (hit_area_light(o, prev_n, d, t_hit, &Le, &light, &lpdf)) {
-        const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
+      if (hit_area_light(path.o, path.prev_n, path.d, t_hit, &Le, &light, &lpdf)) {
+        const double w = path.prev_delta ? 1.0 : power_heuristic(path.prev_pdf, lpdf);
         L += beta * sh.emitted(Le, light) * w;
         break;
       }
     }
     if (!hit) {
       if (!s_.environment.black()) {
-        const double lpdf = s_.environment.pdf(o, prev_n, d);
-        const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
-        L += beta * sh.emitted(s_.environment.radiance(d), s_.lights.size()) * w;
+        const double lpdf = s_.environment.pdf(path.o, path.prev_n, path.d);
+        const double w = path.prev_delta ? 1.0 : power_heuristic(path.prev_pdf, lpdf);
+        L += beta * sh.emitted(s_.environment.radiance(path.d), s_.lights.size()) * w;
       }
       break;
     }
     if (depth >= max_depth_) break;
     if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth));
-    Surface x = surface(h, d);
-    if (x.mat->has_maps() && x.has_uv) x.mat = &x.mat->node_at(x.uv.x, x.uv.y, rng.uniform());
-    const Material& m = *x.mat;
-    if (depth == 0 && translucent) *translucent = m.translucent();
-    const Vec3 wo = -d;
-    if (!m.translucent()) {
-      const Value albedo = sh.reflectance(m.albedo_map && x.has_uv ? m.albedo_map->lookup(x.uv.x, x.uv.y) : m.albedo);
-      const auto lambert = [&](const Vec3& wi) { return std::max(0.0, dot(wi, x.ns)) / kPi; };
-      L += beta * albedo * direct(sh, x.p, x.ns, x.ng, rng, lambert, lambert);
-      const Frame f = Frame::from_normal(x.ns);
-      const Vec3 wi = f.to_world(sample_cosine_hemisphere(rng.uniform2()));
-      if (dot(wi, x.ng) <= 0) break;
-      beta *= albedo;
-      prev_pdf = dot(wi, x.ns) / kPi;
-      prev_delta = false;
-      prev_n = x.ns;
-      o = offset(x.p, x.ng, wi);
-      d = wi;
-    } else {
-      const auto bssrdf = sh.bssrdf(m, x.p, x.ns, s_.mm_per_unit);
-      const Frame& f = bssrdf.frame();
-      const Vec3 wo_l = f.to_local(wo);
-      const double cos_o = std::max(wo_l.z, 1e-4);
-      const TorranceSparrow lobe(m.rho_s, m.roughness, m.eta);
-      // Surface term: direct light with MIS.
-      const Vec3 wo_c{wo_l.x, wo_l.y, cos_o};
-      if (m.rho_s > 0) {
-        L += beta * direct(sh, x.p, x.ns, x.ng, rng,
-                           [&](const Vec3& wi) { const Vec3 l = f.to_local(wi); return lobe.f(wo_c, l) * l.z; },
-                           [&](const Vec3& wi) { return lobe.pdf(wo_c, f.to_local(wi)); });
-      }
-      // Subsurface term: entry points x_i (one probe per channel, every candidate), direct light
-      // at each with MIS; the path continues from one of them, picked by its weight.
-      const double Ft_o = bssrdf.F_t(cos_o);
-      Value tex = Shading::one();
-      if (m.albedo_map && x.has_uv) tex = sh.texture(m, m.albedo_map->lookup(x.uv.x, x.uv.y));
-      const Value beta_o = beta * tex * Ft_o;
-      constexpr int kMaxEntries = (N + 1) * kMaxHits;
-      Entry<Value> entries[kMaxEntries];
-      int n_entries = 0;
-      const std::size_t mat_index = s_.meshes[x.mesh].material;
-      if (points_ && !points_->cloud[mat_index].empty()) {
-        // From the cloud (RGB only; render() refuses points with spectral rendering): the whole
-        // subsurface term (its points' irradiance holds every bounce); the path goes on through
-        // the surface term only.
-        if constexpr (std::is_same_v<Shading, RgbShading>) {
-          const PointCloud& cloud = points_->cloud[mat_index];
-          Rgb3 M;
-          if (!(points_->h > 0 && points_->cache[mat_index].interpolated_exitance(x.p, points_->h, &M)))
-            M = cloud.radiant_exitance(x.p, points_->kernel.at(x.mat), points_->max_solid_angle, &x.ns);
-          L += beta_o * M;
-        }
-      } else {
-        n_entries = sample_entries<Shading>(x, bssrdf, rng, depth == 0, entries);
-      }
-      const bool entered = n_entries > 0;
-      Value beta_ss;
-      Surface xi;
-      if (entered) {
-        double total = 0, pick_w[kMaxEntries];
-        for (int k = 0; k < n_entries; ++k) {
-          const auto& e = entries[k];
-          if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth + 1 + e.slot));
-          L += beta_o * e.weight * direct(sh, e.x.p, e.x.ns, e.x.ng, rng,
-                                          [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, e.x.ns)); },
-                                          [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, e.x.ns)); });
-          double sum_abs = 0;
-          for (int c = 0; c < N; ++c) sum_abs += std::abs(e.weight[c]);
-          pick_w[k] = sum_abs + 1e-12;
-          total += pick_w[k];
-        }
-        if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth + kBlocksPerDepth - 1));
-        // One entry carries the path on: picked in proportion to its weight, divided by that.
-        double u = rng.uniform() * total;
-        int k = 0;
-        while (k + 1 < n_entries && u >= pick_w[k]) u -= pick_w[k++];
-        xi = entries[k].x;
-        beta_ss = beta_o * entries[k].weight * (total / pick_w[k]);
-      }
-      // Continue with one of the two terms, chosen by their albedo at w_o.
-      const double a_spec = bssrdf.rho_dr(cos_o);
-      const double a_ss = entered ? (1 - a_spec) * std::max(1e-3, m.R_d.average()) : 0.0;
-      const double p_spec = a_spec + a_ss > 0 ? a_spec / (a_spec + a_ss) : 0.0;
-      if (rng.uniform() < p_spec) {
-        Vec3 wi_l;
-        double pdf = 0;
-        if (!lobe.sample({wo_l.x, wo_l.y, cos_o}, rng.uniform2(), &wi_l, &pdf) || pdf <= 0) break;
-        const Vec3 wi = f.to_world(wi_l);
-        if (dot(wi, x.ng) <= 0) break;
-        beta *= lobe.f({wo_l.x, wo_l.y, cos_o}, wi_l) * wi_l.z / (pdf * p_spec);
-        prev_pdf = pdf;
-        prev_delta = false;
-        prev_n = x.ns;
-        o = offset(x.p, x.ng, wi);
-        d = wi;
-      } else {
-        if (!entered || p_spec >= 1) break;
-        const Frame fi = Frame::from_normal(xi.ns);
-        const Vec3 wi_l = sample_cosine_hemisphere(rng.uniform2());
-        const Vec3 wi = fi.to_world(wi_l);
-        if (dot(wi, xi.ng) <= 0) break;
-        // f cos / pdf = F_t(theta_i) / pi x cos / (cos / pi).
-        beta = beta_ss * (bssrdf.F_t(wi_l.z) / (1 - p_spec));
-        prev_pdf = wi_l.z / kPi;
-        prev_delta = false;
-        prev_n = xi.ns;
-        o = offset(xi.p, xi.ng, wi);
-        d = wi;
-      }
-    }
+    const Surface x = surface(h, path.d);
+    if (depth == 0 && translucent) *translucent = x.mat->translucent() != nullptr;
+    if (!std::visit([&](const auto& m) { return vertex(m, x, depth, rng, sh, L, beta, path); }, x.mat->type)) break;
     // Russian roulette after three bounces (unbiased: survivors are reweighted).
     if (depth >= 3) {
       const double q = std::min(0.95, beta.max());
@@ -471,6 +379,127 @@ typename Shading::Value Integrator::Li(Vec3 o, Vec3 d, Sampler& rng, const Shadi
     }
   }
   return L;
+}
+
+template <class Shading>
+bool Integrator::vertex(const DiffuseMaterial& m, const Surface& x, int, Sampler& rng, const Shading& sh,
+                        typename Shading::Value& L, typename Shading::Value& beta, PathState& path) const {
+  using Value = typename Shading::Value;
+  const Value albedo = sh.reflectance(m.albedo_map && x.has_uv ? m.albedo_map->lookup(x.uv.x, x.uv.y) : m.albedo);
+  const auto lambert = [&](const Vec3& wi) { return std::max(0.0, dot(wi, x.ns)) / kPi; };
+  L += beta * albedo * direct(sh, x.p, x.ns, x.ng, rng, lambert, lambert);
+  const Frame f = Frame::from_normal(x.ns);
+  const Vec3 wi = f.to_world(sample_cosine_hemisphere(rng.uniform2()));
+  if (dot(wi, x.ng) <= 0) return false;
+  beta *= albedo;
+  path.prev_pdf = dot(wi, x.ns) / kPi;
+  path.prev_delta = false;
+  path.prev_n = x.ns;
+  path.o = offset(x.p, x.ng, wi);
+  path.d = wi;
+  return true;
+}
+
+template <class Shading>
+bool Integrator::vertex(const TranslucentMaterial& material, const Surface& x, int depth, Sampler& rng,
+                        const Shading& sh, typename Shading::Value& L, typename Shading::Value& beta,
+                        PathState& path) const {
+  using Value = typename Shading::Value;
+  constexpr int N = Shading::kChannels;
+  const TranslucentMaterial& m =
+      material.has_maps() && x.has_uv ? material.node_at(x.uv.x, x.uv.y, rng.uniform()) : material;
+  const Vec3 wo = -path.d;
+  const auto bssrdf = sh.bssrdf(m, x.p, x.ns, s_.mm_per_unit);
+  const Frame& f = bssrdf.frame();
+  const Vec3 wo_l = f.to_local(wo);
+  const double cos_o = std::max(wo_l.z, 1e-4);
+  const TorranceSparrow lobe(m.rho_s, m.roughness, m.eta);
+  // Surface term: direct light with MIS.
+  const Vec3 wo_c{wo_l.x, wo_l.y, cos_o};
+  if (m.rho_s > 0) {
+    L += beta * direct(sh, x.p, x.ns, x.ng, rng,
+                       [&](const Vec3& wi) { const Vec3 l = f.to_local(wi); return lobe.f(wo_c, l) * l.z; },
+                       [&](const Vec3& wi) { return lobe.pdf(wo_c, f.to_local(wi)); });
+  }
+  // Subsurface term: entry points x_i (one probe per channel, every candidate), direct light
+  // at each with MIS; the path continues from one of them, picked by its weight.
+  const double Ft_o = bssrdf.F_t(cos_o);
+  Value tex = Shading::one();
+  if (m.albedo_map && x.has_uv) tex = sh.texture(m, m.albedo_map->lookup(x.uv.x, x.uv.y));
+  const Value beta_o = beta * tex * Ft_o;
+  constexpr int kMaxEntries = (N + 1) * kMaxHits;
+  Entry<Value> entries[kMaxEntries];
+  int n_entries = 0;
+  const std::size_t mat_index = s_.meshes[x.mesh].material;
+  if (points_ && !points_->cloud[mat_index].empty()) {
+    // From the cloud (RGB only; render() refuses points with spectral rendering): the whole
+    // subsurface term (its points' irradiance holds every bounce); the path goes on through
+    // the surface term only.
+    if constexpr (std::is_same_v<Shading, RgbShading>) {
+      const PointCloud& cloud = points_->cloud[mat_index];
+      Rgb3 M;
+      if (!(points_->h > 0 && points_->cache[mat_index].interpolated_exitance(x.p, points_->h, &M)))
+        M = cloud.radiant_exitance(x.p, points_->kernel.at(&m), points_->max_solid_angle, &x.ns);
+      L += beta_o * M;
+    }
+  } else {
+    n_entries = sample_entries<Shading>(x, bssrdf, rng, depth == 0, entries);
+  }
+  const bool entered = n_entries > 0;
+  Value beta_ss;
+  Surface xi;
+  if (entered) {
+    double total = 0, pick_w[kMaxEntries];
+    for (int k = 0; k < n_entries; ++k) {
+      const auto& e = entries[k];
+      if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth + 1 + e.slot));
+      L += beta_o * e.weight * direct(sh, e.x.p, e.x.ns, e.x.ng, rng,
+                                      [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, e.x.ns)); },
+                                      [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, e.x.ns)); });
+      double sum_abs = 0;
+      for (int c = 0; c < N; ++c) sum_abs += std::abs(e.weight[c]);
+      pick_w[k] = sum_abs + 1e-12;
+      total += pick_w[k];
+    }
+    if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth + kBlocksPerDepth - 1));
+    // One entry carries the path on: picked in proportion to its weight, divided by that.
+    double u = rng.uniform() * total;
+    int k = 0;
+    while (k + 1 < n_entries && u >= pick_w[k]) u -= pick_w[k++];
+    xi = entries[k].x;
+    beta_ss = beta_o * entries[k].weight * (total / pick_w[k]);
+  }
+  // Continue with one of the two terms, chosen by their albedo at w_o.
+  const double a_spec = bssrdf.rho_dr(cos_o);
+  const double a_ss = entered ? (1 - a_spec) * std::max(1e-3, m.R_d.average()) : 0.0;
+  const double p_spec = a_spec + a_ss > 0 ? a_spec / (a_spec + a_ss) : 0.0;
+  if (rng.uniform() < p_spec) {
+    Vec3 wi_l;
+    double pdf = 0;
+    if (!lobe.sample({wo_l.x, wo_l.y, cos_o}, rng.uniform2(), &wi_l, &pdf) || pdf <= 0) return false;
+    const Vec3 wi = f.to_world(wi_l);
+    if (dot(wi, x.ng) <= 0) return false;
+    beta *= lobe.f({wo_l.x, wo_l.y, cos_o}, wi_l) * wi_l.z / (pdf * p_spec);
+    path.prev_pdf = pdf;
+    path.prev_delta = false;
+    path.prev_n = x.ns;
+    path.o = offset(x.p, x.ng, wi);
+    path.d = wi;
+  } else {
+    if (!entered || p_spec >= 1) return false;
+    const Frame fi = Frame::from_normal(xi.ns);
+    const Vec3 wi_l = sample_cosine_hemisphere(rng.uniform2());
+    const Vec3 wi = fi.to_world(wi_l);
+    if (dot(wi, xi.ng) <= 0) return false;
+    // f cos / pdf = F_t(theta_i) / pi x cos / (cos / pi).
+    beta = beta_ss * (bssrdf.F_t(wi_l.z) / (1 - p_spec));
+    path.prev_pdf = wi_l.z / kPi;
+    path.prev_delta = false;
+    path.prev_n = xi.ns;
+    path.o = offset(xi.p, xi.ng, wi);
+    path.d = wi;
+  }
+  return true;
 }
 
 }  // namespace
@@ -549,9 +578,9 @@ PointSubsurface build_point_subsurface(const SceneData& s, const Integrator& int
       }
     out.cloud[mat] = PointCloud(std::move(p), std::move(ea), A, s.mm_per_unit, std::move(nrm));
     const double a = kDiskRadius * std::sqrt(A);  // [mm]
-    const Material& m = s.materials[mat];
+    const TranslucentMaterial& m = *s.materials[mat].translucent();
     out.kernel.emplace(&m, NearFieldKernel(&m.profile, a, kNearRadius * a));
-    for (const Material& node : m.nodes) out.kernel.emplace(&node, NearFieldKernel(&node.profile, a, kNearRadius * a));
+    for (const TranslucentMaterial& node : m.nodes) out.kernel.emplace(&node, NearFieldKernel(&node.profile, a, kNearRadius * a));
     // The exitance cache (not with parameter maps: there the profile depends on the shading
     // point's node).
     if (out.h > 0 && !m.has_maps()) {
@@ -657,7 +686,7 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
     for (const Light& l : s.lights) emission.emplace_back(l.illuminant());
     emission.emplace_back(s.environment.illuminant);
     for (const Material& m : s.materials)
-      SKIN_ASSERT(m.kind != MaterialKind::skin || m.spectral, "spectral render without the spectral profiles");
+      SKIN_ASSERT(!m.translucent() || m.translucent()->spectral, "spectral render without the spectral profiles");
   }
   const bool spectral = s.spectral;
 

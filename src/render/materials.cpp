@@ -234,24 +234,24 @@ std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Da
       const Plan& plan = plans[si][mi];
       Material m;
       m.name = d.name;
-      m.solver = d.solver;
       if (d.kind == MaterialKind::diffuse) {
-        m.albedo = d.albedo;
-        m.albedo_map = d.albedo_map;
-      } else if (d.as_diffuse) {  // kind diffuse, albedo its R_d
-        m.albedo = d.kind == MaterialKind::skin ? skins[plan.key].R_d : layers[plan.layered].R_d;
+        m.type = DiffuseMaterial{d.albedo, d.albedo_map};
+      } else if (d.as_diffuse) {  // albedo its R_d
+        m.type = DiffuseMaterial{d.kind == MaterialKind::skin ? skins[plan.key].R_d : layers[plan.layered].R_d, nullptr};
       } else if (d.kind == MaterialKind::layered) {
         const LayeredResult& r = layers[plan.layered];
-        m.kind = MaterialKind::layered;
-        m.albedo_map = d.albedo_map;
-        m.rho_s = d.rho_s;
-        m.roughness = d.roughness;
-        m.eta = d.eta;
-        m.profile = r.profile;
-        m.R_d = r.R_d;
-        m.validity = r.validity;
-        m.texture_normalisation = normalisation(m.R_d);
-        m.specular_albedo = specular_albedo(m.roughness, m.eta);
+        TranslucentMaterial t;
+        t.solver = d.solver;
+        t.albedo_map = d.albedo_map;
+        t.rho_s = d.rho_s;
+        t.roughness = d.roughness;
+        t.eta = d.eta;
+        t.profile = r.profile;
+        t.R_d = r.R_d;
+        t.validity = r.validity;
+        t.texture_normalisation = normalisation(t.R_d);
+        t.specular_albedo = specular_albedo(t.roughness, t.eta);
+        m.type = std::move(t);
       } else {
         std::optional<TextureReference> ref;
         if (d.texture_reference) {
@@ -265,8 +265,7 @@ std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Da
         }
         const auto skin = [&](const SkinParameters& p, std::size_t key) {
           const SkinResult& r = skins[key];
-          Material n;
-          n.kind = MaterialKind::skin;
+          TranslucentMaterial n;
           n.solver = d.solver;
           n.albedo_map = d.albedo_map;
           n.rho_s = p.oiliness;
@@ -281,13 +280,13 @@ std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Da
           n.specular_albedo = specular_albedo(n.roughness, n.eta);
           return n;
         };
-        m = skin(d.parameters, plan.key);
-        m.name = d.name;
+        TranslucentMaterial t = skin(d.parameters, plan.key);
         if (!plan.node_keys.empty()) {
-          m.maps = d.maps;
+          t.maps = d.maps;
           const std::vector<SkinParameters> params = node_parameters(d);
-          for (std::size_t i = 0; i < params.size(); ++i) m.nodes.push_back(skin(params[i], plan.node_keys[i]));
+          for (std::size_t i = 0; i < params.size(); ++i) t.nodes.push_back(skin(params[i], plan.node_keys[i]));
         }
+        m.type = std::move(t);
       }
       data.materials.push_back(std::move(m));
     }
@@ -295,12 +294,13 @@ std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Da
   return out;
 }
 
-Material build_material(const MaterialDescription& d, bool spectral) {
+TranslucentMaterial build_translucent(const MaterialDescription& d, bool spectral) {
+  SKIN_ASSERT(d.translucent(), "build_translucent of a diffuse material");
   SceneDescription::Data data;
   data.source = "material '" + d.name + "'";
   data.spectral = spectral;
   data.materials = {d};
-  return std::move(build_scenes({&data}).front().materials.front());
+  return std::get<TranslucentMaterial>(std::move(build_scenes({&data}).front().materials.front().type));
 }
 
 MaterialDescription skin_description(const SkinParameters& p, const transport::Model& solver) {
@@ -319,7 +319,7 @@ MaterialDescription layered_description(const std::array<LayerStack, 3>& stacks,
   return d;
 }
 
-const Material& Material::node_at(double u, double v, double xi) const {
+const TranslucentMaterial& TranslucentMaterial::node_at(double u, double v, double xi) const {
   // Pick one corner of the grid cell per map dimension, each with its linear weight, using
   // successive bits of xi (stretched to stay uniform).
   std::size_t index = 0, stride = 1;

@@ -559,8 +559,8 @@ bool Scene::spectral() const { return impl_->data.spectral; }
 std::vector<Scene::MaterialValidity> Scene::validity() const {
   std::vector<MaterialValidity> out;
   for (const auto& m : impl_->data.materials)
-    if (m.translucent() && !m.validity.ok())
-      out.push_back({m.name, std::string(m.solver->name()), m.validity});
+    if (const TranslucentMaterial* t = m.translucent(); t != nullptr && !t->validity.ok())
+      out.push_back({m.name, std::string(t->solver->name()), t->validity});
   return out;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <variant>
 #include <string>
 #include <vector>
 
@@ -84,17 +85,21 @@ struct SpectralCurve {
   double operator()(double lambda) const;
 };
 
-// A material ready to render (built from its MaterialDescription).
-struct Material {
-  std::string name;
-  MaterialKind kind = MaterialKind::diffuse;
-  Rgb3 albedo{0.5, 0.5, 0.5};                // diffuse: reflectance
-  std::shared_ptr<const Texture> albedo_map; // diffuse: reflectance; translucent: colour to reproduce
-  // Translucent materials (skin, layered): the transport model of the profiles.
-  const transport::Model* solver = &transport::default_model();
+// A material ready to render (built from its MaterialDescription): one of a closed set of
+// types, each with its own terms (the integrator visits the type; integrator.cpp).
+// Diffuse: a Lambertian surface term only.
+struct DiffuseMaterial {
+  Rgb3 albedo{0.5, 0.5, 0.5};                 // reflectance
+  std::shared_ptr<const Texture> albedo_map;  // reflectance
+};
+// Translucent (skin or layered): a surface term, the Torrance-Sparrow lobe scaled by rho_s, and
+// a subsurface term, the BSSRDF of its diffusion profiles.
+struct TranslucentMaterial {
+  const transport::Model* solver = &transport::default_model();  // of the profiles
   transport::Validity validity;               // of the profiles (skin: over wavelength)
   std::array<TabulatedProfile, 3> profile;    // R(r) per linear sRGB channel [1/mm^2]
   Rgb3 R_d;                                   // totals per channel
+  std::shared_ptr<const Texture> albedo_map;  // colour to reproduce
   Rgb3 texture_normalisation{1, 1, 1};        // 1 / R_d colour of the texture's reference
   // Spectral rendering (skin only): per-wavelength profiles, and the R_d spectrum of the
   // texture's reference (DJ06 section 3.6, per wavelength).
@@ -102,14 +107,17 @@ struct Material {
   std::shared_ptr<const SpectralCurve> spectral_texture_reference;
   double rho_s = 0, roughness = 0.35, eta = 1.4;
   std::shared_ptr<const SpecularAlbedo> specular_albedo;
-  bool translucent() const { return kind != MaterialKind::diffuse; }
-
   // Parameter maps (skin only): the maps and the materials at their grid's nodes.
   std::vector<ParameterMap> maps;
-  std::vector<Material> nodes;
+  std::vector<TranslucentMaterial> nodes;
   bool has_maps() const { return !maps.empty(); }
   // The node for texture coordinates (u, v) and a uniform random number.
-  const Material& node_at(double u, double v, double xi) const;
+  const TranslucentMaterial& node_at(double u, double v, double xi) const;
+};
+struct Material {
+  std::string name;
+  std::variant<DiffuseMaterial, TranslucentMaterial> type;
+  const TranslucentMaterial* translucent() const { return std::get_if<TranslucentMaterial>(&type); }
 };
 
 struct Mesh {
@@ -163,9 +171,9 @@ RadialGrid skin_profile_radii();
 std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Data*>& descriptions);
 // Spectral rendering needs a spectrum of every material: InputError for a layered one.
 void check_spectral(const SceneDescription::Data& s);
-// One material alone (tests, benchmarks): a skin or layered description built as build_scenes
-// builds it.
-Material build_material(const MaterialDescription& d, bool spectral = false);
+// One translucent material alone (tests, benchmarks): a skin or layered description built as
+// build_scenes builds it.
+TranslucentMaterial build_translucent(const MaterialDescription& d, bool spectral = false);
 MaterialDescription skin_description(const SkinParameters& p,
                                      const transport::Model& solver = transport::default_model());
 MaterialDescription layered_description(const std::array<LayerStack, 3>& stacks,

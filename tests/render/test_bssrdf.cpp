@@ -40,7 +40,7 @@ double r_max_mm() {
 // 666.1 nm: each channel a mix of two tables).
 const SpectralSkin& caucasian_spectral() {
   static const std::shared_ptr<const SpectralSkin> s = [] {
-    return build_material(skin_description(find_preset("caucasian").parameters), true).spectral;
+    return build_translucent(skin_description(find_preset("caucasian").parameters), true).spectral;
   }();
   return *s;
 }

@@ -269,7 +269,7 @@ TEST(KnownAnswer, ThinSlabLitFromBehindShowsTranslucency) {
   std::filesystem::remove_all(dir);
   SkinParameters p = find_preset("caucasian").parameters;
   p.oiliness = 0;
-  const Material m = build_material(skin_description(p));
+  const TranslucentMaterial m = build_translucent(skin_description(p));
   for (int c = 0; c < 3; ++c) {
     const TabulatedProfile& prof = m.profile[static_cast<std::size_t>(c)];
     // Tail integral by the midpoint rule on a fine log grid from t to r_max.
@@ -339,7 +339,7 @@ TEST(KnownAnswer, CreaseNeitherDarkNorBright) {
   const Image img = render(Scene::parse(js, "", "crease"), rs);
   std::array<LayerStack, 3> stacks;
   for (auto& st : stacks) st.layers.push_back(Layer{0.2, 2.0, kInfinity, 1.4, 0.9});
-  const Material m = build_material(layered_description(stacks));
+  const TranslucentMaterial m = build_translucent(layered_description(stacks));
   const TabulatedProfile& R = m.profile[0];
   const auto g = [&](double a) {  // 2 int_0^inf R(sqrt(u^2 + a^2)) du, midpoint in log-ish steps
     double s = 0;
