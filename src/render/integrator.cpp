@@ -29,6 +29,7 @@
 #include <unordered_map>
 #include <variant>
 
+#include "film.hpp"
 #include "point_cloud.hpp"
 #include "scene_impl.hpp"
 #include "skin/render/bssrdf.hpp"
@@ -612,10 +613,6 @@ PointSubsurface build_point_subsurface(const SceneData& s, const Integrator& int
 struct Extent {
   int W, H, spp;
 };
-// Adaptive sampling: the first pass's samples per pixel (also the fewest a pixel takes) and the
-// most a pixel takes unless --spp says otherwise.
-constexpr int kAdaptiveFirstPass = 16;
-constexpr int kAdaptiveMaxSpp = 65536;
 Extent extent(const SceneData& s, const RenderSettings& settings) {
   return {settings.width > 0 ? settings.width : s.camera.width,
           settings.height > 0 ? settings.height : s.camera.height, settings.spp > 0 ? settings.spp : s.spp};
@@ -690,74 +687,20 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
   }
   const bool spectral = s.spectral;
 
-  // Pinhole camera: vertical field of view, looking from eye to target.
-  const Camera& cam = s.camera;
-  const Vec3 fwd = normalize(cam.target - cam.eye);
-  const Vec3 right = normalize(cross(fwd, cam.up));
-  const Vec3 up = cross(right, fwd);
-  const double tan_half = std::tan(cam.fov_deg * kPi / 360.0);
-  const double aspect = static_cast<double>(W) / H;
-
+  const PinholeCamera camera(s.camera, W, H);
   const std::size_t pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
-  std::vector<Rgb3> sum(pixels), sum_sq(pixels), sum_odd(pixels);
-  std::vector<std::uint32_t> taken(pixels, 0), skin_hits(pixels, 0);
-  std::vector<std::uint8_t> active(pixels, 1);
+  Film film(pixels);
+  SamplePasses passes(settings, spp, pixels);
   std::atomic<std::uint64_t> invalid{0};
-  // Passes: one sample per pixel under a time budget; 16 per pixel, then doubling, when
-  // adaptive; otherwise all at once.
-  auto pass_end = [&](int done) {
-    if (settings.time_budget > 0) return done + 1;
-    if (adaptive) return std::min(spp, done == 0 ? kAdaptiveFirstPass : 2 * done);
-    return spp;
-  };
-  int passes = 0;
-  for (int d = 0; d < spp; d = pass_end(d)) ++passes;
   constexpr int kTile = 16;
   const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile;
-  const std::uint64_t total_work = static_cast<std::uint64_t>(tiles_x) * tiles_y * static_cast<std::uint64_t>(passes);
+  const std::uint64_t total_work =
+      static_cast<std::uint64_t>(tiles_x) * tiles_y * static_cast<std::uint64_t>(passes.count());
   std::atomic<std::uint64_t> work_done{0};
   std::mutex progress_mutex;
-  // The mean of a pixel's samples, and the variance of that mean averaged over the channels.
-  auto mean_of = [&](std::size_t p) { return taken[p] > 0 ? sum[p] / static_cast<double>(taken[p]) : Rgb3{}; };
-  // Two estimates of that variance. From the samples' spread (as if independent): what the
-  // quasi-random samples' stratification removes it does not see, so it overstates the error
-  // (head, 64 spp: 0.060 against 0.042 measured); used for the pixels' shares of the samples.
-  auto spread_variance = [&](std::size_t p) {
-    const double n = taken[p];
-    if (n < 2) return std::numeric_limits<double>::quiet_NaN();
-    const Rgb3 m = sum[p] / n, q = sum_sq[p] / n;
-    const double v = std::max(0.0, q.r - m.r * m.r) + std::max(0.0, q.g - m.g * m.g) + std::max(0.0, q.b - m.b * m.b);
-    return v / 3.0 / (n - 1);  // (n / (n - 1)) x the biased variance, / n
-  };
-  // From the two replicates (even and odd samples: two independently scrambled sequences, of
-  // n_e and n_o samples): their means differ by d with E[d^2] = var(m_e) + var(m_o), and for
-  // samples of one variance var(m) = E[d^2] n_e n_o / n^2 (1/4 for equal halves); unbiased, one
-  // degree of freedom per pixel, so its sum over the skin pixels is what the error estimate uses.
-  auto replicate_variance = [&](std::size_t p) {
-    const std::uint32_t n = taken[p], n_odd = n / 2, n_even = n - n_odd;
-    if (n_odd < 1) return std::numeric_limits<double>::quiet_NaN();
-    const Rgb3 d = (sum[p] - sum_odd[p]) / static_cast<double>(n_even) - sum_odd[p] / static_cast<double>(n_odd);
-    const double nn = static_cast<double>(n);
-    return (d.r * d.r + d.g * d.g + d.b * d.b) / 3.0 * (static_cast<double>(n_even) * n_odd / (nn * nn));
-  };
-  auto is_skin = [&](std::size_t p) { return taken[p] > 0 && 2 * skin_hits[p] > taken[p]; };
-  // Mean over the skin pixels and channels (over all pixels if none is skin).
-  auto skin_mean = [&] {
-    double total = 0, all = 0;
-    std::size_t n = 0;
-    for (std::size_t p = 0; p < pixels; ++p) {
-      const Rgb3 m = mean_of(p);
-      all += (m.r + m.g + m.b) / 3;
-      if (is_skin(p)) {
-        total += (m.r + m.g + m.b) / 3;
-        ++n;
-      }
-    }
-    return n > 0 ? total / static_cast<double>(n) : all / static_cast<double>(pixels);
-  };
   int done = 0;
   while (done < spp) {
-    const int s0 = done, s1 = pass_end(done);
+    const int s0 = done, s1 = passes.end(done);
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
         for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
@@ -766,38 +709,32 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
               for (int x = tx * kTile; x < std::min(W, (tx + 1) * kTile); ++x) {
                 if (cancel::requested()) return;  // thrown below, after the pass
                 const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(W) + static_cast<std::uint64_t>(x);
-                if (!active[pixel]) continue;
-                Rgb3 acc = sum[pixel], acc_sq = sum_sq[pixel], acc_odd = sum_odd[pixel];
-                std::uint32_t hits = skin_hits[pixel];
+                if (!passes.active(pixel)) continue;
+                Film::Pixel acc = film.pixel(pixel);
                 for (int si = s0; si < s1; ++si) {
                   // Even and odd samples: two replicates, each its own scrambled sequence.
                   Sampler rng(settings.seed, 2 * pixel + static_cast<std::uint64_t>(si & 1),
                               static_cast<std::uint32_t>(si >> 1));
                   const Vec2 jitter = rng.uniform2();
-                  const double px = (x + jitter.x) / W, py = (y + jitter.y) / H;
-                  const Vec3 dir = normalize(fwd + right * ((2 * px - 1) * tan_half * aspect) + up * ((1 - 2 * py) * tan_half));
+                  const Vec3 dir = camera.direction((x + jitter.x) / W, (y + jitter.y) / H);
                   bool translucent = false;
                   Rgb3 c;
                   if (spectral) {
                     const SpectralShading sh{&emission, SampledWavelengths::hero(rng.uniform())};
-                    c = film_srgb_linear(integ.Li(cam.eye, dir, rng, sh, &translucent), sh.wl);
+                    c = film_srgb_linear(integ.Li(camera.eye(), dir, rng, sh, &translucent), sh.wl);
                   } else {
-                    c = integ.Li(cam.eye, dir, rng, RgbShading{}, &translucent);
+                    c = integ.Li(camera.eye(), dir, rng, RgbShading{}, &translucent);
                   }
-                  hits += translucent ? 1 : 0;
+                  acc.skin_hits += translucent ? 1 : 0;
                   if (std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) {
-                    acc += c;
-                    acc_sq += c * c;
-                    if (si & 1) acc_odd += c;
+                    acc.sum += c;
+                    acc.sum_sq += c * c;
+                    if (si & 1) acc.sum_odd += c;
                   } else {
                     invalid.fetch_add(1, std::memory_order_relaxed);
                   }
                 }
-                sum[pixel] = acc;
-                sum_sq[pixel] = acc_sq;
-                sum_odd[pixel] = acc_odd;
-                skin_hits[pixel] = hits;
-                taken[pixel] = static_cast<std::uint32_t>(s1);
+                film.set(pixel, acc, static_cast<std::uint32_t>(s1));
               }
             const std::uint64_t w = work_done.fetch_add(1, std::memory_order_relaxed) + 1;
             if (progress) {
@@ -811,64 +748,18 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
     done = s1;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (settings.time_budget > 0 && elapsed >= settings.time_budget) break;
-    if (adaptive && done < spp) {
-      // Samples in proportion to each pixel's standard deviation sigma_p (the allocation that
-      // minimises the RMS error over the pixels for a number of samples): the error^2 is then
-      // mean(sigma_p^2 / n_p) = kappa mean(sigma_p) with n_p = sigma_p / kappa, so the target
-      // sets kappa = (E M)^2 / mean(sigma_p), M the skin's mean. A pixel stops once n_p reaches
-      // sigma_p / kappa; the render once all have, or once the estimated error is within E.
-      const double limit = settings.target_error * skin_mean();
-      // The spread overstates the quasi-random error: scaled by the ratio rho of the two
-      // estimates over the skin, it sets each pixel's share.
-      double sigma_sum = 0, spread_sum = 0, var_sum = 0;
-      std::size_t skin = 0;
-      for (std::size_t p = 0; p < pixels; ++p)
-        if (is_skin(p)) {
-          const double v = spread_variance(p);
-          sigma_sum += std::sqrt(v * taken[p]);
-          spread_sum += v;
-          var_sum += replicate_variance(p);
-          ++skin;
-        }
-      if (skin == 0 || var_sum / static_cast<double>(skin) <= limit * limit) break;
-      const double rho = spread_sum > 0 ? var_sum / spread_sum : 1.0;
-      const double kappa = limit * limit / (std::sqrt(rho) * sigma_sum / static_cast<double>(skin));
-      std::size_t still = 0;
-      for (std::size_t p = 0; p < pixels; ++p) {
-        if (active[p] && taken[p] >= static_cast<std::uint32_t>(kAdaptiveFirstPass) &&
-            !(std::sqrt(rho * spread_variance(p) * taken[p]) > kappa * taken[p]))
-          active[p] = 0;
-        still += active[p];
-      }
-      if (still == 0) break;
-    }
+    if (passes.converged(film, done)) break;
   }
-  Image img(W, H);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) img.set(x, y, mean_of(static_cast<std::size_t>(y) * W + x));
+  Image img = film.image(W, H);
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     stats->spp_done = done;
-    stats->camera_samples = 0;
-    for (const std::uint32_t n : taken) stats->camera_samples += n;
     stats->invalid_samples = invalid.load();
     stats->point_seconds = point_seconds;
     stats->points = 0;
     for (const PointCloud& c : points.cloud) stats->points += c.size();
     stats->point_spacing = stats->points > 0 ? points.spacing : 0.0;
-    stats->skin_mask.assign(pixels, 0);
-    stats->skin_pixels = 0;
-    double var = 0;
-    for (std::size_t p = 0; p < pixels; ++p)
-      if (is_skin(p)) {
-        stats->skin_mask[p] = 1;
-        ++stats->skin_pixels;
-        var += replicate_variance(p);
-      }
-    const double mean = skin_mean();
-    stats->estimated_error = stats->skin_pixels > 0 && mean > 0
-                                 ? std::sqrt(var / static_cast<double>(stats->skin_pixels)) / mean
-                                 : std::numeric_limits<double>::quiet_NaN();
+    film.fill(stats);
   }
   return img;
 }
