@@ -1,6 +1,7 @@
-// Translucent materials: from skin parameters or layer stacks to the tabulated RGB diffusion
-// profiles the integrator samples (DJ06 section 4: the spectral profiles are converted to colour
-// radius by radius; ProfileSolver::rgb applies the colour weights in the frequency domain).
+// The build of a scene's materials: from their descriptions (skin parameters, layer stacks) to
+// the tabulated diffusion profiles the integrator samples (DJ06 section 4: the spectral profiles
+// are converted to colour radius by radius; ProfileSolver::rgb applies the colour weights in the
+// frequency domain), each distinct skin once (docs/renderer.md, "Describe, then build").
 #include <tbb/parallel_for.h>
 
 #include <algorithm>

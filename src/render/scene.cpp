@@ -1,4 +1,5 @@
-// Scene files (docs/scene-format.md), the built-in default scene, and the Scene handle.
+// Scene files (docs/scene-format.md) and the built-in default scene as SceneDescriptions, their
+// edits (the CLI's flags), and the built Scene handle.
 #include "skin/render/scene.hpp"
 
 #include <algorithm>

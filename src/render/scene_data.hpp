@@ -1,6 +1,7 @@
 #pragma once
-// Internal description of a loaded scene (not installed: the public face is skin/render/scene.hpp).
-// Geometry is in scene units; `mm_per_unit` converts to the mm of the diffusion profiles.
+// A scene's data, internal (not installed: the public face is skin/render/scene.hpp): as
+// described (SceneDescription::Data, MaterialDescription: no physics) and as built (SceneData,
+// Material: profiles computed; docs/renderer.md, "Describe, then build"). Geometry is in scene units; `mm_per_unit` converts to the mm of the diffusion profiles.
 #include <array>
 #include <cstdint>
 #include <memory>
