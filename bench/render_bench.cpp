@@ -21,12 +21,11 @@ using namespace skin::render;  // NOLINT(google-build-using-namespace)
 constexpr int kBatch = 1024;
 
 // The caucasian preset's material (profiles, specular albedo), built once.
-const Material& caucasian() {
-  static const Material m = [] {
-    Material x;
-    x.name = "caucasian";
-    prepare_skin_material(x, skin::find_preset("caucasian").parameters);
-    return x;
+const TranslucentMaterial& caucasian() {
+  static const TranslucentMaterial m = [] {
+    MaterialDescription d = skin_description(skin::find_preset("caucasian").parameters);
+    d.name = "caucasian";
+    return build_translucent(d);
   }();
   return m;
 }
@@ -47,7 +46,7 @@ void batch(benchmark::State& state, F&& f) {
 }
 
 Bssrdf flat_bssrdf() {
-  const Material& m = caucasian();
+  const TranslucentMaterial& m = caucasian();
   // A flat exit point at the origin, normal +z, 1 mm per unit.
   return Bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), {0, 0, 0}, {0, 0, 1}, 1.0);
 }
@@ -234,8 +233,9 @@ BENCHMARK(BM_HeadCameraSample)->Unit(benchmark::kMillisecond);
 
 // Renders the default scene at 192 x 128, `spp` samples; threads from the argument.
 void render_default(benchmark::State& state, bool diffuse) {
-  Scene scene = Scene::default_scene();
-  if (diffuse) scene.make_translucent_diffuse();
+  SceneDescription description = SceneDescription::default_scene();
+  if (diffuse) description.make_translucent_diffuse();
+  const Scene scene = description.build();
   const std::int64_t samples = render_samples(state, scene, 192, 128, static_cast<int>(state.range(0)));
   state.counters["samples/s"] = benchmark::Counter(static_cast<double>(samples), benchmark::Counter::kIsRate);
 }

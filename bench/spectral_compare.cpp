@@ -112,17 +112,17 @@ void slabs() {
         "materials": {"m": {"type":"skin","preset":")" + preset.name + R"("}},
         "objects": [{"quad": {"corner":[-2000,0,2000], "edge_u":[4000,0,0], "edge_v":[0,0,-4000]}, "material":"m"}],
         "environment": {"radiance": 1, "illuminant": ")" + ill + R"("}, "render": {"spp": 256, "max_depth": 1} })";
-      render::Scene scene = render::Scene::parse(js, "", "slab");
+      render::SceneDescription scene = render::SceneDescription::parse(js, "", "slab");
       render::RenderSettings rs;
-      const Rgb rgb = mean_of(render::render(scene, rs), nullptr);
+      const Rgb rgb = mean_of(render::render(scene.build(), rs), nullptr);
       scene.set_spectral(true);
-      const Rgb spec = mean_of(render::render(scene, rs), nullptr);
+      const Rgb spec = mean_of(render::render(scene.build(), rs), nullptr);
       // The slab has a surface term: compare with R_d's colour only where rho_s = 0.
-      render::Scene bare = render::Scene::parse(replace_all(js, R"("preset":")" + preset.name + "\"",
-                                                            R"("rho_s":0,"preset":")" + preset.name + "\""), "", "slab");
-      const Rgb rgb0 = mean_of(render::render(bare, rs), nullptr);
+      render::SceneDescription bare = render::SceneDescription::parse(
+          replace_all(js, R"("preset":")" + preset.name + "\"", R"("rho_s":0,"preset":")" + preset.name + "\""), "", "slab");
+      const Rgb rgb0 = mean_of(render::render(bare.build(), rs), nullptr);
       bare.set_spectral(true);
-      const Rgb spec0 = mean_of(render::render(bare, rs), nullptr);
+      const Rgb spec0 = mean_of(render::render(bare.build(), rs), nullptr);
       std::printf("%-10s %-4s %12.2f %14.2f %14.2f\n", preset.name.c_str(), ill,
                   color::delta_e_2000(lab_of(rgb, cm), lab_of(spec, cm)),
                   color::delta_e_2000(lab_of(rgb0, cm), truth), color::delta_e_2000(lab_of(spec0, cm), truth));
@@ -146,13 +146,14 @@ void scene_comparison(const std::string& path, const std::string& figure, int si
   int row = 0;
   for (const auto& [name, text] : {std::pair<const char*, std::string>{"D65", d65}, {"A", a}}) {
     const color::Colorimetry cm(WavelengthGrid(), color::find_illuminant(name));
-    render::Scene scene = render::Scene::parse(text, base, path);
+    render::SceneDescription description = render::SceneDescription::parse(text, base, path);
+    const render::Scene scene = description.build();
     const Timed rgb = render_timed(scene, rs);
     render::RenderSettings other = rs;
     other.seed = 2;
     const Timed rgb2 = render_timed(scene, other);
-    scene.set_spectral(true);
-    const Timed spec = render_timed(scene, rs);
+    description.set_spectral(true);
+    const Timed spec = render_timed(description.build(), rs);
     const auto& mask = rgb.stats.skin_mask;
     std::vector<double> de, floor;
     for (int y = 0; y < rs.height; ++y)

@@ -203,11 +203,14 @@ void register_render(CLI::App& app) {
     // A bad file or parameter fails before the scene loads.
     std::function<SkinParameters(const SkinParameters&)> change;
     if (o->params.given()) (void)(change = o->params.change())(SkinParameters{});
-    render::Scene scene = o->scene.empty() ? render::Scene::default_scene() : render::Scene::load(o->scene);
-    if (change) scene.update_skin_parameters(change);
-    if (sub->count("--solver") > 0) scene.set_solver(o->solver.model());  // else the scene's
-    if (o->diffuse) scene.make_translucent_diffuse();
-    if (o->spectral) scene.set_spectral(true);
+    // The flags edit the scene's description; its build computes each material once.
+    render::SceneDescription description =
+        o->scene.empty() ? render::SceneDescription::default_scene() : render::SceneDescription::load(o->scene);
+    if (change) description.update_skin_parameters(change);
+    if (sub->count("--solver") > 0) description.set_solver(o->solver.model());  // else the scene's
+    if (o->diffuse) description.make_translucent_diffuse();
+    if (o->spectral) description.set_spectral(true);
+    const render::Scene scene = description.build();
     Target t;
     t.scenes = {&scene};
     t.render = [&scene](const render::RenderSettings& rs, render::RenderStats* st, const render::Progress& p) {
@@ -271,11 +274,12 @@ void register_render(CLI::App& app) {
       std::error_code ec;
       if (std::filesystem::is_regular_file(t, ec)) texture = t.string();
     }
-    auto figure = std::make_shared<render::Figure>(render::make_figure(f->figure, mesh, texture, change));
-    if (fig->count("--solver") > 0)
-      for (auto& cell : figure->cells) cell.set_solver(f->solver.model());
-    if (f->spectral)
-      for (auto& cell : figure->cells) cell.set_spectral(true);
+    render::FigureDescription description = render::describe_figure(f->figure, mesh, texture, change);
+    for (auto& cell : description.cells) {
+      if (fig->count("--solver") > 0) cell.set_solver(f->solver.model());
+      if (f->spectral) cell.set_spectral(true);
+    }
+    auto figure = std::make_shared<render::Figure>(description.build());
     Target t;
     for (const auto& cell : figure->cells) t.scenes.push_back(&cell);
     t.layout = &figure->layout;

@@ -105,6 +105,31 @@ SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& gr
   return a;
 }
 
+namespace {
+std::vector<std::string> wavelength_labels(const WavelengthGrid& grid) {
+  std::vector<std::string> labels;
+  labels.reserve(grid.size());
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    std::ostringstream os;
+    os << grid[i] << " nm";
+    labels.push_back(os.str());
+  }
+  return labels;
+}
+}  // namespace
+
+SkinProfiles skin_profiles(const SkinParameters& p, const WavelengthGrid& grid, ProfileSolver& profiles,
+                           const Model& model, bool spectral) {
+  const auto stacks = skin_layer_stacks(p, grid);  // validates
+  const auto r = responses(stacks, model);
+  SkinProfiles out;
+  out.rgb = profiles.rgb(r.pointers, color::Colorimetry(grid).srgb_weights());
+  if (spectral) out.spectral = profiles.spectral(r.pointers, grid);
+  out.total = skin_spectrum(p, WavelengthGrid(), model);
+  out.validity = transport::combined_validity(model, stacks, wavelength_labels(grid));
+  return out;
+}
+
 std::size_t skin_profile_solves(const SkinParameters& p, const WavelengthGrid& grid,
                                 const Model& model) {
   std::size_t n = 0;
@@ -114,14 +139,7 @@ std::size_t skin_profile_solves(const SkinParameters& p, const WavelengthGrid& g
 
 transport::Validity skin_validity(const SkinParameters& p, const WavelengthGrid& grid,
                                   const Model& model) {
-  std::vector<std::string> labels;
-  labels.reserve(grid.size());
-  for (std::size_t i = 0; i < grid.size(); ++i) {
-    std::ostringstream os;
-    os << grid[i] << " nm";
-    labels.push_back(os.str());
-  }
-  return transport::combined_validity(model, skin_layer_stacks(p, grid), labels);
+  return transport::combined_validity(model, skin_layer_stacks(p, grid), wavelength_labels(grid));
 }
 
 }  // namespace skin

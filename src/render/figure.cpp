@@ -19,8 +19,6 @@
 #include <limits>
 #include <string>
 
-#include <tbb/parallel_for.h>
-
 #include "scene_impl.hpp"
 #include "skin/util/error.hpp"
 #include "skin/render/figure.hpp"
@@ -131,7 +129,7 @@ Rig rig_of(int number, std::size_t cell) {
 }
 
 // Camera, lights and backdrop of a cell (head frame, scene units of 22 mm).
-void set_up(Rig rig, SceneData& s, std::size_t backdrop) {
+void set_up(Rig rig, SceneSetup& s, std::size_t backdrop) {
   switch (rig) {
     case Rig::crop:
       // Cheek and nose from the front right; a warm key light above left whose reflection the
@@ -217,53 +215,63 @@ FigureLayout figure_layout(int number, const std::function<SkinParameters(const 
   return f;
 }
 
-Figure make_figure(int number, const std::string& mesh_path, const std::string& albedo_texture,
-                   const std::function<SkinParameters(const SkinParameters&)>& change) {
-  Figure fig;
+FigureDescription describe_figure(int number, const std::string& mesh_path, const std::string& albedo_texture,
+                                  const std::function<SkinParameters(const SkinParameters&)>& change) {
+  FigureDescription fig;
   fig.layout = figure_layout(number, change);
   fig.on_mesh = !mesh_path.empty();
   const std::vector<Mesh> head = fig.on_mesh ? head_mesh(mesh_path) : std::vector<Mesh>{};
   std::shared_ptr<const Texture> texture;
   if (fig.on_mesh && !albedo_texture.empty()) texture = load_texture(albedo_texture, true);
-  const std::size_t n = fig.layout.labels.size();
-  std::vector<Material> skin(n);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {  // independent profiles
-    skin[i].name = fig.layout.labels[i];
-    prepare_skin_material(skin[i], fig.layout.parameters[i]);
-  });
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < fig.layout.labels.size(); ++i) {
     const Rig rig = rig_of(number, i);
-    SceneData s;
-    s.source = "figure " + std::to_string(number) + ", " + fig.layout.labels[i];
-    s.mm_per_unit = kMmPerUnit;
-    s.spp = 32;
-    s.max_depth = rig == Rig::crop ? 3 : 4;
-    Material m = std::move(skin[i]);
+    auto s = std::make_unique<SceneDescription::Data>();
+    s->source = "figure " + std::to_string(number) + ", " + fig.layout.labels[i];
+    s->mm_per_unit = kMmPerUnit;
+    s->spp = 32;
+    s->max_depth = rig == Rig::crop ? 3 : 4;
+    MaterialDescription m = skin_description(fig.layout.parameters[i]);
+    m.name = fig.layout.labels[i];
     if (rig != Rig::crop && texture) {
       // The texture's colour where the parameters are caucasian (DJ06 section 3.6), as
       // examples/head.json.
       m.albedo_map = texture;
-      set_texture_reference(m, find_preset("caucasian").parameters);
+      m.texture_reference = find_preset("caucasian").parameters;
     }
-    s.materials.push_back(std::move(m));
-    Material back;
+    s->materials.push_back(std::move(m));
+    MaterialDescription back;
     back.name = "backdrop";
     back.albedo = {0.05, 0.05, 0.05};
-    s.materials.push_back(back);
+    s->materials.push_back(back);
     if (fig.on_mesh) {
-      s.meshes = head;
+      s->meshes = head;
     } else if (rig == Rig::crop) {
-      s.meshes.push_back(make_sphere({0.5, 0.5, 1.9}, 1.0, 48, 96, 0));  // 44 mm across
+      s->meshes.push_back(make_sphere({0.5, 0.5, 1.9}, 1.0, 48, 96, 0));  // 44 mm across
     } else {
       // A head-sized sphere and a thin fin (3.5 mm) where the right ear is.
-      s.meshes.push_back(make_sphere({0, 0.8, 0}, 1.6, 48, 96, 0));
-      s.meshes.push_back(make_ellipsoid({1.9, 1.1, -0.3}, {0.35, 0.6, 0.08}, 32, 64, 0));
+      s->meshes.push_back(make_sphere({0, 0.8, 0}, 1.6, 48, 96, 0));
+      s->meshes.push_back(make_ellipsoid({1.9, 1.1, -0.3}, {0.35, 0.6, 0.08}, 32, 64, 0));
     }
-    set_up(rig, s, 1);
-    if (number == 7) s.camera.width = s.camera.height = 160;  // room for the long labels
-    fig.cells.push_back(make_scene(std::move(s)));
+    set_up(rig, *s, 1);
+    if (number == 7) s->camera.width = s->camera.height = 160;  // room for the long labels
+    fig.cells.emplace_back(std::move(s));
   }
   return fig;
+}
+
+Figure FigureDescription::build() const {
+  Figure fig;
+  fig.layout = layout;
+  fig.on_mesh = on_mesh;
+  std::vector<const SceneDescription*> d;
+  for (const SceneDescription& c : cells) d.push_back(&c);
+  fig.cells = render::build(d);
+  return fig;
+}
+
+Figure make_figure(int number, const std::string& mesh_path, const std::string& albedo_texture,
+                   const std::function<SkinParameters(const SkinParameters&)>& change) {
+  return describe_figure(number, mesh_path, albedo_texture, change).build();
 }
 
 Image render_figure(const Figure& figure, const RenderSettings& settings, RenderStats* stats,

@@ -27,7 +27,9 @@
 #include <mutex>
 #include <type_traits>
 #include <unordered_map>
+#include <variant>
 
+#include "film.hpp"
 #include "point_cloud.hpp"
 #include "scene_impl.hpp"
 #include "skin/render/bssrdf.hpp"
@@ -48,6 +50,14 @@ struct Surface {
   std::size_t mesh = 0;
 };
 
+// Where a path is and how it got there: the ray to trace next, and the direction's pdf for MIS.
+struct PathState {
+  Vec3 o, d;
+  double prev_pdf = 0;     // solid-angle pdf of the direction that produced this ray
+  bool prev_delta = true;  // true: no MIS against lights for what the ray hits (camera ray)
+  Vec3 prev_n;             // shading normal at the vertex the ray left (environment pdf)
+};
+
 // What a path carries and how the scene's RGB data turns into it. RGB rendering: linear sRGB,
 // the material's three channel profiles, the data as they are.
 struct RgbShading {
@@ -55,14 +65,14 @@ struct RgbShading {
   using Bssrdf = render::Bssrdf;
   static constexpr int kChannels = 3;
   static Value one() { return {1, 1, 1}; }
-  Bssrdf bssrdf(const Material& m, const Vec3& x, const Vec3& n, double mm) const {
+  Bssrdf bssrdf(const TranslucentMaterial& m, const Vec3& x, const Vec3& n, double mm) const {
     return Bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), x, n, mm);
   }
   // A light's RGB radiance (light: its index, lights.size() for the environment).
   const Value& emitted(const Rgb3& L, std::size_t) const { return L; }
   const Value& reflectance(const Rgb3& albedo) const { return albedo; }
   // The albedo texture's modulation of the subsurface term: texture / R_d(reference).
-  Value texture(const Material& m, const Rgb3& texel) const { return texel * m.texture_normalisation; }
+  Value texture(const TranslucentMaterial& m, const Rgb3& texel) const { return texel * m.texture_normalisation; }
   static Value from(const double* w) { return {w[0], w[1], w[2]}; }
 };
 
@@ -75,15 +85,15 @@ struct SpectralShading {
   const std::vector<SpectralEmission>* emission;  // per light, then the environment
   SampledWavelengths wl;
   static Value one() { return Value::constant(1); }
-  Bssrdf bssrdf(const Material& m, const Vec3& x, const Vec3& n, double mm) const {
+  Bssrdf bssrdf(const TranslucentMaterial& m, const Vec3& x, const Vec3& n, double mm) const {
     return Bssrdf(m.spectral->channels(wl), m.rho_s, m.specular_albedo.get(), x, n, mm);
   }
   Value emitted(const Rgb3& L, std::size_t light) const { return (*emission)[light](L, wl); }
   Value reflectance(const Rgb3& albedo) const { return RgbUpsampling::get()(albedo, wl); }
-  Value texture(const Material& m, const Rgb3& texel) const {
+  Value texture(const TranslucentMaterial& m, const Rgb3& texel) const {
     Value t = RgbUpsampling::get()(texel, wl);
     for (int j = 0; j < kWavelengths; ++j) {
-      const double ref = m.spectral->texture_reference(wl.lambda[static_cast<std::size_t>(j)]);
+      const double ref = (*m.spectral_texture_reference)(wl.lambda[static_cast<std::size_t>(j)]);
       t[j] = ref > 1e-6 ? t[j] / ref : 0.0;
     }
     return t;
@@ -96,7 +106,7 @@ struct SpectralShading {
 // parameter-map node, by address.
 struct PointSubsurface {
   std::vector<PointCloud> cloud;
-  std::unordered_map<const Material*, NearFieldKernel> kernel;
+  std::unordered_map<const TranslucentMaterial*, NearFieldKernel> kernel;
   double max_solid_angle = 0;
   double h = 0;  // [scene units] radius of the exitance cache's interpolation; 0: sum at x_o
   double spacing = 0;  // [mm]
@@ -147,6 +157,14 @@ class Integrator {
                       double* pdf) const;
   bool visible(const Vec3& p, const Vec3& n, const Vec3& wi, double dist) const;
   Vec3 offset(const Vec3& p, const Vec3& n, const Vec3& w) const { return p + n * (dot(w, n) > 0 ? eps_ : -eps_); }
+  // A vertex of a path: the material's own terms added to L (beta: the path's throughput), and
+  // the path continued from it (false: it ends). One per material type (Material::type).
+  template <class Shading>
+  bool vertex(const DiffuseMaterial& m, const Surface& x, int depth, Sampler& rng, const Shading& sh,
+              typename Shading::Value& L, typename Shading::Value& beta, PathState& path) const;
+  template <class Shading>
+  bool vertex(const TranslucentMaterial& m, const Surface& x, int depth, Sampler& rng, const Shading& sh,
+              typename Shading::Value& L, typename Shading::Value& beta, PathState& path) const;
   // Entry points and their weights R / pdf per channel (sample_entries).
   template <class Value>
   struct Entry {
@@ -307,7 +325,8 @@ Rgb3 Integrator::entry_irradiance(const SurfaceSample& at, std::uint64_t seed, s
   Rgb3 E;
   for (int j = 0; j < samples; ++j) {
     Sampler rng(Rng::for_sample(seed, index, static_cast<std::uint64_t>(j)));
-    const Material& m = x.mat->has_maps() && x.has_uv ? x.mat->node_at(x.uv.x, x.uv.y, rng.uniform()) : *x.mat;
+    const TranslucentMaterial& t = *x.mat->translucent();
+    const TranslucentMaterial& m = t.has_maps() && x.has_uv ? t.node_at(x.uv.x, x.uv.y, rng.uniform()) : t;
     const Bssrdf bssrdf(m.profile, m.rho_s, m.specular_albedo.get(), x.p, x.ns, s_.mm_per_unit);
     E += direct(RgbShading{}, x.p, x.ns, x.ng, rng, [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, x.ns)); },
                 [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, x.ns)); });
@@ -324,145 +343,35 @@ template <class Shading>
 typename Shading::Value Integrator::Li(Vec3 o, Vec3 d, Sampler& rng, const Shading& sh, bool* translucent,
                                        const PathStart& start) const {
   using Value = typename Shading::Value;
-  constexpr int N = Shading::kChannels;
   Value L{}, beta = Shading::one();
-  double prev_pdf = start.prev_pdf;    // solid-angle pdf of the direction that produced this ray
-  bool prev_delta = start.prev_delta;  // camera ray: no MIS against lights
-  Vec3 prev_n = start.prev_n;          // shading normal at the vertex the ray left (environment pdf)
+  PathState path{o, d, start.prev_pdf, start.prev_delta, start.prev_n};
   for (int depth = start.depth;; ++depth) {
     RayHit h;
-    const bool hit = a_.intersect(o, d, eps_, kInf, &h);
+    const bool hit = a_.intersect(path.o, path.d, eps_, kInf, &h);
     const double t_hit = hit ? h.t : kInf;
     {
       Rgb3 Le;
       std::size_t light = 0;
       double lpdf = 0;
-      if (hit_area_light(o, prev_n, d, t_hit, &Le, &light, &lpdf)) {
-        const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
+      if (hit_area_light(path.o, path.prev_n, path.d, t_hit, &Le, &light, &lpdf)) {
+        const double w = path.prev_delta ? 1.0 : power_heuristic(path.prev_pdf, lpdf);
         L += beta * sh.emitted(Le, light) * w;
         break;
       }
     }
     if (!hit) {
       if (!s_.environment.black()) {
-        const double lpdf = s_.environment.pdf(o, prev_n, d);
-        const double w = prev_delta ? 1.0 : power_heuristic(prev_pdf, lpdf);
-        L += beta * sh.emitted(s_.environment.radiance(d), s_.lights.size()) * w;
+        const double lpdf = s_.environment.pdf(path.o, path.prev_n, path.d);
+        const double w = path.prev_delta ? 1.0 : power_heuristic(path.prev_pdf, lpdf);
+        L += beta * sh.emitted(s_.environment.radiance(path.d), s_.lights.size()) * w;
       }
       break;
     }
     if (depth >= max_depth_) break;
     if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth));
-    Surface x = surface(h, d);
-    if (x.mat->has_maps() && x.has_uv) x.mat = &x.mat->node_at(x.uv.x, x.uv.y, rng.uniform());
-    const Material& m = *x.mat;
-    if (depth == 0 && translucent) *translucent = m.translucent();
-    const Vec3 wo = -d;
-    if (!m.translucent()) {
-      const Value albedo = sh.reflectance(m.albedo_map && x.has_uv ? m.albedo_map->lookup(x.uv.x, x.uv.y) : m.albedo);
-      const auto lambert = [&](const Vec3& wi) { return std::max(0.0, dot(wi, x.ns)) / kPi; };
-      L += beta * albedo * direct(sh, x.p, x.ns, x.ng, rng, lambert, lambert);
-      const Frame f = Frame::from_normal(x.ns);
-      const Vec3 wi = f.to_world(sample_cosine_hemisphere(rng.uniform2()));
-      if (dot(wi, x.ng) <= 0) break;
-      beta *= albedo;
-      prev_pdf = dot(wi, x.ns) / kPi;
-      prev_delta = false;
-      prev_n = x.ns;
-      o = offset(x.p, x.ng, wi);
-      d = wi;
-    } else {
-      const auto bssrdf = sh.bssrdf(m, x.p, x.ns, s_.mm_per_unit);
-      const Frame& f = bssrdf.frame();
-      const Vec3 wo_l = f.to_local(wo);
-      const double cos_o = std::max(wo_l.z, 1e-4);
-      const TorranceSparrow lobe(m.rho_s, m.roughness, m.eta);
-      // Surface term: direct light with MIS.
-      const Vec3 wo_c{wo_l.x, wo_l.y, cos_o};
-      if (m.rho_s > 0) {
-        L += beta * direct(sh, x.p, x.ns, x.ng, rng,
-                           [&](const Vec3& wi) { const Vec3 l = f.to_local(wi); return lobe.f(wo_c, l) * l.z; },
-                           [&](const Vec3& wi) { return lobe.pdf(wo_c, f.to_local(wi)); });
-      }
-      // Subsurface term: entry points x_i (one probe per channel, every candidate), direct light
-      // at each with MIS; the path continues from one of them, picked by its weight.
-      const double Ft_o = bssrdf.F_t(cos_o);
-      Value tex = Shading::one();
-      if (m.albedo_map && x.has_uv) tex = sh.texture(m, m.albedo_map->lookup(x.uv.x, x.uv.y));
-      const Value beta_o = beta * tex * Ft_o;
-      constexpr int kMaxEntries = (N + 1) * kMaxHits;
-      Entry<Value> entries[kMaxEntries];
-      int n_entries = 0;
-      const std::size_t mat_index = s_.meshes[x.mesh].material;
-      if (points_ && !points_->cloud[mat_index].empty()) {
-        // From the cloud (RGB only; render() refuses points with spectral rendering): the whole
-        // subsurface term (its points' irradiance holds every bounce); the path goes on through
-        // the surface term only.
-        if constexpr (std::is_same_v<Shading, RgbShading>) {
-          const PointCloud& cloud = points_->cloud[mat_index];
-          Rgb3 M;
-          if (!(points_->h > 0 && points_->cache[mat_index].interpolated_exitance(x.p, points_->h, &M)))
-            M = cloud.radiant_exitance(x.p, points_->kernel.at(x.mat), points_->max_solid_angle, &x.ns);
-          L += beta_o * M;
-        }
-      } else {
-        n_entries = sample_entries<Shading>(x, bssrdf, rng, depth == 0, entries);
-      }
-      const bool entered = n_entries > 0;
-      Value beta_ss;
-      Surface xi;
-      if (entered) {
-        double total = 0, pick_w[kMaxEntries];
-        for (int k = 0; k < n_entries; ++k) {
-          const auto& e = entries[k];
-          if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth + 1 + e.slot));
-          L += beta_o * e.weight * direct(sh, e.x.p, e.x.ns, e.x.ng, rng,
-                                          [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, e.x.ns)); },
-                                          [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, e.x.ns)); });
-          double sum_abs = 0;
-          for (int c = 0; c < N; ++c) sum_abs += std::abs(e.weight[c]);
-          pick_w[k] = sum_abs + 1e-12;
-          total += pick_w[k];
-        }
-        if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth + kBlocksPerDepth - 1));
-        // One entry carries the path on: picked in proportion to its weight, divided by that.
-        double u = rng.uniform() * total;
-        int k = 0;
-        while (k + 1 < n_entries && u >= pick_w[k]) u -= pick_w[k++];
-        xi = entries[k].x;
-        beta_ss = beta_o * entries[k].weight * (total / pick_w[k]);
-      }
-      // Continue with one of the two terms, chosen by their albedo at w_o.
-      const double a_spec = bssrdf.rho_dr(cos_o);
-      const double a_ss = entered ? (1 - a_spec) * std::max(1e-3, m.R_d.average()) : 0.0;
-      const double p_spec = a_spec + a_ss > 0 ? a_spec / (a_spec + a_ss) : 0.0;
-      if (rng.uniform() < p_spec) {
-        Vec3 wi_l;
-        double pdf = 0;
-        if (!lobe.sample({wo_l.x, wo_l.y, cos_o}, rng.uniform2(), &wi_l, &pdf) || pdf <= 0) break;
-        const Vec3 wi = f.to_world(wi_l);
-        if (dot(wi, x.ng) <= 0) break;
-        beta *= lobe.f({wo_l.x, wo_l.y, cos_o}, wi_l) * wi_l.z / (pdf * p_spec);
-        prev_pdf = pdf;
-        prev_delta = false;
-        prev_n = x.ns;
-        o = offset(x.p, x.ng, wi);
-        d = wi;
-      } else {
-        if (!entered || p_spec >= 1) break;
-        const Frame fi = Frame::from_normal(xi.ns);
-        const Vec3 wi_l = sample_cosine_hemisphere(rng.uniform2());
-        const Vec3 wi = fi.to_world(wi_l);
-        if (dot(wi, xi.ng) <= 0) break;
-        // f cos / pdf = F_t(theta_i) / pi x cos / (cos / pi).
-        beta = beta_ss * (bssrdf.F_t(wi_l.z) / (1 - p_spec));
-        prev_pdf = wi_l.z / kPi;
-        prev_delta = false;
-        prev_n = xi.ns;
-        o = offset(xi.p, xi.ng, wi);
-        d = wi;
-      }
-    }
+    const Surface x = surface(h, path.d);
+    if (depth == 0 && translucent) *translucent = x.mat->translucent() != nullptr;
+    if (!std::visit([&](const auto& m) { return vertex(m, x, depth, rng, sh, L, beta, path); }, x.mat->type)) break;
     // Russian roulette after three bounces (unbiased: survivors are reweighted).
     if (depth >= 3) {
       const double q = std::min(0.95, beta.max());
@@ -471,6 +380,127 @@ typename Shading::Value Integrator::Li(Vec3 o, Vec3 d, Sampler& rng, const Shadi
     }
   }
   return L;
+}
+
+template <class Shading>
+bool Integrator::vertex(const DiffuseMaterial& m, const Surface& x, int, Sampler& rng, const Shading& sh,
+                        typename Shading::Value& L, typename Shading::Value& beta, PathState& path) const {
+  using Value = typename Shading::Value;
+  const Value albedo = sh.reflectance(m.albedo_map && x.has_uv ? m.albedo_map->lookup(x.uv.x, x.uv.y) : m.albedo);
+  const auto lambert = [&](const Vec3& wi) { return std::max(0.0, dot(wi, x.ns)) / kPi; };
+  L += beta * albedo * direct(sh, x.p, x.ns, x.ng, rng, lambert, lambert);
+  const Frame f = Frame::from_normal(x.ns);
+  const Vec3 wi = f.to_world(sample_cosine_hemisphere(rng.uniform2()));
+  if (dot(wi, x.ng) <= 0) return false;
+  beta *= albedo;
+  path.prev_pdf = dot(wi, x.ns) / kPi;
+  path.prev_delta = false;
+  path.prev_n = x.ns;
+  path.o = offset(x.p, x.ng, wi);
+  path.d = wi;
+  return true;
+}
+
+template <class Shading>
+bool Integrator::vertex(const TranslucentMaterial& material, const Surface& x, int depth, Sampler& rng,
+                        const Shading& sh, typename Shading::Value& L, typename Shading::Value& beta,
+                        PathState& path) const {
+  using Value = typename Shading::Value;
+  constexpr int N = Shading::kChannels;
+  const TranslucentMaterial& m =
+      material.has_maps() && x.has_uv ? material.node_at(x.uv.x, x.uv.y, rng.uniform()) : material;
+  const Vec3 wo = -path.d;
+  const auto bssrdf = sh.bssrdf(m, x.p, x.ns, s_.mm_per_unit);
+  const Frame& f = bssrdf.frame();
+  const Vec3 wo_l = f.to_local(wo);
+  const double cos_o = std::max(wo_l.z, 1e-4);
+  const TorranceSparrow lobe(m.rho_s, m.roughness, m.eta);
+  // Surface term: direct light with MIS.
+  const Vec3 wo_c{wo_l.x, wo_l.y, cos_o};
+  if (m.rho_s > 0) {
+    L += beta * direct(sh, x.p, x.ns, x.ng, rng,
+                       [&](const Vec3& wi) { const Vec3 l = f.to_local(wi); return lobe.f(wo_c, l) * l.z; },
+                       [&](const Vec3& wi) { return lobe.pdf(wo_c, f.to_local(wi)); });
+  }
+  // Subsurface term: entry points x_i (one probe per channel, every candidate), direct light
+  // at each with MIS; the path continues from one of them, picked by its weight.
+  const double Ft_o = bssrdf.F_t(cos_o);
+  Value tex = Shading::one();
+  if (m.albedo_map && x.has_uv) tex = sh.texture(m, m.albedo_map->lookup(x.uv.x, x.uv.y));
+  const Value beta_o = beta * tex * Ft_o;
+  constexpr int kMaxEntries = (N + 1) * kMaxHits;
+  Entry<Value> entries[kMaxEntries];
+  int n_entries = 0;
+  const std::size_t mat_index = s_.meshes[x.mesh].material;
+  if (points_ && !points_->cloud[mat_index].empty()) {
+    // From the cloud (RGB only; render() refuses points with spectral rendering): the whole
+    // subsurface term (its points' irradiance holds every bounce); the path goes on through
+    // the surface term only.
+    if constexpr (std::is_same_v<Shading, RgbShading>) {
+      const PointCloud& cloud = points_->cloud[mat_index];
+      Rgb3 M;
+      if (!(points_->h > 0 && points_->cache[mat_index].interpolated_exitance(x.p, points_->h, &M)))
+        M = cloud.radiant_exitance(x.p, points_->kernel.at(&m), points_->max_solid_angle, &x.ns);
+      L += beta_o * M;
+    }
+  } else {
+    n_entries = sample_entries<Shading>(x, bssrdf, rng, depth == 0, entries);
+  }
+  const bool entered = n_entries > 0;
+  Value beta_ss;
+  Surface xi;
+  if (entered) {
+    double total = 0, pick_w[kMaxEntries];
+    for (int k = 0; k < n_entries; ++k) {
+      const auto& e = entries[k];
+      if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth + 1 + e.slot));
+      L += beta_o * e.weight * direct(sh, e.x.p, e.x.ns, e.x.ng, rng,
+                                      [&](const Vec3& wi) { return bssrdf.f_entry_cos(dot(wi, e.x.ns)); },
+                                      [&](const Vec3& wi) { return pdf_cosine_hemisphere(dot(wi, e.x.ns)); });
+      double sum_abs = 0;
+      for (int c = 0; c < N; ++c) sum_abs += std::abs(e.weight[c]);
+      pick_w[k] = sum_abs + 1e-12;
+      total += pick_w[k];
+    }
+    if (depth <= kBlockDepths) rng.start_block(static_cast<std::uint32_t>(depth * kBlocksPerDepth + kBlocksPerDepth - 1));
+    // One entry carries the path on: picked in proportion to its weight, divided by that.
+    double u = rng.uniform() * total;
+    int k = 0;
+    while (k + 1 < n_entries && u >= pick_w[k]) u -= pick_w[k++];
+    xi = entries[k].x;
+    beta_ss = beta_o * entries[k].weight * (total / pick_w[k]);
+  }
+  // Continue with one of the two terms, chosen by their albedo at w_o.
+  const double a_spec = bssrdf.rho_dr(cos_o);
+  const double a_ss = entered ? (1 - a_spec) * std::max(1e-3, m.R_d.average()) : 0.0;
+  const double p_spec = a_spec + a_ss > 0 ? a_spec / (a_spec + a_ss) : 0.0;
+  if (rng.uniform() < p_spec) {
+    Vec3 wi_l;
+    double pdf = 0;
+    if (!lobe.sample({wo_l.x, wo_l.y, cos_o}, rng.uniform2(), &wi_l, &pdf) || pdf <= 0) return false;
+    const Vec3 wi = f.to_world(wi_l);
+    if (dot(wi, x.ng) <= 0) return false;
+    beta *= lobe.f({wo_l.x, wo_l.y, cos_o}, wi_l) * wi_l.z / (pdf * p_spec);
+    path.prev_pdf = pdf;
+    path.prev_delta = false;
+    path.prev_n = x.ns;
+    path.o = offset(x.p, x.ng, wi);
+    path.d = wi;
+  } else {
+    if (!entered || p_spec >= 1) return false;
+    const Frame fi = Frame::from_normal(xi.ns);
+    const Vec3 wi_l = sample_cosine_hemisphere(rng.uniform2());
+    const Vec3 wi = fi.to_world(wi_l);
+    if (dot(wi, xi.ng) <= 0) return false;
+    // f cos / pdf = F_t(theta_i) / pi x cos / (cos / pi).
+    beta = beta_ss * (bssrdf.F_t(wi_l.z) / (1 - p_spec));
+    path.prev_pdf = wi_l.z / kPi;
+    path.prev_delta = false;
+    path.prev_n = xi.ns;
+    path.o = offset(xi.p, xi.ng, wi);
+    path.d = wi;
+  }
+  return true;
 }
 
 }  // namespace
@@ -549,9 +579,9 @@ PointSubsurface build_point_subsurface(const SceneData& s, const Integrator& int
       }
     out.cloud[mat] = PointCloud(std::move(p), std::move(ea), A, s.mm_per_unit, std::move(nrm));
     const double a = kDiskRadius * std::sqrt(A);  // [mm]
-    const Material& m = s.materials[mat];
+    const TranslucentMaterial& m = *s.materials[mat].translucent();
     out.kernel.emplace(&m, NearFieldKernel(&m.profile, a, kNearRadius * a));
-    for (const Material& node : m.nodes) out.kernel.emplace(&node, NearFieldKernel(&node.profile, a, kNearRadius * a));
+    for (const TranslucentMaterial& node : m.nodes) out.kernel.emplace(&node, NearFieldKernel(&node.profile, a, kNearRadius * a));
     // The exitance cache (not with parameter maps: there the profile depends on the shading
     // point's node).
     if (out.h > 0 && !m.has_maps()) {
@@ -583,10 +613,6 @@ PointSubsurface build_point_subsurface(const SceneData& s, const Integrator& int
 struct Extent {
   int W, H, spp;
 };
-// Adaptive sampling: the first pass's samples per pixel (also the fewest a pixel takes) and the
-// most a pixel takes unless --spp says otherwise.
-constexpr int kAdaptiveFirstPass = 16;
-constexpr int kAdaptiveMaxSpp = 65536;
 Extent extent(const SceneData& s, const RenderSettings& settings) {
   return {settings.width > 0 ? settings.width : s.camera.width,
           settings.height > 0 ? settings.height : s.camera.height, settings.spp > 0 ? settings.spp : s.spp};
@@ -657,78 +683,24 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
     for (const Light& l : s.lights) emission.emplace_back(l.illuminant());
     emission.emplace_back(s.environment.illuminant);
     for (const Material& m : s.materials)
-      SKIN_ASSERT(m.kind != MaterialKind::skin || m.spectral, "spectral render without the spectral profiles");
+      SKIN_ASSERT(!m.translucent() || m.translucent()->spectral, "spectral render without the spectral profiles");
   }
   const bool spectral = s.spectral;
 
-  // Pinhole camera: vertical field of view, looking from eye to target.
-  const Camera& cam = s.camera;
-  const Vec3 fwd = normalize(cam.target - cam.eye);
-  const Vec3 right = normalize(cross(fwd, cam.up));
-  const Vec3 up = cross(right, fwd);
-  const double tan_half = std::tan(cam.fov_deg * kPi / 360.0);
-  const double aspect = static_cast<double>(W) / H;
-
+  const PinholeCamera camera(s.camera, W, H);
   const std::size_t pixels = static_cast<std::size_t>(W) * static_cast<std::size_t>(H);
-  std::vector<Rgb3> sum(pixels), sum_sq(pixels), sum_odd(pixels);
-  std::vector<std::uint32_t> taken(pixels, 0), skin_hits(pixels, 0);
-  std::vector<std::uint8_t> active(pixels, 1);
+  Film film(pixels);
+  SamplePasses passes(settings, spp, pixels);
   std::atomic<std::uint64_t> invalid{0};
-  // Passes: one sample per pixel under a time budget; 16 per pixel, then doubling, when
-  // adaptive; otherwise all at once.
-  auto pass_end = [&](int done) {
-    if (settings.time_budget > 0) return done + 1;
-    if (adaptive) return std::min(spp, done == 0 ? kAdaptiveFirstPass : 2 * done);
-    return spp;
-  };
-  int passes = 0;
-  for (int d = 0; d < spp; d = pass_end(d)) ++passes;
   constexpr int kTile = 16;
   const int tiles_x = (W + kTile - 1) / kTile, tiles_y = (H + kTile - 1) / kTile;
-  const std::uint64_t total_work = static_cast<std::uint64_t>(tiles_x) * tiles_y * static_cast<std::uint64_t>(passes);
+  const std::uint64_t total_work =
+      static_cast<std::uint64_t>(tiles_x) * tiles_y * static_cast<std::uint64_t>(passes.count());
   std::atomic<std::uint64_t> work_done{0};
   std::mutex progress_mutex;
-  // The mean of a pixel's samples, and the variance of that mean averaged over the channels.
-  auto mean_of = [&](std::size_t p) { return taken[p] > 0 ? sum[p] / static_cast<double>(taken[p]) : Rgb3{}; };
-  // Two estimates of that variance. From the samples' spread (as if independent): what the
-  // quasi-random samples' stratification removes it does not see, so it overstates the error
-  // (head, 64 spp: 0.060 against 0.042 measured); used for the pixels' shares of the samples.
-  auto spread_variance = [&](std::size_t p) {
-    const double n = taken[p];
-    if (n < 2) return std::numeric_limits<double>::quiet_NaN();
-    const Rgb3 m = sum[p] / n, q = sum_sq[p] / n;
-    const double v = std::max(0.0, q.r - m.r * m.r) + std::max(0.0, q.g - m.g * m.g) + std::max(0.0, q.b - m.b * m.b);
-    return v / 3.0 / (n - 1);  // (n / (n - 1)) x the biased variance, / n
-  };
-  // From the two replicates (even and odd samples: two independently scrambled sequences, of
-  // n_e and n_o samples): their means differ by d with E[d^2] = var(m_e) + var(m_o), and for
-  // samples of one variance var(m) = E[d^2] n_e n_o / n^2 (1/4 for equal halves); unbiased, one
-  // degree of freedom per pixel, so its sum over the skin pixels is what the error estimate uses.
-  auto replicate_variance = [&](std::size_t p) {
-    const std::uint32_t n = taken[p], n_odd = n / 2, n_even = n - n_odd;
-    if (n_odd < 1) return std::numeric_limits<double>::quiet_NaN();
-    const Rgb3 d = (sum[p] - sum_odd[p]) / static_cast<double>(n_even) - sum_odd[p] / static_cast<double>(n_odd);
-    const double nn = static_cast<double>(n);
-    return (d.r * d.r + d.g * d.g + d.b * d.b) / 3.0 * (static_cast<double>(n_even) * n_odd / (nn * nn));
-  };
-  auto is_skin = [&](std::size_t p) { return taken[p] > 0 && 2 * skin_hits[p] > taken[p]; };
-  // Mean over the skin pixels and channels (over all pixels if none is skin).
-  auto skin_mean = [&] {
-    double total = 0, all = 0;
-    std::size_t n = 0;
-    for (std::size_t p = 0; p < pixels; ++p) {
-      const Rgb3 m = mean_of(p);
-      all += (m.r + m.g + m.b) / 3;
-      if (is_skin(p)) {
-        total += (m.r + m.g + m.b) / 3;
-        ++n;
-      }
-    }
-    return n > 0 ? total / static_cast<double>(n) : all / static_cast<double>(pixels);
-  };
   int done = 0;
   while (done < spp) {
-    const int s0 = done, s1 = pass_end(done);
+    const int s0 = done, s1 = passes.end(done);
     arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range2d<int>(0, tiles_y, 1, 0, tiles_x, 1), [&](const tbb::blocked_range2d<int>& r) {
         for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
@@ -737,38 +709,32 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
               for (int x = tx * kTile; x < std::min(W, (tx + 1) * kTile); ++x) {
                 if (cancel::requested()) return;  // thrown below, after the pass
                 const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(W) + static_cast<std::uint64_t>(x);
-                if (!active[pixel]) continue;
-                Rgb3 acc = sum[pixel], acc_sq = sum_sq[pixel], acc_odd = sum_odd[pixel];
-                std::uint32_t hits = skin_hits[pixel];
+                if (!passes.active(pixel)) continue;
+                Film::Pixel acc = film.pixel(pixel);
                 for (int si = s0; si < s1; ++si) {
                   // Even and odd samples: two replicates, each its own scrambled sequence.
                   Sampler rng(settings.seed, 2 * pixel + static_cast<std::uint64_t>(si & 1),
                               static_cast<std::uint32_t>(si >> 1));
                   const Vec2 jitter = rng.uniform2();
-                  const double px = (x + jitter.x) / W, py = (y + jitter.y) / H;
-                  const Vec3 dir = normalize(fwd + right * ((2 * px - 1) * tan_half * aspect) + up * ((1 - 2 * py) * tan_half));
+                  const Vec3 dir = camera.direction((x + jitter.x) / W, (y + jitter.y) / H);
                   bool translucent = false;
                   Rgb3 c;
                   if (spectral) {
                     const SpectralShading sh{&emission, SampledWavelengths::hero(rng.uniform())};
-                    c = film_srgb_linear(integ.Li(cam.eye, dir, rng, sh, &translucent), sh.wl);
+                    c = film_srgb_linear(integ.Li(camera.eye(), dir, rng, sh, &translucent), sh.wl);
                   } else {
-                    c = integ.Li(cam.eye, dir, rng, RgbShading{}, &translucent);
+                    c = integ.Li(camera.eye(), dir, rng, RgbShading{}, &translucent);
                   }
-                  hits += translucent ? 1 : 0;
+                  acc.skin_hits += translucent ? 1 : 0;
                   if (std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b)) {
-                    acc += c;
-                    acc_sq += c * c;
-                    if (si & 1) acc_odd += c;
+                    acc.sum += c;
+                    acc.sum_sq += c * c;
+                    if (si & 1) acc.sum_odd += c;
                   } else {
                     invalid.fetch_add(1, std::memory_order_relaxed);
                   }
                 }
-                sum[pixel] = acc;
-                sum_sq[pixel] = acc_sq;
-                sum_odd[pixel] = acc_odd;
-                skin_hits[pixel] = hits;
-                taken[pixel] = static_cast<std::uint32_t>(s1);
+                film.set(pixel, acc, static_cast<std::uint32_t>(s1));
               }
             const std::uint64_t w = work_done.fetch_add(1, std::memory_order_relaxed) + 1;
             if (progress) {
@@ -782,64 +748,18 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
     done = s1;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (settings.time_budget > 0 && elapsed >= settings.time_budget) break;
-    if (adaptive && done < spp) {
-      // Samples in proportion to each pixel's standard deviation sigma_p (the allocation that
-      // minimises the RMS error over the pixels for a number of samples): the error^2 is then
-      // mean(sigma_p^2 / n_p) = kappa mean(sigma_p) with n_p = sigma_p / kappa, so the target
-      // sets kappa = (E M)^2 / mean(sigma_p), M the skin's mean. A pixel stops once n_p reaches
-      // sigma_p / kappa; the render once all have, or once the estimated error is within E.
-      const double limit = settings.target_error * skin_mean();
-      // The spread overstates the quasi-random error: scaled by the ratio rho of the two
-      // estimates over the skin, it sets each pixel's share.
-      double sigma_sum = 0, spread_sum = 0, var_sum = 0;
-      std::size_t skin = 0;
-      for (std::size_t p = 0; p < pixels; ++p)
-        if (is_skin(p)) {
-          const double v = spread_variance(p);
-          sigma_sum += std::sqrt(v * taken[p]);
-          spread_sum += v;
-          var_sum += replicate_variance(p);
-          ++skin;
-        }
-      if (skin == 0 || var_sum / static_cast<double>(skin) <= limit * limit) break;
-      const double rho = spread_sum > 0 ? var_sum / spread_sum : 1.0;
-      const double kappa = limit * limit / (std::sqrt(rho) * sigma_sum / static_cast<double>(skin));
-      std::size_t still = 0;
-      for (std::size_t p = 0; p < pixels; ++p) {
-        if (active[p] && taken[p] >= static_cast<std::uint32_t>(kAdaptiveFirstPass) &&
-            !(std::sqrt(rho * spread_variance(p) * taken[p]) > kappa * taken[p]))
-          active[p] = 0;
-        still += active[p];
-      }
-      if (still == 0) break;
-    }
+    if (passes.converged(film, done)) break;
   }
-  Image img(W, H);
-  for (int y = 0; y < H; ++y)
-    for (int x = 0; x < W; ++x) img.set(x, y, mean_of(static_cast<std::size_t>(y) * W + x));
+  Image img = film.image(W, H);
   if (stats) {
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     stats->spp_done = done;
-    stats->camera_samples = 0;
-    for (const std::uint32_t n : taken) stats->camera_samples += n;
     stats->invalid_samples = invalid.load();
     stats->point_seconds = point_seconds;
     stats->points = 0;
     for (const PointCloud& c : points.cloud) stats->points += c.size();
     stats->point_spacing = stats->points > 0 ? points.spacing : 0.0;
-    stats->skin_mask.assign(pixels, 0);
-    stats->skin_pixels = 0;
-    double var = 0;
-    for (std::size_t p = 0; p < pixels; ++p)
-      if (is_skin(p)) {
-        stats->skin_mask[p] = 1;
-        ++stats->skin_pixels;
-        var += replicate_variance(p);
-      }
-    const double mean = skin_mean();
-    stats->estimated_error = stats->skin_pixels > 0 && mean > 0
-                                 ? std::sqrt(var / static_cast<double>(stats->skin_pixels)) / mean
-                                 : std::numeric_limits<double>::quiet_NaN();
+    film.fill(stats);
   }
   return img;
 }

@@ -1,4 +1,5 @@
-// Scene files (docs/scene-format.md), the built-in default scene, and the Scene handle.
+// Scene files (docs/scene-format.md) and the built-in default scene as SceneDescriptions, their
+// edits (the CLI's flags), and the built Scene handle.
 #include "skin/render/scene.hpp"
 
 #include <algorithm>
@@ -9,8 +10,6 @@
 #include <map>
 #include <set>
 #include <sstream>
-
-#include <tbb/parallel_for.h>
 
 #include "scene_impl.hpp"
 #include "skin/color/color.hpp"
@@ -128,8 +127,8 @@ const transport::Model* read_solver(const Reader& r) {
   return with_context(r.file(), r.path("solver"), [&] { return &transport::find_model(r.string("solver")); });
 }
 
-Material parse_material(const Reader& r, const std::string& name, const std::string& base) {
-  Material m;
+MaterialDescription parse_material(const Reader& r, const std::string& name, const std::string& base) {
+  MaterialDescription m;
   m.name = name;
   const std::string type = r.string("type");
   if (type == "diffuse") {
@@ -165,7 +164,7 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
             with_context(r.file(), pm.path(k.c_str()), [&key = k] { return &parameter_info(key, "parameter"); });
         const Reader e(v, r.file(), pm.path(k.c_str()));
         e.allow({"texture", "channel", "min", "max", "levels"});
-        Material::ParameterMap mp;
+        ParameterMap mp;
         mp.key = std::string(info->key);
         mp.member = info->member;
         mp.levels = e.integer("levels", 4);
@@ -200,14 +199,15 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
         m.maps.push_back(mp);
       }
     }
-    with_context(r.file(), "materials." + name, [&] { prepare_skin_material(m, p); return 0; });
+    m.kind = MaterialKind::skin;
+    with_context(r.file(), "materials." + name, [&] { p.validate(); return 0; });
+    m.parameters = p;
     if (r.has("albedo_texture")) {
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
       // The chromophores assumed to have produced the texture (DJ06 section 3.6): the texture
       // is divided by their R_d colour. Default: the material's own parameters.
       if (r.has("texture_reference")) {
-        const SkinParameters ref = with_context(r.file(), r.path("texture_reference"), [&] { return find_preset(r.string("texture_reference")).parameters; });
-        set_texture_reference(m, ref);
+        m.texture_reference = with_context(r.file(), r.path("texture_reference"), [&] { return find_preset(r.string("texture_reference")).parameters; });
       }
     } else if (r.has("texture_reference")) {
       r.fail("'texture_reference' needs 'albedo_texture'");
@@ -217,11 +217,11 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
       std::size_t nodes = 1;
       for (const auto& mp : m.maps) nodes *= static_cast<std::size_t>(mp.levels);
       if (nodes > 64) pm.fail("the maps need " + std::to_string(nodes) + " precomputed parameter sets; at most 64 (lower 'levels')");
-      with_context(r.file(), r.path("parameter_maps"), [&] { prepare_parameter_maps(m, p); return 0; });
     }
   } else if (type == "layered") {
     r.allow({"type", "layers", "eta_above", "eta_below", "rho_s", "roughness", "eta", "albedo_texture",
              "solver"});
+    m.kind = MaterialKind::layered;
     if (r.has("solver")) m.solver = read_solver(r);
     m.rho_s = r.number("rho_s", 0.0);
     m.roughness = r.number("roughness", 0.35);
@@ -253,7 +253,7 @@ Material parse_material(const Reader& r, const std::string& name, const std::str
         stacks[static_cast<std::size_t>(c)].layers.push_back(l);
       }
     }
-    with_context(r.file(), "materials." + name, [&] { prepare_layered_material(m, stacks); return 0; });
+    m.stacks = stacks;
     if (r.has("albedo_texture"))
       m.albedo_map = with_context(r.file(), r.path("albedo_texture"), [&] { return load_texture(resolve(base, r.string("albedo_texture")), true); });
   } else {
@@ -277,10 +277,10 @@ void apply_transform(const Reader& r, std::vector<Mesh>& meshes) {
   }
 }
 
-SceneData parse_scene(const json& root, const std::string& file, const std::string& base) {
+SceneDescription::Data parse_scene(const json& root, const std::string& file, const std::string& base) {
   const Reader r(root, file, "");
   r.allow({"unit_mm", "camera", "render", "materials", "objects", "lights", "environment", "description"});
-  SceneData s;
+  SceneDescription::Data s;
   s.source = file;
   s.mm_per_unit = r.number("unit_mm", 1.0);
   if (!(s.mm_per_unit > 0)) r.fail("'unit_mm' must be > 0");
@@ -430,7 +430,7 @@ SceneData parse_scene(const json& root, const std::string& file, const std::stri
       s.environment.build_distribution();
     }
   }
-  if (s.spectral) with_context(file, "render.spectral", [&] { prepare_spectral(s); return 0; });
+  if (s.spectral) with_context(file, "render.spectral", [&] { check_spectral(s); return 0; });
   return s;
 }
 
@@ -459,125 +459,109 @@ Scene& Scene::operator=(Scene&&) noexcept = default;
 Scene::~Scene() = default;
 
 Scene Scene::parse(const std::string& text, const std::string& base_dir, const std::string& name) {
+  return SceneDescription::parse(text, base_dir, name).build();
+}
+Scene Scene::load(const std::string& path) { return SceneDescription::load(path).build(); }
+Scene Scene::default_scene() { return SceneDescription::default_scene().build(); }
+
+SceneDescription::SceneDescription(std::unique_ptr<Data> d) : d_(std::move(d)) {}
+SceneDescription::SceneDescription(const SceneDescription& o) : d_(std::make_unique<Data>(*o.d_)) {}
+SceneDescription& SceneDescription::operator=(const SceneDescription& o) {
+  if (this != &o) d_ = std::make_unique<Data>(*o.d_);
+  return *this;
+}
+SceneDescription::SceneDescription(SceneDescription&&) noexcept = default;
+SceneDescription& SceneDescription::operator=(SceneDescription&&) noexcept = default;
+SceneDescription::~SceneDescription() = default;
+
+SceneDescription SceneDescription::parse(const std::string& text, const std::string& base_dir, const std::string& name) {
   json root;
   try {
     root = json::parse(text);
   } catch (const json::exception& e) {  // parse_error, or out_of_range for a number beyond double
     throw InputError("scene = '" + name + "': malformed JSON: " + e.what());
   }
-  return make_scene(parse_scene(root, name, base_dir));
+  return SceneDescription(std::make_unique<Data>(parse_scene(root, name, base_dir)));
 }
 
-Scene Scene::load(const std::string& path) {
+SceneDescription SceneDescription::load(const std::string& path) {
   return parse(io::read_file(path, "scene"), std::filesystem::path(path).parent_path().string(), path);
 }
 
-Scene Scene::default_scene() {
+SceneDescription SceneDescription::default_scene() {
   // Scene units are mm. Three Fig. 8 skin types on spheres of radius 28 mm and a thin ear-like
   // fin (4 mm thick, like the rim of an ear) of the Fig. 10 "ear" preset, on a grey floor; a large key light in front,
   // a small back light behind the fin that shows light bleeding through it.
-  SceneData s;
-  s.source = "built-in default scene";
-  s.mm_per_unit = 1.0;
-  s.camera = {{0, 70, 330}, {0, 24, 0}, {0, 1, 0}, 30.0, 384, 256};
-  s.spp = 64;
-  s.max_depth = 4;
-  s.exposure = 0.3;
-  const char* names[] = {"caucasian", "asian", "african", "ear"};
-  s.materials.resize(4);
-  tbb::parallel_for(0, 4, [&](int i) {  // independent profile computations
-    s.materials[static_cast<std::size_t>(i)].name = names[i];
-    prepare_skin_material(s.materials[static_cast<std::size_t>(i)], find_preset(names[i]).parameters);
-  });
-  Material floor;
+  auto s = std::make_unique<Data>();
+  s->source = "built-in default scene";
+  s->mm_per_unit = 1.0;
+  s->camera = {{0, 70, 330}, {0, 24, 0}, {0, 1, 0}, 30.0, 384, 256};
+  s->spp = 64;
+  s->max_depth = 4;
+  s->exposure = 0.3;
+  for (const char* name : {"caucasian", "asian", "african", "ear"}) {
+    MaterialDescription m = skin_description(find_preset(name).parameters);
+    m.name = name;
+    s->materials.push_back(std::move(m));
+  }
+  MaterialDescription floor;
   floor.name = "floor";
   floor.albedo = {0.35, 0.35, 0.35};
-  s.materials.push_back(floor);
-  s.meshes.push_back(make_sphere({-96, 28, 0}, 28, 64, 128, 0));
-  s.meshes.push_back(make_sphere({-32, 28, 0}, 28, 64, 128, 1));
-  s.meshes.push_back(make_sphere({32, 28, 0}, 28, 64, 128, 2));
-  s.meshes.push_back(make_ellipsoid({94, 30, 0}, {18, 28, 2}, 64, 128, 3));
-  s.meshes.push_back(make_quad({-400, 0, 300}, {800, 0, 0}, {0, 0, -700}, 4));
-  s.lights.emplace_back(SphereLight{{-160, 260, 260}, 30, {40, 40, 40}});  // key
-  s.lights.emplace_back(SphereLight{{98, 36, -30}, 6, {400, 400, 400}});    // back
-  s.environment.constant = {0.04, 0.045, 0.05};
-  return make_scene(std::move(s));
+  s->materials.push_back(floor);
+  s->meshes.push_back(make_sphere({-96, 28, 0}, 28, 64, 128, 0));
+  s->meshes.push_back(make_sphere({-32, 28, 0}, 28, 64, 128, 1));
+  s->meshes.push_back(make_sphere({32, 28, 0}, 28, 64, 128, 2));
+  s->meshes.push_back(make_ellipsoid({94, 30, 0}, {18, 28, 2}, 64, 128, 3));
+  s->meshes.push_back(make_quad({-400, 0, 300}, {800, 0, 0}, {0, 0, -700}, 4));
+  s->lights.emplace_back(SphereLight{{-160, 260, 260}, 30, {40, 40, 40}});  // key
+  s->lights.emplace_back(SphereLight{{98, 36, -30}, 6, {400, 400, 400}});    // back
+  s->environment.constant = {0.04, 0.045, 0.05};
+  return SceneDescription(std::move(s));
 }
 
-void Scene::set_skin_parameters(const SkinParameters& p) {
+void SceneDescription::set_skin_parameters(const SkinParameters& p) {
   update_skin_parameters([&p](const SkinParameters&) { return p; });
 }
 
-void Scene::update_skin_parameters(
-    const std::function<SkinParameters(const SkinParameters&)>& change) {
-  // The profiles depend only on the parameters and the solver: compute them once per pair.
-  std::vector<std::pair<std::pair<const transport::Model*, SkinParameters>, Material>> computed;
-  for (auto& m : impl_->data.materials)
-    if (m.kind == MaterialKind::skin) {
-      const SkinParameters p = change(m.parameters);
-      auto it = std::find_if(computed.begin(), computed.end(), [&](const auto& c) {
-        return c.first.first == m.solver && c.first.second == p;
-      });
-      if (it == computed.end()) {
-        Material f;
-        f.solver = m.solver;
-        prepare_skin_material(f, p);
-        computed.push_back({{m.solver, p}, std::move(f)});
-        it = computed.end() - 1;
-      }
-      const Material& fresh = it->second;
-      m.parameters = p;
-      m.profile = fresh.profile;
-      m.R_d = fresh.R_d;
-      m.rho_s = fresh.rho_s;
-      m.roughness = fresh.roughness;
-      m.eta = fresh.eta;
-      m.specular_albedo = fresh.specular_albedo;
-      m.validity = fresh.validity;
-      m.spectral = fresh.spectral;  // none yet: rebuilt below if spectral
-      if (!m.texture_reference_fixed) m.texture_normalisation = fresh.texture_normalisation;
-      prepare_parameter_maps(m, p);  // mapped parameters keep their maps
-    }
-  if (impl_->data.spectral) prepare_spectral(impl_->data);
+void SceneDescription::update_skin_parameters(const std::function<SkinParameters(const SkinParameters&)>& change) {
+  for (auto& m : d_->materials)
+    if (m.kind == MaterialKind::skin) m.parameters = change(m.parameters);  // mapped ones keep their maps
 }
 
-void Scene::set_spectral(bool spectral) {
-  if (spectral) prepare_spectral(impl_->data);
-  impl_->data.spectral = spectral;
+void SceneDescription::set_solver(const transport::Model& solver) {
+  for (auto& m : d_->materials)
+    if (m.translucent()) m.solver = &solver;
+}
+
+void SceneDescription::set_spectral(bool spectral) {
+  if (spectral) check_spectral(*d_);
+  d_->spectral = spectral;
+}
+
+bool SceneDescription::spectral() const { return d_->spectral; }
+
+void SceneDescription::make_translucent_diffuse() {
+  for (auto& m : d_->materials)
+    if (m.translucent()) m.as_diffuse = true;
+}
+
+Scene SceneDescription::build() const { return std::move(render::build({this}).front()); }
+
+std::vector<Scene> build(const std::vector<const SceneDescription*>& descriptions) {
+  std::vector<const SceneDescription::Data*> data;
+  for (const SceneDescription* d : descriptions) data.push_back(&d->data());
+  std::vector<Scene> out;
+  for (SceneData& s : build_scenes(data)) out.push_back(make_scene(std::move(s)));
+  return out;
 }
 
 bool Scene::spectral() const { return impl_->data.spectral; }
 
-void Scene::make_translucent_diffuse() {
-  for (auto& m : impl_->data.materials)
-    if (m.translucent()) {
-      m.kind = MaterialKind::diffuse;
-      m.albedo = m.R_d;
-      m.albedo_map = nullptr;
-      m.maps.clear();
-      m.nodes.clear();
-    }
-}
-
-void Scene::set_solver(const transport::Model& solver) {
-  for (auto& m : impl_->data.materials) {
-    if (!m.translucent() || m.solver == &solver) continue;
-    m.solver = &solver;
-    if (m.kind == MaterialKind::skin) {
-      prepare_skin_material(m, m.parameters);
-      prepare_parameter_maps(m, m.parameters);
-    } else {
-      prepare_layered_material(m, m.stacks);
-    }
-  }
-  if (impl_->data.spectral) prepare_spectral(impl_->data);
-}
-
 std::vector<Scene::MaterialValidity> Scene::validity() const {
   std::vector<MaterialValidity> out;
   for (const auto& m : impl_->data.materials)
-    if (m.translucent() && !m.validity.ok())
-      out.push_back({m.name, std::string(m.solver->name()), m.validity});
+    if (const TranslucentMaterial* t = m.translucent(); t != nullptr && !t->validity.ok())
+      out.push_back({m.name, std::string(t->solver->name()), t->validity});
   return out;
 }
 

@@ -1,9 +1,12 @@
 #pragma once
-// Internal description of a loaded scene (not installed: the public face is skin/render/scene.hpp).
-// Geometry is in scene units; `mm_per_unit` converts to the mm of the diffusion profiles.
+// A scene's data, internal (not installed: the public face is skin/render/scene.hpp): as
+// described (SceneDescription::Data, MaterialDescription: no physics) and as built (SceneData,
+// Material: profiles computed; docs/renderer.md, "Describe, then build"). Geometry is in scene units; `mm_per_unit` converts to the mm of the diffusion profiles.
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <variant>
 #include <string>
 #include <vector>
 
@@ -16,6 +19,7 @@
 #include "skin/render/microfacet.hpp"
 #include "skin/render/profile_sampler.hpp"
 #include "skin/render/sampling.hpp"
+#include "skin/render/scene.hpp"
 #include "spectral.hpp"
 
 namespace skin::render {
@@ -33,48 +37,88 @@ struct Texture {
 
 enum class MaterialKind { diffuse, skin, layered };
 
-struct Material {
+// A parameter map of a skin material: sets one parameter from one channel of a texture
+// (load_map_texture): either the parameter's value itself (`values`; the nodes span the
+// texture's range) or, with min and max given, value = min + texel x (max - min). The BSSRDF is
+// precomputed at the nodes of a regular grid over the mapped parameters (first map fastest), and
+// a shading point uses one node chosen at random with its multilinear interpolation weight: in
+// expectation, the profiles interpolated multilinearly in parameter space.
+struct ParameterMap {
+  double SkinParameters::*member = nullptr;
+  std::string key;  // parameter key (skin::parameter_table())
+  std::shared_ptr<const Texture> texture;
+  double min = 0, max = 1;  // the nodes' range
+  bool values = false;      // texels are values (else fractions of [min, max])
+  int levels = 2;
+};
+
+// A material as the scene file (or the CLI's flags, or `skin figure`) describes it: no physics
+// yet. build_scene turns it into a Material.
+struct MaterialDescription {
   std::string name;
   MaterialKind kind = MaterialKind::diffuse;
-  Rgb3 albedo{0.5, 0.5, 0.5};                // diffuse: reflectance
-  std::shared_ptr<const Texture> albedo_map; // diffuse: reflectance; skin: colour to reproduce
-  // Translucent materials (skin, layered):
-  SkinParameters parameters;                  // skin only (for reports)
-  // Translucent materials: the transport model of the profiles (the scene key `solver`).
-  const transport::Model* solver = &transport::default_model();
-  std::array<LayerStack, 3> stacks;           // layered only: the stack per channel
+  Rgb3 albedo{0.5, 0.5, 0.5};                 // diffuse: reflectance
+  std::shared_ptr<const Texture> albedo_map;  // diffuse: reflectance; translucent: colour to reproduce
+  SkinParameters parameters;                  // skin
+  const transport::Model* solver = &transport::default_model();  // translucent (the key `solver`)
+  std::array<LayerStack, 3> stacks;           // layered: the stack per channel
+  double rho_s = 0, roughness = 0.35, eta = 1.4;  // layered (skin: from its parameters)
+  // Skin with an albedo texture: the chromophores assumed to have produced it (DJ06 section
+  // 3.6; default: the material's own parameters).
+  std::optional<SkinParameters> texture_reference;
+  std::vector<ParameterMap> maps;             // skin
+  bool as_diffuse = false;  // translucent: rendered as a diffuse material of its R_d (--diffuse)
+  bool translucent() const { return kind != MaterialKind::diffuse; }
+};
+
+// The spectral profiles of one skin (spectral rendering): a table per wavelength of a 10 nm grid
+// over 400-700 nm, rescaled to each wavelength's exact R_d.
+struct SpectralSkin {
+  WavelengthGrid grid{kLambdaMin, kLambdaMax, 10.0};
+  std::vector<TabulatedProfile> profile;  // per grid wavelength
+  // The four channels at the sample's wavelengths: the two nearest tables mixed linearly.
+  std::array<ProfileChannel, kWavelengths> channels(const SampledWavelengths& wl) const;
+};
+// A function of wavelength on the spectral grid, linear between its nodes.
+struct SpectralCurve {
+  WavelengthGrid grid{kLambdaMin, kLambdaMax, 10.0};
+  std::vector<double> values;
+  double operator()(double lambda) const;
+};
+
+// A material ready to render (built from its MaterialDescription): one of a closed set of
+// types, each with its own terms (the integrator visits the type; integrator.cpp).
+// Diffuse: a Lambertian surface term only.
+struct DiffuseMaterial {
+  Rgb3 albedo{0.5, 0.5, 0.5};                 // reflectance
+  std::shared_ptr<const Texture> albedo_map;  // reflectance
+};
+// Translucent (skin or layered): a surface term, the Torrance-Sparrow lobe scaled by rho_s, and
+// a subsurface term, the BSSRDF of its diffusion profiles.
+struct TranslucentMaterial {
+  const transport::Model* solver = &transport::default_model();  // of the profiles
   transport::Validity validity;               // of the profiles (skin: over wavelength)
   std::array<TabulatedProfile, 3> profile;    // R(r) per linear sRGB channel [1/mm^2]
   Rgb3 R_d;                                   // totals per channel
-  Rgb3 texture_normalisation{1, 1, 1};        // 1 / R_d colour of the assumed chromophores
-  bool texture_reference_fixed = false;       // normalisation set by texture_reference
-  SkinParameters texture_reference;           // its parameters, when fixed
-  // Spectral rendering (skin only): per-wavelength profiles, built by prepare_spectral.
+  std::shared_ptr<const Texture> albedo_map;  // colour to reproduce
+  Rgb3 texture_normalisation{1, 1, 1};        // 1 / R_d colour of the texture's reference
+  // Spectral rendering (skin only): per-wavelength profiles, and the R_d spectrum of the
+  // texture's reference (DJ06 section 3.6, per wavelength).
   std::shared_ptr<const SpectralSkin> spectral;
+  std::shared_ptr<const SpectralCurve> spectral_texture_reference;
   double rho_s = 0, roughness = 0.35, eta = 1.4;
   std::shared_ptr<const SpecularAlbedo> specular_albedo;
-  bool translucent() const { return kind != MaterialKind::diffuse; }
-
-  // Per-texel parameter maps (skin only): each map sets one parameter from one channel of a
-  // texture (load_map_texture): either the parameter's value itself (`values`; the nodes span
-  // the texture's range) or, with min and max given, value = min + texel x (max - min). The
-  // BSSRDF is precomputed at the nodes of a regular grid over the mapped parameters (`nodes`,
-  // first map fastest), and a shading point uses one node chosen at random with its multilinear
-  // interpolation weight: in expectation, the profiles interpolated multilinearly in parameter
-  // space.
-  struct ParameterMap {
-    double SkinParameters::*member = nullptr;
-    std::string key;  // parameter key (skin::parameter_table())
-    std::shared_ptr<const Texture> texture;
-    double min = 0, max = 1;  // the nodes' range
-    bool values = false;      // texels are values (else fractions of [min, max])
-    int levels = 2;
-  };
+  // Parameter maps (skin only): the maps and the materials at their grid's nodes.
   std::vector<ParameterMap> maps;
-  std::vector<Material> nodes;
+  std::vector<TranslucentMaterial> nodes;
   bool has_maps() const { return !maps.empty(); }
   // The node for texture coordinates (u, v) and a uniform random number.
-  const Material& node_at(double u, double v, double xi) const;
+  const TranslucentMaterial& node_at(double u, double v, double xi) const;
+};
+struct Material {
+  std::string name;
+  std::variant<DiffuseMaterial, TranslucentMaterial> type;
+  const TranslucentMaterial* translucent() const { return std::get_if<TranslucentMaterial>(&type); }
 };
 
 struct Mesh {
@@ -91,11 +135,11 @@ struct Camera {
   int width = 384, height = 256;
 };
 
-struct SceneData {
+// What a scene holds besides its materials (the same in its description and once built).
+struct SceneSetup {
   std::string source;  // scene file or "built-in default scene"
   Camera camera;
   double mm_per_unit = 1.0;
-  std::vector<Material> materials;
   std::vector<Mesh> meshes;
   std::vector<Light> lights;
   Environment environment;
@@ -110,20 +154,31 @@ struct SceneData {
   image::ToneMap tone_map = image::ToneMap::clip;  // PNG output
 };
 
-// Spectral rendering: builds the spectral profiles of every skin material (and parameter-map
-// node) that has none. InputError for a layered material (its stacks are RGB).
-void prepare_spectral(SceneData& s);
+// A scene described (parsed, built in, edited): SceneDescription's data.
+struct SceneDescription::Data : SceneSetup {
+  std::vector<MaterialDescription> materials;
+};
+
+// A scene built: every material's profiles computed.
+struct SceneData : SceneSetup {
+  std::vector<Material> materials;
+};
 
 // The radii of the renderer's profile tables [mm].
 RadialGrid skin_profile_radii();
-// Builds the diffusion profiles, specular albedo and normalisation of a translucent material
-// from a LayerStack per channel (layered) or from skin parameters; `name` for messages.
-void prepare_skin_material(Material& m, const SkinParameters& p);
-// Builds the node materials of m.maps around the base parameters p (profiles in parallel).
-void prepare_parameter_maps(Material& m, const SkinParameters& p);
-// Sets the texture normalisation to 1 / R_d colour of `reference` (DJ06 section 3.6).
-void set_texture_reference(Material& m, const SkinParameters& reference);
-void prepare_layered_material(Material& m, const std::array<LayerStack, 3>& stacks);
+// The build: each distinct (parameters, solver, spectral) of skin (materials and parameter-map
+// nodes over all the descriptions) and each distinct layered material computed once, in
+// parallel; InputError names the scene and material.
+std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Data*>& descriptions);
+// Spectral rendering needs a spectrum of every material: InputError for a layered one.
+void check_spectral(const SceneDescription::Data& s);
+// One translucent material alone (tests, benchmarks): a skin or layered description built as
+// build_scenes builds it.
+TranslucentMaterial build_translucent(const MaterialDescription& d, bool spectral = false);
+MaterialDescription skin_description(const SkinParameters& p,
+                                     const transport::Model& solver = transport::default_model());
+MaterialDescription layered_description(const std::array<LayerStack, 3>& stacks,
+                                        const transport::Model& solver = transport::default_model());
 
 // Procedural geometry for built-in scenes (in scene units).
 Mesh make_sphere(const Vec3& centre, double radius, int n_theta, int n_phi, std::size_t material);

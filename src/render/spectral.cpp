@@ -7,7 +7,6 @@
 #include "scene_data.hpp"
 #include "skin/color/color.hpp"
 #include "skin/color/illuminant.hpp"
-#include "skin/model/skin_model.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::render {
@@ -229,31 +228,12 @@ std::array<ProfileChannel, kWavelengths> SpectralSkin::channels(const SampledWav
   return ch;
 }
 
-double SpectralSkin::texture_reference(double lambda) const {
+double SpectralCurve::operator()(double lambda) const {
   const double last = static_cast<double>(grid.size() - 1);
   const double x = std::clamp((lambda - grid.lambda_min()) / grid.step(), 0.0, last);
   const auto i = static_cast<std::size_t>(std::min(x, last - 1));
   const double f = x - static_cast<double>(i);
-  return texture_reference_R_d[i] * (1 - f) + texture_reference_R_d[i + 1] * f;
-}
-
-std::shared_ptr<const SpectralSkin> make_spectral_skin(const Material& m) {
-  auto s = std::make_shared<SpectralSkin>();
-  ProfileSolver solver(skin_profile_radii());
-  const SpectralProfile prof = skin_spectral_profile(m.parameters, s->grid, solver, *m.solver);
-  const std::size_t nr = prof.radii.size();
-  s->profile.reserve(s->grid.size());
-  for (std::size_t i = 0; i < s->grid.size(); ++i) {
-    const std::vector<double> R(prof.R.begin() + static_cast<std::ptrdiff_t>(i * nr),
-                                prof.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * nr));
-    s->profile.emplace_back(prof.radii.r, R, prof.R_d[i]);
-  }
-  // The texture's reference as in RGB rendering: the material's own R_d, or the R_d of the
-  // texture_reference parameters with the default model (set_texture_reference).
-  s->texture_reference_R_d = m.texture_reference_fixed
-                                 ? skin_spectrum(m.texture_reference, s->grid).R_d.values
-                                 : prof.R_d.values;
-  return s;
+  return values[i] * (1 - f) + values[i + 1] * f;
 }
 
 }  // namespace skin::render

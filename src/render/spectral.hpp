@@ -102,21 +102,4 @@ class SpectralEmission {
   bool white_ = true;
 };
 
-// The spectral data of a `skin` material: a profile table per wavelength of a 10 nm grid over
-// 400-700 nm (ProfileSolver::spectral with the material's solver, rescaled to each wavelength's
-// exact R_d), and the R_d spectrum of its albedo texture's reference (DJ06 section 3.6, per
-// wavelength).
-struct SpectralSkin {
-  WavelengthGrid grid{kLambdaMin, kLambdaMax, 10.0};
-  std::vector<TabulatedProfile> profile;  // per grid wavelength
-  std::vector<double> texture_reference_R_d;  // per grid wavelength
-  // The four channels at the sample's wavelengths: the two nearest tables mixed linearly.
-  std::array<ProfileChannel, kWavelengths> channels(const SampledWavelengths& wl) const;
-  double texture_reference(double lambda) const;  // R_d of the reference, linear in lambda
-};
-struct Material;
-// For a `skin` material (its parameters, solver and texture reference, as prepare_skin_material
-// and set_texture_reference left them).
-std::shared_ptr<const SpectralSkin> make_spectral_skin(const Material& m);
-
 }  // namespace skin::render

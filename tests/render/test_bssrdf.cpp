@@ -40,9 +40,7 @@ double r_max_mm() {
 // 666.1 nm: each channel a mix of two tables).
 const SpectralSkin& caucasian_spectral() {
   static const std::shared_ptr<const SpectralSkin> s = [] {
-    Material m;
-    prepare_skin_material(m, find_preset("caucasian").parameters);
-    return make_spectral_skin(m);
+    return build_translucent(skin_description(find_preset("caucasian").parameters), true).spectral;
   }();
   return *s;
 }

@@ -86,9 +86,10 @@ TEST(KnownAnswer, SpectralAndRgbSlabsAgreeWithSkinColorUnderD65) {
     const SkinSpectrum expected = skin_spectrum(p);
     for (const bool spectral : {false, true}) {
       SCOPED_TRACE(::testing::Message() << preset << (spectral ? " spectral" : " RGB"));
-      Scene scene = Scene::parse(
+      SceneDescription description = SceneDescription::parse(
           slab_scene(std::string(R"({"type":"skin","rho_s":0,"preset":")") + preset + "\"}"), "", "slab");
-      if (spectral) scene.set_spectral(true);
+      description.set_spectral(spectral);
+      const Scene scene = description.build();
       RenderSettings rs;
       rs.seed = 11;
       rs.width = rs.height = 24;
@@ -114,8 +115,9 @@ TEST(KnownAnswer, SpectralSlabUnderIlluminantAIsSkinColorUnderA) {
   std::string js = slab_scene(R"({"type":"skin","rho_s":0,"preset":"caucasian"})");
   const std::string white = R"("radiance": 1})";
   js.replace(js.find(white), white.size(), R"("radiance": 1, "illuminant": "A"})");
-  Scene scene = Scene::parse(js, "", "slab-A");
-  scene.set_spectral(true);
+  SceneDescription description = SceneDescription::parse(js, "", "slab-A");
+  description.set_spectral(true);
+  const Scene scene = description.build();
   RenderSettings rs;
   rs.seed = 12;
   rs.width = rs.height = 24;
@@ -265,10 +267,9 @@ TEST(KnownAnswer, ThinSlabLitFromBehindShowsTranslucency) {
   rs.seed = 21;
   const Stats st = pixel_stats(render(Scene::parse(js, dir.string(), "thin-slab"), rs));
   std::filesystem::remove_all(dir);
-  Material m;
   SkinParameters p = find_preset("caucasian").parameters;
   p.oiliness = 0;
-  prepare_skin_material(m, p);
+  const TranslucentMaterial m = build_translucent(skin_description(p));
   for (int c = 0; c < 3; ++c) {
     const TabulatedProfile& prof = m.profile[static_cast<std::size_t>(c)];
     // Tail integral by the midpoint rule on a fine log grid from t to r_max.
@@ -336,10 +337,9 @@ TEST(KnownAnswer, CreaseNeitherDarkNorBright) {
   RenderSettings rs;
   rs.seed = 31;
   const Image img = render(Scene::parse(js, "", "crease"), rs);
-  Material m;
   std::array<LayerStack, 3> stacks;
   for (auto& st : stacks) st.layers.push_back(Layer{0.2, 2.0, kInfinity, 1.4, 0.9});
-  prepare_layered_material(m, stacks);
+  const TranslucentMaterial m = build_translucent(layered_description(stacks));
   const TabulatedProfile& R = m.profile[0];
   const auto g = [&](double a) {  // 2 int_0^inf R(sqrt(u^2 + a^2)) du, midpoint in log-ish steps
     double s = 0;

@@ -16,16 +16,12 @@
 namespace skin::render {
 namespace {
 
-Material caucasian() {
-  Material m;
-  prepare_skin_material(m, find_preset("caucasian").parameters);
-  return m;
-}
+TranslucentMaterial caucasian() { return build_translucent(skin_description(find_preset("caucasian").parameters)); }
 
 TEST(NearFieldKernel, IntegratesToRdAndMeetsTheProfile) {
   // K is R convolved with a normalised disk, so it integrates to R_d over the plane like R, has
   // the disk's mean of R at d = 0, and approaches R away from the disk.
-  const Material m = caucasian();
+  const TranslucentMaterial m = caucasian();
   const double a = 0.2;  // [mm]
   const NearFieldKernel k(&m.profile, a);
   for (int c = 0; c < 3; ++c) {
@@ -60,7 +56,7 @@ TEST(PointCloud, TreeWithThresholdZeroIsTheSum) {
   // Random points on a sphere of 30 mm with random irradiance: with no node standing in for its
   // points the octree sums exactly what the plain loop sums (up to the order of the additions);
   // with J&B's threshold 0.05 sr the far field from node aggregates is within 1 % here.
-  const Material m = caucasian();
+  const TranslucentMaterial m = caucasian();
   Pcg32 rng(11, 3);
   std::vector<Vec3> p;
   std::vector<Rgb3> ea;
@@ -90,7 +86,7 @@ TEST(PointCloud, NearMeanTakesOutTheDensityOfThePoints) {
   // the fluctuation (3.6 / 2.1 / 0.5 %, red the widest profile). The near integral (within
   // 5e-4 here) The near integral itself is int K dA over the disk,
   // checked against the CDF of R for a small kernel disk (0.05 mm within 0.8 mm).
-  const Material m = caucasian();
+  const TranslucentMaterial m = caucasian();
   Pcg32 rng(5, 1);
   std::vector<Vec3> p;
   const double area = 0.25;  // [mm^2]
@@ -131,7 +127,7 @@ TEST(PointCloud, NearMeanKeepsTheFarWallOfACavityOut) {
   // out of the mean and it is R_d to the grid's quadrature error; without them they join it and
   // pull it down by their share of the weights (measured 0.4-0.5 % off with the normals, 23-28 %
   // low without).
-  const Material m = caucasian();
+  const TranslucentMaterial m = caucasian();
   const double h = 0.25, area = h * h, gap = 0.3;
   std::vector<Vec3> p, n;
   std::vector<Rgb3> ea;
@@ -161,7 +157,7 @@ TEST(PointCloud, PointsCoverTheAreaUniformly) {
   // of two triangles with 10000 points, each 10 x 10 mm cell holds 100 points to within a few.
   SceneData s;
   Material skin;
-  skin.kind = MaterialKind::skin;
+  skin.type = TranslucentMaterial{};
   s.materials.push_back(skin);
   s.meshes.push_back(make_quad({0, 0, 0}, {100, 0, 0}, {0, 100, 0}, 0));
   double area = 0;

@@ -220,13 +220,13 @@ TEST_F(SceneInput, LayeredMaterialSolverAndValidity) {
   const std::string with_key = R"({"type":"layered","solver":"multipole","layers":[{"sigma_a":0.2,"sigma_s_prime":2,"g":0.7}]})";
   const Scene mp = Scene::parse(scene_with(R"({"sphere": {"center":[0,0,0], "radius":1}, "material": "m"})", with_key), "", "mp");
   EXPECT_TRUE(mp.validity().empty());
-  const Material& m = mp.impl().data.materials.front();
+  const TranslucentMaterial& m = *mp.impl().data.materials.front().translucent();
   LayerStack stack;
   stack.layers = {Layer{0.2, 2.0, kInfinity, 1.4, 0.7}};
   EXPECT_EQ(m.R_d[0], DiffusionStack(stack).R_d());
   const Scene acc = Scene::parse(scene_with(R"({"sphere": {"center":[0,0,0], "radius":1}, "material": "m"})", layered), "", "acc");
   EXPECT_TRUE(acc.validity().empty());
-  EXPECT_EQ(acc.impl().data.materials.front().R_d[0], transport::find_model("accurate").R_d(stack));
+  EXPECT_EQ(acc.impl().data.materials.front().translucent()->R_d[0], transport::find_model("accurate").R_d(stack));
 }
 
 TEST(Texture, RowZeroIsTheTopAndVIsUp) {

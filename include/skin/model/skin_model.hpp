@@ -1,6 +1,7 @@
 #pragma once
 // The four-parameter skin model end to end: parameters -> per-wavelength layer stacks -> total
 // diffuse reflectance spectrum, radial profiles and colour (DJ06 sections 3-4).
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -61,6 +62,20 @@ struct SkinAppearance {
 SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& grid,
                                ProfileSolver& profiles,
                                const Model& model = transport::default_model());
+
+// Everything a renderer takes from one skin, from one call: the shape of its RGB profile and its
+// validity on `grid` (the transport responses built once per wavelength and used for both), the
+// colour of its total R_d from skin_spectrum on the paper's grid (exact at k = 0), and with
+// `spectral` the per-wavelength profiles on `grid` from the same responses. The numbers are those
+// of skin_rgb_profile, skin_validity, skin_spectrum and skin_spectral_profile.
+struct SkinProfiles {
+  RgbProfile rgb;                          // on `grid`
+  SkinSpectrum total;                      // skin_spectrum(p, WavelengthGrid(), model)
+  transport::Validity validity;            // on `grid`
+  std::optional<SpectralProfile> spectral; // on `grid`, when asked for
+};
+SkinProfiles skin_profiles(const SkinParameters& p, const WavelengthGrid& grid, ProfileSolver& profiles,
+                           const Model& model = transport::default_model(), bool spectral = false);
 
 // How many wavelengths of `grid` the model's profile of this skin solves numerically
 // (Model::response_is_solved; the cost is in docs/benchmarks.md) rather than reads: 0 for the accurate

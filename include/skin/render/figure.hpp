@@ -38,10 +38,21 @@ struct Figure {
   std::vector<Scene> cells;
   bool on_mesh = false;  // false: spheres (and a thin fin for the ear), no mesh given
 };
-// Builds the cells on the face mesh `mesh_path` (OBJ, glTF, GLB; placed by its bounding box in
-// the frame of the Lee Perry-Smith head, 22 mm per unit as examples/head.json), or on spheres
-// when `mesh_path` is empty. `albedo_texture` (Fig. 10 only; empty: none) is the mesh's
-// colour texture, normalised by the R_d colour of caucasian skin (DJ06 section 3.6).
+// The same, described: the CLI's --solver and --spectral edit the cells before build(), which
+// computes each distinct skin of all the cells once.
+struct FigureDescription {
+  FigureLayout layout;
+  std::vector<SceneDescription> cells;
+  bool on_mesh = false;
+  Figure build() const;
+};
+// Describes the cells on the face mesh `mesh_path` (OBJ, glTF, GLB; placed by its bounding box
+// in the frame of the Lee Perry-Smith head, 22 mm per unit as examples/head.json), or on spheres
+// when `mesh_path` is empty. `albedo_texture` (Fig. 10 only; empty: none) is the mesh's colour
+// texture, normalised by the R_d colour of caucasian skin (DJ06 section 3.6).
+FigureDescription describe_figure(int number, const std::string& mesh_path, const std::string& albedo_texture = "",
+                                  const std::function<SkinParameters(const SkinParameters&)>& change = {});
+// describe_figure(...).build().
 Figure make_figure(int number, const std::string& mesh_path, const std::string& albedo_texture = "",
                    const std::function<SkinParameters(const SkinParameters&)>& change = {});
 

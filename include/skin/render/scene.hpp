@@ -61,41 +61,82 @@ struct RenderStats {
 std::ostream& operator<<(std::ostream& os, const RenderSettings& s);
 std::ostream& operator<<(std::ostream& os, const RenderStats& s);
 
-class Scene {
+class Scene;
+
+// A scene as described, before any physics: what the scene file (or the built-in scene) says,
+// edited by the CLI's flags and by `skin figure`; build() then computes every material once.
+// Its materials are skin (parameters, parameter maps, an albedo texture and its reference),
+// layered (a layer stack per channel) or diffuse, each translucent one with its solver.
+class SceneDescription {
  public:
   // Reads a JSON scene; relative paths in it are relative to the file. Throws InputError naming
-  // the file and the problem (missing mesh or texture, malformed JSON, unknown key or material).
-  static Scene load(const std::string& path);
+  // the file and the problem (missing mesh or texture, malformed JSON, unknown key or material,
+  // a parameter out of range).
+  static SceneDescription load(const std::string& path);
   // Parses JSON text; `base_dir` resolves relative paths, `name` appears in messages.
-  static Scene parse(const std::string& json_text, const std::string& base_dir, const std::string& name);
+  static SceneDescription parse(const std::string& json_text, const std::string& base_dir, const std::string& name);
   // The built-in scene: the three Fig. 8 skin types on rounded shapes and a thin ear-like fin,
   // key light in front, back light behind the fin. Needs no file.
-  static Scene default_scene();
-  Scene(Scene&&) noexcept;
-  Scene& operator=(Scene&&) noexcept;
-  ~Scene();
+  static SceneDescription default_scene();
 
+  // Edits (no physics runs until build()).
   // Replaces the parameters of every `skin` material (the CLI's --preset).
   void set_skin_parameters(const SkinParameters& p);
   // Changes the parameters of every `skin` material: each gets change(its parameters) (the CLI's
   // parameter flags, applied to each material's own set). Mapped parameters keep their maps.
   void update_skin_parameters(const std::function<SkinParameters(const SkinParameters&)>& change);
-  // Recomputes every translucent material (skin, layered) with this transport model (the CLI's
-  // --solver; a material's own `solver` key otherwise, the registry's default without one).
+  // Every translucent material (skin, layered) with this transport model (the CLI's --solver; a
+  // material's own `solver` key otherwise, the registry's default without one).
   void set_solver(const transport::Model& solver);
+  // Spectral rendering (hero wavelength, spectral profiles and lights; docs/renderer.md) instead
+  // of RGB (the paper's method, the default); the scene key render.spectral. InputError when
+  // turning it on with a layered material (its stacks are RGB).
+  void set_spectral(bool spectral);
+  bool spectral() const;
+  // Every translucent material rendered as a `diffuse` one of the same R_d (for benchmarks).
+  void make_translucent_diffuse();
+
+  // Computes the materials' profiles (each distinct skin once) and the acceleration structure.
+  // InputError names the scene and the material.
+  Scene build() const;
+
+  SceneDescription(const SceneDescription&);
+  SceneDescription& operator=(const SceneDescription&);
+  SceneDescription(SceneDescription&&) noexcept;
+  SceneDescription& operator=(SceneDescription&&) noexcept;
+  ~SceneDescription();
+
+  struct Data;
+  const Data& data() const { return *d_; }
+  Data& data() { return *d_; }
+  explicit SceneDescription(std::unique_ptr<Data> d);
+
+ private:
+  std::unique_ptr<Data> d_;
+};
+
+// Builds several descriptions together (a figure's cells): each distinct skin over all of them
+// is computed once.
+std::vector<Scene> build(const std::vector<const SceneDescription*>& descriptions);
+
+// A built scene: what render() takes.
+class Scene {
+ public:
+  // SceneDescription::load(path).build(), and the same for parse and default_scene.
+  static Scene load(const std::string& path);
+  static Scene parse(const std::string& json_text, const std::string& base_dir, const std::string& name);
+  static Scene default_scene();
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+  ~Scene();
+
   // The translucent materials whose profiles are outside their model's validated range.
   struct MaterialValidity {
     std::string material, solver;
     transport::Validity validity;
   };
   std::vector<MaterialValidity> validity() const;
-  // Spectral rendering (hero wavelength, spectral profiles and lights; docs/renderer.md) instead
-  // of RGB (the paper's method, the default); the scene key render.spectral. Turning it on
-  // computes the per-wavelength profiles of every skin material; InputError for a layered one.
-  void set_spectral(bool spectral);
   bool spectral() const;
-  // Turns every translucent material into a `diffuse` one of the same R_d (for benchmarks).
-  void make_translucent_diffuse();
   int width() const;
   int height() const;
   double exposure() const;  // stops, for PNG output
