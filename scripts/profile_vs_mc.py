@@ -41,8 +41,8 @@ Usage:
   scripts/profile_vs_mc.py --mcml /tmp/mcml/mcml --mcml-runs 4 --photons 1000000 --solvers sfd,accurate,multipole
   scripts/profile_vs_mc.py --random 3 --seed 347 --photons 30000 --max-rse 0.1 --threads 1 \
       --solvers sfd,multipole-shape --check sfd --check-fails multipole-shape   # the CI test (tests/mc)
-Prints a Markdown table (docs/accurate-solver.md, section 8); exit status 1 when a --check solver
-fails a case or a --check-fails solver passes every case.
+Prints a Markdown table (docs/validation/accurate-solver-history.md, sections 4 and 5); exit
+status 1 when a --check solver fails a case or a --check-fails solver passes every case.
 """
 import argparse
 import hashlib
@@ -472,9 +472,9 @@ def write_markdown(a, solvers, full, total):
     kind = "random stacks" if a.random else "stacks"
     reference = "MCML 1.2.2" if a.mcml else "Monte Carlo"
     where = ("Stacks: `random_stack()` in that script (ranges in its docstring and in "
-             "docs/accurate-solver.md, section 8). " if a.random else
+             "docs/validation/accurate-solver-history.md, section 5). " if a.random else
              "Stacks: PRESETS in that script (every preset of the paper at 400-700 nm). " if a.presets else
-             "Stacks: CASES in that script (docs/accurate-solver.md, section 8). ")
+             "Stacks: CASES in that script (docs/validation/accurate-solver-history.md, section 4). ")
     run_text = (f"{a.mcml_runs} runs of MCML 1.2.2 (Wang, Jacques & Zheng 1995, built from its "
                 "public source; seeds from the clock), their mean and its standard error, on "
                 "annuli of 10 um to 0.5 mm and 50 um to 10 mm" if a.mcml else

@@ -280,7 +280,7 @@ std::size_t write_validation_report(std::ostream& md, const ValidationRun& run,
   // The criterion of issue 15 over every case.
   {
     md << "## Radial profiles of every case, 0.02 mm to the outer radius\n\n"
-          "The criterion of issue 15 (docs/accurate-solver.md, section 8): over the annuli within "
+          "The criterion of issue 15 (docs/accurate-solver.md, section 6): over the annuli within "
           "0.02 mm and the case's outer radius (10 mm at most) where the Monte Carlo R(r) is above "
           "1e-6 of its peak, how many are off by more than 5 % + 3 standard errors (the goal: "
           "none), and the largest relative deviation (at r; beyond a few mm it is mostly Monte "

@@ -1,6 +1,6 @@
 // AccurateStack: adding-doubling totals; profiles from the table of frequency-domain skin
 // profiles or from radiative transfer in the spatial-frequency domain (docs/accurate-solver.md,
-// sec. 8 and 9).
+// sec. 3-5).
 #include <ostream>
 
 #include "skin/transport/accurate.hpp"

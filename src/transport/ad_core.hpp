@@ -11,8 +11,8 @@
 namespace skin::accurate::detail {
 
 // Largest optical depth of the diamond-initialised thin layer (its error is second order in the
-// depth: 1/8 changes the MCML benchmark slab's totals by < 5e-5, docs/accurate-solver.md), and
-// the transmitted flux below which a doubled layer counts as semi-infinite.
+// depth: 1/8 changes the MCML benchmark slab's totals by < 5e-5, docs/accurate-solver.md, sec.
+// 2), and the transmitted flux below which a doubled layer counts as semi-infinite.
 inline constexpr double kThinnest = 0.125;
 inline constexpr double kSemiInfiniteT = 1e-8;
 
@@ -82,7 +82,7 @@ Vec escape_weights(const Streams& st, const LayerStack& stack);
 
 // Azimuthal orders of the frequency-domain solver at frequency k (options, or automatic:
 // 3 + ceil(4 sqrt(kappa)), kappa = k / scaled_extinction of the layer of least
-// extinction, at most kMaxAutomaticOrders; docs/accurate-solver.md, sec. 5). A stack less than
+// extinction, at most kMaxAutomaticOrders; docs/accurate-solver.md, sec. 3). A stack less than
 // kThinStackDepth scaled mean free paths deep in all (a thin slab: little multiple scattering
 // smooths the radiance's dependence on azimuth, and light trapped by total internal reflection
 // runs far along it) gets the same number of orders at every k > 0 (no step in their number

@@ -1,4 +1,4 @@
-// Radiative transfer in the spatial-frequency domain (docs/accurate-solver.md, section 5).
+// Radiative transfer in the spatial-frequency domain (docs/accurate-solver.md, section 3).
 //
 // The 2D Fourier transform over the surface (frequency k along x) turns the transport equation of
 // a pencil beam into one per k:  mu dL/dz = -(sigma_t + i k sin(theta) cos(phi)) L + sigma_s int p L.
@@ -279,7 +279,7 @@ LayerRT frequency_layer(const Angular& geo, const Layer& layer, double k, int or
 // the beam arrives attenuated by the layers above and transmitted by their interfaces (stream 0),
 // and the scattered stream climbs through each layer m above with exp(-tau_m G_i^(m)) (its own
 // kappa, mu and s; K is the same in every layer, so in its eigenbasis this is a product of
-// scalars) and crosses each interface with its transmission (docs/accurate-solver.md, sec. 8).
+// scalars) and crosses each interface with its transmission (docs/accurate-solver.md, sec. 3).
 std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,
                                         const FrequencyOptions& options) {
   const int points = quadrature_points(stack, options.totals, true);

@@ -164,7 +164,7 @@ std::string SkinStackTable::to_csv() const {
   os << "# Spectral Skin: radial profiles of the two-layer skin geometry in units of the epidermis'\n"
         "# reduced scattering s (tau = s d, a = sigma_a / s, x = r s, R(r) = s^2 rho(x)), computed by\n"
         "# this project's frequency-domain transport solver (FrequencyStack); the columns and their\n"
-        "# use: include/skin/transport/skin_stack_table.hpp, docs/accurate-solver.md sec. 9.\n";
+        "# use: include/skin/transport/skin_stack_table.hpp, docs/accurate-solver.md sec. 4.\n";
   os << "# provenance: " << provenance << '\n';
   os << "# eta: " << eta << "\n# g: " << g << "\n# dermis_ratio: " << dermis_ratio << '\n';
   os << "# tau: " << format_number_list(tau) << "\n# a_e: " << format_number_list(a_e)

@@ -10,7 +10,8 @@ namespace skin {
 
 void keep_matrix_memory() {
 #if defined(__GLIBC__)
-  // Measured (docs/accurate-solver.md, sec. 8): one frequency-domain skin profile 1.01 -> 0.57 s.
+  // Measured (docs/validation/accurate-solver-history.md, sec. 7): one frequency-domain skin
+  // profile 1.01 -> 0.57 s.
   mallopt(M_MMAP_THRESHOLD, 4 << 20);
   mallopt(M_TRIM_THRESHOLD, 32 << 20);
 #endif

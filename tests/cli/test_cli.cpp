@@ -89,7 +89,7 @@ TEST_F(Cli, AccurateSpectrumMatchesGoldenAndIsTheDefault) {
   EXPECT_EQ(got["solver"], "accurate");
   expect_close(got, json::parse(slurp(fs::path(SKIN_SOURCE_DIR) / "tests/cli/golden/spectrum_african_accurate.json")),
                "spectrum");
-  // Dark skin in the blue: the multipole overstates R_d (docs/accurate-solver.md).
+  // Dark skin in the blue: the multipole overstates R_d (docs/accurate-solver.md, sec. 1).
   const json mp = json::parse(run("spectrum --preset african --lambda-step 10 --solver multipole --format json").out);
   EXPECT_GT(mp["R_d"][5].get<double>(), 1.5 * got["R_d"][5].get<double>());  // 450 nm
 }

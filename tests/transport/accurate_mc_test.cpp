@@ -145,8 +145,8 @@ std::vector<GenericCase> generic_cases() {
   step_half.layers = {Layer{0.373415, 0.933955, 0.447847, 1.31763, 0.5},
                       Layer{0.0190289, 2.42362, skin::kInfinity, 1.09022, 0.5}};
   c.push_back({"index_step_over_half_space", step_half});
-  // Random stacks with index steps between every layer (docs/accurate-solver.md sec. 4; the
-  // automatic quadrature uses 16 points per panel for them).
+  // Random stacks with index steps between every layer (docs/validation/accurate-solver-history.md
+  // sec. 1; the automatic quadrature uses 16 points per panel for them).
   LayerStack r3;
   r3.layers = {Layer{0.3761, 0.6239, 0.1031, 1.2511, 0.9}, Layer{0.0073, 0.9927, 0.2425, 1.4988, 0.9},
                Layer{0.6417, 0.3583, 0.5708, 1.2411, 0.9}};
@@ -208,8 +208,9 @@ TEST(Anisotropy, SolverFollowsMonteCarloForBothG) {
 //   the multipole (the check it fails);
 // - r-weighted L1 beyond the noise, sum max(0, |model - MC| - 2 SE) r / sum MC r, below 0.10
 //   (in dark skin the Monte Carlo tail beyond 0.3 mm is mostly noise, 10^-5 of the peak).
-// Measured with 10^6 photons at 400-700 nm (docs/accurate-solver.md, section 3): the accurate
-// solver's L1 is 0.01-0.06 with no annulus beyond 10 % + 3 SE; the multipole's L1 is 0.2-2.
+// Measured with 10^6 photons at 400-700 nm (docs/validation/accurate-solver-history.md,
+// section 3; the top-layer tables of the time): the accurate solver's L1 is 0.01-0.06 with no
+// annulus beyond 10 % + 3 SE; the multipole's L1 is 0.2-2.
 struct ProfileErrors {
   double accurate = 0, multipole = 0;  // r-weighted L1 beyond the noise
   int checked = 0, accurate_bad = 0, multipole_bad = 0;  // annuli, and those beyond 5 / 10 % + 3 SE

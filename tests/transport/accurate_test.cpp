@@ -239,8 +239,9 @@ TEST(Convergence, NearlyMatchedIndexStaysConverged) {
   }
 }
 
-// Stacks whose layers differ in index (random draws of docs/accurate-solver.md sec. 4 where the
-// old layout, a rule in the cosine of the highest-index layer with 8 points, was 3-13 % off):
+// Stacks whose layers differ in index (random draws of docs/validation/accurate-solver-history.md
+// sec. 1 where the old layout, a rule in the cosine of the highest-index layer with 8 points, was
+// 3-13 % off):
 // the automatic quadrature (16 points per panel laid out in the lowest-index layer of each
 // panel) is within 1.5 % of 32 points for R_d and T_d (R_d within 1.3 % of Monte Carlo on 60 such random stacks).
 std::vector<LayerStack> index_step_stacks() {
@@ -555,7 +556,7 @@ TEST(FrequencyStack, ProfileIntegratesToTheAddingDoublingTotal) {
 // project's grids; the disc below taken flat), which sees 97 % of the delta.
 // The slab is 0.032 scaled mean free paths deep, so the solver gives it kThinStackOrderDepth /
 // depth, rounded up to an even number: 48 azimuthal orders at every k (docs/accurate-solver.md,
-// sec. 5). Against `skin mc --layer sigma_a=0.017,sigma_s_prime=1.97,eta=1.47,g=0.13,
+// sec. 3). Against `skin mc --layer sigma_a=0.017,sigma_s_prime=1.97,eta=1.47,g=0.13,
 // thickness=0.014 --eta-below 1 --photons 400000000 --bins 40 --radius-max 0.4 --seed 7` (10 um
 // annuli, 3 SE 1.1-1.5 %), 48 orders are within -1.6 to +2.9 % over 0.02-0.22 mm. With fewer the
 // annuli near the beam are high: 24 orders +8.3 and +7.7 % at 0.03-0.05 mm, 32 orders +6.7 and

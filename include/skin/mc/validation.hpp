@@ -85,15 +85,15 @@ struct CaseResult {
     double worst = 0, worst_r = 0;
   };
   ProfileCheck check_profile(std::size_t solver, double r_lo, double r_hi, double rel) const;
-  // The criterion of issue 15 (docs/accurate-solver.md, section 8): over the annuli that lie
+  // The criterion of issue 15 (docs/accurate-solver.md, section 6): over the annuli that lie
   // within [r_lo, r_hi] [mm] and whose Monte Carlo R is above `floor` times its largest, how many
   // there are, how many are off by more than `rel` + 3 SE, and the largest relative deviation
   // R / mc.R - 1 (signed, in `worst`) with its radius.
   ProfileCheck check_annuli(std::size_t solver, double r_lo, double r_hi, double rel,
                             double floor) const;
-  // The check of the skin domain (issue 31; docs/accurate-solver.md): over the annuli within
-  // 0.02-10 mm whose Monte Carlo relative standard error is below 3 %, how many lie beyond 5 %
-  // + 3 SE, the largest relative deviation (signed) and its radius.
+  // The check of the skin domain (issue 31; docs/accurate-solver.md, section 7): over the annuli
+  // within 0.02-10 mm whose Monte Carlo relative standard error is below 3 %, how many lie beyond
+  // 5 % + 3 SE, the largest relative deviation (signed) and its radius.
   ProfileCheck check_domain(std::size_t solver) const;
   // Whether R_d lies within 0.5 % + 3 standard errors of the Monte Carlo's.
   bool rd_within(std::size_t solver, double rel = 0.005) const;

@@ -56,8 +56,8 @@ struct ParameterInfo {
   std::string_view help;    // one line
   double SkinParameters::*member;
   // The skin domain: the range a person would use for human skin (the transport models are
-  // validated over it, docs/accurate-solver.md; the validity report names what lies outside).
-  // Inside [min, max].
+  // validated over it, docs/accurate-solver.md sec. 7; the validity report names what lies
+  // outside). Inside [min, max].
   double domain_min, domain_max;
   // The fit's default search interval [fit_min, fit_max] (inclusive, inside the range; sources
   // in src/physics/skin_parameters.cpp and docs/fit.md); NaN for a parameter the fit does not

@@ -37,7 +37,7 @@ class SkinStackProfile;  // skin_stack_table.hpp
 // kDefaultQuadraturePoints when every layer has the same index (skin), kIndexStepQuadraturePoints
 // when layers differ in index (each internal index step adds panels whose radiance needs more
 // directions: 8 points left R_d or T_d off by up to 18 %, 16 by up to 1.1 % against 48;
-// docs/accurate-solver.md, sec. 4), kForwardQuadraturePoints when a layer scatters more forward
+// docs/accurate-solver.md, sec. 2), kForwardQuadraturePoints when a layer scatters more forward
 // than g = kForwardG (at g = 0.95 the frequency-domain profile of african skin at 650 nm
 // oscillated beyond 0.45 mm with 8, +30 % against Monte Carlo at 0.5-0.55 mm; 10, 12 and 16
 // agree within 1 %; R_d moved by 0.6 %). The totals of such a stack get
@@ -89,7 +89,7 @@ Totals adding_doubling(const LayerStack& stack, const Options& options, const Ca
 // With a cache of its own (the same numbers; each call fills the table nodes it needs).
 Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 
-// Radiative transfer in the spatial-frequency domain (docs/accurate-solver.md, sec. 5): R(k), the
+// Radiative transfer in the spatial-frequency domain (docs/accurate-solver.md, sec. 3): R(k), the
 // 2D Fourier transform of the radial profile R(r) of the flux that leaves through the top surface
 // (per power that entered, as R_d), for a pencil beam at normal incidence, at each k [rad/mm]
 // (>= 0). The same streams, delta-M phase function, layers and interfaces as adding_doubling();
@@ -97,7 +97,7 @@ Totals adding_doubling(const LayerStack& stack, const Options& options = {});
 // R(0) is adding_doubling()'s R_d computed without its tables (they agree to ~1e-6).
 struct FrequencyOptions {
   Options totals;            // quadrature points (as for the totals)
-  // Orders at k > 0: 0 = automatic (more at higher k; docs/accurate-solver.md, sec. 5), else
+  // Orders at k > 0: 0 = automatic (more at higher k; docs/accurate-solver.md, sec. 3), else
   // [1, 64].
   int azimuthal_orders = 0;
   // The closed-form single scattering (FrequencyStack) in every layer (true) or in the top layer
@@ -107,7 +107,7 @@ struct FrequencyOptions {
 std::vector<double> frequency_response(const LayerStack& stack, const std::vector<double>& k,
                                        const FrequencyOptions& options = {});
 
-// The radial response of any stack from frequency_response() (docs/accurate-solver.md, sec. 5):
+// The radial response of any stack from frequency_response() (docs/accurate-solver.md, sec. 3):
 // R(k) is computed at nodes k_j = k0 sinh(j du) up to k_hi (a multiple of the largest delta-M
 // scaled extinction of the stack's layers or inverse layer thickness). The singular part is the light scattered once in
 // every layer, exactly (Henyey-Greenstein phase function, Fresnel transmission at every
@@ -118,7 +118,7 @@ std::vector<double> frequency_response(const LayerStack& stack, const std::vecto
 // value and slope at k_hi, so that the remainder ends smoothly instead of ringing), and scaled so
 // that the profile integrates to adding_doubling()'s R_d. Light that comes back along the beam
 // unscattered (reflected by a slab's bottom or an index step) is a delta at r = 0, drawn as a
-// Gaussian of the fixed width kBallisticWidth (2 um; docs/accurate-solver.md, sec. 8).
+// Gaussian of the fixed width kBallisticWidth (2 um; docs/accurate-solver.md, sec. 3).
 struct FrequencyProfileOptions {
   FrequencyOptions transport;
   double k_hi = 6;   // top node, in units of the largest delta-M extinction or 1 / thickness
@@ -177,7 +177,7 @@ class FrequencyStack final : public RadialResponse {
 
 // An accurate model of a stack for radial profiles: total() == adding_doubling(stack).R_d, and
 // the profile integrates to it exactly. Two routes to one profile (docs/accurate-solver.md,
-// sec. 8 and 9):
+// sec. 3-5):
 // - the two-layer skin geometry inside the built-in SkinStackTable (skin_stack_table.hpp: the
 //   default g, index and dermis scattering, every preset at 380-780 nm): FrequencyStack's
 //   profile, tabulated over the stack's three reduced parameters and interpolated (read, not

@@ -64,7 +64,7 @@ class Model {
 //   every skin type; profiles by radiative transfer in the spatial-frequency domain (as `sfd`),
 //   read from the built-in table of skin profiles for the two-layer skin geometry and the
 //   half-space of skin's medium (every preset), solved for every other stack; integrating
-//   exactly to those totals (docs/accurate-solver.md, sec. 3, 8, 9).
+//   exactly to those totals (docs/accurate-solver.md, sec. 3-5).
 // - sfd: the same totals, every profile from the spatial-frequency domain (accurate::
 //   FrequencyStack): within 5 % + 3 SE of Monte Carlo over 0.02-10 mm in every case measured
 //   (against `skin mc` and MCML; a slab thinner than ~0.023 scaled mean free paths reaches the

@@ -1,6 +1,6 @@
 #pragma once
 // The frequency-domain profiles of the two-layer skin geometry and of a half-space of skin's
-// medium, tabulated (docs/accurate-solver.md, sec. 9): a cache of FrequencyStack for the stacks
+// medium, tabulated (docs/accurate-solver.md, sec. 4): a cache of FrequencyStack for the stacks
 // every skin material asks for (and the half-spaces the export to pbrt-v4 fits), so that an RGB
 // or spectral profile of skin is read, not solved (the cost of a solve: docs/benchmarks.md).
 //
