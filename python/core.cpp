@@ -309,17 +309,34 @@ py::dict validity_dict(const Sets& sets, const std::vector<transport::Validity>&
       if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
       break;
     }
-  if (sets.shape.empty())
-    return py::dict(py::arg("totals") = v[0].totals, py::arg("profile") = v[0].profile,
-                    py::arg("reason") = v[0].reason);
+  // Whether each set lies in the skin domain (skin parameters), and what lies outside it: the
+  // "skin_domain" and "outside_skin_domain" keys of the command's validity.
+  if (sets.shape.empty()) {
+    const std::vector<std::string> outside = outside_skin_domain(sets.values[0]);
+    py::dict d(py::arg("totals") = v[0].totals, py::arg("profile") = v[0].profile,
+               py::arg("reason") = v[0].reason, py::arg("skin_domain") = outside.empty());
+    if (!outside.empty()) d["outside_skin_domain"] = py::cast(outside);
+    return d;
+  }
   py::module_ np = py::module_::import("numpy");
-  std::vector<bool> totals, profile;
+  std::vector<bool> totals, profile, domain;
   std::vector<std::string> reason;
-  for (const auto& x : v) totals.push_back(x.totals), profile.push_back(x.profile), reason.push_back(x.reason);
+  py::list outside;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const auto& x = v[i];
+    totals.push_back(x.totals), profile.push_back(x.profile), reason.push_back(x.reason);
+    const std::vector<std::string> out = outside_skin_domain(sets.values[i]);
+    domain.push_back(out.empty());
+    outside.append(py::cast(out));
+  }
   const py::object shape = py::cast(sets.shape);
+  py::object outside_array = np.attr("empty")(py::int_(v.size()), "dtype"_a = "object");
+  for (std::size_t i = 0; i < v.size(); ++i) outside_array[py::int_(i)] = outside[i];
   return py::dict(py::arg("totals") = np.attr("array")(totals).attr("reshape")(shape),
                   py::arg("profile") = np.attr("array")(profile).attr("reshape")(shape),
-                  py::arg("reason") = np.attr("array")(reason, "dtype"_a = "object").attr("reshape")(shape));
+                  py::arg("reason") = np.attr("array")(reason, "dtype"_a = "object").attr("reshape")(shape),
+                  py::arg("skin_domain") = np.attr("array")(domain).attr("reshape")(shape),
+                  py::arg("outside_skin_domain") = outside_array.attr("reshape")(shape));
 }
 
 py::object bound(double v) { return std::isinf(v) ? py::object(py::none()) : py::float_(v); }
@@ -435,11 +452,14 @@ PYBIND11_MODULE(_core, m) {
           py::arg("symbol") = p.symbol.empty() ? py::object(py::none()) : py::cast(p.symbol),
           py::arg("unit") = p.unit, py::arg("min") = bound(p.min), py::arg("max") = bound(p.max),
           py::arg("min_exclusive") = p.min_open, py::arg("max_exclusive") = p.max_open,
-          py::arg("default") = p.default_value(), py::arg("help") = p.help));
+          py::arg("default") = p.default_value(),
+          py::arg("skin_domain") = py::dict(py::arg("min") = p.domain_min, py::arg("max") = p.domain_max),
+          py::arg("help") = p.help));
     return table;
   }, "The parameter table, as `skin parameters --format json`: key (the keyword), flag, the "
      "paper's symbol (also accepted as a keyword), unit, min/max (None = unbounded), "
-     "min_exclusive/max_exclusive, default, help.");
+     "min_exclusive/max_exclusive, default, skin_domain (min/max: the range of human skin the "
+     "models are validated over), help.");
 
   m.def("solvers", &transport::model_names, "Names of the transport models (solver=), the "
         "default first.");
