@@ -476,14 +476,15 @@ int detail::quadrature_points(const LayerStack& stack, const Options& options,
                               bool frequency_domain) {
   stack.validate();
   validate_options(options);
-  bool index_steps = false, forward = false;
+  bool index_steps = false, forward = false, strong = false;
   for (const auto& l : stack.layers) {
     index_steps = index_steps || l.eta != stack.layers.front().eta;
     forward = forward || l.g > kForwardG;
+    strong = strong || l.g > kStrongForwardG;
   }
   return options.quadrature_points != 0 ? options.quadrature_points
          : index_steps                  ? kIndexStepQuadraturePoints
-         : forward && frequency_domain  ? kForwardQuadraturePoints
+         : forward && frequency_domain && !strong ? kForwardQuadraturePoints
          : forward                      ? kForwardTotalsQuadraturePoints
                                         : kDefaultQuadraturePoints;
 }
