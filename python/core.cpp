@@ -461,10 +461,8 @@ PYBIND11_MODULE(_core, m) {
       std::vector<SkinSpectrum> out = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
         return batch::spectra(std::span(sets.values).subspan(first, count), grid, model, {threads});
       });
-      if (light.name() != color::kDefaultIlluminant) {  // D65 is what batch::spectra gives
-        const color::Colorimetry cm(grid, light);
-        for (SkinSpectrum& x : out) x.color = color::summarize(cm, x.R_d);
-      }
+      const color::Colorimetry cm(grid, light);
+      for (SkinSpectrum& x : out) x.color = color_under(x, cm);
       return out;
     });
     py::dict d, axes;

@@ -275,10 +275,6 @@ Result spectrum_result(const SkinSpectrum& s, const std::string& preset) {
   return result;
 }
 
-Result color_result(const SkinSpectrum& s, const std::string& preset) {
-  return color_result(s, preset, s.color);
-}
-
 Result color_result(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c) {
   Result result;
   result.document["preset"] = preset;

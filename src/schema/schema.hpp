@@ -79,8 +79,7 @@ struct ParameterFile {
 // The results of the commands, as `skin <command> --format json|csv|table` writes them.
 // `preset` is the --preset the parameters started from.
 Result spectrum_result(const SkinSpectrum& s, const std::string& preset);
-Result color_result(const SkinSpectrum& s, const std::string& preset);  // s.color, under D65
-// The colour `c` of s.R_d under c.illuminant (JSON key "illuminant").
+// The colour `c` of s.R_d under c.illuminant (JSON key "illuminant"): skin::color_under(s, ...).
 Result color_result(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c);
 // skin profile --rgb, and skin profile per wavelength.
 Result rgb_profile_result(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
