@@ -22,6 +22,7 @@
 #include <pybind11/stl.h>
 
 #include "convert.hpp"
+#include "export_schema.hpp"
 #include "skin/util/allocator.hpp"
 #include "skin/batch/batch.hpp"
 #include "skin/fit/color_fit.hpp"
@@ -320,6 +321,60 @@ py::dict validity_dict(const Sets& sets, const std::vector<transport::Validity>&
   return py::dict(py::arg("totals") = np.attr("array")(totals).attr("reshape")(shape),
                   py::arg("profile") = np.attr("array")(profile).attr("reshape")(shape),
                   py::arg("reason") = np.attr("array")(reason, "dtype"_a = "object").attr("reshape")(shape));
+}
+
+// A document of the schema (src/schema) as Python objects: objects as dicts (keys in order),
+// arrays of numbers (nested, rectangular; not bool) as numpy arrays (float64, int64 when every
+// number is an integer), other arrays as lists, numbers, strings, true/false and null as Python's.
+// No text in between.
+bool numeric_array_of_shape(const schema::json& j, const Shape& shape, std::size_t depth, bool& integers) {
+  if (depth == shape.size()) {
+    if (!j.is_number()) return false;  // (is_number is false for bool)
+    integers = integers && !j.is_number_float();
+    return true;
+  }
+  if (!j.is_array() || static_cast<py::ssize_t>(j.size()) != shape[depth]) return false;
+  for (const schema::json& x : j)
+    if (!numeric_array_of_shape(x, shape, depth + 1, integers)) return false;
+  return true;
+}
+template <class T>
+void flatten(const schema::json& j, T*& out) {
+  if (j.is_array()) {
+    for (const schema::json& x : j) flatten(x, out);
+  } else {
+    *out++ = j.get<T>();
+  }
+}
+py::object to_python(const schema::json& j) {
+  switch (j.type()) {
+    case schema::json::value_t::null: return py::none();
+    case schema::json::value_t::boolean: return py::bool_(j.get<bool>());
+    case schema::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
+    case schema::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
+    case schema::json::value_t::number_float: return py::float_(j.get<double>());
+    case schema::json::value_t::string: return py::str(j.get_ref<const std::string&>());
+    case schema::json::value_t::object: {
+      py::dict d;
+      for (auto it = j.begin(); it != j.end(); ++it) d[py::str(it.key())] = to_python(*it);
+      return std::move(d);
+    }
+    case schema::json::value_t::array: {
+      Shape shape;  // along the first elements; every element must match it
+      for (const schema::json* x = &j; x->is_array() && !x->empty(); x = &(*x)[0])
+        shape.push_back(static_cast<py::ssize_t>(x->size()));
+      bool integers = true;
+      if (!shape.empty() && numeric_array_of_shape(j, shape, 0, integers)) {
+        if (integers)
+          return make_array<std::int64_t>(shape, [&](std::int64_t* d) { flatten(j, d); });
+        return make_array<double>(shape, [&](double* d) { flatten(j, d); });
+      }
+      py::list l;
+      for (const schema::json& x : j) l.append(to_python(x));
+      return std::move(l);
+    }
+    default: throw std::logic_error("to_python: a JSON value of no JSON type");  // binary, discarded
+  }
 }
 
 py::object bound(double v) { return std::isinf(v) ? py::object(py::none()) : py::float_(v); }
@@ -930,12 +985,11 @@ PYBIND11_MODULE(_core, m) {
                 hwc, [&](float* out) { std::copy(im.rgb.rgb.begin(), im.rgb.rgb.end(), out); });
           }
         }
-        const py::object loads = py::module_::import("json").attr("loads");
         py::dict d;
         d["target"] = target;
         d["files"] = files;
         d["images"] = images;
-        d["report"] = loads(exporting::fit_report_json(e.report, sets.values[0], solver, {}));
+        d["report"] = to_python(schema::fit_report_document(e.report, sets.values[0], solver, {}));
         return d;
       },
       "target"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "solver"_a = default_solver,
@@ -944,6 +998,7 @@ PYBIND11_MODULE(_core, m) {
       ("`skin export --target TARGET`: the files of a renderer or engine target (" +
        exporting::target_names_text() +
        ") as {suffix: text} ('' is the main file), images as float32 arrays (height, width, "
-       "channels), and report: the fit's error as FILE.fit.json holds it (docs/export.md). units: "
+       "channels), and report: the fit's error as FILE.fit.json holds it (docs/export.md; its "
+       "arrays of numbers as numpy arrays, its files empty). units: "
        "'mm', 'cm' or 'm' (default: the target's). " + solver_doc() + params).c_str());
 }

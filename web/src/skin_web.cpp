@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "export_schema.hpp"
 #include "fit_schema.hpp"
 #include "schema.hpp"
 #include "skin/export/export.hpp"
@@ -307,9 +308,9 @@ json export_files(const json& req) {
     out["images"].push_back(written.back());
   }
   written.push_back(opt.stem + ".fit.json");
-  const std::string report = exporting::fit_report_json(e.report, p, model.name(), written);
-  out["files"].push_back({{"name", written.back()}, {"content", report}});
-  out["report"] = json::parse(report);
+  const json report = schema::fit_report_document(e.report, p, model.name(), written);
+  out["files"].push_back({{"name", written.back()}, {"content", report.dump(2) + "\n"}});
+  out["report"] = report;
   return out;
 }
 
