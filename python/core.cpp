@@ -310,17 +310,33 @@ py::dict validity_dict(const Sets& sets, const std::vector<transport::Validity>&
       if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
       break;
     }
-  if (sets.shape.empty())
-    return py::dict(py::arg("totals") = v[0].totals, py::arg("profile") = v[0].profile,
-                    py::arg("reason") = v[0].reason);
+  // As the command's profile documents: whether the parameters lie in the skin domain (the range
+  // the models are validated over) and, where they do not, which parameters are outside it.
+  if (sets.shape.empty()) {
+    py::dict d(py::arg("totals") = v[0].totals, py::arg("profile") = v[0].profile, py::arg("reason") = v[0].reason);
+    const std::vector<std::string> outside = outside_skin_domain(sets.values[0]);
+    d["skin_domain"] = outside.empty();
+    if (!outside.empty()) d["outside_skin_domain"] = outside;
+    return d;
+  }
   py::module_ np = py::module_::import("numpy");
-  std::vector<bool> totals, profile;
+  std::vector<bool> totals, profile, in_domain;
   std::vector<std::string> reason;
-  for (const auto& x : v) totals.push_back(x.totals), profile.push_back(x.profile), reason.push_back(x.reason);
+  py::list outside;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    totals.push_back(v[i].totals), profile.push_back(v[i].profile), reason.push_back(v[i].reason);
+    const std::vector<std::string> out = outside_skin_domain(sets.values[i]);
+    in_domain.push_back(out.empty());
+    outside.append(py::cast(out));
+  }
   const py::object shape = py::cast(sets.shape);
+  py::array outside_array = np.attr("empty")(v.size(), "dtype"_a = "object");
+  for (std::size_t i = 0; i < v.size(); ++i) outside_array[py::int_(i)] = outside[i];
   return py::dict(py::arg("totals") = np.attr("array")(totals).attr("reshape")(shape),
                   py::arg("profile") = np.attr("array")(profile).attr("reshape")(shape),
-                  py::arg("reason") = np.attr("array")(reason, "dtype"_a = "object").attr("reshape")(shape));
+                  py::arg("reason") = np.attr("array")(reason, "dtype"_a = "object").attr("reshape")(shape),
+                  py::arg("skin_domain") = np.attr("array")(in_domain).attr("reshape")(shape),
+                  py::arg("outside_skin_domain") = outside_array.attr("reshape")(shape));
 }
 
 // A document of the schema (src/schema) as Python objects: objects as dicts (keys in order),
@@ -377,7 +393,6 @@ py::object to_python(const schema::json& j) {
   }
 }
 
-py::object bound(double v) { return std::isinf(v) ? py::object(py::none()) : py::float_(v); }
 
 // The parameter keywords, from the table, for the docstrings.
 std::string parameter_doc() {
@@ -482,19 +497,11 @@ PYBIND11_MODULE(_core, m) {
     return names;
   }, "Names of the paper's parameter sets.");
 
-  m.def("parameters", [] {
-    py::list table;
-    for (const ParameterInfo& p : parameter_table())
-      table.append(py::dict(
-          py::arg("key") = p.key, py::arg("flag") = "--" + p.flag(),
-          py::arg("symbol") = p.symbol.empty() ? py::object(py::none()) : py::cast(p.symbol),
-          py::arg("unit") = p.unit, py::arg("min") = bound(p.min), py::arg("max") = bound(p.max),
-          py::arg("min_exclusive") = p.min_open, py::arg("max_exclusive") = p.max_open,
-          py::arg("default") = p.default_value(), py::arg("help") = p.help));
-    return table;
-  }, "The parameter table, as `skin parameters --format json`: key (the keyword), flag, the "
-     "paper's symbol (also accepted as a keyword), unit, min/max (None = unbounded), "
-     "min_exclusive/max_exclusive, default, help.");
+  m.def("parameters", [] { return to_python(schema::parameters_result().document); },
+        "The parameter table, as `skin parameters --format json`: key (the keyword), flag, the "
+        "paper's symbol (also accepted as a keyword), unit, min/max (None = unbounded), "
+        "min_exclusive/max_exclusive, default, skin_domain (min, max: the range the models are "
+        "validated over), help.");
 
   m.def("solvers", &transport::model_names, "Names of the transport models (solver=), the "
         "default first.");
@@ -665,8 +672,9 @@ PYBIND11_MODULE(_core, m) {
   def_profile("rgb_profile", true,
               "`skin profile --rgb`: radial profile R(r) [1/mm^2] per linear sRGB channel (r, g, b) at "
               "the radii r_mm [mm] (increasing), the channel totals R_d, whether the profile is in the "
-              "model's validated range (validity; a RuntimeWarning says why not) and the parameters "
-              "used. R has the axes (sets..., channel, r_mm). ");
+              "model's validated range (validity; a RuntimeWarning says why not; validity.skin_domain: "
+              "whether the parameters lie in the skin domain, else outside_skin_domain names them) "
+              "and the parameters used. R has the axes (sets..., channel, r_mm). ");
   def_profile("profile", false,
               "`skin profile`: radial profile R(r) [1/mm^2] per wavelength at the radii r_mm [mm] "
               "(increasing), the totals R_d(lambda), validity and the parameters used. R has the axes "

@@ -67,6 +67,10 @@ class SameAsTheCommand(unittest.TestCase):
                 js = json.load(f)
             del js["files"]
             assert_same(self, py["report"], js)
+            # The report converted from the document: arrays of numbers as numpy arrays.
+            self.assertIsInstance(py["report"]["values"]["subsurface_color"], np.ndarray)
+            self.assertEqual(py["report"]["values"]["subsurface_color"].dtype, np.float64)
+            self.assertEqual(py["report"]["notes"], [])
         with self.assertRaises(ValueError):
             ss.export("renderman")
 
@@ -202,6 +206,13 @@ class Arrays(unittest.TestCase):
         q = ss.profile(r_mm=[0.5], melanin=[0.01, 0.02], lambda_step=100, solver="multipole")
         self.assertEqual(q["R"].shape, (2, 4, 1))
         self.assertEqual(q["axes"]["R"], ("melanin", "wavelength_nm", "r_mm"))
+        # Each set's place in the skin domain, as the command's validity.skin_domain of that set.
+        d = ss.rgb_profile(r_mm=[0.5], melanin=[0.01, 0.6], lambda_step=100, solver="multipole")
+        self.assertEqual(d["validity"]["skin_domain"].tolist(), [True, False])
+        self.assertEqual(d["validity"]["outside_skin_domain"][0], [])
+        self.assertEqual(d["validity"]["outside_skin_domain"][1],
+                         ss.rgb_profile(r_mm=[0.5], melanin=0.6, lambda_step=100,
+                                        solver="multipole")["validity"]["outside_skin_domain"])
 
     def test_several_keywords_on_one_axis(self):
         s = ss.color(melanin=[0.01, 0.02], hemoglobin=[0.01, 0.02], solver="multipole")
