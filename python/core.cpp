@@ -23,6 +23,8 @@
 
 #include "convert.hpp"
 #include "export_schema.hpp"
+#include "fit_schema.hpp"
+#include "mc_schema.hpp"
 #include "skin/util/allocator.hpp"
 #include "skin/batch/batch.hpp"
 #include "skin/fit/color_fit.hpp"
@@ -733,7 +735,7 @@ PYBIND11_MODULE(_core, m) {
         o.r_max = radius_max;
         o.bins = static_cast<std::size_t>(whole_number("bins", bins, 1, 1000000));
         LayerStack st;
-        py::dict d;
+        std::optional<schema::McSkin> skin;
         if (layers && wavelength)
           throw InputError("mc: give either layers or wavelength (with the skin parameters), not both");
         if (layers) {
@@ -745,9 +747,7 @@ PYBIND11_MODULE(_core, m) {
           const Sets sets = parameter_sets(preset.value_or(std::string(kDefaultPreset)), kw);
           if (!sets.shape.empty()) throw InputError("mc: one parameter set at a time (no arrays)");
           st = skin_layer_stack(sets.values.front(), *wavelength);
-          d["preset"] = preset.value_or(std::string(kDefaultPreset));
-          d["parameters"] = sets.parameters;
-          d["wavelength_nm"] = *wavelength;
+          skin = schema::McSkin{preset.value_or(std::string(kDefaultPreset)), sets.values.front(), *wavelength};
         } else {
           throw InputError("mc: give either layers or wavelength (with the skin parameters)");
         }
@@ -759,22 +759,7 @@ PYBIND11_MODULE(_core, m) {
           if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
         }
         const mc::Result r = interruptible([&] { return mc::simulate(st, o); });
-        d["solver"] = "monte-carlo";
-        d["eta_above"] = st.eta_above;
-        d["eta_below"] = st.eta_below;
-        d["R_specular"] = r.R_specular;
-        d["R_d"] = r.R_d;
-        d["R_d_se"] = r.R_d_se;
-        d["T_d"] = r.T_d;
-        d["T_d_se"] = r.T_d_se;
-        d["R_d_incident"] = r.R_d_incident;
-        d["T_d_incident"] = r.T_d_incident;
-        d["photons"] = r.photons;
-        d["lost"] = r.lost;
-        d["seed"] = o.seed;
-        d["seconds"] = r.seconds;
-        d["profile"] = py::dict("r_mm"_a = vector_array(r.r_mm), "R"_a = vector_array(r.R),
-                                "R_se"_a = vector_array(r.R_se));
+        py::dict d = to_python(schema::mc_result(st, r, o.seed, skin).document);
         d["axes"] = py::dict("profile.r_mm"_a = py::make_tuple("r_mm"), "profile.R"_a = py::make_tuple("r_mm"),
                              "profile.R_se"_a = py::make_tuple("r_mm"));
         return d;
@@ -787,7 +772,8 @@ PYBIND11_MODULE(_core, m) {
        "layers(), plus g) or in the skin at one wavelength [nm] (wavelength=, the preset and "
        "parameter keywords). R_d, T_d per power that entered with standard errors (_se), per "
        "incident power (_incident), R(r) [1/mm^2] on `bins` annuli out to radius_max [mm], lost: the "
-       "weight of packets ended after the longest path allowed (nearly non-absorbing media). The "
+       "weight of packets ended after the longest path allowed (nearly non-absorbing media); the "
+       "layers (with sigma_s) as simulated. The "
        "same seed gives the same numbers for any thread count. As `skin mc`, a pilot estimates the "
        "time: a run over a week is refused (ValueError), one over an hour warned of "
        "(RuntimeWarning); Ctrl-C stops it (KeyboardInterrupt)." + params).c_str());
@@ -811,28 +797,9 @@ PYBIND11_MODULE(_core, m) {
         opt.model = fit::forward_model(solver);
         const fit::MeasuredSpectrum m{"spectrum", wavelength_nm, R};
         const fit::FitResult r = interruptible([&] { return fit::SpectrumFitter(opt).fit(m); });
-        py::dict d, uncertainty, at_bound;
-        std::vector<std::string> free_keys;
-        for (std::size_t i = 0; i < r.free.size(); ++i) {
-          const std::string k(fit::key(r.free[i]));
-          free_keys.push_back(k);
-          uncertainty[py::str(k)] = std::isfinite(r.uncertainty[i]) ? py::object(py::float_(r.uncertainty[i])) : py::object(py::none());
-          at_bound[py::str(k)] = bool(r.at_bound[i]);
-        }
-        d["solver"] = std::string(transport::find_model(solver).name());
-        d["includes_specular"] = includes_specular;
-        d["free"] = free_keys;
-        py::dict p;
-        for (const ParameterInfo& info : parameter_table()) p[py::cast(info.key)] = r.parameters.*(info.member);
-        d["parameters"] = p;
-        d["uncertainty"] = uncertainty;
-        d["at_bound"] = at_bound;
-        d["rms"] = r.rms;
-        d["specular"] = r.specular;
-        d["iterations"] = r.iterations;
-        d["starts"] = r.starts;
-        d["fitted"] = py::dict("wavelength_nm"_a = vector_array(r.wavelength_nm),
-                               "measured"_a = vector_array(r.measured), "R"_a = vector_array(r.fitted));
+        py::dict d = to_python(
+            schema::spectrum_fit_result(m, r, std::string(transport::find_model(solver).name()), includes_specular)
+                .document);
         d["axes"] = py::dict("fitted.wavelength_nm"_a = py::make_tuple("wavelength_nm"),
                              "fitted.measured"_a = py::make_tuple("wavelength_nm"),
                              "fitted.R"_a = py::make_tuple("wavelength_nm"));
