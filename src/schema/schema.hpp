@@ -3,8 +3,9 @@
 // text of every command's result (spectrum, color, profile, parameters, presets, layers,
 // illuminants here; fit, mc and batch in fit_schema.hpp, mc_schema.hpp, batch_schema.hpp), and
 // the --params JSON the commands read. Built here once, without the command line, so that the
-// `skin` executable (src/app) and the WebAssembly module of the browser page (web/) give the same
-// keys and the same numbers. Pure data to text: no files are written here
+// `skin` executable (src/app), the WebAssembly module of the browser page (web/) and the Python
+// package (python/, which converts the documents to dicts and numpy arrays) give the same keys and
+// the same numbers. Pure data to text: no files are written here
 // (ParameterFile::read reads one).
 #include <nlohmann/json.hpp>
 #include <string>
