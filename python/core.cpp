@@ -22,6 +22,9 @@
 #include <pybind11/stl.h>
 
 #include "convert.hpp"
+#include "export_schema.hpp"
+#include "fit_schema.hpp"
+#include "mc_schema.hpp"
 #include "skin/util/allocator.hpp"
 #include "skin/batch/batch.hpp"
 #include "skin/fit/color_fit.hpp"
@@ -309,37 +312,89 @@ py::dict validity_dict(const Sets& sets, const std::vector<transport::Validity>&
       if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
       break;
     }
-  // Whether each set lies in the skin domain (skin parameters), and what lies outside it: the
-  // "skin_domain" and "outside_skin_domain" keys of the command's validity.
+  // As the command's profile documents: whether the parameters lie in the skin domain (the range
+  // the models are validated over) and, where they do not, which parameters are outside it.
   if (sets.shape.empty()) {
+    py::dict d(py::arg("totals") = v[0].totals, py::arg("profile") = v[0].profile, py::arg("reason") = v[0].reason);
     const std::vector<std::string> outside = outside_skin_domain(sets.values[0]);
-    py::dict d(py::arg("totals") = v[0].totals, py::arg("profile") = v[0].profile,
-               py::arg("reason") = v[0].reason, py::arg("skin_domain") = outside.empty());
-    if (!outside.empty()) d["outside_skin_domain"] = py::cast(outside);
+    d["skin_domain"] = outside.empty();
+    if (!outside.empty()) d["outside_skin_domain"] = outside;
     return d;
   }
   py::module_ np = py::module_::import("numpy");
-  std::vector<bool> totals, profile, domain;
+  std::vector<bool> totals, profile, in_domain;
   std::vector<std::string> reason;
   py::list outside;
   for (std::size_t i = 0; i < v.size(); ++i) {
-    const auto& x = v[i];
-    totals.push_back(x.totals), profile.push_back(x.profile), reason.push_back(x.reason);
+    totals.push_back(v[i].totals), profile.push_back(v[i].profile), reason.push_back(v[i].reason);
     const std::vector<std::string> out = outside_skin_domain(sets.values[i]);
-    domain.push_back(out.empty());
+    in_domain.push_back(out.empty());
     outside.append(py::cast(out));
   }
   const py::object shape = py::cast(sets.shape);
-  py::object outside_array = np.attr("empty")(py::int_(v.size()), "dtype"_a = "object");
+  py::array outside_array = np.attr("empty")(v.size(), "dtype"_a = "object");
   for (std::size_t i = 0; i < v.size(); ++i) outside_array[py::int_(i)] = outside[i];
   return py::dict(py::arg("totals") = np.attr("array")(totals).attr("reshape")(shape),
                   py::arg("profile") = np.attr("array")(profile).attr("reshape")(shape),
                   py::arg("reason") = np.attr("array")(reason, "dtype"_a = "object").attr("reshape")(shape),
-                  py::arg("skin_domain") = np.attr("array")(domain).attr("reshape")(shape),
+                  py::arg("skin_domain") = np.attr("array")(in_domain).attr("reshape")(shape),
                   py::arg("outside_skin_domain") = outside_array.attr("reshape")(shape));
 }
 
-py::object bound(double v) { return std::isinf(v) ? py::object(py::none()) : py::float_(v); }
+// A document of the schema (src/schema) as Python objects: objects as dicts (keys in order),
+// arrays of numbers (nested, rectangular; not bool) as numpy arrays (float64, int64 when every
+// number is an integer), other arrays as lists, numbers, strings, true/false and null as Python's.
+// No text in between.
+bool numeric_array_of_shape(const schema::json& j, const Shape& shape, std::size_t depth, bool& integers) {
+  if (depth == shape.size()) {
+    if (!j.is_number()) return false;  // (is_number is false for bool)
+    integers = integers && !j.is_number_float();
+    return true;
+  }
+  if (!j.is_array() || static_cast<py::ssize_t>(j.size()) != shape[depth]) return false;
+  for (const schema::json& x : j)
+    if (!numeric_array_of_shape(x, shape, depth + 1, integers)) return false;
+  return true;
+}
+template <class T>
+void flatten(const schema::json& j, T*& out) {
+  if (j.is_array()) {
+    for (const schema::json& x : j) flatten(x, out);
+  } else {
+    *out++ = j.get<T>();
+  }
+}
+py::object to_python(const schema::json& j) {
+  switch (j.type()) {
+    case schema::json::value_t::null: return py::none();
+    case schema::json::value_t::boolean: return py::bool_(j.get<bool>());
+    case schema::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
+    case schema::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
+    case schema::json::value_t::number_float: return py::float_(j.get<double>());
+    case schema::json::value_t::string: return py::str(j.get_ref<const std::string&>());
+    case schema::json::value_t::object: {
+      py::dict d;
+      for (auto it = j.begin(); it != j.end(); ++it) d[py::str(it.key())] = to_python(*it);
+      return std::move(d);
+    }
+    case schema::json::value_t::array: {
+      Shape shape;  // along the first elements; every element must match it
+      for (const schema::json* x = &j; x->is_array() && !x->empty(); x = &(*x)[0])
+        shape.push_back(static_cast<py::ssize_t>(x->size()));
+      bool integers = true;
+      if (!shape.empty() && numeric_array_of_shape(j, shape, 0, integers)) {
+        if (integers)
+          return make_array<std::int64_t>(shape, [&](std::int64_t* d) { flatten(j, d); });
+        return make_array<double>(shape, [&](double* d) { flatten(j, d); });
+      }
+      py::list l;
+      for (const schema::json& x : j) l.append(to_python(x));
+      return std::move(l);
+    }
+    default: throw std::logic_error("to_python: a JSON value of no JSON type");  // binary, discarded
+  }
+}
+
 
 // The parameter keywords, from the table, for the docstrings.
 std::string parameter_doc() {
@@ -444,22 +499,11 @@ PYBIND11_MODULE(_core, m) {
     return names;
   }, "Names of the paper's parameter sets.");
 
-  m.def("parameters", [] {
-    py::list table;
-    for (const ParameterInfo& p : parameter_table())
-      table.append(py::dict(
-          py::arg("key") = p.key, py::arg("flag") = "--" + p.flag(),
-          py::arg("symbol") = p.symbol.empty() ? py::object(py::none()) : py::cast(p.symbol),
-          py::arg("unit") = p.unit, py::arg("min") = bound(p.min), py::arg("max") = bound(p.max),
-          py::arg("min_exclusive") = p.min_open, py::arg("max_exclusive") = p.max_open,
-          py::arg("default") = p.default_value(),
-          py::arg("skin_domain") = py::dict(py::arg("min") = p.domain_min, py::arg("max") = p.domain_max),
-          py::arg("help") = p.help));
-    return table;
-  }, "The parameter table, as `skin parameters --format json`: key (the keyword), flag, the "
-     "paper's symbol (also accepted as a keyword), unit, min/max (None = unbounded), "
-     "min_exclusive/max_exclusive, default, skin_domain (min/max: the range of human skin the "
-     "models are validated over), help.");
+  m.def("parameters", [] { return to_python(schema::parameters_result().document); },
+        "The parameter table, as `skin parameters --format json`: key (the keyword), flag, the "
+        "paper's symbol (also accepted as a keyword), unit, min/max (None = unbounded), "
+        "min_exclusive/max_exclusive, default, skin_domain (min, max: the range the models are "
+        "validated over), help.");
 
   m.def("solvers", &transport::model_names, "Names of the transport models (solver=), the "
         "default first.");
@@ -481,10 +525,8 @@ PYBIND11_MODULE(_core, m) {
       std::vector<SkinSpectrum> out = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
         return batch::spectra(std::span(sets.values).subspan(first, count), grid, model, {threads});
       });
-      if (light.name() != color::kDefaultIlluminant) {  // D65 is what batch::spectra gives
-        const color::Colorimetry cm(grid, light);
-        for (SkinSpectrum& x : out) x.color = color::summarize(cm, x.R_d);
-      }
+      const color::Colorimetry cm(grid, light);
+      for (SkinSpectrum& x : out) x.color = color_under(x, cm);
       return out;
     });
     py::dict d, axes;
@@ -632,8 +674,9 @@ PYBIND11_MODULE(_core, m) {
   def_profile("rgb_profile", true,
               "`skin profile --rgb`: radial profile R(r) [1/mm^2] per linear sRGB channel (r, g, b) at "
               "the radii r_mm [mm] (increasing), the channel totals R_d, whether the profile is in the "
-              "model's validated range (validity; a RuntimeWarning says why not) and the parameters "
-              "used. R has the axes (sets..., channel, r_mm). ");
+              "model's validated range (validity; a RuntimeWarning says why not; validity.skin_domain: "
+              "whether the parameters lie in the skin domain, else outside_skin_domain names them) "
+              "and the parameters used. R has the axes (sets..., channel, r_mm). ");
   def_profile("profile", false,
               "`skin profile`: radial profile R(r) [1/mm^2] per wavelength at the radii r_mm [mm] "
               "(increasing), the totals R_d(lambda), validity and the parameters used. R has the axes "
@@ -692,7 +735,7 @@ PYBIND11_MODULE(_core, m) {
         o.r_max = radius_max;
         o.bins = static_cast<std::size_t>(whole_number("bins", bins, 1, 1000000));
         LayerStack st;
-        py::dict d;
+        std::optional<schema::McSkin> skin;
         if (layers && wavelength)
           throw InputError("mc: give either layers or wavelength (with the skin parameters), not both");
         if (layers) {
@@ -704,9 +747,7 @@ PYBIND11_MODULE(_core, m) {
           const Sets sets = parameter_sets(preset.value_or(std::string(kDefaultPreset)), kw);
           if (!sets.shape.empty()) throw InputError("mc: one parameter set at a time (no arrays)");
           st = skin_layer_stack(sets.values.front(), *wavelength);
-          d["preset"] = preset.value_or(std::string(kDefaultPreset));
-          d["parameters"] = sets.parameters;
-          d["wavelength_nm"] = *wavelength;
+          skin = schema::McSkin{preset.value_or(std::string(kDefaultPreset)), sets.values.front(), *wavelength};
         } else {
           throw InputError("mc: give either layers or wavelength (with the skin parameters)");
         }
@@ -718,22 +759,7 @@ PYBIND11_MODULE(_core, m) {
           if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
         }
         const mc::Result r = interruptible([&] { return mc::simulate(st, o); });
-        d["solver"] = "monte-carlo";
-        d["eta_above"] = st.eta_above;
-        d["eta_below"] = st.eta_below;
-        d["R_specular"] = r.R_specular;
-        d["R_d"] = r.R_d;
-        d["R_d_se"] = r.R_d_se;
-        d["T_d"] = r.T_d;
-        d["T_d_se"] = r.T_d_se;
-        d["R_d_incident"] = r.R_d_incident;
-        d["T_d_incident"] = r.T_d_incident;
-        d["photons"] = r.photons;
-        d["lost"] = r.lost;
-        d["seed"] = o.seed;
-        d["seconds"] = r.seconds;
-        d["profile"] = py::dict("r_mm"_a = vector_array(r.r_mm), "R"_a = vector_array(r.R),
-                                "R_se"_a = vector_array(r.R_se));
+        py::dict d = to_python(schema::mc_result(st, r, o.seed, skin).document);
         d["axes"] = py::dict("profile.r_mm"_a = py::make_tuple("r_mm"), "profile.R"_a = py::make_tuple("r_mm"),
                              "profile.R_se"_a = py::make_tuple("r_mm"));
         return d;
@@ -746,7 +772,8 @@ PYBIND11_MODULE(_core, m) {
        "layers(), plus g) or in the skin at one wavelength [nm] (wavelength=, the preset and "
        "parameter keywords). R_d, T_d per power that entered with standard errors (_se), per "
        "incident power (_incident), R(r) [1/mm^2] on `bins` annuli out to radius_max [mm], lost: the "
-       "weight of packets ended after the longest path allowed (nearly non-absorbing media). The "
+       "weight of packets ended after the longest path allowed (nearly non-absorbing media); the "
+       "layers (with sigma_s) as simulated. The "
        "same seed gives the same numbers for any thread count. As `skin mc`, a pilot estimates the "
        "time: a run over a week is refused (ValueError), one over an hour warned of "
        "(RuntimeWarning); Ctrl-C stops it (KeyboardInterrupt)." + params).c_str());
@@ -770,28 +797,9 @@ PYBIND11_MODULE(_core, m) {
         opt.model = fit::forward_model(solver);
         const fit::MeasuredSpectrum m{"spectrum", wavelength_nm, R};
         const fit::FitResult r = interruptible([&] { return fit::SpectrumFitter(opt).fit(m); });
-        py::dict d, uncertainty, at_bound;
-        std::vector<std::string> free_keys;
-        for (std::size_t i = 0; i < r.free.size(); ++i) {
-          const std::string k(fit::key(r.free[i]));
-          free_keys.push_back(k);
-          uncertainty[py::str(k)] = std::isfinite(r.uncertainty[i]) ? py::object(py::float_(r.uncertainty[i])) : py::object(py::none());
-          at_bound[py::str(k)] = bool(r.at_bound[i]);
-        }
-        d["solver"] = std::string(transport::find_model(solver).name());
-        d["includes_specular"] = includes_specular;
-        d["free"] = free_keys;
-        py::dict p;
-        for (const ParameterInfo& info : parameter_table()) p[py::cast(info.key)] = r.parameters.*(info.member);
-        d["parameters"] = p;
-        d["uncertainty"] = uncertainty;
-        d["at_bound"] = at_bound;
-        d["rms"] = r.rms;
-        d["specular"] = r.specular;
-        d["iterations"] = r.iterations;
-        d["starts"] = r.starts;
-        d["fitted"] = py::dict("wavelength_nm"_a = vector_array(r.wavelength_nm),
-                               "measured"_a = vector_array(r.measured), "R"_a = vector_array(r.fitted));
+        py::dict d = to_python(
+            schema::spectrum_fit_result(m, r, std::string(transport::find_model(solver).name()), includes_specular)
+                .document);
         d["axes"] = py::dict("fitted.wavelength_nm"_a = py::make_tuple("wavelength_nm"),
                              "fitted.measured"_a = py::make_tuple("wavelength_nm"),
                              "fitted.R"_a = py::make_tuple("wavelength_nm"));
@@ -952,12 +960,11 @@ PYBIND11_MODULE(_core, m) {
                 hwc, [&](float* out) { std::copy(im.rgb.rgb.begin(), im.rgb.rgb.end(), out); });
           }
         }
-        const py::object loads = py::module_::import("json").attr("loads");
         py::dict d;
         d["target"] = target;
         d["files"] = files;
         d["images"] = images;
-        d["report"] = loads(exporting::fit_report_json(e.report, sets.values[0], solver, {}));
+        d["report"] = to_python(schema::fit_report_document(e.report, sets.values[0], solver, {}));
         return d;
       },
       "target"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "solver"_a = default_solver,
@@ -966,6 +973,7 @@ PYBIND11_MODULE(_core, m) {
       ("`skin export --target TARGET`: the files of a renderer or engine target (" +
        exporting::target_names_text() +
        ") as {suffix: text} ('' is the main file), images as float32 arrays (height, width, "
-       "channels), and report: the fit's error as FILE.fit.json holds it (docs/export.md). units: "
+       "channels), and report: the fit's error as FILE.fit.json holds it (docs/export.md; its "
+       "arrays of numbers as numpy arrays, its files empty). units: "
        "'mm', 'cm' or 'm' (default: the target's). " + solver_doc() + params).c_str());
 }

@@ -11,6 +11,7 @@
 #include <optional>
 #include <sstream>
 
+#include "batch_schema.hpp"
 #include "common.hpp"
 #include "progress.hpp"
 #include "skin/batch/batch.hpp"
@@ -22,18 +23,6 @@
 namespace skin::cli {
 
 namespace {
-
-// Appends the one-row columns `row` to `to` (the same columns, or none yet).
-void append_row(std::vector<Column>& to, const std::vector<Column>& row) {
-  if (to.empty()) {
-    to = row;
-    return;
-  }
-  for (std::size_t k = 0; k < row.size(); ++k) {
-    to[k].numbers.insert(to[k].numbers.end(), row[k].numbers.begin(), row[k].numbers.end());
-    to[k].text.insert(to[k].text.end(), row[k].text.begin(), row[k].text.end());
-  }
-}
 
 std::string grid_text(const WavelengthGrid& grid) {
   std::ostringstream os;
@@ -125,24 +114,23 @@ void register_batch(CLI::App& app) {
       throw InputError("output = '" + o->output + "': skin batch writes CSV (.csv or .txt)");
     const WavelengthGrid grid = o->grid.resolve();
     const transport::Model& model = o->solver.model();
-    std::vector<std::size_t> at_wavelength;  // grid indices of the R_d columns
+    schema::BatchLayout layout{sets.keys, grid, {}, o->radii, {}};  // the columns
     for (double w : o->wavelengths) {
       const double x = (w - grid.lambda_min()) / grid.step();
       if (!(x >= -1e-9 && x <= double(grid.size() - 1) + 1e-9) || std::abs(x - std::round(x)) > 1e-9)
         throw InputError("wavelength = " + format_number(w) + " nm is not on the grid (" + grid_text(grid) + ")");
-      at_wavelength.push_back(static_cast<std::size_t>(std::lround(x)));
+      layout.wavelengths.push_back(static_cast<std::size_t>(std::lround(x)));
     }
     if (o->spectrum)
-      for (std::size_t i = 0; i < grid.size(); ++i) at_wavelength.push_back(i);
+      for (std::size_t i = 0; i < grid.size(); ++i) layout.wavelengths.push_back(i);
     std::optional<RadialGrid> radii;
-    std::vector<std::size_t> radius_order;  // position of each --radius in the sorted grid
     if (!o->radii.empty()) {
       for (double r : o->radii) require_non_negative("radius", r, "mm");
       std::vector<double> sorted = o->radii;
       std::sort(sorted.begin(), sorted.end());
       sorted.erase(std::unique(sorted.begin(), sorted.end()), sorted.end());
       for (double r : o->radii)
-        radius_order.push_back(static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), r) - sorted.begin()));
+        layout.radius_index.push_back(static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), r) - sorted.begin()));
       radii = RadialGrid::from(sorted);
     }
 
@@ -160,32 +148,7 @@ void register_batch(CLI::App& app) {
         const auto spectra = batch::spectra(chunk_sets, grid, model, run);
         std::vector<batch::RgbProfileResult> profiles;
         if (radii) profiles = batch::rgb_profiles(chunk_sets, grid, *radii, model, run);
-        std::vector<Column> columns;
-        Column index{"set", {}, {}};
-        for (std::size_t i = a; i < b; ++i) index.numbers.push_back(double(i));
-        columns.push_back(index);
-        for (const ParameterInfo* info : sets.keys) {
-          Column col{std::string(info->key), {}, {}};
-          for (const SkinParameters& p : chunk_sets) col.numbers.push_back(p.*(info->member));
-          columns.push_back(col);
-        }
-        std::vector<Column> colour;
-        for (const auto& s : spectra) append_row(colour, color_columns(s.color));
-        columns.insert(columns.end(), colour.begin(), colour.end());
-        for (std::size_t w : at_wavelength) {
-          Column col{"R_d_" + format_number(grid[w]) + "nm", {}, {}};
-          for (const auto& s : spectra) col.numbers.push_back(s.R_d[w]);
-          columns.push_back(col);
-        }
-        if (radii) {
-          const char* names[3] = {"r", "g", "b"};
-          for (std::size_t k = 0; k < o->radii.size(); ++k)
-            for (int ch = 0; ch < 3; ++ch) {
-              Column col{"R_" + format_number(o->radii[k]) + "mm." + names[ch] + " [1/mm^2]", {}, {}};
-              for (const auto& p : profiles) col.numbers.push_back(p.profile.R[std::size_t(ch)][radius_order[k]]);
-              columns.push_back(col);
-            }
-        }
+        const std::vector<Column> columns = schema::batch_columns(layout, a, chunk_sets, spectra, profiles);
         put(a == 0 ? csv_header(columns) + csv_rows(columns) : csv_rows(columns));
         if (progress) progress(b - first, end - first);
       }

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "common.hpp"
+#include "export_schema.hpp"
 #include "progress.hpp"
 #include "skin/export/export.hpp"
 #include "skin/image/image.hpp"
@@ -159,7 +160,7 @@ void register_export(CLI::App& app) {
       }
       for (const exporting::ImageFile& f : j.e.images) side(f.suffix, f.referenced);
       side(".fit.json", false);
-      if (!j.in_place) j.report = exporting::fit_report_json(j.e.report, p, o->solver.name, j.written);
+      if (!j.in_place) j.report = schema::fit_report_document(j.e.report, p, o->solver.name, j.written).dump(2) + "\n";
       jobs.push_back(std::move(j));
     }
     for (const Job& j : jobs) {

@@ -5,6 +5,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "color_fit_schema.hpp"
 #include "common.hpp"
 #include "fit_schema.hpp"
 #include "progress.hpp"
@@ -132,38 +133,7 @@ void run_color(const FitOpts& o) {
     std::cerr << "skin fit: warning: the closest model colour is " << r.delta_e
               << " dE2000 away: the target is outside the colours the model reaches with the "
                  "fixed parameters\n";
-  Result result;
-  {
-    {
-      json j;
-      j["target"] = {{"hex", in.hex}, {"lab", {in.lab.L, in.lab.a, in.lab.b}}};
-      j["parameters"] = to_json(r.parameters);
-      j["fitted"] = {{"hex", out.hex}, {"lab", {r.fitted.L, r.fitted.a, r.fitted.b}},
-                     {"srgb_linear", {r.fitted_srgb_linear.r, r.fitted_srgb_linear.g, r.fitted_srgb_linear.b}}};
-      j["delta_e_2000"] = r.delta_e;
-      j["melanin_blend_prior"] = o.blend_prior;
-      j["melanin_blend_weight"] = o.blend_weight;
-      result.document = j;
-    }
-    {
-      // Every parameter (the fitted ones and those held fixed), then the colour error.
-      for (const ParameterInfo& info : parameter_table())
-        result.columns.push_back({std::string(info.key), {r.parameters.*(info.member)}, {}});
-      result.columns.push_back({"target.hex", {}, {in.hex}});
-      result.columns.push_back({"fitted.hex", {}, {out.hex}});
-      result.columns.push_back({"delta_e_2000", {r.delta_e}, {}});
-    }
-    {
-      std::ostringstream os;
-      os << "target " << in.hex << "  Lab " << r.target << "\n"
-         << "  melanin        " << r.parameters.melanin << "\n"
-         << "  melanin_blend  " << r.parameters.melanin_blend << "\n"
-         << "  hemoglobin     " << r.parameters.hemoglobin << "\n"
-         << "fitted " << out.hex << "  Lab " << r.fitted << "  dE2000 " << r.delta_e << "\n";
-      result.table = os.str();
-    }
-  }
-  o.out.write(result);
+  o.out.write(schema::color_fit_result(r, in, out, o.blend_prior, o.blend_weight));
 }
 
 void run_texture(const FitOpts& o) {
@@ -178,31 +148,10 @@ void run_texture(const FitOpts& o) {
   fitter.prepare();
   const fit::ParameterMaps maps = fitter.fit(img, bar);
   fit::write_parameter_maps(maps, o.out.output);
-  json j;
-  j["texture"] = o.texture;
-  j["output"] = o.out.output;
-  j["width"] = maps.width;
-  j["height"] = maps.height;
-  j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
-  j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
   // -o is the EXR: the summary goes to standard output in --format (table on a terminal).
   OutputOptions summary = o.out;
   summary.output.clear();
-  Result result;
-  result.document = j;
-  result.columns = {{"width", {double(maps.width)}, {}},
-                    {"height", {double(maps.height)}, {}},
-                    {"error_delta_e_2000.mean", {maps.mean_error}, {}},
-                    {"error_delta_e_2000.max", {maps.max_error}, {}},
-                    {"error_delta_e_2000.fraction_below_1", {maps.fraction_below_1}, {}}};
-  char buf[256];
-  std::snprintf(buf, sizeof buf,
-                "wrote %s: %dx%d, channels melanin, melanin_blend, hemoglobin, error\n"
-                "colour error (dE2000): mean %.3g, max %.3g, %.3g of pixels below 1\n",
-                o.out.output.c_str(), maps.width, maps.height, maps.mean_error, maps.max_error,
-                maps.fraction_below_1);
-  result.table = buf;
-  summary.write(result);
+  summary.write(schema::texture_fit_result(maps, o.texture, o.out.output));
 }
 
 void run_report(const FitOpts& o) {

@@ -1,61 +1,11 @@
 // skin illuminants: the CIE illuminants with their white points; --compare: the colour of every
 // preset under some of them, spectral against RGB rendering (CIEDE2000), and --swatches the grid.
-#include <cstdio>
-
 #include "common.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/plot/plot.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::cli {
-
-namespace {
-
-std::string fixed(double v, int digits) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
-// Each illuminant's white point on the grid CIE 015:2018 computes them on (5 nm, 380-780 nm), and
-// its colour as a light in white-balanced linear sRGB (Colorimetry::illuminant_rgb).
-Result list_result() {
-  const WavelengthGrid cie_grid(380, 780, 5);
-  Result result;
-  result.document = json::array();
-  Column name{"name", {}, {}}, x{"x", {}, {}}, y{"y", {}, {}}, r{"light_srgb_linear.r", {}, {}},
-      g{"light_srgb_linear.g", {}, {}}, b{"light_srgb_linear.b", {}, {}}, description{"description", {}, {}};
-  std::vector<std::vector<std::string>> rows{{"name", "x", "y", "light (linear sRGB)", "description"}};
-  for (const std::string& n : color::illuminant_names()) {
-    const color::Illuminant& il = color::find_illuminant(n);
-    const color::Colorimetry cm(cie_grid, il);
-    const color::Xyz w = cm.white();
-    const double sum = w.X + w.Y + w.Z;
-    const Rgb light = cm.illuminant_rgb();
-    result.document.push_back({{"name", n},
-                               {"description", il.description()},
-                               {"x", w.X / sum},
-                               {"y", w.Y / sum},
-                               {"white_XYZ", {w.X, w.Y, w.Z}},
-                               {"light_srgb_linear", {light.r, light.g, light.b}}});
-    name.text.push_back(n);
-    description.text.push_back(il.description());
-    x.numbers.push_back(w.X / sum);
-    y.numbers.push_back(w.Y / sum);
-    r.numbers.push_back(light.r);
-    g.numbers.push_back(light.g);
-    b.numbers.push_back(light.b);
-    rows.push_back({n, fixed(w.X / sum, 5), fixed(w.Y / sum, 5),
-                    fixed(light.r, 3) + " " + fixed(light.g, 3) + " " + fixed(light.b, 3), il.description()});
-  }
-  result.columns = {name, x, y, r, g, b, description};
-  result.table = format_text_table(rows) +
-                 "x, y: CIE 1931 2-degree, 5 nm 380-780 nm. light: the illuminant's colour in the "
-                 "white-balanced linear sRGB of an RGB renderer (Y = 1; D65 = 1 1 1)\n";
-  return result;
-}
-
-}  // namespace
 
 void register_illuminants(CLI::App& app) {
   struct Opts {
@@ -90,7 +40,7 @@ void register_illuminants(CLI::App& app) {
       for (const char* flag : {"--illuminant", "--swatches", "--solver", "--lambda-min", "--lambda-max", "--lambda-step"})
         if (sub->count(flag) > 0)
           throw InputError(std::string(flag) + " is given without --compare: it applies to the comparison only");
-      o->out.write(list_result());
+      o->out.write(schema::illuminants_result());
       return;
     }
     std::vector<std::string> names = o->illuminants;
@@ -100,23 +50,7 @@ void register_illuminants(CLI::App& app) {
     std::vector<color::Colorimetry> under;
     for (const std::string& n : names) under.emplace_back(grid, color::find_illuminant(n));
 
-    Result result;
-    result.document["solver"] = o->solver.name;
-    result.document["method"] =
-        "uniformly lit half-space; spectral: XYZ of R_d times the illuminant; rgb_rendering: the "
-        "skin's white-balanced linear sRGB under D65 times the illuminant's light colour; both "
-        "CIELAB relative to the illuminant's white; delta_e_2000 between them";
-    result.document["illuminants"] = names;
-    json& rows = result.document["colors"] = json::array();
-    Column preset_col{"preset", {}, {}}, illum_col{"illuminant", {}, {}}, hex{"hex", {}, {}},
-        hex_rgb{"rgb_rendering.hex", {}, {}}, dE{"delta_e_2000", {}, {}};
-    std::vector<Column> lab(6);
-    const char* lab_names[6] = {"lab.L", "lab.a", "lab.b", "rgb_rendering.lab.L", "rgb_rendering.lab.a",
-                                "rgb_rendering.lab.b"};
-    for (int k = 0; k < 6; ++k) lab[static_cast<std::size_t>(k)].name = lab_names[k];
-    std::vector<std::string> header{"delta_e_2000"};
-    header.insert(header.end(), names.begin(), names.end());
-    std::vector<std::vector<std::string>> table{header};
+    schema::IlluminantComparison comparison{o->solver.name, names, {}};
     plot::SwatchGrid fig;
     fig.title = "Presets under CIE illuminants: spectral (left) | RGB rendering (right), CIEDE2000";
     fig.columns = names;
@@ -125,35 +59,15 @@ void register_illuminants(CLI::App& app) {
     };
     for (const auto& preset : presets()) {
       const SkinSpectrum s = skin_spectrum(preset.parameters, grid, o->solver.model());
-      std::vector<std::string> line{preset.name};
+      schema::IlluminantComparison::Row& row = comparison.rows.emplace_back();
+      row.preset = preset.name;
       fig.rows.push_back(preset.name);
       for (std::size_t j = 0; j < names.size(); ++j) {
-        const color::RgbVsSpectral c = color::rgb_vs_spectral(d65, under[j], s.R_d);
-        rows.push_back({{"preset", preset.name},
-                        {"illuminant", names[j]},
-                        {"color", to_json(c.spectral)},
-                        {"rgb_rendering", to_json(c.rgb)},
-                        {"delta_e_2000", c.delta_e_2000}});
-        preset_col.text.push_back(preset.name);
-        illum_col.text.push_back(names[j]);
-        hex.text.push_back(c.spectral.hex);
-        hex_rgb.text.push_back(c.rgb.hex);
-        const color::Lab* labs[2] = {&c.spectral.lab, &c.rgb.lab};
-        for (std::size_t k = 0; k < 6; ++k) {
-          const color::Lab& l = *labs[k / 3];
-          lab[k].numbers.push_back(k % 3 == 0 ? l.L : (k % 3 == 1 ? l.a : l.b));
-        }
-        dE.numbers.push_back(c.delta_e_2000);
-        line.push_back(fixed(c.delta_e_2000, 2));
+        const color::RgbVsSpectral& c = row.colors.emplace_back(color::rgb_vs_spectral(d65, under[j], s.R_d));
         fig.cells.push_back({encoded(c.spectral), encoded(c.rgb),
-                             c.spectral.hex + " | " + fixed(c.delta_e_2000, 2)});
+                             c.spectral.hex + " | " + schema::format_fixed(c.delta_e_2000, 2)});
       }
-      table.push_back(line);
     }
-    result.columns = {preset_col, illum_col, hex, hex_rgb};
-    result.columns.insert(result.columns.end(), lab.begin(), lab.end());
-    result.columns.push_back(dE);
-    result.table = format_text_table(table);
     if (!o->swatches.empty()) {
       fig.note = "Uniformly lit half-space, solver " + o->solver.name + ", " +
                  std::to_string(static_cast<int>(grid.lambda_min())) + "-" +
@@ -163,7 +77,7 @@ void register_illuminants(CLI::App& app) {
                  "(CIELAB relative to the illuminant's white).";
       plot::save(fig, o->swatches);
     }
-    o->out.write(result);
+    o->out.write(schema::illuminant_comparison_result(comparison));
   });
 }
 

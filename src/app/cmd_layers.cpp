@@ -50,49 +50,10 @@ void register_layers(CLI::App& app) {
     const transport::Validity validity = model.validity(stack);
     // The profile's validity matters only where one is computed; the totals' always.
     if (!validity.totals || (!r.empty() && !validity.profile)) warn_validity(model, validity);
-    const double R_d = totals.R_d, T_d = totals.T_d, R_specular = totals.R_specular;
-    warn_if_negative("R_d", {R_d}, {0.0}, "(total)");
-    warn_if_negative("T_d", {T_d}, {0.0}, "(total)");
+    warn_if_negative("R_d", {totals.R_d}, {0.0}, "(total)");
+    warn_if_negative("T_d", {totals.T_d}, {0.0}, "(total)");
     if (!R.empty()) warn_if_negative("R(r)", R, r, "mm");
-    Result result;
-    {
-      json j;
-      j["solver"] = o->solver.name;
-      j["eta_above"] = stack.eta_above;
-      j["eta_below"] = stack.eta_below;
-      json layers = json::array();
-      for (std::size_t i = 0; i < stack.layers.size(); ++i) {
-        const auto& l = stack.layers[i];
-        const auto& s = ds.slabs()[i];
-        json jl = to_json(l);
-        jl["alpha_prime"] = s.alpha_prime;
-        jl["sigma_tr"] = s.sigma_tr;
-        jl["z_r"] = s.z_r;
-        jl["z_b_top"] = s.z_b_top;
-        jl["z_b_bottom"] = s.z_b_bottom;
-        jl["A_top"] = s.A_top;
-        jl["A_bottom"] = s.A_bottom;
-        layers.push_back(jl);
-      }
-      j["layers"] = layers;
-      j["R_specular"] = R_specular;
-      j["R_d"] = R_d;
-      j["T_d"] = T_d;
-      j["profile"] = {{"r_mm", r}, {"R", R}};
-      j["validity"] = to_json(validity);
-      result.document = j;
-    }
-    {
-      std::vector<Column> cols;
-      if (!r.empty()) cols = {{"r_mm", r, {}}, {"R [1/mm^2]", R, {}}};
-      cols.push_back(constant_column("R_d", R_d, r.size()));
-      cols.push_back(constant_column("T_d", T_d, r.size()));
-      cols.push_back(constant_column("R_specular", R_specular, r.size()));
-      result.columns = cols;
-    }
-    result.table = "R_d  " + format_number(R_d) + "\nT_d  " + format_number(T_d) + "\n";
-    if (!r.empty()) result.table += "\n" + format_table({"r_mm", "R [1/mm^2]"}, {r, R});
-    o->out.write(result);
+    o->out.write(schema::layers_result(stack, ds, o->solver.name, totals, r, R, validity));
   });
 }
 

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "common.hpp"
+#include "mc_schema.hpp"
 #include "progress.hpp"
 #include "report_validation.hpp"
 #include "skin/util/atomic_file.hpp"
@@ -56,16 +58,6 @@ struct McOptions {
   }
 };
 
-json layers_json(const LayerStack& stack) {
-  json layers = json::array();
-  for (const auto& l : stack.layers) {
-    json jl = to_json(l);
-    jl["sigma_s"] = l.sigma_s();
-    layers.push_back(jl);
-  }
-  return layers;
-}
-
 void register_mc_command(CLI::App& app) {
   struct Opts {
     StackOptions stack;
@@ -91,7 +83,7 @@ void register_mc_command(CLI::App& app) {
   o->out.add_to(*sub);
   sub->callback([o, sub, wl_opt] {
     LayerStack stack;
-    std::string source;
+    std::optional<schema::McSkin> skin;  // with --wavelength: the skin the stack is made of
     if (o->stack.given()) {
       // Skin parameters only make sense with --wavelength: reject them with --layer.
       if (o->params.preset_option->count() > 0)
@@ -102,11 +94,10 @@ void register_mc_command(CLI::App& app) {
         if (opt->count() > 0)
           throw InputError(opt->get_name() + " needs --wavelength and cannot be combined with --layer");
       stack = o->stack.resolve();
-      source = "layers";
     } else if (wl_opt->count() > 0) {
       require_in_range("wavelength", o->wavelength, 250.0, 1000.0, "nm");
-      stack = skin_layer_stack(o->params.resolve(), o->wavelength);
-      source = "preset";
+      skin = schema::McSkin{o->params.preset, o->params.resolve(), o->wavelength};
+      stack = skin_layer_stack(skin->parameters, o->wavelength);
     } else {
       throw InputError("give either --layer ... or --wavelength NM (with --preset / parameters)");
     }
@@ -117,61 +108,7 @@ void register_mc_command(CLI::App& app) {
     // from skin's.
     warn_if_long(mc::estimate(stack, opts));
     const mc::Result r = mc::simulate(stack, opts);
-    Result result;
-    {
-      json j;
-      j["solver"] = "monte-carlo";
-      if (source == "preset") {
-        j["preset"] = o->params.preset;
-        j["parameters"] = to_json(o->params.resolve());
-        j["wavelength_nm"] = o->wavelength;
-      }
-      j["eta_above"] = stack.eta_above;
-      j["eta_below"] = stack.eta_below;
-      j["layers"] = layers_json(stack);
-      j["R_specular"] = r.R_specular;
-      j["R_d"] = r.R_d;
-      j["R_d_se"] = r.R_d_se;
-      j["T_d"] = r.T_d;
-      j["T_d_se"] = r.T_d_se;
-      j["R_d_incident"] = r.R_d_incident;
-      j["T_d_incident"] = r.T_d_incident;
-      j["lost"] = r.lost;
-      j["photons"] = r.photons;
-      j["seed"] = opts.seed;
-      j["seconds"] = r.seconds;
-      j["profile"] = {{"r_mm", r.r_mm}, {"R", r.R}, {"R_se", r.R_se}};
-      result.document = j;
-    }
-    {
-      // Totals per power that entered, as columns beside the profile.
-      const std::size_t n = r.r_mm.size();
-      result.columns = std::vector<Column>{{"r_mm", r.r_mm, {}},
-                     {"R [1/mm^2]", r.R, {}},
-                     {"R_se [1/mm^2]", r.R_se, {}},
-                     constant_column("R_d", r.R_d, n),
-                     constant_column("R_d_se", r.R_d_se, n),
-                     constant_column("T_d", r.T_d, n),
-                     constant_column("T_d_se", r.T_d_se, n),
-                     constant_column("R_specular", r.R_specular, n),
-                     constant_column("photons", static_cast<double>(r.photons), n)};
-    }
-    {
-      char buf[512];
-      std::snprintf(buf, sizeof buf,
-                    "per power that entered:  R_d %.6f +- %.6f   T_d %.6f +- %.6f\n"
-                    "per incident power:      R_d %.6f   T_d %.6f   R_specular %.6f\n"
-                    "%llu photons in %.2f s\n",
-                    r.R_d, r.R_d_se, r.T_d, r.T_d_se, r.R_d_incident, r.T_d_incident,
-                    r.R_specular, static_cast<unsigned long long>(r.photons), r.seconds);
-      result.table = buf;
-      if (r.lost > 0)
-        result.table += "lost " + format_number(r.lost) +
-                        " of the weight: packets ended after the longest path allowed (a nearly "
-                        "non-absorbing medium)\n";
-      result.table += "\n" + format_table({"r_mm", "R [1/mm^2]", "R_se"}, {r.r_mm, r.R, r.R_se});
-    }
-    o->out.write(result);
+    o->out.write(schema::mc_result(stack, r, opts.seed, skin));
   });
 }
 

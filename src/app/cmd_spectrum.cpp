@@ -81,12 +81,7 @@ void register_color(CLI::App& app) {
     const color::Illuminant& illuminant = o->illuminant.illuminant();
     const SkinSpectrum s = skin_spectrum(p, grid, o->solver.model());
     warn_if_totals_invalid(p, grid, o->solver.model());
-    if (illuminant.name() == color::kDefaultIlluminant) {
-      o->out.write(schema::color_result(s, o->params.preset));
-    } else {
-      const color::ColorSummary c = color::summarize(color::Colorimetry(grid, illuminant), s.R_d);
-      o->out.write(schema::color_result(s, o->params.preset, c));
-    }
+    o->out.write(schema::color_result(s, o->params.preset, color_under(s, illuminant)));
   });
 }
 

@@ -1,5 +1,5 @@
-// The shared report writer and number formatting (report.hpp), and the fit report document
-// (export.hpp: fit_report_json).
+// The shared report writer and number formatting (report.hpp), and the fit report's rounding
+// (export.hpp: report_number, report_error).
 #include "report.hpp"
 
 #include <cmath>
@@ -102,43 +102,7 @@ json document_head(const std::string& format, const Options& o) {
 
 using namespace detail;
 
-std::string fit_report_json(const FitReport& r, const SkinParameters& p, std::string_view solver,
-                            const std::vector<std::string>& files) {
-  // Numbers as the files write them (rounded; errors rounded_error); the parameters as given.
-  auto rgb = [](const Rgb& c) { return rounded(json{{"r", c.r}, {"g", c.g}, {"b", c.b}}); };
-  auto arr = [](const std::array<double, 3>& a) {
-    return rounded(json{{"r", a[0]}, {"g", a[1]}, {"b", a[2]}});
-  };
-  auto err = [](const std::array<double, 3>& a) {
-    return json{{"r", rounded_error(a[0])}, {"g", rounded_error(a[1])}, {"b", rounded_error(a[2])}};
-  };
-  json j;
-  j["target"] = r.target;
-  j["target_model"] = r.target_model;
-  json params = json::object();
-  for (const ParameterInfo& info : parameter_table()) params[std::string(info.key)] = p.*(info.member);
-  j["parameters"] = params;
-  j["solver"] = solver;
-  j["units"] = {{"files", std::string(unit_name(r.unit))},
-                {"mean_radius_mm", "mm"},
-                {"colors", "linear Rec.709 (sRGB primaries, D65)"}};
-  json names = json::array();
-  for (const std::string& f : files) names.push_back(json_text(f, kOutput));
-  j["files"] = names;
-  j["representable"] = r.representable;
-  j["notes"] = r.notes;
-  j["R_d_ours"] = rgb(r.R_d_ours);
-  j["R_d_target"] = rgb(r.R_d_target);
-  j["delta_e_2000"] = rounded_error(r.delta_e_2000);
-  j["profile_l1"] = err(r.profile_l1);
-  j["mean_radius_mm"] = arr(r.mean_radius_mm);
-  j["mean_radius_error"] = err(r.mean_radius_error);
-  j["values"] = rounded(values_json(r));
-  if (r.texels) {
-    j["texels"] = r.texels;
-    j["max_delta_e_2000"] = rounded_error(r.max_delta_e_2000);
-  }
-  return j.dump(2) + "\n";
-}
+double report_number(double v) { return rounded(v); }
+double report_error(double v) { return rounded_error(v); }
 
 }  // namespace skin::exporting

@@ -58,6 +58,16 @@ SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid, 
   return s;
 }
 
+color::ColorSummary color_under(const SkinSpectrum& s, const color::Illuminant& illuminant) {
+  if (s.color.illuminant == illuminant.name()) return s.color;
+  return color::summarize(color::Colorimetry(s.grid, illuminant), s.R_d);
+}
+
+color::ColorSummary color_under(const SkinSpectrum& s, const color::Colorimetry& cm) {
+  if (s.color.illuminant == cm.illuminant().name() && cm.grid() == s.grid) return s.color;
+  return color::summarize(cm, s.R_d);
+}
+
 namespace {
 // The per-wavelength radial responses of the model, kept alive for the profile solver.
 struct Responses {

@@ -108,6 +108,23 @@ std::string format_text_table(const std::vector<std::vector<std::string>>& rows)
   return out;
 }
 
+std::string format_fixed(double v, int digits) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+void append_rows(std::vector<Column>& to, const std::vector<Column>& more) {
+  if (to.empty()) {
+    to = more;
+    return;
+  }
+  for (std::size_t k = 0; k < more.size(); ++k) {
+    to[k].numbers.insert(to[k].numbers.end(), more[k].numbers.begin(), more[k].numbers.end());
+    to[k].text.insert(to[k].text.end(), more[k].text.begin(), more[k].text.end());
+  }
+}
+
 std::string format_csv(const std::vector<std::string>& header,
                        const std::vector<std::vector<double>>& columns) {
   std::ostringstream os;
@@ -275,10 +292,6 @@ Result spectrum_result(const SkinSpectrum& s, const std::string& preset) {
   return result;
 }
 
-Result color_result(const SkinSpectrum& s, const std::string& preset) {
-  return color_result(s, preset, s.color);
-}
-
 Result color_result(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c) {
   Result result;
   result.document["preset"] = preset;
@@ -418,6 +431,128 @@ Result presets_result() {
   }
   result.columns = {name, description};
   result.columns.insert(result.columns.end(), values.begin(), values.end());
+  return result;
+}
+
+Result layers_result(const LayerStack& stack, const DiffusionStack& diffusion, const std::string& solver,
+                     const transport::Totals& totals, const std::vector<double>& r_mm,
+                     const std::vector<double>& R, const transport::Validity& validity) {
+  Result result;
+  json& j = result.document;
+  j["solver"] = solver;
+  j["eta_above"] = stack.eta_above;
+  j["eta_below"] = stack.eta_below;
+  json layers = json::array();
+  for (std::size_t i = 0; i < stack.layers.size(); ++i) {
+    const DiffusionSlab& s = diffusion.slabs()[i];
+    json jl = to_json(stack.layers[i]);
+    jl["alpha_prime"] = s.alpha_prime;
+    jl["sigma_tr"] = s.sigma_tr;
+    jl["z_r"] = s.z_r;
+    jl["z_b_top"] = s.z_b_top;
+    jl["z_b_bottom"] = s.z_b_bottom;
+    jl["A_top"] = s.A_top;
+    jl["A_bottom"] = s.A_bottom;
+    layers.push_back(jl);
+  }
+  j["layers"] = layers;
+  j["R_specular"] = totals.R_specular;
+  j["R_d"] = totals.R_d;
+  j["T_d"] = totals.T_d;
+  j["profile"] = {{"r_mm", r_mm}, {"R", R}};
+  j["validity"] = to_json(validity);
+  if (!r_mm.empty()) result.columns = {{"r_mm", r_mm, {}}, {"R [1/mm^2]", R, {}}};
+  result.columns.push_back(constant_column("R_d", totals.R_d, r_mm.size()));
+  result.columns.push_back(constant_column("T_d", totals.T_d, r_mm.size()));
+  result.columns.push_back(constant_column("R_specular", totals.R_specular, r_mm.size()));
+  result.table = "R_d  " + format_number(totals.R_d) + "\nT_d  " + format_number(totals.T_d) + "\n";
+  if (!r_mm.empty()) result.table += "\n" + format_table({"r_mm", "R [1/mm^2]"}, {r_mm, R});
+  return result;
+}
+
+Result illuminants_result() {
+  const WavelengthGrid cie_grid(380, 780, 5);
+  Result result;
+  result.document = json::array();
+  Column name{"name", {}, {}}, x{"x", {}, {}}, y{"y", {}, {}}, r{"light_srgb_linear.r", {}, {}},
+      g{"light_srgb_linear.g", {}, {}}, b{"light_srgb_linear.b", {}, {}}, description{"description", {}, {}};
+  std::vector<std::vector<std::string>> rows{{"name", "x", "y", "light (linear sRGB)", "description"}};
+  for (const std::string& n : color::illuminant_names()) {
+    const color::Illuminant& il = color::find_illuminant(n);
+    const color::Colorimetry cm(cie_grid, il);
+    const color::Xyz w = cm.white();
+    const double sum = w.X + w.Y + w.Z;
+    const Rgb light = cm.illuminant_rgb();
+    result.document.push_back({{"name", n},
+                               {"description", il.description()},
+                               {"x", w.X / sum},
+                               {"y", w.Y / sum},
+                               {"white_XYZ", {w.X, w.Y, w.Z}},
+                               {"light_srgb_linear", {light.r, light.g, light.b}}});
+    name.text.push_back(n);
+    description.text.push_back(il.description());
+    x.numbers.push_back(w.X / sum);
+    y.numbers.push_back(w.Y / sum);
+    r.numbers.push_back(light.r);
+    g.numbers.push_back(light.g);
+    b.numbers.push_back(light.b);
+    rows.push_back({n, format_fixed(w.X / sum, 5), format_fixed(w.Y / sum, 5),
+                    format_fixed(light.r, 3) + " " + format_fixed(light.g, 3) + " " + format_fixed(light.b, 3),
+                    il.description()});
+  }
+  result.columns = {name, x, y, r, g, b, description};
+  result.table = format_text_table(rows) +
+                 "x, y: CIE 1931 2-degree, 5 nm 380-780 nm. light: the illuminant's colour in the "
+                 "white-balanced linear sRGB of an RGB renderer (Y = 1; D65 = 1 1 1)\n";
+  return result;
+}
+
+Result illuminant_comparison_result(const IlluminantComparison& comparison) {
+  const std::vector<std::string>& names = comparison.illuminants;
+  Result result;
+  result.document["solver"] = comparison.solver;
+  result.document["method"] =
+      "uniformly lit half-space; spectral: XYZ of R_d times the illuminant; rgb_rendering: the "
+      "skin's white-balanced linear sRGB under D65 times the illuminant's light colour; both "
+      "CIELAB relative to the illuminant's white; delta_e_2000 between them";
+  result.document["illuminants"] = names;
+  json& colors = result.document["colors"] = json::array();
+  Column preset_col{"preset", {}, {}}, illum_col{"illuminant", {}, {}}, hex{"hex", {}, {}},
+      hex_rgb{"rgb_rendering.hex", {}, {}}, dE{"delta_e_2000", {}, {}};
+  std::vector<Column> lab(6);
+  const char* lab_names[6] = {"lab.L", "lab.a", "lab.b", "rgb_rendering.lab.L", "rgb_rendering.lab.a",
+                              "rgb_rendering.lab.b"};
+  for (std::size_t k = 0; k < 6; ++k) lab[k].name = lab_names[k];
+  std::vector<std::string> header{"delta_e_2000"};
+  header.insert(header.end(), names.begin(), names.end());
+  std::vector<std::vector<std::string>> table{header};
+  for (const IlluminantComparison::Row& row : comparison.rows) {
+    std::vector<std::string> line{row.preset};
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      const color::RgbVsSpectral& c = row.colors[j];
+      colors.push_back({{"preset", row.preset},
+                        {"illuminant", names[j]},
+                        {"color", to_json(c.spectral)},
+                        {"rgb_rendering", to_json(c.rgb)},
+                        {"delta_e_2000", c.delta_e_2000}});
+      preset_col.text.push_back(row.preset);
+      illum_col.text.push_back(names[j]);
+      hex.text.push_back(c.spectral.hex);
+      hex_rgb.text.push_back(c.rgb.hex);
+      const color::Lab* labs[2] = {&c.spectral.lab, &c.rgb.lab};
+      for (std::size_t k = 0; k < 6; ++k) {
+        const color::Lab& l = *labs[k / 3];
+        lab[k].numbers.push_back(k % 3 == 0 ? l.L : (k % 3 == 1 ? l.a : l.b));
+      }
+      dE.numbers.push_back(c.delta_e_2000);
+      line.push_back(format_fixed(c.delta_e_2000, 2));
+    }
+    table.push_back(line);
+  }
+  result.columns = {preset_col, illum_col, hex, hex_rgb};
+  result.columns.insert(result.columns.end(), lab.begin(), lab.end());
+  result.columns.push_back(dE);
+  result.table = format_text_table(table);
   return result;
 }
 

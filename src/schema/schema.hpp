@@ -1,9 +1,12 @@
 #pragma once
 // The schemas of the `skin` command's outputs: the JSON documents, the CSV columns and the table
-// text of spectrum, color, profile, parameters and presets, and the --params JSON the commands
-// read. Built here once, without the command line, so that the `skin` executable (src/app) and
-// the WebAssembly module of the browser page (web/) give the same keys and the same numbers. Pure
-// data to text: no files are written here (ParameterFile::read reads one).
+// text of every command's result (spectrum, color, profile, parameters, presets, layers,
+// illuminants here; fit, mc and batch in fit_schema.hpp, mc_schema.hpp, batch_schema.hpp), and
+// the --params JSON the commands read. Built here once, without the command line, so that the
+// `skin` executable (src/app), the WebAssembly module of the browser page (web/) and the Python
+// package (python/, which converts the documents to dicts and numpy arrays) give the same keys and
+// the same numbers. Pure data to text: no files are written here
+// (ParameterFile::read reads one).
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
@@ -15,6 +18,7 @@
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/transport/model.hpp"
 #include "skin/transport/profile.hpp"
+#include "skin/transport/stack.hpp"
 
 namespace skin::schema {
 
@@ -51,6 +55,10 @@ std::string format_table(const std::vector<std::string>& header,
 std::string format_text_table(const std::vector<std::vector<std::string>>& rows);
 std::string format_csv(const std::vector<std::string>& header,
                        const std::vector<std::vector<double>>& columns);
+// `v` with `digits` digits after the point ("%.*f"): the fixed-width numbers of tables.
+std::string format_fixed(double v, int digits);
+// Appends the columns `more` (of the same names, or `to` empty) to `to`, row after row.
+void append_rows(std::vector<Column>& to, const std::vector<Column>& more);
 
 json to_json(const SkinParameters& p);
 // A layer as the --layer keys name it: sigma_a, sigma_s_prime [1/mm], thickness_mm (null when
@@ -79,8 +87,7 @@ struct ParameterFile {
 // The results of the commands, as `skin <command> --format json|csv|table` writes them.
 // `preset` is the --preset the parameters started from.
 Result spectrum_result(const SkinSpectrum& s, const std::string& preset);
-Result color_result(const SkinSpectrum& s, const std::string& preset);  // s.color, under D65
-// The colour `c` of s.R_d under c.illuminant (JSON key "illuminant").
+// The colour `c` of s.R_d under c.illuminant (JSON key "illuminant"): skin::color_under(s, ...).
 Result color_result(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c);
 // skin profile --rgb, and skin profile per wavelength.
 Result rgb_profile_result(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
@@ -95,5 +102,28 @@ Result spectral_profile_result(const SpectralProfile& sp, const SkinParameters& 
                                const transport::Validity& validity);
 Result parameters_result();
 Result presets_result();
+
+// skin layers: the totals of `stack` by `solver` and its profile R [1/mm^2] at the radii r_mm (as
+// asked: in their order, repeats kept; both empty when none are), each layer with the diffusion
+// quantities of its slab in `diffusion` (alpha_prime, sigma_tr, z_r, z_b, A).
+Result layers_result(const LayerStack& stack, const DiffusionStack& diffusion, const std::string& solver,
+                     const transport::Totals& totals, const std::vector<double>& r_mm,
+                     const std::vector<double>& R, const transport::Validity& validity);
+
+// skin illuminants: every illuminant with its white point (x, y on CIE 015:2018's grid, 5 nm
+// 380-780 nm) and its colour as a light in white-balanced linear sRGB.
+Result illuminants_result();
+// skin illuminants --compare: each preset's colour under each illuminant, spectral against RGB
+// rendering (color::rgb_vs_spectral), computed by the caller.
+struct IlluminantComparison {
+  std::string solver;
+  std::vector<std::string> illuminants;
+  struct Row {
+    std::string preset;
+    std::vector<color::RgbVsSpectral> colors;  // one per illuminant, in their order
+  };
+  std::vector<Row> rows;
+};
+Result illuminant_comparison_result(const IlluminantComparison& comparison);
 
 }  // namespace skin::schema

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "../temp_dir.hpp"
+#include "export_schema.hpp"
 #include "skin/export/export.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/escape.hpp"
@@ -288,11 +289,11 @@ TEST(Escape, JsonNamesRoundTripThroughNlohmann) {
       exporting::export_skin("realtime", SkinParameters{}, transport::find_model("multipole"), {});
   std::vector<std::string> files;
   for (const std::string& s : hostile()) files.push_back("dir/" + s + ".json");
-  const json j = json::parse(exporting::fit_report_json(e.report, SkinParameters{}, "multipole", files));
+  const json j = json::parse(schema::fit_report_document(e.report, SkinParameters{}, "multipole", files).dump());
   EXPECT_EQ(j["files"].get<std::vector<std::string>>(), files);
   for (const std::string& s : kInvalidUtf8) {
     const std::string m = refusal([&] {
-      exporting::fit_report_json(e.report, SkinParameters{}, "multipole", {s + ".json"});
+      schema::fit_report_document(e.report, SkinParameters{}, "multipole", {s + ".json"});
     });
     EXPECT_EQ(m.rfind("output = '", 0), 0u) << m;
   }

@@ -153,3 +153,24 @@ TEST(SkinModel, MoreMelaninOrBloodNeverBrightens) {
     previous = Y;
   }
 }
+
+// color_under: the spectrum's own colour under its own illuminant (D65), the colour of R_d under
+// another one, the same with the weights given; weights of another grid are refused.
+TEST(SkinModel, ColorUnderAnIlluminant) {
+  const WavelengthGrid grid(400, 700, 10);
+  const SkinSpectrum s = skin_spectrum(find_preset("tanned").parameters, grid);
+  const color::ColorSummary d65 = color_under(s, color::find_illuminant("d65"));
+  EXPECT_EQ(d65.illuminant, "D65");
+  EXPECT_EQ(d65.hex, s.color.hex);
+  EXPECT_EQ(d65.XYZ.Y, s.color.XYZ.Y);
+  const color::Illuminant& a = color::find_illuminant("A");
+  const color::ColorSummary under_a = color_under(s, a);
+  const color::ColorSummary expected = color::summarize(color::Colorimetry(grid, a), s.R_d);
+  EXPECT_EQ(under_a.illuminant, "A");
+  EXPECT_EQ(under_a.XYZ.X, expected.XYZ.X);
+  EXPECT_EQ(under_a.lab.b, expected.lab.b);
+  EXPECT_GT(under_a.XYZ.X / under_a.XYZ.Z, 2.0 * d65.XYZ.X / d65.XYZ.Z);  // A is a warm light
+  EXPECT_EQ(color_under(s, color::Colorimetry(grid, a)).hex, under_a.hex);
+  EXPECT_EQ(color_under(s, color::Colorimetry(grid)).hex, s.color.hex);
+  EXPECT_THROW(color_under(s, color::Colorimetry(WavelengthGrid(400, 700, 5), a)), InputError);
+}

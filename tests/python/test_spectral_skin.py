@@ -28,6 +28,10 @@ def assert_same(test, py, js, path="", rtol=1e-12):
         for k, v in js.items():
             test.assertIn(k, py, path)
             assert_same(test, py[k], v, f"{path}.{k}", rtol)
+    elif isinstance(js, list) and any(isinstance(x, dict) for x in js):
+        test.assertEqual(len(py), len(js), path)
+        for i, (p, j) in enumerate(zip(py, js)):
+            assert_same(test, p, j, f"{path}[{i}]", rtol)
     elif isinstance(js, list) and all(isinstance(x, str) for x in js):
         test.assertEqual(list(py), js, path)
     elif isinstance(js, list) or isinstance(py, np.ndarray):
@@ -67,6 +71,10 @@ class SameAsTheCommand(unittest.TestCase):
                 js = json.load(f)
             del js["files"]
             assert_same(self, py["report"], js)
+            # The report converted from the document: arrays of numbers as numpy arrays.
+            self.assertIsInstance(py["report"]["values"]["subsurface_color"], np.ndarray)
+            self.assertEqual(py["report"]["values"]["subsurface_color"].dtype, np.float64)
+            self.assertEqual(py["report"]["notes"], [])
         with self.assertRaises(ValueError):
             ss.export("renderman")
 
@@ -120,8 +128,7 @@ class SameAsTheCommand(unittest.TestCase):
         js = cli("mc", "--preset", "pale", "--wavelength", "650", "--photons", "3000", "--bins", "20",
                  "--threads", "2")
         py = ss.mc(preset="pale", wavelength=650, photons=3000, bins=20, threads=1)
-        for key in ("layers", "seconds"):
-            del js[key]
+        del js["seconds"]
         assert_same(self, py, js)
 
     def test_fit_spectrum(self):
@@ -134,6 +141,7 @@ class SameAsTheCommand(unittest.TestCase):
                     f.write(f"{w!r},{r!r}\n")
             js = cli("fit", "--spectrum", path, "--solver", "multipole")
         py = ss.fit_spectrum(truth["wavelength_nm"], truth["R_d"], solver="multipole")
+        self.assertEqual(py["input"], "spectrum")  # the command's: the file's name
         del js["input"]
         assert_same(self, py, js, rtol=1e-9)  # the CSV's decimal digits
         self.assertAlmostEqual(py["parameters"]["melanin"], 0.03, places=6)
@@ -202,6 +210,13 @@ class Arrays(unittest.TestCase):
         q = ss.profile(r_mm=[0.5], melanin=[0.01, 0.02], lambda_step=100, solver="multipole")
         self.assertEqual(q["R"].shape, (2, 4, 1))
         self.assertEqual(q["axes"]["R"], ("melanin", "wavelength_nm", "r_mm"))
+        # Each set's place in the skin domain, as the command's validity.skin_domain of that set.
+        d = ss.rgb_profile(r_mm=[0.5], melanin=[0.01, 0.6], lambda_step=100, solver="multipole")
+        self.assertEqual(d["validity"]["skin_domain"].tolist(), [True, False])
+        self.assertEqual(d["validity"]["outside_skin_domain"][0], [])
+        self.assertEqual(d["validity"]["outside_skin_domain"][1],
+                         ss.rgb_profile(r_mm=[0.5], melanin=0.6, lambda_step=100,
+                                        solver="multipole")["validity"]["outside_skin_domain"])
 
     def test_several_keywords_on_one_axis(self):
         s = ss.color(melanin=[0.01, 0.02], hemoglobin=[0.01, 0.02], solver="multipole")

@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "export_schema.hpp"
 #include "fit_schema.hpp"
 #include "schema.hpp"
 #include "skin/export/export.hpp"
@@ -161,18 +162,20 @@ const color::Illuminant& illuminant_of(const json& req) {
   return color::find_illuminant(get_or<std::string>(req, "illuminant", std::string(color::kDefaultIlluminant)));
 }
 
-// As `skin color --illuminant NAME`: the colour the spectrum holds under D65, else its R_d's
-// colour under the illuminant.
-Result color_result(const SkinSpectrum& s, const WavelengthGrid& grid, const color::Illuminant& illuminant,
-                    const std::string& preset) {
-  if (illuminant.name() == color::kDefaultIlluminant) return schema::color_result(s, preset);
-  return schema::color_result(s, preset, color::summarize(color::Colorimetry(grid, illuminant), s.R_d));
+// As `skin color --illuminant NAME`.
+Result color_result(const SkinSpectrum& s, const color::Illuminant& illuminant, const std::string& preset) {
+  return schema::color_result(s, preset, color_under(s, illuminant));
+}
+
+// The update's "color": under an illuminant other than the default only (the spectrum document
+// holds the default's).
+void add_color(json& out, const SkinSpectrum& s, const color::Illuminant& illuminant, const std::string& preset) {
+  if (illuminant.name() != color::kDefaultIlluminant) out["color"] = color_result(s, illuminant, preset).document;
 }
 
 Result color(const json& req) {
   const color::Illuminant& illuminant = illuminant_of(req);
-  const WavelengthGrid grid = grid_of(req);
-  return color_result(skin_spectrum(parameters_of(req), grid, model_of(req)), grid, illuminant, preset_of(req));
+  return color_result(skin_spectrum(parameters_of(req), grid_of(req), model_of(req)), illuminant, preset_of(req));
 }
 
 Result profile(const json& req) {
@@ -208,8 +211,7 @@ json update(const json& req) {
       json out{{"spectrum", schema::spectrum_document(s, preset)},
                {"profile", nullptr},
                {"profile_pending", {{"wavelengths", solves}, {"of", grid.size()}, {"solver", std::string(model.name())}}}};
-      if (illuminant.name() != color::kDefaultIlluminant)
-        out["color"] = color_result(s, grid, illuminant, preset).document;
+      add_color(out, s, illuminant, preset);
       return out;
     }
   }
@@ -217,8 +219,7 @@ json update(const json& req) {
   json out{{"spectrum", schema::spectrum_document(a.spectrum, preset)},
            {"profile", schema::rgb_profile_document(a.rgb, p, preset, std::string(model.name()),
                                                     skin_validity(p, grid, model))}};
-  if (illuminant.name() != color::kDefaultIlluminant)
-    out["color"] = color_result(a.spectrum, grid, illuminant, preset).document;
+  add_color(out, a.spectrum, illuminant, preset);
   return out;
 }
 
@@ -307,9 +308,9 @@ json export_files(const json& req) {
     out["images"].push_back(written.back());
   }
   written.push_back(opt.stem + ".fit.json");
-  const std::string report = exporting::fit_report_json(e.report, p, model.name(), written);
-  out["files"].push_back({{"name", written.back()}, {"content", report}});
-  out["report"] = json::parse(report);
+  const json report = schema::fit_report_document(e.report, p, model.name(), written);
+  out["files"].push_back({{"name", written.back()}, {"content", report.dump(2) + "\n"}});
+  out["report"] = report;
   return out;
 }
 

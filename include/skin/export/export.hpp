@@ -135,11 +135,12 @@ Export export_skin(std::string_view target, const SkinParameters& parameters,
                    const transport::Model& model, const Options& options,
                    const ParameterMapsInput* maps = nullptr, const ProgressCallback& progress = {});
 
-// The fit report as the JSON document written beside the files (FILE.fit.json) and returned by
-// Python's export(): the report, the parameters, the solver and the files written.
-// `files` are file names as given (InputError naming "output" unless UTF-8 text: JSON holds text).
-std::string fit_report_json(const FitReport& report, const SkinParameters& parameters,
-                            std::string_view solver, const std::vector<std::string>& files);
+// The fit report's numbers as the files write them (6 significant digits), and its errors
+// (colour differences, relative errors: rounded to 1e-6 absolutely, their noise around zero has
+// no significant digits). The report's document (FILE.fit.json, Python's export()["report"]) is
+// built by the application's schema (src/schema/export_schema.hpp) with these.
+double report_number(double v);
+double report_error(double v);
 
 // The target models, exposed for tests and docs (mm, per channel):
 // Christensen & Burley 2015 normalized diffusion, R(r) = (e^{-r/d} + e^{-r/3d}) / (8 pi d r),

@@ -29,6 +29,15 @@ struct SkinSpectrum {
   color::ColorSummary color;                            // colour of R_d under D65
 };
 
+// The colour of the spectrum's R_d under an illuminant (XYZ under it; sRGB after the Bradford
+// adaptation to D65; CIELAB relative to its white), on the spectrum's grid: s.color when that is
+// already under this illuminant (skin_spectrum's, D65), else computed from R_d. The one way every
+// command, the Python package and the web page take a colour under an illuminant.
+color::ColorSummary color_under(const SkinSpectrum& s, const color::Illuminant& illuminant);
+// The same with the colour-matching weights given (many spectra on one grid: built once). `cm`
+// must be on s.grid.
+color::ColorSummary color_under(const SkinSpectrum& s, const color::Colorimetry& cm);
+
 // One two-layer stack per wavelength (validates the parameters).
 std::vector<LayerStack> skin_layer_stacks(const SkinParameters& p, const WavelengthGrid& grid);
 std::vector<DiffusionStack> skin_diffusion_stacks(const SkinParameters& p,
