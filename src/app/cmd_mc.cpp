@@ -154,25 +154,28 @@ void register_validate_command(CLI::App& app) {
     opts.progress = {};  // one line per case instead (below)
     // Check the options before the long run starts (simulate() checks them again per case).
     if (opts.photons < 1) throw InputError("photons = 0 is out of range: must be >= 1");
-    if (o->domain > 0) {
-      if (sub->count("--bins") == 0) opts.bins = 500;  // annuli of 0.02 mm to 10 mm
-      const std::vector<mc::ValidationCase> cases = mc::domain_cases(o->domain, o->domain_seed);
+    // The cases through Monte Carlo and the named models, after the request is checked; one line
+    // per finished case on a terminal.
+    auto run_cases = [&](const std::vector<mc::ValidationCase>& cases,
+                         const std::vector<std::string>& names) {
       check_request("a validation of " + std::to_string(cases.size()) + " cases of " +
                         std::to_string(opts.photons) + " photons",
                     static_cast<double>(cases.size()) * static_cast<double>(opts.photons),
                     kMcPhotonsPerSecond, opts.threads, mc::memory_bytes(opts));
       std::filesystem::create_directories(o->out);
-      const std::vector<mc::SolverColumn> solvers{
-          mc::solver_column(transport::find_model("multipole")),
-          mc::solver_column(transport::find_model("accurate"))};
+      std::vector<mc::SolverColumn> solvers;
+      for (const auto& n : names) solvers.push_back(mc::solver_column(transport::find_model(n)));
       mc::CaseDone log;
       if (stderr_is_terminal())
-        log = [&solvers](std::size_t done, std::size_t total, const mc::CaseResult& c) {
-          std::vector<std::string> names;
-          for (const auto& s : solvers) names.push_back(s.name);
+        log = [&names](std::size_t done, std::size_t total, const mc::CaseResult& c) {
           std::cerr << "[" << done << "/" << total << "] " << validation_case_line(c, names) << '\n';
         };
-      const mc::ValidationRun run = mc::run_validation(cases, solvers, opts, log);
+      return mc::run_validation(cases, solvers, opts, log);
+    };
+    if (o->domain > 0) {
+      if (sub->count("--bins") == 0) opts.bins = 500;  // annuli of 0.02 mm to 10 mm
+      const std::vector<mc::ValidationCase> cases = mc::domain_cases(o->domain, o->domain_seed);
+      const mc::ValidationRun run = run_cases(cases, {"multipole", "accurate"});
       std::ostringstream md;
       write_domain_report(md, run, o->out, o->domain_seed);
       io::write_file_atomic(o->out + "/README.md", md.str());
@@ -182,22 +185,7 @@ void register_validate_command(CLI::App& app) {
     }
     std::vector<mc::ValidationCase> cases = mc::preset_cases(o->wavelengths);
     for (auto& c : mc::generic_cases()) cases.push_back(std::move(c));
-    check_request("a validation of " + std::to_string(cases.size()) + " cases of " + std::to_string(opts.photons) + " photons",
-                  static_cast<double>(cases.size()) * static_cast<double>(opts.photons), kMcPhotonsPerSecond,
-                  opts.threads, mc::memory_bytes(opts));
-    std::filesystem::create_directories(o->out);
-    const std::vector<mc::SolverColumn> solvers{
-        mc::solver_column(transport::find_model("multipole")),
-        mc::solver_column(transport::find_model("accurate")),
-        mc::solver_column(transport::find_model("sfd"))};
-    mc::CaseDone log;
-    if (stderr_is_terminal())
-      log = [&solvers](std::size_t done, std::size_t total, const mc::CaseResult& c) {
-        std::vector<std::string> names;
-        for (const auto& s : solvers) names.push_back(s.name);
-        std::cerr << "[" << done << "/" << total << "] " << validation_case_line(c, names) << '\n';
-      };
-    const mc::ValidationRun run = mc::run_validation(cases, solvers, opts, log);
+    const mc::ValidationRun run = run_cases(cases, {"multipole", "accurate", "sfd"});
 #ifdef SKIN_HAVE_FIT
     // The model fitted to every measured spectrum, with each solver (skin::fit). Everything is
     // computed before the first file is written, so that an interrupted run leaves an earlier

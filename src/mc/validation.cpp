@@ -11,6 +11,7 @@
 
 #include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/random.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/transport/stack.hpp"
@@ -66,12 +67,7 @@ std::vector<ValidationCase> domain_cases(std::size_t n, std::uint64_t seed) {
   // The wavelengths from their own sequence (splitmix64, as sample_skin_domain), so that the
   // parameter sets are those of sample_skin_domain(n, seed).
   std::uint64_t state = seed ^ 0x5bd1e9955bd1e995ULL;
-  auto uniform = [&state] {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  };
+  auto uniform = [&state] { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; };
   std::vector<ValidationCase> cases;
   for (std::size_t i = 0; i < n; ++i) {
     const double pick = uniform(), u = uniform();

@@ -6,6 +6,7 @@
 
 #include "skin/physics/chromophores.hpp"
 #include "skin/util/error.hpp"
+#include "skin/util/random.hpp"
 
 namespace skin {
 
@@ -104,16 +105,10 @@ std::vector<std::string> outside_skin_domain(const SkinParameters& p) {
 }
 
 std::vector<SkinParameters> sample_skin_domain(std::size_t n, std::uint64_t seed) {
-  // splitmix64 (Steele, Lea & Flood 2014): a fixed sequence on every platform, unlike the
-  // standard library's distributions.
+  // SplitMix64 (skin/util/random.hpp): a fixed sequence on every platform, unlike the standard
+  // library's distributions.
   std::uint64_t state = seed;
-  auto next = [&state] {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  };
-  auto uniform = [&next] { return static_cast<double>(next() >> 11) * 0x1.0p-53; };  // [0, 1)
+  auto uniform = [&state] { return static_cast<double>(splitmix64(state) >> 11) * 0x1.0p-53; };  // [0, 1)
   std::vector<SkinParameters> out(n);
   for (auto& p : out) {
     for (const auto& info : kParameters) {
