@@ -47,7 +47,12 @@ async function main() {
 
     // What the page shows, once it has no update pending and has made at least `updates`.
     const shown = (updates = 0) => page.evaluate(async (n) => {
-      while (window.skinPending || window.skinState.updates < n) await new Promise((r) => requestAnimationFrame(r));
+      // Bounded: a wait that cannot end is reported as such (not as a protocol timeout).
+      const deadline = performance.now() + 30000;
+      while (window.skinPending || window.skinState.updates < n) {
+        if (performance.now() > deadline) throw new Error(`waited 30 s for update ${n}; the page made ${window.skinState.updates}, pending ${window.skinPending}`);
+        await new Promise((r) => requestAnimationFrame(r));
+      }
       const fields = [...document.querySelectorAll('#parameters input.value')];
       return {
         flagged: fields.filter((f) => f.getAttribute('aria-invalid') === 'true').map((f) => f.id.slice(2)),
@@ -160,9 +165,11 @@ async function main() {
       await type('epidermal_hemoglobin', '0.5');
       inError(await shown(), mid, ['melanin', 'epidermal_hemoglobin'], 'melanin + epidermal_hemoglobin > 1',
               { called: true, message: /^melanin \+ epidermal-hemoglobin = 1\.1 is out of range/ });
+      // One field at a time: two changes within one animation frame make one update.
       await type('epidermal_hemoglobin', String(values.epidermal_hemoglobin));
+      const back = await shown(mid.updates + 1);
       await type('melanin', String(values.melanin));
-      normal(await shown(mid.updates + 2), before, 'melanin and epidermal_hemoglobin restored');
+      normal(await shown(back.updates + 1), before, 'melanin and epidermal_hemoglobin restored');
     }
     // The slider after bad text: the field takes the slider's number, the error is gone.
     {
