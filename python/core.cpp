@@ -9,19 +9,24 @@
 #include <chrono>
 #include <climits>
 #include <cmath>
+#include <functional>
 #include <future>
 #include <iterator>
 #include <span>
 #include <map>
 #include <optional>
+#include <set>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "color_fit_schema.hpp"
 #include "convert.hpp"
+#include "document.hpp"
 #include "export_schema.hpp"
 #include "fit_schema.hpp"
 #include "mc_schema.hpp"
@@ -40,10 +45,12 @@
 namespace py = pybind11;
 using namespace pybind11::literals;
 using namespace skin;
+using python::Arrays;
+using python::Shape;
+using python::stack_to_python;
+using python::to_python;
 
 namespace {
-
-using Shape = std::vector<py::ssize_t>;
 
 Shape concat(Shape a, const Shape& b) {
   a.insert(a.end(), b.begin(), b.end());
@@ -60,10 +67,6 @@ py::array_t<T> make_array(const Shape& shape, F&& fill) {
   py::array_t<T> a(shape);
   fill(a.mutable_data());
   return a;
-}
-py::array_t<double> vector_array(const std::vector<double>& v) {
-  return make_array({static_cast<py::ssize_t>(v.size())},
-                    [&](double* d) { std::copy(v.begin(), v.end(), d); });
 }
 
 [[noreturn]] void not_a_number(std::string_view key, const py::handle& v) {
@@ -168,7 +171,7 @@ struct Sets {
   std::vector<SkinParameters> values;  // row-major over `shape`
   Shape shape;                         // () for one set
   std::vector<std::string> axes;       // name of each axis of `shape`
-  py::dict parameters;                 // key -> float, or array of `shape` where it varies
+  std::set<std::string> arrays;        // the keys of the parameters given as arrays
   std::size_t size() const { return values.size(); }
 };
 
@@ -245,66 +248,38 @@ Sets parameter_sets(const std::string& preset, const py::kwargs& kw) {
     s.axes.push_back(varying.size() == 1 ? varying.front()
                                          : ndim == 1 ? "set" : "set_" + std::to_string(axis));
   }
-  for (const ParameterInfo& info : parameter_table()) {
-    const auto it = std::find_if(arrays.begin(), arrays.end(), [&](const auto& x) { return x.first == &info; });
-    if (shape.empty() || it == arrays.end()) {
-      s.parameters[py::cast(info.key)] = s.values.front().*(info.member);
-    } else {
-      s.parameters[py::cast(info.key)] = make_array(shape, [&](double* d) {
-        for (std::size_t i = 0; i < n; ++i) d[i] = s.values[i].*(info.member);
-      });
-    }
-  }
+  if (!shape.empty())
+    for (const auto& [info, a] : arrays) s.arrays.emplace(info->key);
   return s;
 }
 
-// Values of every set, one `tail`-shaped block each: an array of shape sets.shape + tail.
-template <class Result, class F>
-py::array_t<double> per_set(const Sets& sets, const std::vector<Result>& results, const Shape& tail,
-                            F&& block) {
-  std::size_t m = 1;
-  for (auto d : tail) m *= static_cast<std::size_t>(d);
-  return make_array(concat(sets.shape, tail), [&](double* d) {
-    for (std::size_t i = 0; i < results.size(); ++i) block(results[i], d + i * m);
-  });
+// Which values of one set's document are the same in every set of a call: its names and grids,
+// and the parameters not given as arrays (also where the spectrum repeats one).
+std::function<bool(std::string_view)> shared_values(const Sets& sets) {
+  return [&sets](std::string_view path) {
+    for (std::string_view k : {"preset", "solver", "illuminant", "units", "wavelength_nm", "r_mm"})
+      if (path == k) return true;
+    std::string_view key;
+    if (path.starts_with("parameters."))
+      key = path.substr(std::string_view("parameters.").size());
+    else if (path == "epidermis.thickness_mm")
+      key = "epidermis_thickness";
+    else
+      return false;
+    return !sets.arrays.contains(std::string(key));
+  };
 }
 
-// The colour of every set as arrays (XYZ, linear and 8-bit sRGB, CIELAB: a last axis of 3; hex:
-// a str, or an array of str), with their axes.
-py::dict color_dict(const Sets& sets, const std::vector<SkinSpectrum>& s, py::dict& axes,
-                    const std::string& prefix) {
-  py::dict d;
-  const Shape three{3};
-  d["XYZ"] = per_set(sets, s, three, [](const SkinSpectrum& x, double* o) {
-    o[0] = x.color.XYZ.X, o[1] = x.color.XYZ.Y, o[2] = x.color.XYZ.Z;
-  });
-  d["srgb_linear"] = per_set(sets, s, three, [](const SkinSpectrum& x, double* o) {
-    o[0] = x.color.srgb_linear.r, o[1] = x.color.srgb_linear.g, o[2] = x.color.srgb_linear.b;
-  });
-  py::array_t<int> srgb8(concat(sets.shape, three));
-  for (std::size_t i = 0; i < s.size(); ++i)
-    for (std::size_t c = 0; c < 3; ++c) srgb8.mutable_data()[3 * i + c] = s[i].color.srgb8[c];
-  d["srgb8"] = srgb8;
-  std::vector<std::string> hex;
-  for (const auto& x : s) hex.push_back(x.color.hex);
-  d["hex"] = sets.shape.empty() ? py::object(py::str(hex.front()))
-                                : py::module_::import("numpy").attr("array")(hex).attr("reshape")(py::cast(sets.shape));
-  d["lab"] = per_set(sets, s, three, [](const SkinSpectrum& x, double* o) {
-    o[0] = x.color.lab.L, o[1] = x.color.lab.a, o[2] = x.color.lab.b;
-  });
-  axes[py::str(prefix + "XYZ")] = names(sets.axes, {"XYZ"});
-  axes[py::str(prefix + "srgb_linear")] = names(sets.axes, {"channel"});
-  axes[py::str(prefix + "srgb8")] = names(sets.axes, {"channel"});
-  axes[py::str(prefix + "hex")] = names(sets.axes, {});
-  axes[py::str(prefix + "lab")] = names(sets.axes, {"Lab"});
-  return d;
+// The axes of the parameters given as arrays: the sets' axes.
+void parameter_axes(const Sets& sets, py::dict& axes) {
+  for (const ParameterInfo& info : parameter_table())
+    if (sets.arrays.contains(std::string(info.key)))
+      axes[py::str("parameters." + std::string(info.key))] = names(sets.axes, {});
 }
 
-// {"totals": bool, "profile": bool, "reason": str}, arrays of them for several sets; a
-// RuntimeWarning names the first set outside the model's validated range (as the CLI's one
+// A RuntimeWarning names the first set outside the model's validated range (as the CLI's one
 // warning line does).
-py::dict validity_dict(const Sets& sets, const std::vector<transport::Validity>& v,
-                       const transport::Model& model) {
+void warn_if_invalid(const std::vector<transport::Validity>& v, const transport::Model& model) {
   for (std::size_t i = 0; i < v.size(); ++i)
     if (!v[i].ok()) {
       std::string text = transport::warning_text(model.name(), v[i]);
@@ -312,89 +287,23 @@ py::dict validity_dict(const Sets& sets, const std::vector<transport::Validity>&
       if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
       break;
     }
-  // As the command's profile documents: whether the parameters lie in the skin domain (the range
-  // the models are validated over) and, where they do not, which parameters are outside it.
-  if (sets.shape.empty()) {
-    py::dict d(py::arg("totals") = v[0].totals, py::arg("profile") = v[0].profile, py::arg("reason") = v[0].reason);
-    const std::vector<std::string> outside = outside_skin_domain(sets.values[0]);
-    d["skin_domain"] = outside.empty();
-    if (!outside.empty()) d["outside_skin_domain"] = outside;
-    return d;
-  }
-  py::module_ np = py::module_::import("numpy");
-  std::vector<bool> totals, profile, in_domain;
-  std::vector<std::string> reason;
-  py::list outside;
-  for (std::size_t i = 0; i < v.size(); ++i) {
-    totals.push_back(v[i].totals), profile.push_back(v[i].profile), reason.push_back(v[i].reason);
-    const std::vector<std::string> out = outside_skin_domain(sets.values[i]);
-    in_domain.push_back(out.empty());
-    outside.append(py::cast(out));
-  }
-  const py::object shape = py::cast(sets.shape);
-  py::array outside_array = np.attr("empty")(v.size(), "dtype"_a = "object");
-  for (std::size_t i = 0; i < v.size(); ++i) outside_array[py::int_(i)] = outside[i];
-  return py::dict(py::arg("totals") = np.attr("array")(totals).attr("reshape")(shape),
-                  py::arg("profile") = np.attr("array")(profile).attr("reshape")(shape),
-                  py::arg("reason") = np.attr("array")(reason, "dtype"_a = "object").attr("reshape")(shape),
-                  py::arg("skin_domain") = np.attr("array")(in_domain).attr("reshape")(shape),
-                  py::arg("outside_skin_domain") = outside_array.attr("reshape")(shape));
 }
 
-// A document of the schema (src/schema) as Python objects: objects as dicts (keys in order),
-// arrays of numbers (nested, rectangular; not bool) as numpy arrays (float64, int64 when every
-// number is an integer), other arrays as lists, numbers, strings, true/false and null as Python's.
-// No text in between.
-bool numeric_array_of_shape(const schema::json& j, const Shape& shape, std::size_t depth, bool& integers) {
-  if (depth == shape.size()) {
-    if (!j.is_number()) return false;  // (is_number is false for bool)
-    integers = integers && !j.is_number_float();
-    return true;
-  }
-  if (!j.is_array() || static_cast<py::ssize_t>(j.size()) != shape[depth]) return false;
-  for (const schema::json& x : j)
-    if (!numeric_array_of_shape(x, shape, depth + 1, integers)) return false;
-  return true;
-}
-template <class T>
-void flatten(const schema::json& j, T*& out) {
-  if (j.is_array()) {
-    for (const schema::json& x : j) flatten(x, out);
-  } else {
-    *out++ = j.get<T>();
-  }
-}
-py::object to_python(const schema::json& j) {
-  switch (j.type()) {
-    case schema::json::value_t::null: return py::none();
-    case schema::json::value_t::boolean: return py::bool_(j.get<bool>());
-    case schema::json::value_t::number_integer: return py::int_(j.get<std::int64_t>());
-    case schema::json::value_t::number_unsigned: return py::int_(j.get<std::uint64_t>());
-    case schema::json::value_t::number_float: return py::float_(j.get<double>());
-    case schema::json::value_t::string: return py::str(j.get_ref<const std::string&>());
-    case schema::json::value_t::object: {
-      py::dict d;
-      for (auto it = j.begin(); it != j.end(); ++it) d[py::str(it.key())] = to_python(*it);
-      return std::move(d);
+// The validity of a result as Python's has always held it: the command's document leaves out an
+// empty reason (valid) and, for one set, an empty outside_skin_domain; Python's has reason ("" when
+// valid) and, for arrays of sets, outside_skin_domain (a list per set, empty inside the domain),
+// so that every set of an array has one form.
+void python_validity(schema::json& validity, bool several_sets) {
+  if (!validity.contains("reason")) {  // after "profile", where the document has it when not empty
+    schema::json with_reason;
+    for (auto it = validity.begin(); it != validity.end(); ++it) {
+      with_reason[it.key()] = *it;
+      if (it.key() == "profile") with_reason["reason"] = "";
     }
-    case schema::json::value_t::array: {
-      Shape shape;  // along the first elements; every element must match it
-      for (const schema::json* x = &j; x->is_array() && !x->empty(); x = &(*x)[0])
-        shape.push_back(static_cast<py::ssize_t>(x->size()));
-      bool integers = true;
-      if (!shape.empty() && numeric_array_of_shape(j, shape, 0, integers)) {
-        if (integers)
-          return make_array<std::int64_t>(shape, [&](std::int64_t* d) { flatten(j, d); });
-        return make_array<double>(shape, [&](double* d) { flatten(j, d); });
-      }
-      py::list l;
-      for (const schema::json& x : j) l.append(to_python(x));
-      return std::move(l);
-    }
-    default: throw std::logic_error("to_python: a JSON value of no JSON type");  // binary, discarded
+    validity = std::move(with_reason);
   }
+  if (several_sets && !validity.contains("outside_skin_domain")) validity["outside_skin_domain"] = schema::json::array();
 }
-
 
 // The parameter keywords, from the table, for the docstrings.
 std::string parameter_doc() {
@@ -477,11 +386,6 @@ std::string srgb_text(const py::object& srgb) {
   return text;
 }
 
-py::dict color_target_dict(const color::ColorSummary& c) {
-  return py::dict(py::arg("hex") = c.hex,
-                  py::arg("lab") = std::vector<double>{c.lab.L, c.lab.a, c.lab.b});
-}
-
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -494,8 +398,9 @@ PYBIND11_MODULE(_core, m) {
   const std::string default_solver(transport::kDefaultModel);
 
   m.def("presets", [] {
-    std::vector<std::string> names;
-    for (const auto& p : presets()) names.push_back(p.name);
+    // The names of `skin presets --format json`'s presets.
+    py::list names;
+    for (const schema::json& p : schema::presets_result().document) names.append(to_python(p["name"]));
     return names;
   }, "Names of the paper's parameter sets.");
 
@@ -529,34 +434,30 @@ PYBIND11_MODULE(_core, m) {
       for (SkinSpectrum& x : out) x.color = color_under(x, cm);
       return out;
     });
-    py::dict d, axes;
-    d["preset"] = preset;
-    d["parameters"] = sets.parameters;
-    d["solver"] = std::string(model.name());
-    d["illuminant"] = light.name();
+    // The command's documents (skin spectrum, skin color) of every set.
+    py::dict d = stack_to_python(
+        sets.shape,
+        [&](std::size_t i) {
+          return with_spectra ? schema::spectrum_document(s[i], preset)
+                              : schema::color_document(s[i], preset, s[i].color);
+        },
+        shared_values(sets));
+    // skin spectrum's colour is under D65; its document does not say so, Python's result does.
+    if (with_spectra) d["illuminant"] = light.name();
+    py::dict axes;
     if (with_spectra) {
-      const Shape L{static_cast<py::ssize_t>(grid.size())};
-      d["wavelength_nm"] = vector_array(grid.values());
-      auto spectrum = [&](const Spectrum SkinSpectrum::*member) {
-        return per_set(sets, s, L, [&](const SkinSpectrum& x, double* o) {
-          std::copy((x.*member).values.begin(), (x.*member).values.end(), o);
-        });
-      };
-      d["R_d"] = spectrum(&SkinSpectrum::R_d);
-      d["epidermis"] = py::dict("sigma_a"_a = spectrum(&SkinSpectrum::epidermis_sigma_a),
-                                "sigma_s_prime"_a = spectrum(&SkinSpectrum::epidermis_sigma_s_prime),
-                                "thickness_mm"_a = sets.parameters["epidermis_thickness"]);
-      d["dermis"] = py::dict("sigma_a"_a = spectrum(&SkinSpectrum::dermis_sigma_a),
-                             "sigma_s_prime"_a = spectrum(&SkinSpectrum::dermis_sigma_s_prime));
       const py::tuple wl = names(sets.axes, {"wavelength_nm"});
       axes["wavelength_nm"] = py::make_tuple("wavelength_nm");
       for (const char* k : {"R_d", "epidermis.sigma_a", "epidermis.sigma_s_prime", "dermis.sigma_a",
                             "dermis.sigma_s_prime"})
         axes[k] = wl;
     }
-    d["color"] = color_dict(sets, s, axes, "color.");
-    for (auto [k, v] : sets.parameters)
-      if (py::isinstance<py::array>(v)) axes[py::str("parameters." + py::cast<std::string>(k))] = names(sets.axes, {});
+    axes["color.XYZ"] = names(sets.axes, {"XYZ"});
+    axes["color.srgb_linear"] = names(sets.axes, {"channel"});
+    axes["color.srgb8"] = names(sets.axes, {"channel"});
+    axes["color.hex"] = names(sets.axes, {});
+    axes["color.lab"] = names(sets.axes, {"Lab"});
+    parameter_axes(sets, axes);
     d["axes"] = axes;
     return d;
   };
@@ -625,36 +526,42 @@ PYBIND11_MODULE(_core, m) {
     std::vector<transport::Validity> v;
     for (const auto& x : by_channel) v.push_back(x.validity);
     for (const auto& x : by_wavelength) v.push_back(x.validity);
-    const auto N = static_cast<py::ssize_t>(radii.size()), L = static_cast<py::ssize_t>(grid.size());
-    py::dict d, axes;
-    d["preset"] = preset;
-    d["parameters"] = sets.parameters;
-    d["solver"] = std::string(model.name());
-    d["validity"] = validity_dict(sets, v, model);
-    d["r_mm"] = vector_array(radii.r);
+    warn_if_invalid(v, model);
+    // The command's documents (skin profile --rgb, skin profile) of every set.
+    const std::string solver_name(model.name());
+    py::dict d = stack_to_python(
+        sets.shape,
+        [&](std::size_t i) {
+          schema::json j = rgb ? schema::rgb_profile_document(by_channel[i].profile, sets.values[i], preset,
+                                                               solver_name, v[i])
+                               : schema::spectral_profile_document(by_wavelength[i].profile, sets.values[i],
+                                                                   preset, solver_name, v[i]);
+          python_validity(j["validity"], !sets.shape.empty());
+          return j;
+        },
+        shared_values(sets));
+    py::dict axes;
     axes["r_mm"] = py::make_tuple("r_mm");
     if (rgb) {
+      // The command's channel objects {"r": ..., "g": ..., "b": ...} as an axis "channel" after
+      // the sets' axes.
+      py::module_ np = py::module_::import("numpy");
+      const auto channels = [&](const char* key) {
+        const py::dict per_channel = d[key];
+        return np.attr("stack")(py::make_tuple(per_channel["r"], per_channel["g"], per_channel["b"]),
+                                "axis"_a = sets.shape.size());
+      };
       d["channel"] = py::make_tuple("r", "g", "b");
-      d["R"] = per_set(sets, by_channel, {3, N}, [&](const batch::RgbProfileResult& x, double* o) {
-        for (std::size_t c = 0; c < 3; ++c) std::copy(x.profile.R[c].begin(), x.profile.R[c].end(), o + c * radii.size());
-      });
-      d["R_d"] = per_set(sets, by_channel, {3}, [](const batch::RgbProfileResult& x, double* o) {
-        std::copy(x.profile.R_d.begin(), x.profile.R_d.end(), o);
-      });
+      d["R"] = channels("R");
+      d["R_d"] = channels("R_d");
       axes["R"] = names(sets.axes, {"channel", "r_mm"});
       axes["R_d"] = names(sets.axes, {"channel"});
     } else {
-      d["wavelength_nm"] = vector_array(grid.values());
-      d["R"] = per_set(sets, by_wavelength, {L, N}, [](const batch::SpectralProfileResult& x, double* o) {
-        std::copy(x.profile.R.begin(), x.profile.R.end(), o);
-      });
-      d["R_d"] = per_set(sets, by_wavelength, {L}, [](const batch::SpectralProfileResult& x, double* o) {
-        std::copy(x.profile.R_d.values.begin(), x.profile.R_d.values.end(), o);
-      });
       axes["wavelength_nm"] = py::make_tuple("wavelength_nm");
       axes["R"] = names(sets.axes, {"wavelength_nm", "r_mm"});
       axes["R_d"] = names(sets.axes, {"wavelength_nm"});
     }
+    parameter_axes(sets, axes);
     d["axes"] = axes;
     return d;
   };
@@ -695,21 +602,22 @@ PYBIND11_MODULE(_core, m) {
           t = model.totals(st);
           if (!r_mm.empty()) R = ProfileSolver(radii).profile(*model.response(st));
         });
-        py::dict d;
-        d["solver"] = std::string(model.name());
-        d["eta_above"] = st.eta_above;
-        d["eta_below"] = st.eta_below;
-        d["R_specular"] = t.R_specular;
-        d["R_d"] = t.R_d;
-        d["T_d"] = t.T_d;
         const transport::Validity v = model.validity(st);
         // The profile's validity matters only where one is computed; the totals' always.
         if (!v.totals || (!r_mm.empty() && !v.profile)) {
           const std::string text = transport::warning_text(model.name(), v);
           if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
         }
-        d["validity"] = py::dict("totals"_a = v.totals, "profile"_a = v.profile, "reason"_a = v.reason);
-        d["profile"] = py::dict("r_mm"_a = vector_array(r_mm), "R"_a = vector_array(R));
+        schema::json j =
+            schema::layers_result(st, DiffusionStack(st), std::string(model.name()), t, r_mm, R, v).document;
+        python_validity(j["validity"], false);
+        py::dict d = to_python(j);
+        if (r_mm.empty()) {  // no radii: the profile's arrays are empty arrays of numbers (empty lists in JSON)
+          py::module_ np = py::module_::import("numpy");
+          py::dict profile = d["profile"];
+          profile["r_mm"] = np.attr("empty")(0);
+          profile["R"] = np.attr("empty")(0);
+        }
         d["axes"] = py::dict("profile.r_mm"_a = py::make_tuple("r_mm"), "profile.R"_a = py::make_tuple("r_mm"));
         return d;
       },
@@ -842,20 +750,9 @@ PYBIND11_MODULE(_core, m) {
                                                            melanin_blend_weight, bounds, solver);
         const color::Rgb target = hex ? fit::parse_hex(*hex) : fit::parse_srgb8(srgb_text(srgb));
         const fit::ColorFitResult r = interruptible([&] { return fit::ColorFitter(opt).fit(target); });
-        const color::Colorimetry cm{WavelengthGrid{}};
-        const color::ColorSummary in = color::summarize_rgb(cm, target);
-        const color::ColorSummary out = color::summarize_rgb(cm, r.fitted_srgb_linear);
-        py::dict d, p;
-        for (const ParameterInfo& info : parameter_table()) p[py::cast(info.key)] = r.parameters.*(info.member);
-        d["target"] = py::dict("hex"_a = in.hex, "lab"_a = std::vector<double>{r.target.L, r.target.a, r.target.b});
-        d["parameters"] = p;
-        d["fitted"] = py::dict("hex"_a = out.hex, "lab"_a = std::vector<double>{r.fitted.L, r.fitted.a, r.fitted.b},
-                               "srgb_linear"_a = std::vector<double>{r.fitted_srgb_linear.r, r.fitted_srgb_linear.g,
-                                                                     r.fitted_srgb_linear.b});
-        d["delta_e_2000"] = r.delta_e;
-        d["melanin_blend_prior"] = melanin_blend_prior;
-        d["melanin_blend_weight"] = melanin_blend_weight;
-        return d;
+        // The command's document with its arrays as lists (as fit_color has always returned them).
+        return to_python(schema::color_fit_result(r, target, melanin_blend_prior, melanin_blend_weight).document,
+                         Arrays::lists);
       },
       py::kw_only(), "hex"_a = py::none(), "srgb"_a = py::none(), "preset"_a = std::string(kDefaultPreset),
       "free"_a = py::none(), "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
@@ -905,15 +802,12 @@ PYBIND11_MODULE(_core, m) {
         auto plane = [&](const std::vector<float>& v) {
           return make_array<float>(hw, [&](float* o) { std::copy(v.begin(), v.end(), o); });
         };
-        py::dict d;
-        d["width"] = maps.width;
-        d["height"] = maps.height;
+        // The command's summary (without the files) and the maps themselves, float32 (y, x).
+        py::dict d = to_python(schema::texture_fit_document(maps));
         d["melanin"] = plane(maps.melanin);
         d["melanin_blend"] = plane(maps.melanin_blend);
         d["hemoglobin"] = plane(maps.hemoglobin);
         d["error"] = plane(maps.error);
-        d["error_delta_e_2000"] = py::dict("mean"_a = maps.mean_error, "max"_a = maps.max_error,
-                                           "fraction_below_1"_a = maps.fraction_below_1);
         py::dict axes;
         for (const char* k : {"melanin", "melanin_blend", "hemoglobin", "error"}) axes[k] = py::make_tuple("y", "x");
         d["axes"] = axes;

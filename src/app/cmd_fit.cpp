@@ -126,14 +126,11 @@ void run_color(const FitOpts& o) {
   const fit::ColorFitOptions opt = color_fit_options(o);
   const color::Rgb target = o.hex.empty() ? fit::parse_srgb8(o.srgb) : fit::parse_hex(o.hex);
   const fit::ColorFitResult r = fit::ColorFitter(opt).fit(target);
-  const color::Colorimetry cm{WavelengthGrid{}};
-  const color::ColorSummary in = color::summarize_rgb(cm, target);
-  const color::ColorSummary out = color::summarize_rgb(cm, r.fitted_srgb_linear);
   if (r.delta_e > 1.0)
     std::cerr << "skin fit: warning: the closest model colour is " << r.delta_e
               << " dE2000 away: the target is outside the colours the model reaches with the "
                  "fixed parameters\n";
-  o.out.write(schema::color_fit_result(r, in, out, o.blend_prior, o.blend_weight));
+  o.out.write(schema::color_fit_result(r, target, o.blend_prior, o.blend_weight));
 }
 
 void run_texture(const FitOpts& o) {

@@ -6,9 +6,11 @@
 
 namespace skin::schema {
 
-Result color_fit_result(const fit::ColorFitResult& r, const color::ColorSummary& in,
-                        const color::ColorSummary& out, double melanin_blend_prior,
+Result color_fit_result(const fit::ColorFitResult& r, const color::Rgb& target, double melanin_blend_prior,
                         double melanin_blend_weight) {
+  const color::Colorimetry cm{WavelengthGrid{}};
+  const color::ColorSummary in = color::summarize_rgb(cm, target);
+  const color::ColorSummary out = color::summarize_rgb(cm, r.fitted_srgb_linear);
   Result result;
   json& j = result.document;
   j["target"] = {{"hex", in.hex}, {"lab", {in.lab.L, in.lab.a, in.lab.b}}};
@@ -34,16 +36,23 @@ Result color_fit_result(const fit::ColorFitResult& r, const color::ColorSummary&
   return result;
 }
 
+json texture_fit_document(const fit::ParameterMaps& maps) {
+  json j;
+  j["width"] = maps.width;
+  j["height"] = maps.height;
+  j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
+  j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
+  return j;
+}
+
 Result texture_fit_result(const fit::ParameterMaps& maps, const std::string& texture,
                           const std::string& output) {
   Result result;
   json& j = result.document;
   j["texture"] = texture;
   j["output"] = output;
-  j["width"] = maps.width;
-  j["height"] = maps.height;
-  j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
-  j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
+  const json summary = texture_fit_document(maps);
+  for (const auto& [key, value] : summary.items()) j[key] = value;
   result.columns = {{"width", {double(maps.width)}, {}},
                     {"height", {double(maps.height)}, {}},
                     {"error_delta_e_2000.mean", {maps.mean_error}, {}},

@@ -292,13 +292,19 @@ Result spectrum_result(const SkinSpectrum& s, const std::string& preset) {
   return result;
 }
 
+json color_document(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c) {
+  json j;
+  j["preset"] = preset;
+  j["parameters"] = to_json(s.parameters);
+  j["solver"] = s.solver;
+  j["illuminant"] = c.illuminant;
+  j["color"] = to_json(c);
+  return j;
+}
+
 Result color_result(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c) {
   Result result;
-  result.document["preset"] = preset;
-  result.document["parameters"] = to_json(s.parameters);
-  result.document["solver"] = s.solver;
-  result.document["illuminant"] = c.illuminant;
-  result.document["color"] = to_json(c);
+  result.document = color_document(s, preset, c);
   result.columns = color_columns(c);
   result.table = color_table(c);
   return result;
@@ -345,22 +351,36 @@ Result rgb_profile_result(const RgbProfile& rgb, const SkinParameters& p, const 
   return result;
 }
 
+namespace {
+// The profile at each wavelength: R[i_lambda][j_r].
+std::vector<std::vector<double>> profile_rows(const SpectralProfile& sp) {
+  std::vector<std::vector<double>> rows(sp.grid.size());
+  for (std::size_t i = 0; i < sp.grid.size(); ++i)
+    rows[i].assign(sp.R.begin() + static_cast<std::ptrdiff_t>(i * sp.radii.size()),
+                   sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * sp.radii.size()));
+  return rows;
+}
+}  // namespace
+
+json spectral_profile_document(const SpectralProfile& sp, const SkinParameters& p, const std::string& preset,
+                               const std::string& solver, const transport::Validity& validity) {
+  json j = profile_document(p, preset, solver, validity);
+  j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
+  j["r_mm"] = sp.radii.r;
+  j["wavelength_nm"] = sp.grid.values();
+  j["R_d"] = sp.R_d.values;
+  j["R"] = profile_rows(sp);  // R[i_lambda][j_r]
+  return j;
+}
+
 Result spectral_profile_result(const SpectralProfile& sp, const SkinParameters& p,
                                const std::string& preset, const std::string& solver,
                                const transport::Validity& validity) {
   const WavelengthGrid& grid = sp.grid;
   const RadialGrid& radii = sp.radii;
-  std::vector<std::vector<double>> rows(grid.size());
-  for (std::size_t i = 0; i < grid.size(); ++i)
-    rows[i].assign(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
-                   sp.R.begin() + static_cast<std::ptrdiff_t>((i + 1) * radii.size()));
+  const std::vector<std::vector<double>> rows = profile_rows(sp);
   Result result;
-  json& j = result.document = profile_document(p, preset, solver, validity);
-  j["units"] = {{"r_mm", "mm"}, {"wavelength_nm", "nm"}, {"R", "1/mm^2"}};
-  j["r_mm"] = radii.r;
-  j["wavelength_nm"] = grid.values();
-  j["R_d"] = sp.R_d.values;
-  j["R"] = rows;  // R[i_lambda][j_r]
+  result.document = spectral_profile_document(sp, p, preset, solver, validity);
   std::vector<std::string> h = {"r_mm"};
   std::vector<std::vector<double>> cols = {radii.r};
   result.columns = {{"r_mm", radii.r, {}}};

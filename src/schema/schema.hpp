@@ -92,14 +92,17 @@ Result color_result(const SkinSpectrum& s, const std::string& preset, const colo
 // skin profile --rgb, and skin profile per wavelength.
 Result rgb_profile_result(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
                           const std::string& solver, const transport::Validity& validity);
-// Their JSON documents alone (the results' `document`), without the columns and the table text:
-// for callers that need only the JSON (the web page's live update).
-json spectrum_document(const SkinSpectrum& s, const std::string& preset);
-json rgb_profile_document(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
-                          const std::string& solver, const transport::Validity& validity);
 Result spectral_profile_result(const SpectralProfile& sp, const SkinParameters& p,
                                const std::string& preset, const std::string& solver,
                                const transport::Validity& validity);
+// Their JSON documents alone (the results' `document`), without the columns and the table text:
+// for callers that need only the JSON (the web page's live update, Python's arrays of sets).
+json spectrum_document(const SkinSpectrum& s, const std::string& preset);
+json color_document(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c);
+json rgb_profile_document(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
+                          const std::string& solver, const transport::Validity& validity);
+json spectral_profile_document(const SpectralProfile& sp, const SkinParameters& p, const std::string& preset,
+                               const std::string& solver, const transport::Validity& validity);
 Result parameters_result();
 Result presets_result();
 
