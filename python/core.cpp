@@ -2,8 +2,9 @@
 // thin layer over the C++ API that converts types and nothing else. The parameter keywords are
 // the parameter table's keys (the CLI flags with underscores, the JSON keys) or the paper's
 // symbols, read from parameter_table(); solver= names a model of the transport registry. Results
-// are dicts shaped like the CLI's JSON, holding numpy arrays whose axes are named in the dict's
-// "axes". Parameter keywords may be arrays: they broadcast against each other, every set is
+// are the CLI's JSON documents (src/schema) converted by to_python / stack_to_python
+// (document.hpp), holding numpy arrays whose axes are named in the dict's "axes"; what Python adds
+// to a document is said where it is added. Parameter keywords may be arrays: they broadcast against each other, every set is
 // computed in C++ on all cores (skin::batch) with the GIL released, and the set axes lead the
 // result's shape. Units: mm, 1/mm, nm.
 #include <chrono>
@@ -623,8 +624,9 @@ PYBIND11_MODULE(_core, m) {
       },
       "layers"_a, py::kw_only(), "r_mm"_a = std::vector<double>{}, "eta_above"_a = 1.0,
       "eta_below"_a = 1.0, "solver"_a = default_solver,
-      ("`skin layers`: R_d, T_d (per power that entered), R_specular and R(r) [1/mm^2] at r_mm "
-       "[mm] (increasing) of a layer stack, top to bottom, each a dict with the keys of "
+      ("`skin layers`: R_d, T_d (per power that entered), R_specular, R(r) [1/mm^2] at r_mm "
+       "[mm] (increasing) and the layers with their diffusion quantities (alpha_prime, sigma_tr, "
+       "z_r, z_b_top, z_b_bottom, A_top, A_bottom) of a layer stack, top to bottom, each a dict with the keys of "
        "`skin layers --layer`: sigma_a, sigma_s_prime [1/mm], thickness_mm [mm] (absent or None "
        "= semi-infinite, last layer only), eta (1.4), g (0.9); eta_above, eta_below: the media "
        "around it. " + solver_doc()).c_str());

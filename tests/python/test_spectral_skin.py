@@ -84,8 +84,7 @@ class SameAsTheCommand(unittest.TestCase):
                 py = ss.spectrum("african", lambda_step=10, melanin=0.3, C_h=0.02, solver=solver)
                 js = cli("spectrum", "--preset", "african", "--lambda-step", "10", "--melanin", "0.3",
                          "--C_h", "0.02", "--solver", solver)
-                del js["units"]
-                assert_same(self, py, js)
+                assert_same(self, py, js)  # every key of the command's document, units too
 
     def test_color(self):
         py = ss.color("tanned", melanin=0.05)
@@ -113,7 +112,6 @@ class SameAsTheCommand(unittest.TestCase):
         assert_same(self, py["parameters"], js["parameters"])
         js = cli("profile", "--preset", "asian", "--solver", "multipole", *args)
         py = ss.profile("asian", r_mm=js["r_mm"], lambda_step=25, solver="multipole")
-        del js["units"]
         assert_same(self, py, js)
 
     def test_layers(self):
@@ -121,8 +119,10 @@ class SameAsTheCommand(unittest.TestCase):
                  "--layer", "sigma_a=0.05,sigma_s_prime=2.5", "--radius", "0.1", "--radius", "1")
         py = ss.layers([{"sigma_a": 0.5, "sigma_s_prime": 5, "thickness_mm": 0.25},
                         {"sigma_a": 0.05, "sigma_s_prime": 2.5, "thickness_mm": None}], r_mm=[0.1, 1])
-        del js["layers"]
-        assert_same(self, py, js)
+        assert_same(self, py, js)  # the layers with their diffusion quantities too
+        self.assertEqual(py["validity"]["reason"], "")  # the command leaves out an empty reason
+        none = ss.layers([{"sigma_a": 0.01, "sigma_s_prime": 1.0}], solver="multipole")["profile"]
+        self.assertEqual((none["r_mm"].dtype, none["R"].shape), (np.float64, (0,)))
 
     def test_mc(self):
         js = cli("mc", "--preset", "pale", "--wavelength", "650", "--photons", "3000", "--bins", "20",
@@ -218,6 +218,38 @@ class Arrays(unittest.TestCase):
                          ss.rgb_profile(r_mm=[0.5], melanin=0.6, lambda_step=100,
                                         solver="multipole")["validity"]["outside_skin_domain"])
 
+    def test_each_set_is_the_one_set_document(self):
+        # An array of sets holds, at each set's index, what the call for that set alone returns
+        # (both converted from the command's documents), bit for bit: one set valid and in the
+        # skin domain, one not (its validity has a reason and outside_skin_domain).
+        thickness = [0.25, 0.002]
+        for f, kw in ((ss.rgb_profile, {"r_mm": [0.5]}), (ss.profile, {"r_mm": [0.5, 1.0]}),
+                      (ss.spectrum, {}), (ss.color, {"illuminant": "A"})):
+            with self.subTest(f=f.__name__), warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                sets = f(epidermis_thickness=thickness, lambda_step=100, solver="multipole", **kw)
+                for i, t in enumerate(thickness):
+                    one = f(epidermis_thickness=t, lambda_step=100, solver="multipole", **kw)
+                    self.assert_set(sets, one, i, "")
+
+    def assert_set(self, sets, one, i, path):
+        if isinstance(one, dict):
+            keys = [k for k in one if k != "axes"]
+            # The one set's keys; an array of sets has outside_skin_domain always (empty lists).
+            self.assertEqual([k for k in sets if k not in ("axes", "outside_skin_domain")],
+                             [k for k in keys if k != "outside_skin_domain"], path)
+            for k in keys:
+                self.assert_set(sets[k], one[k], i, f"{path}.{k}")
+            return
+        per_set = isinstance(sets, np.ndarray) and sets.shape[:1] == (2,) and (
+            sets.dtype == object or sets.shape[1:] == np.shape(one))  # object: a list per set
+        value = sets[i] if per_set else sets
+        if isinstance(one, np.ndarray):
+            self.assertEqual(value.dtype, one.dtype, path)
+            np.testing.assert_array_equal(value, one, err_msg=path)
+        else:
+            self.assertEqual(value, one, path)
+
     def test_several_keywords_on_one_axis(self):
         s = ss.color(melanin=[0.01, 0.02], hemoglobin=[0.01, 0.02], solver="multipole")
         self.assertEqual(s["axes"]["color.lab"], ("set", "Lab"))
@@ -304,6 +336,7 @@ class Bindings(unittest.TestCase):
         maps = ss.fit_texture(np.tile(target, (2, 3, 1)), solver="multipole")
         self.assertEqual(maps["melanin"].shape, (2, 3))
         self.assertEqual(maps["axes"]["melanin"], ("y", "x"))
+        self.assertEqual(maps["channels"], ["melanin", "melanin_blend", "hemoglobin", "error"])  # as the command's
         self.assertLess(maps["error_delta_e_2000"]["max"], 0.5)
 
     def test_the_tour_example_runs(self):
