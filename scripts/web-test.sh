@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
-# The web page's tests (called by scripts/test.sh after CTest; needs build/bin/skin): builds the
-# page (scripts/web.sh), then
+# The web page's tests (called by scripts/test.sh after CTest; needs build/bin/skin): installs
+# the pinned npm packages (`npm ci` in web/: puppeteer-core, gltf-validator, three), then
+#   web/test/gltf.test.js     `skin export --target gltf` through Khronos' glTF-Validator (0
+#                             errors) and three.js's GLTFLoader (the material's values)
+# and builds the page (scripts/web.sh), then
 #   web/test/module.test.js   the WebAssembly module against `skin` (random parameter sets, fit)
-#   web/test/browser.test.js  the page in headless Chromium (puppeteer-core, pinned in
-#                             web/package-lock.json, installed by `npm ci`; it downloads no
+#   web/test/browser.test.js  the page in headless Chromium (puppeteer-core; it downloads no
 #                             browser), screenshots and update time in build-web/screenshots.
 #   web/test/inputs.test.js   bad text typed into every parameter field of the page (the same
 #                             browser): flagged, results dimmed, nothing computed; restored.
@@ -16,6 +18,8 @@ timed() {
   "$@"
   echo "[$* took $((SECONDS - t0)) s]"
 }
+(cd web && timed npm ci --no-audit --no-fund --loglevel=error)
+timed node web/test/gltf.test.js
 if ! command -v emcmake >/dev/null; then
   echo "SKIP web tests: Debian's emscripten is not installed (scripts/install-deps.sh installs it)"
   exit 0
@@ -26,6 +30,5 @@ if [ ! -x /usr/bin/chromium ]; then
   echo "SKIP browser test: Debian's chromium is not installed (scripts/install-deps.sh installs it)"
   exit 0
 fi
-(cd web && timed npm ci --no-audit --no-fund --loglevel=error)
 timed node web/test/browser.test.js
 timed node web/test/inputs.test.js

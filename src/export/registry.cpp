@@ -17,7 +17,8 @@
   X(pbrt_v4)                   \
   X(mitsuba3)                  \
   X(realtime)                  \
-  X(profile)
+  X(profile)                   \
+  X(gltf)
 
 namespace skin::exporting {
 

@@ -1,7 +1,7 @@
 #pragma once
 // A target as the registry holds it (TargetSpec) and what its writer is given (Context); internal
 // to skin::export. Each target is defined in its family's file (materialx.cpp, cycles.cpp,
-// engines.cpp, pbrt.cpp, mitsuba.cpp, realtime.cpp, profile.cpp) and listed once in the registry
+// engines.cpp, pbrt.cpp, mitsuba.cpp, realtime.cpp, profile.cpp, gltf.cpp) and listed once in the registry
 // (registry.cpp); the fits the families share are in fits.hpp, the report and the number
 // formatting in report.hpp, the parameter maps in maps.cpp. docs/export.md gives every mapping
 // and its source.

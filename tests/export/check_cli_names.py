@@ -93,6 +93,9 @@ def parse(path, stem, target):
         files = [e.attrib["value"] for e in root.iter("input") if e.attrib.get("type") == "filename"]
         if target in ("openpbr", "standard-surface"):
             check(files == [stem + ".subsurface_color.png", stem + ".subsurface_radius.exr"], f"{target}: files {files!r}")
+    elif name.endswith(".gltf"):
+        j = strict_json(data.decode("utf-8"))
+        check(j["materials"][0]["name"] == "spectral_skin", f"{target}: material {j['materials'][0]['name']!r}")
     elif name.endswith(".json"):
         j = strict_json(data.decode("utf-8"))
         if name.endswith(".fit.json"):
@@ -115,7 +118,7 @@ with tempfile.TemporaryDirectory() as d:
     help_text = " ".join(run(["export", "--help"], d).stdout.decode().split())
     targets = re.search(r"Target: (.*?), or all", help_text).group(1).split(", ")
     ext = {"openpbr": ".mtlx", "standard-surface": ".mtlx", "cycles": ".py", "unreal": ".json", "unity": ".cs",
-           "pbrt-v4": ".pbrt", "mitsuba3": ".xml", "realtime": ".json", "profile": ".csv"}
+           "pbrt-v4": ".pbrt", "mitsuba3": ".xml", "realtime": ".json", "profile": ".csv", "gltf": ".gltf"}
 
     # Hostile -o stems, every target (textures where the target takes them, .spd files for pbrt-v4).
     check(sorted(targets) == sorted(ext), f"targets {targets}: the test knows {sorted(ext)}")

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Every file `skin export --target all` writes, for every preset, parses as what it claims to be
-(XML, JSON, Python that compiles, C#/pbrt with balanced brackets, CSV whose table integrates to
+(XML, JSON, glTF, Python that compiles, C#/pbrt with balanced brackets, CSV whose table integrates to
 the R_d it states), and every fit report is present with the error bounds of docs/export.md."""
 import csv
 import json
@@ -35,7 +35,7 @@ with tempfile.TemporaryDirectory() as d:
         subprocess.check_call([skin, "export", "--target", "all", "--preset", preset, "-o", out],
                               stdout=subprocess.DEVNULL)
         fits = [f for f in os.listdir(out) if f.endswith(".fit.json")]
-        check(len(fits) == 9, f"{preset}: {len(fits)} fit reports, expected 9")
+        check(len(fits) == 10, f"{preset}: {len(fits)} fit reports, expected 10")
         for name in sorted(os.listdir(out)):
             path = os.path.join(out, name)
             text = open(path, "rb").read()
@@ -44,8 +44,10 @@ with tempfile.TemporaryDirectory() as d:
                 if name.endswith((".mtlx", ".xml")):
                     root = ET.fromstring(text)
                     check(root.tag in ("materialx", "scene"), f"{where}: root <{root.tag}>")
-                elif name.endswith(".json"):
+                elif name.endswith((".json", ".gltf")):
                     j = json.loads(text)
+                    if name.endswith(".gltf"):
+                        check(j["asset"]["version"] == "2.0" and len(j["materials"]) == 1, f"{where}: not glTF 2.0")
                     if name.endswith(".fit.json"):
                         check(j["delta_e_2000"] < 2.0, f"{where}: dE {j['delta_e_2000']}")
                         check(all(math.isfinite(v) for v in j["profile_l1"].values()), f"{where}: L1")
@@ -71,5 +73,5 @@ with tempfile.TemporaryDirectory() as d:
                 failures.append(f"{where}: {e}")
 for f in failures:
     print("FAIL", f)
-print(f"checked {len(presets)} presets x 9 targets: {len(failures)} failures")
+print(f"checked {len(presets)} presets x 10 targets: {len(failures)} failures")
 sys.exit(1 if failures else 0)

@@ -374,6 +374,9 @@ TEST(Escape, EveryTargetHoldsHostileFileNames) {
     } else if (ext == ".json") {
       const json j = json::parse(text);  // throws (fails the test) if it does not parse
       EXPECT_EQ(j["name"], "spectral_skin");
+    } else if (ext == ".gltf") {
+      const json j = json::parse(text);
+      EXPECT_EQ(j["materials"][0]["name"], "spectral_skin");
     } else if (ext == ".pbrt") {
       std::vector<std::string> t;
       ASSERT_NO_THROW(t = pbrt_tokens(text));

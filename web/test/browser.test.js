@@ -3,8 +3,8 @@
 // Vrhel spectrum and fits it, reads the values the page displays and compares them with the
 // `skin` command for the same parameters (hex exactly, numbers to 1e-9), as it does the colour
 // under illuminant A (`skin color --illuminant A`), measures the update
-// time over slider moves, downloads the export files of two targets and compares them byte for
-// byte with `skin export`, and saves screenshots to build-web/screenshots.
+// time over slider moves, downloads the export files of four targets (openpbr, pbrt-v4, profile,
+// gltf) and compares them byte for byte with `skin export`, and saves screenshots to build-web/screenshots.
 // Run: node web/test/browser.test.js (after scripts/web.sh, the native build and npm ci in web/).
 'use strict';
 const fs = require('fs');
@@ -181,7 +181,7 @@ async function main() {
     // byte for byte with what `skin export --target T` writes for the same parameters.
     const cdp = await browser.target().createCDPSession();
     await press('hemoglobin', 'ArrowRight', 7);
-    for (const target of ['openpbr', 'pbrt-v4', 'profile']) {
+    for (const target of ['openpbr', 'pbrt-v4', 'profile', 'gltf']) {
       // A folder per target: every target writes NAME.TARGET.fit.json.
       const downloads = fs.mkdtempSync(path.join(TMP, `downloads-${target}-`));
       await cdp.send('Browser.setDownloadBehavior', { behavior: 'allow', downloadPath: downloads });

@@ -138,7 +138,8 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
     const solver = i % 4 === 3 ? 'multipole' : 'accurate';
     const params = randomParameters(u, solver);
     const preset = ['caucasian', 'asian', 'african'][i % 3];
-    const options = i % 2 ? { units: 'cm', world_scale: 2.5, name: 'skin_b' } : {};
+    // (glTF's lengths are metres: the gltf target refuses another unit.)
+    const options = i % 2 ? { units: t.name === 'gltf' ? 'm' : 'cm', world_scale: 2.5, name: 'skin_b' } : {};
     const args = ['--preset', preset, '--solver', solver];
     if (options.units) args.push('--units', options.units, '--world-scale', String(options.world_scale), '--name', options.name);
     const e = run('export', { preset, params, solver, target: t.name, ...options });
