@@ -115,8 +115,8 @@ void register_presets(CLI::App& app) {
       f.y_min = 0.0;
       f.height = 640;
       plot::SwatchGrid g;
-      g.title = "Tone presets: target (left) | model under D65 (right), CIEDE2000";
-      g.columns = {"target | " + std::string(model.name())};
+      g.title = "Tone presets, D65";
+      g.columns = {"target", std::string(model.name()) + ", dE2000"};
       auto encoded = [](const std::array<int, 3>& c) {
         return std::array<double, 3>{c[0] / 255.0, c[1] / 255.0, c[2] / 255.0};
       };
@@ -125,18 +125,16 @@ void register_presets(CLI::App& app) {
         const SkinSpectrum s = skin_spectrum(p.parameters, grid, model);
         const std::array<double, 3> rgb = encoded(s.color.srgb8);
         f.series.push_back({p.name, grid.values(), s.R_d.values, rgb});
-        f.swatches.push_back({rgb, p.name + " " + s.color.hex});
         const unsigned long t = std::stoul(p.target_hex.substr(1), nullptr, 16);  // "#rrggbb", from the table
         const color::ColorSummary target = color::summarize_rgb(
             cm, {color::srgb_decode(((t >> 16) & 0xff) / 255.0), color::srgb_decode(((t >> 8) & 0xff) / 255.0),
                  color::srgb_decode((t & 0xff) / 255.0)});
         g.rows.push_back(p.name);
-        g.cells.push_back({encoded(target.srgb8), rgb,
-                           p.target_hex + " | " + s.color.hex + "  " +
-                               schema::format_fixed(color::delta_e_2000(target.lab, s.color.lab), 2)});
+        g.cells.push_back({encoded(target.srgb8), std::nullopt, p.target_hex});
+        g.cells.push_back({rgb, std::nullopt,
+                           s.color.hex + "  " + schema::format_fixed(color::delta_e_2000(target.lab, s.color.lab), 2)});
       }
-      g.note = "Uniformly lit half-space, solver " + std::string(model.name()) +
-               ", 400-700 nm, D65; targets: Monk Skin Tone scale (skintone.google)";
+      g.note = "Uniformly lit half-space,\n400-700 nm; targets: Monk\nSkin Tone scale";
       if (!o->plot.empty()) plot::save(f, o->plot);
       if (!o->swatches.empty()) plot::save(g, o->swatches);
     }
