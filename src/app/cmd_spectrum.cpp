@@ -1,5 +1,6 @@
 // skin spectrum / skin color: total diffuse reflectance R_d(lambda), layer coefficients, colour.
 #include "common.hpp"
+#include "skin/color/color.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/plot/plot.hpp"
 
@@ -86,10 +87,59 @@ void register_color(CLI::App& app) {
 }
 
 void register_presets(CLI::App& app) {
-  auto fmt = std::make_shared<OutputOptions>();
-  CLI::App* sub = app.add_subcommand("presets", "List the named parameter sets of the paper");
-  fmt->add_to(*sub);
-  sub->callback([fmt] { fmt->write(schema::presets_result()); });
+  struct Opts {
+    OutputOptions out;
+    std::string plot, swatches;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* sub = app.add_subcommand(
+      "presets", "List the named parameter sets: the paper's and the tone presets (monk-01 ... monk-10), each "
+                 "with its source and its colour under D65 with the default solver");
+  o->out.add_to(*sub);
+  sub->add_option("--plot", o->plot,
+                  "Also draw the R_d spectra of the tone presets (those with a target colour; default solver) "
+                  "to FILE.png or FILE.svg");
+  sub->add_option("--swatches", o->swatches,
+                  "Also draw every tone preset's target colour (left) against its colour under D65 with the "
+                  "default solver (right), with their CIEDE2000 difference, to FILE.png or FILE.svg");
+  sub->callback([o] {
+    const Result result = schema::presets_result();
+    if (!o->plot.empty() || !o->swatches.empty()) {
+      const WavelengthGrid grid;
+      const transport::Model& model = transport::default_model();
+      const color::Colorimetry cm(grid);
+      plot::Figure f;
+      f.title = "Tone presets: R_d with the " + std::string(model.name()) + " solver";
+      f.x_label = "wavelength [nm]";
+      f.y_label = "R_d";
+      f.y_min = 0.0;
+      f.height = 640;
+      plot::SwatchGrid g;
+      g.title = "Tone presets, D65";
+      g.columns = {"target", std::string(model.name()) + ", dE2000"};
+      auto encoded = [](const std::array<int, 3>& c) {
+        return std::array<double, 3>{c[0] / 255.0, c[1] / 255.0, c[2] / 255.0};
+      };
+      for (const Preset& p : presets()) {
+        if (p.target_hex.empty()) continue;
+        const SkinSpectrum s = skin_spectrum(p.parameters, grid, model);
+        const std::array<double, 3> rgb = encoded(s.color.srgb8);
+        f.series.push_back({p.name, grid.values(), s.R_d.values, rgb});
+        const unsigned long t = std::stoul(p.target_hex.substr(1), nullptr, 16);  // "#rrggbb", from the table
+        const color::ColorSummary target = color::summarize_rgb(
+            cm, {color::srgb_decode(((t >> 16) & 0xff) / 255.0), color::srgb_decode(((t >> 8) & 0xff) / 255.0),
+                 color::srgb_decode((t & 0xff) / 255.0)});
+        g.rows.push_back(p.name);
+        g.cells.push_back({encoded(target.srgb8), std::nullopt, p.target_hex});
+        g.cells.push_back({rgb, std::nullopt,
+                           s.color.hex + "  " + schema::format_fixed(color::delta_e_2000(target.lab, s.color.lab), 2)});
+      }
+      g.note = "Uniformly lit half-space,\n400-700 nm; targets: Monk\nSkin Tone scale";
+      if (!o->plot.empty()) plot::save(f, o->plot);
+      if (!o->swatches.empty()) plot::save(g, o->swatches);
+    }
+    o->out.write(result);
+  });
 }
 
 SKIN_REGISTER_COMMAND(10, register_spectrum);

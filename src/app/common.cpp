@@ -73,7 +73,7 @@ void ParameterOptions::add_to(CLI::App& a) {
   std::string names;
   for (const auto& p : presets()) names += (names.empty() ? "" : ", ") + p.name;
   preset_option = a.add_option("--preset", preset,
-                               "Parameter set of the paper: " + names + " (several-lights = ear)")
+                               "Named parameter set (skin presets): " + names + " (several-lights = ear)")
                       ->capture_default_str()
                       ->group("Skin parameters");
   params_option =

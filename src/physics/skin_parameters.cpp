@@ -241,6 +241,38 @@ LayerStack skin_layer_stack(const SkinParameters& p, double lambda) {
   return s;
 }
 
+namespace {
+// The tone presets' fitted values: scripts/fit_tone_presets.py (PYTHONPATH=build/python
+// /usr/bin/python3 scripts/fit_tone_presets.py) printed these rows; docs/tone-presets.md has the
+// ranges, the fit and its result. Free: melanin [0.0005, 0.5], melanin_blend [0.3, 1],
+// hemoglobin [0.002, 0.07], epidermis_thickness [0.04, 0.15] mm, oxygenation [0.6, 0.9],
+// scattering_scale [0.5, 2]; the rest are the defaults. gap: the CIEDE2000 distance (D65) of the
+// fitted colour from the target, the target's distance from the model's gamut where > 1.
+struct ToneRow {
+  const char* name;
+  const char* target;
+  double gap;
+  double melanin, melanin_blend, hemoglobin, epidermis_thickness, oxygenation, scattering_scale;
+};
+constexpr ToneRow kMonk[] = {
+    {"monk-01", "f6ede4", 6.79, 0.0005, 0.3, 0.002, 0.15, 0.8304, 2},
+    {"monk-02", "f3e7db", 6.03, 0.0005, 0.3, 0.002, 0.15, 0.834, 2},
+    {"monk-03", "f7ead0", 8.85, 0.001292, 0.3, 0.002, 0.04, 0.6, 2},
+    {"monk-04", "eadaba", 7.17, 0.009166, 0.3, 0.002, 0.04, 0.6, 2},
+    {"monk-05", "d7bd96", 4.02, 0.03143, 0.3, 0.002, 0.04, 0.6, 2},
+    {"monk-06", "a07e56", 0.01, 0.08652, 0.5047, 0.00244, 0.05659, 0.7495, 1.138},
+    {"monk-07", "825c43", 0.00, 0.08336, 0.7386, 0.01071, 0.09609, 0.7458, 1.205},
+    {"monk-08", "604134", 0.01, 0.1243, 0.8119, 0.03954, 0.1161, 0.7483, 1.3},
+    {"monk-09", "3a312a", 0.97, 0.2734, 1, 0.07, 0.15, 0.6, 2},
+    {"monk-10", "292420", 2.13, 0.4598, 1, 0.07, 0.15, 0.696, 2},
+};
+constexpr const char* kPaperSource =
+    "Donner & Jensen 2006: the paper's values, tuned by eye under its multipole model";
+constexpr const char* kMonkSource =
+    "Monk Skin Tone scale (E. Monk 2019-2023; Google, skintone.google): published sRGB swatch; fitted "
+    "with the accurate solver under D65 (scripts/fit_tone_presets.py)";
+}  // namespace
+
 const std::vector<Preset>& presets() {
   auto make = [](double cm, double bm, double ch, double rs) {
     SkinParameters p;
@@ -250,19 +282,38 @@ const std::vector<Preset>& presets() {
     p.oiliness = rs;
     return p;
   };
-  static const std::vector<Preset> list = {
-      {"caucasian", "Fig. 8 Caucasian: C_m 0.5%, beta_m 0.7, C_h 0.5%, rho_s 0.3",
-       make(0.005, 0.7, 0.005, 0.3)},
-      {"asian", "Fig. 8 Asian: C_m 15%, beta_m 0, C_h 1%, rho_s 0.3", make(0.15, 0.0, 0.01, 0.3)},
-      {"african", "Fig. 8 African: C_m 50%, beta_m 0.7, C_h 5%, rho_s 0.3",
-       make(0.50, 0.7, 0.05, 0.3)},
-      {"pale", "Fig. 10 pale Caucasian: C_m 0.3%, beta_m 0.25, C_h 0.5%, rho_s 0.3",
-       make(0.003, 0.25, 0.005, 0.3)},
-      {"tanned", "Fig. 10 tanned Caucasian: C_m 2%, beta_m 0.25, C_h 0.1%, rho_s 0.25",
-       make(0.02, 0.25, 0.001, 0.25)},
-      {"ear", "Fig. 10 ear / several lights: C_m 0.2%, beta_m 0.5, C_h 1%, rho_s 0.25",
-       make(0.002, 0.5, 0.01, 0.25)},
-  };
+  static const std::vector<Preset> list = [&] {
+    std::vector<Preset> l = {
+        {"caucasian", "Fig. 8 Caucasian: C_m 0.5%, beta_m 0.7, C_h 0.5%, rho_s 0.3",
+         make(0.005, 0.7, 0.005, 0.3), kPaperSource, ""},
+        {"asian", "Fig. 8 Asian: C_m 15%, beta_m 0, C_h 1%, rho_s 0.3", make(0.15, 0.0, 0.01, 0.3), kPaperSource,
+         ""},
+        {"african",
+         "Fig. 8 African: C_m 50%, beta_m 0.7, C_h 5%, rho_s 0.3; near black under exact transport (L* 7.0)",
+         make(0.50, 0.7, 0.05, 0.3), kPaperSource, ""},
+        {"pale", "Fig. 10 pale Caucasian: C_m 0.3%, beta_m 0.25, C_h 0.5%, rho_s 0.3",
+         make(0.003, 0.25, 0.005, 0.3), kPaperSource, ""},
+        {"tanned", "Fig. 10 tanned Caucasian: C_m 2%, beta_m 0.25, C_h 0.1%, rho_s 0.25",
+         make(0.02, 0.25, 0.001, 0.25), kPaperSource, ""},
+        {"ear", "Fig. 10 ear / several lights: C_m 0.2%, beta_m 0.5, C_h 1%, rho_s 0.25",
+         make(0.002, 0.5, 0.01, 0.25), kPaperSource, ""},
+    };
+    for (std::size_t i = 0; i < std::size(kMonk); ++i) {
+      const ToneRow& r = kMonk[i];
+      SkinParameters p;
+      p.melanin = r.melanin;
+      p.melanin_blend = r.melanin_blend;
+      p.hemoglobin = r.hemoglobin;
+      p.epidermis_thickness = r.epidermis_thickness;
+      p.oxygenation = r.oxygenation;
+      p.scattering_scale = r.scattering_scale;
+      std::string d = "Monk Skin Tone " + std::to_string(i + 1) + " (#" + r.target + "), fitted";
+      d += r.gap <= 1 ? " to " + format_number(r.gap) + " dE2000"
+                      : "; outside the model's gamut: the closest colour is " + format_number(r.gap) + " dE2000 away";
+      l.push_back({r.name, d, p, kMonkSource, std::string("#") + r.target});
+    }
+    return l;
+  }();
   return list;
 }
 

@@ -435,21 +435,48 @@ Result parameters_result() {
 }
 
 Result presets_result() {
+  // Every preset's colour under D65 with the default solver (the exact one), as `skin color
+  // --preset NAME` prints it: what the preset looks like under exact transport. Computed once.
+  static const std::vector<color::ColorSummary> colors = [] {
+    std::vector<color::ColorSummary> out;
+    for (const auto& p : presets())
+      out.push_back(skin_spectrum(p.parameters, WavelengthGrid{}, transport::default_model()).color);
+    return out;
+  }();
   Result result;
   result.document = json::array();
-  Column name{"name", {}, {}}, description{"description", {}, {}};
+  Column name{"name", {}, {}}, description{"description", {}, {}}, source{"source", {}, {}},
+      target{"target_hex", {}, {}}, hex{"hex", {}, {}};
+  Column L{"lab_L", {}, {}}, a{"lab_a", {}, {}}, b{"lab_b", {}, {}};
   std::vector<Column> values;
   for (const ParameterInfo& info : parameter_table()) values.push_back({std::string(info.key), {}, {}});
-  for (const auto& p : presets()) {
-    result.document.push_back(
-        {{"name", p.name}, {"description", p.description}, {"parameters", to_json(p.parameters)}});
-    result.table += p.name + std::string(12 - p.name.size(), ' ') + p.description + "\n";
+  std::vector<std::vector<std::string>> rows{{"name", "hex", "L*", "a*", "b*", "description"}};
+  for (std::size_t k = 0; k < presets().size(); ++k) {
+    const Preset& p = presets()[k];
+    const color::ColorSummary& c = colors[k];
+    json doc = {{"name", p.name}, {"description", p.description}, {"source", p.source}};
+    if (!p.target_hex.empty()) doc["target_hex"] = p.target_hex;
+    doc["color"] = {{"solver", std::string(transport::default_model().name())},
+                    {"illuminant", c.illuminant},
+                    {"hex", c.hex},
+                    {"lab", {c.lab.L, c.lab.a, c.lab.b}}};
+    doc["parameters"] = to_json(p.parameters);
+    result.document.push_back(std::move(doc));
+    rows.push_back({p.name, c.hex, format_fixed(c.lab.L, 1), format_fixed(c.lab.a, 1), format_fixed(c.lab.b, 1),
+                    p.description});
     name.text.push_back(p.name);
     description.text.push_back(p.description);
+    source.text.push_back(p.source);
+    target.text.push_back(p.target_hex);
+    hex.text.push_back(c.hex);
+    L.numbers.push_back(c.lab.L);
+    a.numbers.push_back(c.lab.a);
+    b.numbers.push_back(c.lab.b);
     for (std::size_t i = 0; i < values.size(); ++i)
       values[i].numbers.push_back(p.parameters.*(parameter_table()[i].member));
   }
-  result.columns = {name, description};
+  result.table = format_text_table(rows);
+  result.columns = {name, description, source, target, hex, L, a, b};
   result.columns.insert(result.columns.end(), values.begin(), values.end());
   return result;
 }

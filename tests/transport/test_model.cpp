@@ -71,6 +71,9 @@ TEST(ModelValidity, SkinPresetsAreInsideBothModels) {
   for (const auto& p : skin::presets()) {
     SCOPED_TRACE(p.name);
     for (const char* name : {"accurate", "multipole"}) {
+      // The tone presets' epidermis (0.04-0.15 mm) is thinner than the multipole's z_r in the red
+      // (docs/fit.md): they are fitted with, and meant for, the exact solver only.
+      if (!p.target_hex.empty() && std::string(name) == "multipole") continue;
       const auto v = skin::skin_validity(p.parameters, skin::WavelengthGrid(), transport::find_model(name));
       EXPECT_TRUE(v.ok()) << name << " " << v;
     }

@@ -116,11 +116,15 @@ LayerCoefficients dermis_coefficients(const SkinParameters& p, double lambda);
 // Epidermis (finite) over semi-infinite dermis, air above, at one wavelength.
 LayerStack skin_layer_stack(const SkinParameters& p, double lambda);
 
-// Named parameter sets of the paper (Fig. 8 and Fig. 10).
+// Named parameter sets: the paper's (Fig. 8 and Fig. 10, tuned by eye under its multipole model)
+// and the tone presets monk-01 ... monk-10, fitted offline to the Monk Skin Tone scale's swatches
+// with the default exact solver under D65 (scripts/fit_tone_presets.py, docs/tone-presets.md).
 struct Preset {
   std::string name;
   std::string description;
   SkinParameters parameters;
+  std::string source;      // where the values come from
+  std::string target_hex;  // "#rrggbb" the preset was fitted to; "" for the paper's
 };
 const std::vector<Preset>& presets();
 // The preset a command, a Python call or the web page starts from when none is named (its
