@@ -104,7 +104,7 @@ void upsampling() {
 void slabs() {
   std::printf("slab (uniform environment of luminance 1), CIEDE2000\n");
   std::printf("%-10s %-4s %12s %14s %14s\n", "preset", "ill.", "RGB-spectral", "RGB-skin color", "spec-skin color");
-  for (const auto& preset : presets())
+  for (const auto& preset : paper_presets())
     for (const char* ill : {"D65", "A"}) {
       const color::Colorimetry cm(WavelengthGrid(), color::find_illuminant(ill));
       const color::Lab truth = color::summarize(cm, skin_spectrum(preset.parameters).R_d).lab;

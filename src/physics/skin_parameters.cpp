@@ -317,6 +317,11 @@ const std::vector<Preset>& presets() {
   return list;
 }
 
+std::span<const Preset> paper_presets() {
+  constexpr std::size_t kPaper = 6;  // caucasian, asian, african, pale, tanned, ear
+  return std::span<const Preset>(presets()).first(kPaper);
+}
+
 const Preset& find_preset(std::string_view name) {
   std::string_view key = name == "several-lights" ? std::string_view("ear") : name;
   for (const auto& p : presets())

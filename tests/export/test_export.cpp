@@ -125,7 +125,7 @@ TEST(Export, EveryTargetForEveryPresetIsHeldToItsMeasuredError) {
   ASSERT_EQ(std::size(kHeld), targets().size()) << "a target without its measured bounds";
   for (const Held& held : kHeld) {
     const Target& t = find_target(held.target);
-    for (const Preset& preset : presets()) {
+    for (const Preset& preset : paper_presets()) {
       SCOPED_TRACE(std::string(preset.name) + " / " + std::string(t.name));
       const Export e = export_skin(t.name, preset.parameters, model, Options{});
       ASSERT_FALSE(e.files.empty());

@@ -81,7 +81,7 @@ json compute(Part part) {
     const skin::transport::Model& solver = skin::transport::find_model(name);
     json& js = out[name];
     skin::ProfileSolver profiles(radii);
-    for (const auto& preset : skin::presets()) {
+    for (const auto& preset : skin::paper_presets()) {
       const auto s = skin::skin_spectrum(preset.parameters, grid, solver);
       json& jp = js["presets"][preset.name];
       jp["R_d"] = values(s.R_d);

@@ -161,7 +161,7 @@ TEST(SkinStackTable, ProfileIntegratesToTheTotal) {
 
 TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   const SkinStackTable& t = SkinStackTable::builtin();
-  for (const auto& preset : skin::presets())
+  for (const auto& preset : skin::paper_presets())
     for (double lambda = 380; lambda <= 780; lambda += 10)
       EXPECT_EQ(t.gap(preset_stack(preset.name.c_str(), lambda)), "") << preset.name << ' ' << lambda;
   // An epidermis darker than the last node (6.93 sigma_s'): african skin with twice its melanin.

@@ -128,7 +128,7 @@ TEST(Profile, SkinProfilesIntegrateBackToTotal) {
   const WavelengthGrid grid(400, 700, 10);
   const RadialGrid radii = RadialGrid::logarithmic(1e-6, 60.0, 2400);
   ProfileSolver solver(radii);
-  for (const auto& preset : presets()) {
+  for (const auto& preset : paper_presets()) {
     const SpectralProfile sp = skin_spectral_profile(preset.parameters, grid, solver);
     for (std::size_t i = 0; i < grid.size(); ++i) {
       std::vector<double> row(sp.R.begin() + static_cast<std::ptrdiff_t>(i * radii.size()),
