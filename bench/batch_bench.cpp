@@ -7,6 +7,11 @@
 #include "skin/batch/batch.hpp"
 
 using namespace skin;
+using skin::transport::RadialGrid;
+using skin::model::skin_spectrum;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
 
 namespace {
 std::vector<SkinParameters> sets(std::size_t n) {

@@ -12,6 +12,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace skin;
+  using skin::physics::SkinParameters;
+  using skin::physics::find_preset;
   const std::string_view input = fuzz::text(data, size);
   const SkinParameters base = find_preset("caucasian").parameters;
   Table table;

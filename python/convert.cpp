@@ -4,6 +4,9 @@
 
 namespace skin::python {
 
+using skin::physics::Layer;
+
+
 Layer layer_from_entries(const std::vector<std::pair<std::string, std::optional<double>>>& entries,
                          std::size_t index) {
   const std::string where = "layer " + std::to_string(index + 1);

@@ -40,6 +40,22 @@
 namespace py = pybind11;
 using namespace pybind11::literals;
 using namespace skin;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::model::SkinSpectrum;
+using skin::model::color_under;
+using skin::physics::LayerStack;
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::Spectrum;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::kDefaultPreset;
+using skin::physics::outside_skin_domain;
+using skin::physics::parameter_info;
+using skin::physics::parameter_table;
+using skin::physics::presets;
+using skin::physics::skin_layer_stack;
 
 namespace {
 

@@ -22,6 +22,14 @@
 
 namespace skin::cli {
 
+using skin::transport::RadialGrid;
+
+
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
+
 namespace {
 
 std::string grid_text(const WavelengthGrid& grid) {

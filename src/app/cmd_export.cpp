@@ -13,6 +13,9 @@
 
 namespace skin::cli {
 
+using skin::physics::SkinParameters;
+
+
 namespace {
 
 // "dir/name.ext" -> "dir/name"

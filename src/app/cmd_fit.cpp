@@ -18,6 +18,9 @@
 
 namespace skin::cli {
 
+using skin::physics::WavelengthGrid;
+
+
 namespace {
 
 struct FitOpts {

@@ -25,6 +25,10 @@
 
 namespace skin::cli {
 
+using skin::physics::LayerStack;
+using skin::physics::skin_layer_stack;
+
+
 namespace {
 
 struct McOptions {
@@ -261,7 +265,7 @@ void register_skin_table_command(CLI::App& app) {
       "reads for skin (about 19 min on 2 cores)");
   sub->add_option("-o,--output", o->out, "Output CSV file (written atomically)")->required();
   sub->callback([o] {
-    accurate::SkinStackTable table = accurate::SkinStackTable::default_nodes();
+    transport::accurate::SkinStackTable table = transport::accurate::SkinStackTable::default_nodes();
     table.provenance = "skin tabulate-skin-profiles (FrequencyStack, k0 = 0.02 s)";
     table.compute(progress_bar("nodes"));  // drawn on a terminal only
     io::write_file_atomic(o->out, table.to_csv());

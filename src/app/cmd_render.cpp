@@ -15,6 +15,9 @@
 #include "skin/render/scene.hpp"
 
 namespace skin::cli {
+
+using skin::physics::SkinParameters;
+
 namespace {
 
 // The head mesh `skin figure` uses unless --mesh names another: where examples/head.json finds it,

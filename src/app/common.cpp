@@ -19,6 +19,16 @@
 
 namespace skin::cli {
 
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::Spectrum;
+using skin::physics::find_preset;
+using skin::physics::parameter_table;
+using skin::physics::presets;
+
+
 namespace {
 std::vector<std::pair<int, Registrar>>& registrations() {
   static std::vector<std::pair<int, Registrar>> list;

@@ -43,20 +43,20 @@ bool stderr_is_terminal();
 // and the paper's symbol as an alias): the preset, then the file, then the flags given after it
 // (a flag given before --params is overridden by the file when the file sets that parameter).
 struct ParameterOptions {
-  std::string preset{kDefaultPreset};
+  std::string preset{physics::kDefaultPreset};
   std::string params_file;
-  SkinParameters values;  // targets of the flags
-  std::vector<std::pair<CLI::Option*, const ParameterInfo*>> flags;
+  physics::SkinParameters values;  // targets of the flags
+  std::vector<std::pair<CLI::Option*, const physics::ParameterInfo*>> flags;
   CLI::App* app = nullptr;
   CLI::Option* preset_option = nullptr;
   CLI::Option* params_option = nullptr;
   void add_to(CLI::App& app);
   // Whether --preset, --params or any parameter flag was given.
   bool given() const;
-  SkinParameters resolve() const;  // preset + file + overrides, validated
+  physics::SkinParameters resolve() const;  // preset + file + overrides, validated
   // The same as a change of any base set, used when --preset is not given (the renderer: each
   // material's own set). The file is read once, here; the change validates what it returns.
-  std::function<SkinParameters(const SkinParameters&)> change() const;
+  std::function<physics::SkinParameters(const physics::SkinParameters&)> change() const;
 };
 
 // Check of a whole-number option (counts, seeds, threads): anything but a whole number within
@@ -102,13 +102,13 @@ struct StackOptions {
   CLI::Option* layer_option = nullptr;
   CLI::Option* add_to(CLI::App& app, const std::string& note = "");
   bool given() const { return !layers.empty(); }
-  LayerStack resolve() const;  // parsed and validated
+  physics::LayerStack resolve() const;  // parsed and validated
 };
 
 struct GridOptions {
   double lambda_min = 400, lambda_max = 700, lambda_step = 2;
   void add_to(CLI::App& app);
-  WavelengthGrid resolve() const { return WavelengthGrid(lambda_min, lambda_max, lambda_step); }
+  physics::WavelengthGrid resolve() const { return physics::WavelengthGrid(lambda_min, lambda_max, lambda_step); }
 };
 
 // --solver NAME: a transport model of the registry (skin/transport/model.hpp, which holds the
@@ -159,11 +159,11 @@ struct OutputOptions {
   void write(const Result& result) const;
 };
 
-std::vector<double> to_vector(const Spectrum& s);
+std::vector<double> to_vector(const physics::Spectrum& s);
 
 // Parses "--layer sigma_a=A,sigma_s_prime=S,thickness=D,eta=N,g=G" (thickness missing or "inf"
 // = semi-infinite). Throws InputError naming the option and the problem.
-Layer parse_layer(const std::string& spec, std::size_t index);
+physics::Layer parse_layer(const std::string& spec, std::size_t index);
 
 // Warns on stderr (once per quantity) if a spectrum or profile has negative values: diffusion
 // outside its validity or an unphysical input. Values are never clamped.

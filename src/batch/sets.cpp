@@ -11,6 +11,11 @@
 
 namespace skin::batch {
 
+using skin::physics::ParameterNames;
+using skin::physics::SkinParameters;
+using skin::physics::parameter_info;
+
+
 namespace {
 
 double parse_number(std::string_view text, const std::string& what) {

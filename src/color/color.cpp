@@ -11,6 +11,11 @@
 
 namespace skin::color {
 
+using skin::physics::Spectrum;
+using skin::physics::TabulatedFunction;
+using skin::physics::WavelengthGrid;
+
+
 std::ostream& operator<<(std::ostream& os, const Xyz& c) {
   return os << "XYZ(" << c.X << ", " << c.Y << ", " << c.Z << ')';
 }

@@ -10,6 +10,11 @@
 
 namespace skin::color {
 
+using skin::physics::Spectrum;
+using skin::physics::TabulatedFunction;
+using skin::physics::WavelengthGrid;
+
+
 double illuminant_a(double l) {
   constexpr double c2 = 1.435e7, T = 2848.0;  // [nm K], [K]
   return 100.0 * std::pow(560.0 / l, 5) * std::expm1(c2 / (T * 560.0)) / std::expm1(c2 / (T * l));

@@ -9,6 +9,9 @@
 
 namespace skin::exporting::detail {
 
+using skin::physics::SkinParameters;
+
+
 namespace {
 
 double cycles_g0(double A) { return cycles_alpha(A, 0.0); }

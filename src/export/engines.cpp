@@ -11,6 +11,9 @@
 
 namespace skin::exporting::detail {
 
+using skin::physics::SkinParameters;
+
+
 namespace {
 
 // Christensen & Burley 2015, eq. 6 (perpendicular incidence): d = l / s(A) for the mean free

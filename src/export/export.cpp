@@ -12,6 +12,13 @@
 
 namespace skin::exporting {
 
+using skin::transport::ProfileSolver;
+
+
+using skin::physics::SkinParameters;
+using skin::physics::parameter_info;
+
+
 using detail::Reference;
 
 // ---------------------------------------------------------------------------------------------

@@ -12,6 +12,12 @@
 
 namespace skin::exporting {
 
+using skin::transport::RadialGrid;
+
+
+using skin::physics::SkinParameters;
+
+
 
 double burley_profile(double d, double r) {
   if (!(r > 0) || !(d > 0)) return 0.0;

@@ -14,7 +14,7 @@ namespace skin::exporting::detail {
 // m = roughness, scaled by rho_s = oiliness, Fresnel at eta. Targets with a GGX lobe and a
 // "perceptual" roughness r (alpha = r^2) get r = sqrt(m): GGX and Beckmann of equal alpha have
 // close widths near the peak (Walter et al. 2007).
-double perceptual_roughness(const SkinParameters& p);
+double perceptual_roughness(const physics::SkinParameters& p);
 double fresnel_f0(double eta);
 
 // Random-walk targets (Cycles, OpenPBR, Standard Surface): albedo A through the target's

@@ -10,6 +10,9 @@
 
 namespace skin::exporting::detail {
 
+using skin::physics::SkinParameters;
+
+
 namespace {
 
 // The two schemas take the same inputs under their own names; the radius is a scalar (with the

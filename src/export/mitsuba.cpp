@@ -7,6 +7,15 @@
 
 namespace skin::exporting::detail {
 
+using skin::model::skin_layer_stacks;
+
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
+
 namespace {
 
 Export write(const Context& ctx) {

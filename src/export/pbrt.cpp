@@ -11,6 +11,22 @@
 
 namespace skin::exporting::detail {
 
+using skin::transport::ProfileSolver;
+using skin::transport::RadialResponse;
+using skin::transport::RgbProfile;
+using skin::transport::SpectralProfile;
+
+
+using skin::model::skin_layer_stacks;
+using skin::model::skin_spectral_profile;
+
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
+
 namespace {
 
 std::string pbrt_spectrum(const WavelengthGrid& g, const std::vector<double>& v) {

@@ -11,6 +11,9 @@
 
 namespace skin::exporting {
 
+using skin::physics::SkinParameters;
+
+
 namespace detail {
 
 std::string json_text(const std::string& text, std::string_view what) {

@@ -58,7 +58,7 @@ const std::vector<TargetSpec>& registry();
 const TargetSpec& find_spec(std::string_view name);
 
 // Fits every distinct texel of `maps` (parameters over `base`) through `texel`, in parallel.
-MapsFit fit_maps(TexelFit (*texel)(const Reference&), const SkinParameters& base,
+MapsFit fit_maps(TexelFit (*texel)(const Reference&), const physics::SkinParameters& base,
                  const transport::Model& model, const ParameterMapsInput& maps,
                  const ProgressCallback& progress);
 // The two textures of a maps fit: colour (PNG, sRGB-encoded) and radius (EXR, linear, in the

@@ -17,6 +17,9 @@
 
 namespace skin::fit {
 
+using skin::physics::SkinParameters;
+
+
 std::ostream& operator<<(std::ostream& os, const ColorFitResult& r) {
   return os << "ColorFitResult{C_m=" << r.parameters.melanin << ", beta_m=" << r.parameters.melanin_blend
             << ", C_h=" << r.parameters.hemoglobin << ", target=" << r.target << ", fitted=" << r.fitted

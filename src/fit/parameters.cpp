@@ -11,6 +11,12 @@
 
 namespace skin::fit {
 
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::find_parameter;
+using skin::physics::parameter_table;
+
+
 Parameter Parameter::of(const ParameterInfo& row) {
   if (!row.fittable()) {
     std::string known;

@@ -20,6 +20,12 @@
 
 namespace skin::fit {
 
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::fresnel_dielectric;
+using skin::physics::skin_layer_stack;
+
+
 ForwardModel forward_model(const transport::Model& model) {
   return [&model](const SkinParameters& p, double lambda) {
     const LayerStack stack = skin_layer_stack(p, lambda);

@@ -23,6 +23,12 @@
 
 namespace skin::mc {
 
+using skin::physics::FresnelResult;
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::fresnel;
+
+
 namespace {
 // Boost.Random's engine interface over the batch generator, for its ziggurat. Boost takes the
 // ziggurat layer from the low 8 bits of a draw and the uniform from the rest; xoshiro256+'s

@@ -9,6 +9,10 @@
 
 namespace skin::mc {
 
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+
+
 RandomWalkOptions RandomWalkOptions::defaults() {
   RandomWalkOptions o;
   o.alpha.push_back(0.05);

@@ -18,6 +18,20 @@
 
 namespace skin::mc {
 
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::Preset;
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+using skin::physics::kInfinity;
+using skin::physics::sample_skin_domain;
+using skin::physics::skin_layer_stack;
+
+
 namespace {
 
 std::string fmt(const char* f, double v) {

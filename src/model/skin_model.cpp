@@ -6,7 +6,22 @@
 #include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
-namespace skin {
+namespace skin::model {
+
+using skin::transport::DiffusionStack;
+using skin::transport::Model;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialResponse;
+using skin::transport::RgbProfile;
+using skin::transport::SpectralProfile;
+
+
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::Spectrum;
+using skin::physics::WavelengthGrid;
+using skin::physics::skin_layer_stack;
+
 
 std::vector<LayerStack> skin_layer_stacks(const SkinParameters& p, const WavelengthGrid& grid) {
   p.validate();
@@ -152,4 +167,4 @@ transport::Validity skin_validity(const SkinParameters& p, const WavelengthGrid&
   return transport::combined_validity(model, skin_layer_stacks(p, grid), wavelength_labels(grid));
 }
 
-}  // namespace skin
+}  // namespace skin::model

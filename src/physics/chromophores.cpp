@@ -6,7 +6,7 @@
 #include "skin/physics/spectrum.hpp"
 #include "skin/util/table.hpp"
 
-namespace skin::chromophores {
+namespace skin::physics::chromophores {
 
 namespace {
 const TabulatedFunction& hb_table(int column) {
@@ -57,4 +57,4 @@ double sigma_s_prime_epidermis(double lambda) {
   return 14.74 * std::pow(lambda, -0.22) + 2.2e11 * std::pow(lambda, -4.0);
 }
 
-}  // namespace skin::chromophores
+}  // namespace skin::physics::chromophores

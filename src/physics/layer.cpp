@@ -6,7 +6,7 @@
 
 #include "skin/util/error.hpp"
 
-namespace skin {
+namespace skin::physics {
 
 void LayerStack::validate() const {
   if (layers.empty()) throw InputError("layer stack is empty: give at least one --layer");
@@ -50,4 +50,4 @@ std::string to_string(const LayerStack& s) {
   return ss.str();
 }
 
-}  // namespace skin
+}  // namespace skin::physics

@@ -8,7 +8,7 @@
 #include "skin/util/error.hpp"
 #include "skin/util/random.hpp"
 
-namespace skin {
+namespace skin::physics {
 
 namespace {
 constexpr double kInf = kInfinity;
@@ -276,4 +276,4 @@ const Preset& find_preset(std::string_view name) {
                    " (and several-lights = ear)");
 }
 
-}  // namespace skin
+}  // namespace skin::physics

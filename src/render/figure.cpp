@@ -24,6 +24,10 @@
 #include "skin/render/figure.hpp"
 
 namespace skin::render {
+
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+
 namespace {
 
 // The head mesh's frame: the Lee Perry-Smith scan's bounding box is 7.9451 units tall and

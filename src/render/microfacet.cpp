@@ -9,6 +9,9 @@
 
 namespace skin::render {
 
+using skin::physics::fresnel_dielectric;
+
+
 double Beckmann::D(const Vec3& h) const {
   const double c = h.z;
   if (c <= 0) return 0.0;

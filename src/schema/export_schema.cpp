@@ -5,6 +5,9 @@
 
 namespace skin::schema {
 
+using skin::physics::SkinParameters;
+
+
 json fit_report_document(const exporting::FitReport& r, const SkinParameters& p, std::string_view solver,
                          const std::vector<std::string>& files) {
   using exporting::report_error;

@@ -12,6 +12,28 @@
 
 namespace skin::schema {
 
+using skin::transport::DiffusionSlab;
+using skin::transport::DiffusionStack;
+using skin::transport::RadialGrid;
+using skin::transport::RgbProfile;
+using skin::transport::SpectralProfile;
+
+
+using skin::model::SkinSpectrum;
+
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::ParameterInfo;
+using skin::physics::ParameterNames;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::outside_skin_domain;
+using skin::physics::parameter_table;
+using skin::physics::presets;
+
+
 Column constant_column(std::string name, double value, std::size_t rows) {
   return Column{std::move(name), std::vector<double>(std::max<std::size_t>(rows, 1), value), {}};
 }

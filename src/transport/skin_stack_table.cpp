@@ -17,7 +17,12 @@
 #include "skin/util/interpolation.hpp"
 #include "skin/util/table.hpp"
 
-namespace skin::accurate {
+namespace skin::transport::accurate {
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::kInfinity;
+
 
 namespace {
 
@@ -407,4 +412,4 @@ double SkinStackProfile::operator()(double r) const {
   return std::isfinite(out) ? out : 0.0;  // (a table of nodes ~1e-9 apart in x: see clamp_ln)
 }
 
-}  // namespace skin::accurate
+}  // namespace skin::transport::accurate

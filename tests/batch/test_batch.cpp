@@ -8,6 +8,15 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::transport::RgbProfile;
+using skin::model::SkinSpectrum;
+using skin::model::skin_rgb_profile;
+using skin::model::skin_spectral_profile;
+using skin::model::skin_spectrum;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
 
 namespace {
 std::vector<SkinParameters> sweep(std::size_t n) {

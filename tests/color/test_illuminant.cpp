@@ -10,6 +10,9 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::physics::Spectrum;
+using skin::physics::TabulatedFunction;
+using skin::physics::WavelengthGrid;
 using namespace skin::color;
 
 namespace {

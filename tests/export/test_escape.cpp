@@ -23,6 +23,8 @@
 #include "skin_test_paths.hpp"
 
 using namespace skin;
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 

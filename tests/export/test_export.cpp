@@ -15,6 +15,10 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::physics::Preset;
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+using skin::physics::presets;
 using namespace skin::exporting;
 
 TEST(ExportModels, BurleyProfileIsNormalisedWithMeanRadius2point5d) {

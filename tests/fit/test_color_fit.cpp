@@ -46,16 +46,16 @@ void srgb_round_trip(const char* solver_name, const std::vector<double>& cms,
   o.model = forward_model(solver_name);
   const skin::transport::Model& solver = skin::transport::find_model(solver_name);
   const ColorFitter fitter(o);
-  const color::Colorimetry cm{skin::WavelengthGrid{}};
+  const color::Colorimetry cm{skin::physics::WavelengthGrid{}};
   for (double c_m : cms)
     for (double b_m : bms)
       for (double c_h : chs) {
-        const auto truth = skin::skin_spectrum(params(c_m, b_m, c_h), {}, solver);
+        const auto truth = skin::model::skin_spectrum(params(c_m, b_m, c_h), {}, solver);
         const auto s8 = truth.color.srgb8;
         const color::Rgb input{color::srgb_decode(s8[0] / 255.0), color::srgb_decode(s8[1] / 255.0),
                                color::srgb_decode(s8[2] / 255.0)};
         const ColorFitResult r = fitter.fit(input);
-        const auto fitted = skin::skin_spectrum(r.parameters, {}, solver);
+        const auto fitted = skin::model::skin_spectrum(r.parameters, {}, solver);
         const double de = color::delta_e_2000(color::summarize_rgb(cm, input).lab, fitted.color.lab);
         SCOPED_TRACE(::testing::Message() << solver_name << " " << truth.parameters << " -> " << r);
         EXPECT_LT(de, 1.0);
@@ -80,7 +80,7 @@ TEST(ColorFit, SrgbRoundTripWithinOneDeltaEAccurate) {
 // With beta_m free but regularised, flat directions go to the prior: a fit of the colour of a
 // beta_m = 0.7 skin returns close to 0.7; fixing beta_m (not free) keeps it exactly.
 TEST(ColorFit, MelaninBlendResolvedByPriorOrFixed) {
-  const auto truth = skin::skin_spectrum(params(0.01, 0.7, 0.01), {}, skin::transport::find_model("multipole"));
+  const auto truth = skin::model::skin_spectrum(params(0.01, 0.7, 0.01), {}, skin::transport::find_model("multipole"));
   ColorFitOptions o = skin_test::multipole_color_options();
   o.free = {Parameter::melanin, Parameter::hemoglobin};
   o.start.melanin_blend = 0.3;
@@ -147,12 +147,12 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
   // (far outside the skin gamut: large error expected there).
   const int w = 12, h = 5;
   std::vector<unsigned char> px(static_cast<std::size_t>(w * h * 3));
-  std::vector<skin::SkinParameters> truth;
+  std::vector<skin::physics::SkinParameters> truth;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const auto p = params(0.002 * std::pow(1.6, x), 0.7, 0.002 * std::pow(2.5, y));
       truth.push_back(p);
-      const auto s8 = skin::skin_spectrum(p, {}, skin::transport::find_model("multipole")).color.srgb8;
+      const auto s8 = skin::model::skin_spectrum(p, {}, skin::transport::find_model("multipole")).color.srgb8;
       for (int c = 0; c < 3; ++c) px[static_cast<std::size_t>((y * w + x) * 3 + c)] = static_cast<unsigned char>(s8[static_cast<std::size_t>(c)]);
     }
   px[0] = 0, px[1] = 0, px[2] = 255;

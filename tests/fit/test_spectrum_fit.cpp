@@ -22,7 +22,7 @@
 using namespace skin::fit;
 
 namespace {
-MeasuredSpectrum synthetic(const skin::SkinParameters& p, const SpectrumFitOptions& o, double sigma = 0,
+MeasuredSpectrum synthetic(const skin::physics::SkinParameters& p, const SpectrumFitOptions& o, double sigma = 0,
                            unsigned seed = 1) {
   MeasuredSpectrum m;
   m.name = "synthetic";
@@ -194,7 +194,7 @@ TEST(SpectrumInput, OiilinessNeedsTheSpecularTerm) {
 // parameter named twice (by key and by symbol) is refused.
 TEST(FitParameters, ComeFromTheParameterTable) {
   std::size_t fittable = 0;
-  for (const skin::ParameterInfo& row : skin::parameter_table()) {
+  for (const skin::physics::ParameterInfo& row : skin::physics::parameter_table()) {
     if (!row.fittable()) {
       EXPECT_THROW(parse_parameter(row.key), skin::InputError) << row.key;
       continue;
@@ -212,7 +212,7 @@ TEST(FitParameters, ComeFromTheParameterTable) {
     const Bounds b = default_bounds(p);
     EXPECT_LT(b.lo, b.hi) << row.key;
     EXPECT_TRUE(row.in_range(b.lo) && row.in_range(b.hi)) << row.key;
-    skin::SkinParameters s;
+    skin::physics::SkinParameters s;
     set(s, p, 0.125);
     EXPECT_EQ(s.*(row.member), 0.125);
     EXPECT_EQ(get(s, p), 0.125);

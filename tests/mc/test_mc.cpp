@@ -20,9 +20,9 @@
 
 namespace {
 
-using skin::Layer;
-using skin::LayerStack;
-using skin::kInfinity;
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::kInfinity;
 namespace mc = skin::mc;
 
 LayerStack one_layer(double sigma_a, double sigma_s_prime, double d, double eta, double g,
@@ -243,7 +243,7 @@ TEST(MonteCarloStatistics, DifferentSeedsAgreeWithinTheirStandardErrors) {
 }
 
 TEST(MonteCarloStatistics, SameSeedSameResultWhateverTheThreadCount) {
-  const auto stack = skin::skin_layer_stack(skin::find_preset("caucasian").parameters, 550);
+  const auto stack = skin::physics::skin_layer_stack(skin::physics::find_preset("caucasian").parameters, 550);
   const auto a = mc::simulate(stack, opts(12345, 7, 1));
   const auto b = mc::simulate(stack, opts(12345, 7, 2));
   const auto c = mc::simulate(stack, opts(12345, 7, 3));
@@ -267,7 +267,7 @@ TEST(MonteCarloVsDiffusion, ThickHighAlbedoAgreesWithinAFewPercent) {
                         one_layer(0.01, 0.99, kInfinity, 1.4, 0.9),
                         one_layer(0.01, 0.99, 20.0, 1.4, 0.9)}) {
     const auto r = mc::simulate(s, opts(20000));
-    const double R_diff = skin::DiffusionStack(s).R_d();
+    const double R_diff = skin::transport::DiffusionStack(s).R_d();
     EXPECT_NEAR(R_diff, r.R_d, 0.04 * r.R_d + 4 * r.R_d_se) << s << '\n' << r;
   }
 }

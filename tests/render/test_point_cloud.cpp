@@ -14,6 +14,13 @@
 #include "skin/util/error.hpp"
 
 namespace skin::render {
+
+using skin::model::skin_spectrum;
+
+
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+
 namespace {
 
 TranslucentMaterial caucasian() { return build_translucent(skin_description(find_preset("caucasian").parameters)); }

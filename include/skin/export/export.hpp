@@ -125,13 +125,13 @@ struct ParameterMapsInput {
 // Our skin as every target starts from it (its RGB profile, colour and mean exit radii),
 // computed once by prepare() and shared by the exports of several targets (--target all).
 struct Prepared;
-std::shared_ptr<const Prepared> prepare(const SkinParameters& parameters,
+std::shared_ptr<const Prepared> prepare(const physics::SkinParameters& parameters,
                                         const transport::Model& model);
 Export export_prepared(std::string_view target, const Prepared& ours, const Options& options);
 
 // Exports `parameters` (validated) for `target` (find_target). progress(texels done, texels) with
 // parameter maps.
-Export export_skin(std::string_view target, const SkinParameters& parameters,
+Export export_skin(std::string_view target, const physics::SkinParameters& parameters,
                    const transport::Model& model, const Options& options,
                    const ParameterMapsInput* maps = nullptr, const ProgressCallback& progress = {});
 

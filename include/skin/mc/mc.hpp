@@ -81,17 +81,17 @@ std::ostream& operator<<(std::ostream& os, const Result& r);
 
 // Validates the stack and the options (InputError naming the parameter), then runs. Polls
 // skin::cancel (skin/util/cancel.hpp) at every photon and within long ones: throws Cancelled.
-Result simulate(const LayerStack& stack, const Options& options);
+Result simulate(const physics::LayerStack& stack, const Options& options);
 
 // Photons per second per thread of `options` on `stack`: a pilot on the calling thread that
 // traces photons until it has used a few hundredths of a second of CPU time (or traced
 // options.photons), plus at most one photon's longest path. Validates as simulate() does; polls
 // skin::cancel.
-double photons_per_second(const LayerStack& stack, const Options& options);
+double photons_per_second(const physics::LayerStack& stack, const Options& options);
 // The check before a run, shared by `skin mc` and the Python module: its time from
 // photons_per_second() and its memory (memory_bytes()) for "a Monte Carlo run of N photons".
 // Throws InputError when refused (skin::estimate_work); long_run() when it should be announced.
-WorkEstimate estimate(const LayerStack& stack, const Options& options);
+WorkEstimate estimate(const physics::LayerStack& stack, const Options& options);
 
 // The 2D Fourier (Hankel) transform F(k) = sum_i w_i J0(k r_i) of exits histogrammed on
 // `edges` (weights `w`, one per bin), each bin's weight spread uniformly over its annulus:

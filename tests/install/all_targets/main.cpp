@@ -32,8 +32,8 @@
 int main() {
   std::string parts = "util physics transport color model";
   const skin::Table t = skin::parse_csv("a,b\n1,2\n", "t.csv");
-  const skin::WavelengthGrid grid(550, 550, 1);
-  const skin::SkinSpectrum s = skin::skin_spectrum(skin::find_preset("caucasian").parameters, grid,
+  const skin::physics::WavelengthGrid grid(550, 550, 1);
+  const skin::model::SkinSpectrum s = skin::model::skin_spectrum(skin::physics::find_preset("caucasian").parameters, grid,
                                                    skin::transport::default_model());
   if (t.rows() != 1 || !(s.R_d[0] > 0) || skin::color::find_illuminant("d65").name() != "D65") return 1;
 #ifdef SKIN_HAVE_MC
@@ -65,7 +65,7 @@ int main() {
   }
 #endif
 #ifdef SKIN_HAVE_BATCH
-  if (skin::batch::spectra(std::vector<skin::SkinParameters>(2), grid, skin::transport::default_model()).size() != 2)
+  if (skin::batch::spectra(std::vector<skin::physics::SkinParameters>(2), grid, skin::transport::default_model()).size() != 2)
     return 1;
   parts += " batch";
 #endif
