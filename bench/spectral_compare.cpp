@@ -32,6 +32,7 @@
 
 namespace {
 using namespace skin;  // NOLINT(google-build-using-namespace)
+using skin::util::Rgb;
 using skin::model::skin_spectrum;
 using skin::physics::WavelengthGrid;
 using skin::physics::presets;

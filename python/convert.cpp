@@ -4,6 +4,12 @@
 
 namespace skin::python {
 
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::one_line;
+using skin::util::require_positive;
+
+
 using skin::physics::Layer;
 
 

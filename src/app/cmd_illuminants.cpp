@@ -7,6 +7,9 @@
 
 namespace skin::cli {
 
+using skin::util::InputError;
+
+
 using skin::model::SkinSpectrum;
 using skin::model::skin_spectrum;
 

@@ -10,6 +10,9 @@
 
 namespace skin::cli {
 
+using skin::util::require_non_negative;
+
+
 using skin::transport::DiffusionStack;
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;

@@ -7,6 +7,10 @@
 
 namespace skin::cli {
 
+using skin::util::ProgressCallback;
+using skin::util::format_number;
+
+
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
 using skin::transport::RgbProfile;

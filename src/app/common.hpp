@@ -64,14 +64,14 @@ struct ParameterOptions {
 // would wrap "-1" around in an unsigned option).
 CLI::Validator whole_number(long long lo, long long hi = std::numeric_limits<long long>::max());
 
-// Checks a request before long or large work starts (skin::estimate_work,
+// Checks a request before long or large work starts (skin::util::estimate_work,
 // skin/util/work_estimate.hpp): refuses it (InputError) when its memory estimate exceeds the
 // machine's physical memory or its time estimate a week (a typo, surely); warns once on stderr
 // with the time estimate when it would take more than an hour (SIGINT or SIGTERM stop it
 // cleanly). `what` names the work ("a render of 16384x16384 pixels"), `units` /
 // `units_per_second_per_thread` give the time estimate for `threads` (0 = all cores); `bytes`
 // the memory.
-void warn_if_long(const WorkEstimate& estimate);
+void warn_if_long(const util::WorkEstimate& estimate);
 void check_request(const std::string& what, double units, double units_per_second_per_thread,
                    int threads, double bytes);
 // Measured rates for those estimates (docs/benchmarks.md; reference machine, one thread):
@@ -153,7 +153,7 @@ struct OutputOptions {
   // Extensions of -o that the command writes itself, not a Result (skin fit --texture: .exr);
   // set before add_to.
   std::vector<std::string> own_extensions;
-  // Writes the text to the file (see skin::io) or stdout.
+  // Writes the text to the file (see skin::util::io) or stdout.
   void emit(const std::string& text) const;
   // The one result writer: the result in the resolved format, to the file or stdout.
   void write(const Result& result) const;

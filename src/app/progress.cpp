@@ -11,6 +11,9 @@
 
 namespace skin::cli {
 
+using skin::util::ProgressCallback;
+
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

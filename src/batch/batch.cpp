@@ -10,6 +10,9 @@
 
 namespace skin::batch {
 
+using skin::util::InputError;
+
+
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
 
@@ -40,7 +43,7 @@ void for_each_set(std::size_t n, const Options& options, const F& compute) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                          cancel::check();
+                          util::cancel::check();
                           compute(i);
                         }
                       });

@@ -10,6 +10,10 @@
 
 namespace skin::color {
 
+using skin::util::InputError;
+using skin::util::Table;
+
+
 using skin::physics::Spectrum;
 using skin::physics::TabulatedFunction;
 using skin::physics::WavelengthGrid;
@@ -69,12 +73,12 @@ constexpr Entry kTable[] = {
 std::vector<Illuminant> load() {
   std::vector<Illuminant> out;
   {
-    const Table& t = data::embedded_table("d65.csv");
+    const Table& t = util::data::embedded_table("d65.csv");
     out.emplace_back("D65", "daylight, 6504 K",
                      TabulatedFunction(t.data[0], t.data[1], "data/d65.csv",
                                        TabulatedFunction::Outside::zero));
   }
-  const Table& t = data::embedded_table("cie_illuminants.csv");
+  const Table& t = util::data::embedded_table("cie_illuminants.csv");
   for (const Entry& e : kTable) {
     // The rows where the standard gives a value (an empty field reads as NaN).
     const std::vector<double>& y = t.data[t.column(e.name)];

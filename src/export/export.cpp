@@ -12,6 +12,11 @@
 
 namespace skin::exporting {
 
+using skin::util::InputError;
+using skin::util::ProgressCallback;
+using skin::util::format_number;
+
+
 using skin::transport::ProfileSolver;
 
 

@@ -12,6 +12,8 @@
 
 namespace skin::exporting {
 
+
+
 using skin::transport::RadialGrid;
 
 

@@ -12,6 +12,10 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::InputError;
+using skin::util::ProgressCallback;
+
+
 using skin::transport::ProfileSolver;
 
 

@@ -43,7 +43,7 @@ Export write(const Context& ctx) {
                              num(p.oiliness) + ")");
   std::ostringstream x;
   // Ids NAME_epidermis, ...: the name escaped (and checked) for Mitsuba, the suffixes plain.
-  const std::string name = escape::mitsuba_attribute(o.name, kName);
+  const std::string name = util::escape::mitsuba_attribute(o.name, kName);
   auto spectrum = [&](const std::string& quantity, const std::vector<double>& v) {
     std::string s = "        <spectrum name=\"" + quantity + "\" value=\"";
     for (std::size_t i = 0; i < grid.size(); ++i) {

@@ -9,6 +9,9 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::Rgb;
+
+
 namespace {
 
 Export write(const Context& ctx) {

@@ -8,6 +8,9 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::Rgb;
+
+
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
 using skin::transport::RgbProfile;

@@ -18,7 +18,7 @@ struct Reference {
   const transport::Model* model = nullptr;
   transport::RadialGrid radii;
   std::array<std::vector<double>, 3> R;  // [1/mm^2]
-  Rgb R_d;                               // channel totals (exact, from k = 0)
+  util::Rgb R_d;                               // channel totals (exact, from k = 0)
   std::array<double, 3> mean_radius{};   // [mm]
 };
 Reference make_reference(const physics::SkinParameters& p, const transport::Model& model,
@@ -35,7 +35,7 @@ double mean_radius(const transport::RadialGrid& radii, const std::vector<double>
 double relative_l1(const transport::RadialGrid& radii, const std::vector<double>& a,
                    const std::vector<double>& b);
 // CIEDE2000 between two linear sRGB colours (D65 white).
-double delta_e(const Rgb& a, const Rgb& b);
+double delta_e(const util::Rgb& a, const util::Rgb& b);
 
 // Solves f(x) = y for increasing f on [lo, hi] by bisection; returns the clamped end when y is
 // outside [f(lo), f(hi)].

@@ -20,6 +20,11 @@
 
 namespace skin::fit {
 
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::require_in_range;
+
+
 using skin::physics::LayerStack;
 using skin::physics::SkinParameters;
 using skin::physics::fresnel_dielectric;

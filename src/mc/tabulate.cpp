@@ -9,6 +9,10 @@
 
 namespace skin::mc {
 
+using skin::util::InputError;
+using skin::util::format_number;
+
+
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 

@@ -8,6 +8,9 @@
 
 namespace skin::model {
 
+using skin::util::ProgressCallback;
+
+
 using skin::transport::DiffusionStack;
 using skin::transport::Model;
 using skin::transport::ProfileSolver;
@@ -64,7 +67,7 @@ SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid, 
   p.validate();
   SkinSpectrum s = empty_spectrum(p, grid, model);
   for (std::size_t i = 0; i < grid.size(); ++i) {
-    cancel::check();  // between wavelengths: a scene builds several spectra before its first pixel
+    util::cancel::check();  // between wavelengths: a scene builds several spectra before its first pixel
     const LayerStack stack = skin_layer_stack(p, grid[i]);
     set_layers(s, i, stack);
     s.R_d[i] = model.R_d(stack);
@@ -94,7 +97,7 @@ Responses responses(const std::vector<LayerStack>& stacks, const Model& model,
   Responses r;
   r.owned.reserve(stacks.size());
   for (const auto& s : stacks) {
-    cancel::check();  // between wavelengths: a stack's response can take a good part of a second
+    util::cancel::check();  // between wavelengths: a stack's response can take a good part of a second
     r.pointers.push_back(r.owned.emplace_back(model.response(s)).get());
     if (progress) progress(r.owned.size(), stacks.size());
   }

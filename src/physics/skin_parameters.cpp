@@ -10,6 +10,13 @@
 
 namespace skin::physics {
 
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::require_in_range;
+using skin::util::require_positive;
+using skin::util::splitmix64;
+
+
 namespace {
 constexpr double kInf = kInfinity;
 // Ranges: the physical domain of each quantity (a fraction within [0, 1]; a length or a scale

@@ -25,6 +25,10 @@
 
 namespace skin::render {
 
+using skin::util::InputError;
+using skin::util::Rgb;
+
+
 using skin::physics::SkinParameters;
 using skin::physics::find_preset;
 

@@ -17,6 +17,9 @@
 
 namespace skin::render {
 
+using skin::util::InputError;
+
+
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
 using skin::transport::SpectralProfile;

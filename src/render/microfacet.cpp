@@ -9,6 +9,10 @@
 
 namespace skin::render {
 
+using skin::util::require_in_range;
+using skin::util::require_positive;
+
+
 using skin::physics::fresnel_dielectric;
 
 

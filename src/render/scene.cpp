@@ -18,6 +18,10 @@
 
 namespace skin::render {
 
+using skin::util::InputError;
+using skin::util::format_number;
+
+
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::ParameterInfo;
@@ -497,7 +501,7 @@ SceneDescription SceneDescription::parse(const std::string& text, const std::str
 }
 
 SceneDescription SceneDescription::load(const std::string& path) {
-  return parse(io::read_file(path, "scene"), std::filesystem::path(path).parent_path().string(), path);
+  return parse(util::io::read_file(path, "scene"), std::filesystem::path(path).parent_path().string(), path);
 }
 
 SceneDescription SceneDescription::default_scene() {

@@ -5,6 +5,9 @@
 
 namespace skin::schema {
 
+using skin::util::format_number;
+
+
 using skin::model::SkinSpectrum;
 
 

@@ -7,6 +7,9 @@
 
 namespace skin::schema {
 
+using skin::util::format_number;
+
+
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 

@@ -12,6 +12,11 @@
 
 namespace skin::schema {
 
+using skin::util::InputError;
+using skin::util::Rgb;
+using skin::util::format_number;
+
+
 using skin::transport::DiffusionSlab;
 using skin::transport::DiffusionStack;
 using skin::transport::RadialGrid;
@@ -39,7 +44,7 @@ Column constant_column(std::string name, double value, std::size_t rows) {
 }
 
 namespace {
-using escape::csv_field;
+using util::escape::csv_field;
 // Numbers of CSV files: ten significant digits.
 std::string num(double v) {
   char buf[32];
@@ -228,7 +233,7 @@ std::string color_table(const color::ColorSummary& c) {
 
 ParameterFile ParameterFile::read(const std::string& path) {
   const std::string where = "params = '" + path + "': ";
-  const std::string text = io::read_file(path, "params");
+  const std::string text = util::io::read_file(path, "params");
   json doc;
   try {
     doc = json::parse(text);

@@ -41,6 +41,13 @@
 
 namespace skin::transport::accurate {
 
+using skin::util::InputError;
+using skin::util::QuadratureRule;
+using skin::util::gauss_legendre;
+using skin::util::gauss_radau;
+using skin::util::lagrange4_weights;
+
+
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::fresnel_dielectric;

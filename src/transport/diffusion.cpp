@@ -10,6 +10,9 @@
 
 namespace skin::transport {
 
+using skin::util::format_number;
+
+
 using skin::physics::fresnel_dielectric;
 
 

@@ -16,6 +16,9 @@
 
 namespace skin::transport {
 
+using skin::util::InputError;
+
+
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::fresnel_dielectric;

@@ -14,6 +14,13 @@
 
 namespace skin::transport {
 
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::lagrange4_weights;
+using skin::util::require_non_negative;
+using skin::util::require_positive;
+
+
 using skin::physics::ChannelWeights;
 using skin::physics::Spectrum;
 using skin::physics::WavelengthGrid;

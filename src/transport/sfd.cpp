@@ -35,6 +35,12 @@
 
 namespace skin::transport::accurate {
 
+using skin::util::InputError;
+using skin::util::QuadratureRule;
+using skin::util::gauss_legendre;
+using skin::util::lagrange_weights;
+
+
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::fresnel_dielectric;

@@ -8,6 +8,9 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::parse_csv;
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
 using skin::transport::RgbProfile;

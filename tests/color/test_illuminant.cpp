@@ -10,6 +10,8 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::util::Rgb;
 using skin::physics::Spectrum;
 using skin::physics::TabulatedFunction;
 using skin::physics::WavelengthGrid;

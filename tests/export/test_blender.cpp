@@ -22,6 +22,7 @@
 #include "skin_test_paths.hpp"
 
 using namespace skin;
+using skin::util::Rgb;
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
 using skin::transport::RgbProfile;

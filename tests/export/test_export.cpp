@@ -15,6 +15,7 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::util::InputError;
 using skin::physics::Preset;
 using skin::physics::SkinParameters;
 using skin::physics::find_preset;

@@ -96,14 +96,14 @@ TEST(ColorFit, Parsing) {
   EXPECT_DOUBLE_EQ(a.r, b.r);
   EXPECT_DOUBLE_EQ(a.b, c.b);
   EXPECT_NEAR(a.r, color::srgb_decode(216 / 255.0), 1e-15);
-  EXPECT_THROW(parse_srgb8("1,2"), skin::InputError);
-  EXPECT_THROW(parse_srgb8("1,2,300"), skin::InputError);
-  EXPECT_THROW(parse_srgb8("a,2,3"), skin::InputError);
-  EXPECT_THROW(parse_hex("d8a89"), skin::InputError);
-  EXPECT_THROW(parse_hex("g8a890"), skin::InputError);
+  EXPECT_THROW(parse_srgb8("1,2"), skin::util::InputError);
+  EXPECT_THROW(parse_srgb8("1,2,300"), skin::util::InputError);
+  EXPECT_THROW(parse_srgb8("a,2,3"), skin::util::InputError);
+  EXPECT_THROW(parse_hex("d8a89"), skin::util::InputError);
+  EXPECT_THROW(parse_hex("g8a890"), skin::util::InputError);
   ColorFitOptions o = skin_test::multipole_color_options();
   o.free = {Parameter::oxygenation};
-  EXPECT_THROW(ColorFitter{o}, skin::InputError);
+  EXPECT_THROW(ColorFitter{o}, skin::util::InputError);
 }
 
 // The texture path interpolates a table (40 x 6 x 40 nodes, log-spaced in C_m and C_h; R_d at
@@ -135,7 +135,7 @@ TEST(TextureFit, TexelsOutsideAnAlbedoAreRefusedByName) {
     try {
       tex.fit(img);
       ADD_FAILURE() << bad << " accepted";
-    } catch (const skin::InputError& e) {
+    } catch (const skin::util::InputError& e) {
       EXPECT_NE(std::string(e.what()).find("texture: texel (2, 1) channel G = "), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find("allowed: a linear albedo within [0, 1]"), std::string::npos) << e.what();
     }
@@ -178,5 +178,5 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
     EXPECT_EQ(back.hemoglobin[i], maps.hemoglobin[i]);
     EXPECT_EQ(back.error[i], maps.error[i]);
   }
-  EXPECT_THROW(skin::image::read_image((dir / "no_such_texture.png").string()), skin::InputError);
+  EXPECT_THROW(skin::image::read_image((dir / "no_such_texture.png").string()), skin::util::InputError);
 }

@@ -13,6 +13,9 @@
 #include "skin_test_paths.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::read_csv_file;
 using skin::model::SkinSpectrum;
 using skin::model::color_under;
 using skin::model::skin_spectrum;

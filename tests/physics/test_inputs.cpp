@@ -11,6 +11,10 @@
 #include "skin/util/table.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::parse_csv;
+using skin::util::read_csv_file;
 using skin::transport::DiffusionStack;
 using skin::physics::LayerStack;
 using skin::physics::SkinParameters;
@@ -111,11 +115,11 @@ TEST(ParameterTable, CoversEveryMemberOnceWithValidDefaults) {
       EXPECT_EQ(skin::physics::find_parameter(p.symbol), &p);
     }
     EXPECT_FALSE(p.in_range(std::nan(""))) << p.key;
-    EXPECT_THROW(p.check(p.min_open ? p.min : p.min - 1.0), skin::InputError) << p.key;
+    EXPECT_THROW(p.check(p.min_open ? p.min : p.min - 1.0), skin::util::InputError) << p.key;
   }
   EXPECT_EQ(skin::physics::find_parameter("beta_m")->key, "melanin_blend");
   EXPECT_EQ(skin::physics::find_parameter("colour"), nullptr);
-  EXPECT_THROW(skin::physics::parameter_info("colour"), skin::InputError);
+  EXPECT_THROW(skin::physics::parameter_info("colour"), skin::util::InputError);
 }
 
 // The skin domain (issue 31): inside every parameter's allowed range, the paper's presets and the

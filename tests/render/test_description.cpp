@@ -13,6 +13,9 @@
 
 namespace skin::render {
 
+using skin::util::InputError;
+
+
 using skin::physics::SkinParameters;
 using skin::physics::find_preset;
 

@@ -22,6 +22,9 @@
 
 namespace skin::render {
 
+using skin::util::InputError;
+
+
 using skin::physics::SkinParameters;
 
 namespace {

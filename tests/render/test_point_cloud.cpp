@@ -15,6 +15,10 @@
 
 namespace skin::render {
 
+using skin::util::InputError;
+using skin::util::Pcg32;
+
+
 using skin::model::skin_spectrum;
 
 

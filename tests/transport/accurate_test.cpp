@@ -289,19 +289,19 @@ TEST(Convergence, IndexStepsUseMorePointsAndStayConverged) {
 
 TEST(Input, BadOptionsAndStacksThrowInputError) {
   const LayerStack s = slab(1, 1, 0.9, 1, 1.4);
-  EXPECT_THROW(adding_doubling(s, Options{1}), skin::InputError);
-  EXPECT_THROW(adding_doubling(s, Options{65}), skin::InputError);
-  EXPECT_THROW(adding_doubling(s, Options{-3}), skin::InputError);
+  EXPECT_THROW(adding_doubling(s, Options{1}), skin::util::InputError);
+  EXPECT_THROW(adding_doubling(s, Options{65}), skin::util::InputError);
+  EXPECT_THROW(adding_doubling(s, Options{-3}), skin::util::InputError);
   LayerStack bad = s;
   bad.layers[0].sigma_a = std::nan("");
-  EXPECT_THROW(adding_doubling(bad), skin::InputError);
+  EXPECT_THROW(adding_doubling(bad), skin::util::InputError);
   bad = s;
   bad.layers.clear();
-  EXPECT_THROW(adding_doubling(bad), skin::InputError);
-  EXPECT_THROW(skin::transport::accurate::AccurateStack{bad}, skin::InputError);
+  EXPECT_THROW(adding_doubling(bad), skin::util::InputError);
+  EXPECT_THROW(skin::transport::accurate::AccurateStack{bad}, skin::util::InputError);
   try {
     adding_doubling(s, Options{1});
-  } catch (const skin::InputError& e) {
+  } catch (const skin::util::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("quadrature-points = 1"), std::string::npos) << e.what();
   }
 }
@@ -496,9 +496,9 @@ TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
     }
     EXPECT_NEAR(R[i], closed, 5e-4 * closed) << "kappa = " << kappa[i];
   }
-  EXPECT_THROW(skin::transport::accurate::frequency_response(s, {-1.0}, o), skin::InputError);
+  EXPECT_THROW(skin::transport::accurate::frequency_response(s, {-1.0}, o), skin::util::InputError);
   o.azimuthal_orders = -1;
-  EXPECT_THROW(skin::transport::accurate::frequency_response(s, {1.0}, o), skin::InputError);
+  EXPECT_THROW(skin::transport::accurate::frequency_response(s, {1.0}, o), skin::util::InputError);
 }
 
 // The exact single scattering of the top layer in space integrates to its closed-form total

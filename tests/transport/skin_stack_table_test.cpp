@@ -214,7 +214,7 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
     try {
       SkinStackTable::parse(text, "t.csv");
       ADD_FAILURE() << "accepted; expected: " << what;
-    } catch (const skin::InputError& e) {
+    } catch (const skin::util::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
     }

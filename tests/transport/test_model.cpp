@@ -41,7 +41,7 @@ TEST(ModelRegistry, NamesDefaultAndUnknown) {
   try {
     transport::find_model("diffusion");
     FAIL() << "no InputError";
-  } catch (const skin::InputError& e) {
+  } catch (const skin::util::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("'diffusion' is unknown"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("accurate, multipole, sfd"), std::string::npos) << e.what();
   }
@@ -64,7 +64,7 @@ TEST(ModelRegistry, ModelsAreTheClassesTheyWrap) {
   // The model keeps the Fresnel moments per index; the stack built alone computes them: equal.
   EXPECT_EQ(ps.profile(*acc.response(s)), ps.profile(skin::transport::accurate::AccurateStack(s)));
   EXPECT_EQ(ps.profile(*mp.response(s)), ps.profile(ds));
-  EXPECT_THROW(acc.response(LayerStack{}), skin::InputError);
+  EXPECT_THROW(acc.response(LayerStack{}), skin::util::InputError);
 }
 
 TEST(ModelValidity, SkinPresetsAreInsideBothModels) {

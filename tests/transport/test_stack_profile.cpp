@@ -13,6 +13,7 @@
 #include "test_support.hpp"
 
 using namespace skin;
+using skin::util::InputError;
 using skin::transport::A_boundary;
 using skin::transport::DiffusionSlab;
 using skin::transport::DiffusionStack;

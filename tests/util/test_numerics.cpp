@@ -13,7 +13,9 @@
 #include "skin/util/rgb.hpp"
 #include "test_support.hpp"
 
-namespace skin {
+namespace skin::util {
+
+
 namespace {
 
 // --- Interpolation -------------------------------------------------------------------------
@@ -206,4 +208,4 @@ TEST(Rgb, ArithmeticAndPrinting) {
 }
 
 }  // namespace
-}  // namespace skin
+}  // namespace skin::util

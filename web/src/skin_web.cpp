@@ -37,6 +37,11 @@
 
 namespace skin::web {
 
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::read_csv_file;
+
+
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
 

@@ -4,7 +4,7 @@
 // (each set is computed by the same library function; threads share only the transport models'
 // read-only tables). Used by `skin batch` and by the Python package's array calls. The thread
 // pool (TBB) stays private: this header exposes standard types only. A cancellation request
-// (skin/util/cancel.hpp) ends a call between sets by throwing skin::Cancelled.
+// (skin/util/cancel.hpp) ends a call between sets by throwing skin::util::Cancelled.
 #include <span>
 #include <vector>
 

@@ -46,7 +46,7 @@ struct Sets {
 
 // One column per parameter key or symbol (a repeated parameter is an InputError). The sets refer
 // to `table`, which must outlive them.
-Sets sets_from_table(const Table& table, const physics::SkinParameters& base);
+Sets sets_from_table(const util::Table& table, const physics::SkinParameters& base);
 // The grid of the sweeps, row-major (the last varies fastest); at most 1e12 sets; a parameter
 // swept twice is an InputError. The sets refer to `sweeps`, which must outlive them.
 Sets sets_from_sweeps(const std::vector<Sweep>& sweeps, const physics::SkinParameters& base);

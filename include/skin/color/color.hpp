@@ -18,7 +18,7 @@ namespace skin::color {
 struct Xyz {
   double X = 0, Y = 0, Z = 0;
 };
-using Rgb = skin::Rgb;  // linear sRGB unless a name says otherwise
+using Rgb = skin::util::Rgb;  // linear sRGB unless a name says otherwise
 struct Lab {
   double L = 0, a = 0, b = 0;
 };

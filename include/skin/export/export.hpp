@@ -95,7 +95,7 @@ struct FitReport {
   Unit unit = Unit::mm;
   bool representable = true;     // false where the target's model cannot reach our skin
   std::vector<std::string> notes;
-  Rgb R_d_ours, R_d_target;      // diffuse reflectance (colour) under uniform white light
+  util::Rgb R_d_ours, R_d_target;      // diffuse reflectance (colour) under uniform white light
   double delta_e_2000 = 0;       // between the two colours (D65, CIEDE2000)
   std::array<double, 3> profile_l1{};         // int |2 pi r (R_t - R_o)| dr / int 2 pi r R_o dr
   std::array<double, 3> mean_radius_mm{};     // ours
@@ -133,7 +133,7 @@ Export export_prepared(std::string_view target, const Prepared& ours, const Opti
 // parameter maps.
 Export export_skin(std::string_view target, const physics::SkinParameters& parameters,
                    const transport::Model& model, const Options& options,
-                   const ParameterMapsInput* maps = nullptr, const ProgressCallback& progress = {});
+                   const ParameterMapsInput* maps = nullptr, const util::ProgressCallback& progress = {});
 
 // The fit report's numbers as the files write them (6 significant digits), and its errors
 // (colour differences, relative errors: rounded to 1e-6 absolutely, their noise around zero has

@@ -102,7 +102,7 @@ class TextureFitter {
   TextureFitter& operator=(TextureFitter&&) noexcept;
   void prepare() const;  // builds the table (otherwise the first fit does)
   // progress(distinct colours done, distinct colours) after each batch (may be empty).
-  ParameterMaps fit(const Image& linear_srgb, const ProgressCallback& progress = {}) const;
+  ParameterMaps fit(const Image& linear_srgb, const util::ProgressCallback& progress = {}) const;
   // One colour through the texture path (interpolated table), for tests.
   ColorFitResult fit_color(const color::Rgb& srgb_linear) const;
   // The interpolated model colour for a parameter set (for tests against ColorFitter::lab).

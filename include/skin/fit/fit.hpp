@@ -94,7 +94,7 @@ struct MeasuredSpectrum {
 };
 std::ostream& operator<<(std::ostream& os, const MeasuredSpectrum& m);
 
-// Reads a spectrum from a CSV file (skin::read_csv_file): the first column is the wavelength in
+// Reads a spectrum from a CSV file (skin::util::read_csv_file): the first column is the wavelength in
 // nm; the reflectance is `column` if given, else the second column, and the file must then have
 // exactly two columns. Rows whose reflectance is empty (NaN) are skipped. Validated with
 // validate_spectrum. Throws InputError naming the file and the problem.

@@ -53,11 +53,11 @@ SkinSpectrum skin_spectrum(const physics::SkinParameters& p, const physics::Wave
 transport::SpectralProfile skin_spectral_profile(const physics::SkinParameters& p, const physics::WavelengthGrid& grid,
                                       transport::ProfileSolver& profiles,
                                       const transport::Model& model = transport::default_model(),
-                                      const ProgressCallback& progress = {});
+                                      const util::ProgressCallback& progress = {});
 transport::RgbProfile skin_rgb_profile(const physics::SkinParameters& p, const physics::WavelengthGrid& grid,
                             transport::ProfileSolver& profiles,
                             const transport::Model& model = transport::default_model(),
-                            const ProgressCallback& progress = {});
+                            const util::ProgressCallback& progress = {});
 
 // The spectrum and the RGB profile of one skin together, as skin_spectrum and skin_rgb_profile
 // give them (the same numbers): the profile's radial responses give R_d too (a response's total

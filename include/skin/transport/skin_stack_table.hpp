@@ -53,7 +53,7 @@ struct SkinStackTable {
   static SkinStackTable default_nodes();
   // Computes every node with FrequencyStack (parallel over nodes; cancellable: throws Cancelled).
   // progress(done, total) is called after each node, from worker threads, one call at a time.
-  void compute(const ProgressCallback& progress = {});
+  void compute(const util::ProgressCallback& progress = {});
   std::string to_csv() const;
   // Throws InputError naming `source` for a malformed table.
   static SkinStackTable parse(std::string_view text, std::string_view source);

@@ -31,7 +31,7 @@
 
 int main() {
   std::string parts = "util physics transport color model";
-  const skin::Table t = skin::parse_csv("a,b\n1,2\n", "t.csv");
+  const skin::util::Table t = skin::util::parse_csv("a,b\n1,2\n", "t.csv");
   const skin::physics::WavelengthGrid grid(550, 550, 1);
   const skin::model::SkinSpectrum s = skin::model::skin_spectrum(skin::physics::find_preset("caucasian").parameters, grid,
                                                    skin::transport::default_model());
@@ -60,7 +60,7 @@ int main() {
   try {
     skin::render::Scene::parse("not json", ".", "scene.json");
     return 1;
-  } catch (const skin::InputError&) {
+  } catch (const skin::util::InputError&) {
     parts += " render";
   }
 #endif
