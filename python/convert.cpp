@@ -9,9 +9,7 @@ using skin::util::format_number;
 using skin::util::one_line;
 using skin::util::require_positive;
 
-
 using skin::physics::Layer;
-
 
 Layer layer_from_entries(const std::vector<std::pair<std::string, std::optional<double>>>& entries,
                          std::size_t index) {

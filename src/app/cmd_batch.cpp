@@ -29,14 +29,11 @@ using skin::util::format_number;
 using skin::util::read_csv_file;
 using skin::util::require_non_negative;
 
-
 using skin::transport::RadialGrid;
-
 
 using skin::physics::ParameterInfo;
 using skin::physics::SkinParameters;
 using skin::physics::WavelengthGrid;
-
 
 namespace {
 

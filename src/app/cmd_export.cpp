@@ -15,9 +15,7 @@ namespace skin::cli {
 
 using skin::util::InputError;
 
-
 using skin::physics::SkinParameters;
-
 
 namespace {
 

@@ -21,9 +21,7 @@ namespace skin::cli {
 using skin::util::InputError;
 using skin::util::ProgressCallback;
 
-
 using skin::physics::WavelengthGrid;
-
 
 namespace {
 

@@ -29,10 +29,8 @@ using skin::util::InputError;
 using skin::util::format_number;
 using skin::util::require_in_range;
 
-
 using skin::physics::LayerStack;
 using skin::physics::skin_layer_stack;
-
 
 namespace {
 

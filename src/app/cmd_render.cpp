@@ -19,7 +19,6 @@ namespace skin::cli {
 using skin::util::InputError;
 using skin::util::format_number;
 
-
 using skin::physics::SkinParameters;
 
 namespace {

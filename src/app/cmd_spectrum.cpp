@@ -10,10 +10,8 @@ using skin::model::color_under;
 using skin::model::skin_spectrum;
 using skin::model::skin_validity;
 
-
 using skin::physics::SkinParameters;
 using skin::physics::WavelengthGrid;
-
 
 namespace {
 // Totals only: the model's validity for them (the multipole in a layer thinner than z_r).

@@ -25,7 +25,6 @@ using skin::util::estimate_work;
 using skin::util::format_number;
 using skin::util::require_positive;
 
-
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::ParameterInfo;
@@ -34,7 +33,6 @@ using skin::physics::Spectrum;
 using skin::physics::find_preset;
 using skin::physics::parameter_table;
 using skin::physics::presets;
-
 
 namespace {
 std::vector<std::pair<int, Registrar>>& registrations() {

@@ -15,7 +15,6 @@ namespace skin::plot {
 
 using skin::util::InputError;
 
-
 namespace {
 
 struct Axis {

@@ -13,7 +13,6 @@ namespace skin::cli {
 
 using skin::util::ProgressCallback;
 
-
 namespace {
 
 using Clock = std::chrono::steady_clock;

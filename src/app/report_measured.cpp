@@ -16,7 +16,6 @@ namespace skin::cli {
 
 using skin::util::InputError;
 
-
 using fit::extended_parameters;
 using fit::FitResult;
 using fit::get;

@@ -17,7 +17,6 @@ namespace skin::cli {
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 
-
 using mc::CaseResult;
 using mc::ValidationRun;
 

@@ -12,10 +12,8 @@ namespace skin::batch {
 
 using skin::util::InputError;
 
-
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
-
 
 using skin::model::SkinSpectrum;
 using skin::model::skin_rgb_profile;
@@ -23,10 +21,8 @@ using skin::model::skin_spectral_profile;
 using skin::model::skin_spectrum;
 using skin::model::skin_validity;
 
-
 using skin::physics::SkinParameters;
 using skin::physics::WavelengthGrid;
-
 
 namespace {
 

@@ -14,11 +14,9 @@ namespace skin::batch {
 using skin::util::InputError;
 using skin::util::Table;
 
-
 using skin::physics::ParameterNames;
 using skin::physics::SkinParameters;
 using skin::physics::parameter_info;
-
 
 namespace {
 

@@ -15,11 +15,9 @@ using skin::util::InputError;
 using skin::util::Rgb;
 using skin::util::Table;
 
-
 using skin::physics::Spectrum;
 using skin::physics::TabulatedFunction;
 using skin::physics::WavelengthGrid;
-
 
 std::ostream& operator<<(std::ostream& os, const Xyz& c) {
   return os << "XYZ(" << c.X << ", " << c.Y << ", " << c.Z << ')';

@@ -13,11 +13,9 @@ namespace skin::color {
 using skin::util::InputError;
 using skin::util::Table;
 
-
 using skin::physics::Spectrum;
 using skin::physics::TabulatedFunction;
 using skin::physics::WavelengthGrid;
-
 
 double illuminant_a(double l) {
   constexpr double c2 = 1.435e7, T = 2848.0;  // [nm K], [K]

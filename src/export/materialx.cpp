@@ -12,9 +12,7 @@ namespace skin::exporting::detail {
 
 using skin::util::Rgb;
 
-
 using skin::physics::SkinParameters;
-
 
 namespace {
 

@@ -9,12 +9,10 @@ namespace skin::exporting::detail {
 
 using skin::model::skin_layer_stacks;
 
-
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::SkinParameters;
 using skin::physics::WavelengthGrid;
-
 
 namespace {
 

@@ -16,16 +16,13 @@ using skin::transport::RadialResponse;
 using skin::transport::RgbProfile;
 using skin::transport::SpectralProfile;
 
-
 using skin::model::skin_layer_stacks;
 using skin::model::skin_spectral_profile;
-
 
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::SkinParameters;
 using skin::physics::WavelengthGrid;
-
 
 namespace {
 

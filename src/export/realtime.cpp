@@ -11,7 +11,6 @@ namespace skin::exporting::detail {
 
 using skin::util::Rgb;
 
-
 namespace {
 
 Export write(const Context& ctx) {

@@ -13,9 +13,7 @@ namespace skin::exporting {
 
 using skin::util::Rgb;
 
-
 using skin::physics::SkinParameters;
-
 
 namespace detail {
 

@@ -23,9 +23,7 @@ using skin::util::format_number;
 using skin::util::require_in_range;
 using skin::util::require_non_negative;
 
-
 using skin::physics::SkinParameters;
-
 
 std::ostream& operator<<(std::ostream& os, const ColorFitResult& r) {
   return os << "ColorFitResult{C_m=" << r.parameters.melanin << ", beta_m=" << r.parameters.melanin_blend

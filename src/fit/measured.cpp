@@ -17,7 +17,6 @@ namespace skin::fit {
 
 using skin::util::InputError;
 
-
 const std::vector<Parameter>& extended_parameters() {
   static const std::vector<Parameter> v = {
       Parameter::epidermal_hemoglobin, Parameter::beta_carotene, Parameter::bilirubin,

@@ -16,12 +16,10 @@ using skin::util::Table;
 using skin::util::format_number;
 using skin::util::read_csv_file;
 
-
 using skin::physics::ParameterInfo;
 using skin::physics::SkinParameters;
 using skin::physics::find_parameter;
 using skin::physics::parameter_table;
-
 
 Parameter Parameter::of(const ParameterInfo& row) {
   if (!row.fittable()) {

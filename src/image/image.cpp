@@ -38,7 +38,6 @@ using skin::util::InputError;
 using skin::util::Rgb;
 using skin::util::require_finite;
 
-
 Rgb Image::mean(int x0, int y0, int x1, int y1) const {
   Rgb s;
   int n = 0;

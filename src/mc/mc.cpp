@@ -28,12 +28,10 @@ using skin::util::WorkEstimate;
 using skin::util::estimate_work;
 using skin::util::require_positive;
 
-
 using skin::physics::FresnelResult;
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::fresnel;
-
 
 namespace {
 // Boost.Random's engine interface over the batch generator, for its ziggurat. Boost takes the

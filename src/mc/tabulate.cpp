@@ -12,10 +12,8 @@ namespace skin::mc {
 using skin::util::InputError;
 using skin::util::format_number;
 
-
 using skin::physics::Layer;
 using skin::physics::LayerStack;
-
 
 RandomWalkOptions RandomWalkOptions::defaults() {
   RandomWalkOptions o;

@@ -21,10 +21,8 @@ namespace skin::mc {
 using skin::util::InputError;
 using skin::util::splitmix64;
 
-
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
-
 
 using skin::physics::Layer;
 using skin::physics::LayerStack;
@@ -34,7 +32,6 @@ using skin::physics::find_preset;
 using skin::physics::kInfinity;
 using skin::physics::sample_skin_domain;
 using skin::physics::skin_layer_stack;
-
 
 namespace {
 

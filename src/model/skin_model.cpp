@@ -10,7 +10,6 @@ namespace skin::model {
 
 using skin::util::ProgressCallback;
 
-
 using skin::transport::DiffusionStack;
 using skin::transport::Model;
 using skin::transport::ProfileSolver;
@@ -18,13 +17,11 @@ using skin::transport::RadialResponse;
 using skin::transport::RgbProfile;
 using skin::transport::SpectralProfile;
 
-
 using skin::physics::LayerStack;
 using skin::physics::SkinParameters;
 using skin::physics::Spectrum;
 using skin::physics::WavelengthGrid;
 using skin::physics::skin_layer_stack;
-
 
 std::vector<LayerStack> skin_layer_stacks(const SkinParameters& p, const WavelengthGrid& grid) {
   p.validate();

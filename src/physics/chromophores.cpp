@@ -10,7 +10,6 @@ namespace skin::physics::chromophores {
 
 using skin::util::Table;
 
-
 namespace {
 const TabulatedFunction& hb_table(int column) {
   static const TabulatedFunction oxy = [] {

@@ -14,7 +14,6 @@ using skin::util::require_in_range;
 using skin::util::require_non_negative;
 using skin::util::require_positive;
 
-
 void LayerStack::validate() const {
   if (layers.empty()) throw InputError("layer stack is empty: give at least one --layer");
   require_in_range("eta_above", eta_above, 1.0, 3.0);

@@ -12,7 +12,6 @@ using skin::util::InputError;
 using skin::util::format_number;
 using skin::util::require_positive;
 
-
 WavelengthGrid::WavelengthGrid(double lambda_min, double lambda_max, double step)
     : lambda_min_(lambda_min), lambda_max_(lambda_max), step_(step) {
   require_positive("lambda_min", lambda_min, "nm");

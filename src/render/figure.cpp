@@ -28,7 +28,6 @@ namespace skin::render {
 using skin::util::InputError;
 using skin::util::Rgb;
 
-
 using skin::physics::SkinParameters;
 using skin::physics::find_preset;
 

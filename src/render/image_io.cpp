@@ -11,7 +11,6 @@ namespace skin::render {
 
 using skin::util::InputError;
 
-
 std::shared_ptr<Texture> load_texture(const std::string& path, bool srgb) {
   image::Image img = image::read_image(path, srgb);
   if (img.width <= 0 || img.height <= 0) throw InputError("image = '" + path + "': empty image");

@@ -19,16 +19,13 @@ namespace skin::render {
 
 using skin::util::InputError;
 
-
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
 using skin::transport::SpectralProfile;
 
-
 using skin::model::SkinProfiles;
 using skin::model::skin_profiles;
 using skin::model::skin_spectrum;
-
 
 using skin::physics::LayerStack;
 using skin::physics::SkinParameters;

@@ -21,7 +21,6 @@ namespace skin::render {
 using skin::util::InputError;
 using skin::util::format_number;
 
-
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::ParameterInfo;
@@ -32,7 +31,6 @@ using skin::physics::find_preset;
 using skin::physics::kInfinity;
 using skin::physics::parameter_info;
 using skin::physics::parameter_table;
-
 
 using json = nlohmann::json;
 

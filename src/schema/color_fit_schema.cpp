@@ -9,7 +9,6 @@ namespace skin::schema {
 using skin::physics::ParameterInfo;
 using skin::physics::parameter_table;
 
-
 Result color_fit_result(const fit::ColorFitResult& r, const color::ColorSummary& in,
                         const color::ColorSummary& out, double melanin_blend_prior,
                         double melanin_blend_weight) {

@@ -7,9 +7,7 @@ namespace skin::schema {
 
 using skin::util::Rgb;
 
-
 using skin::physics::SkinParameters;
-
 
 json fit_report_document(const exporting::FitReport& r, const SkinParameters& p, std::string_view solver,
                          const std::vector<std::string>& files) {

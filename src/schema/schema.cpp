@@ -16,16 +16,13 @@ using skin::util::InputError;
 using skin::util::Rgb;
 using skin::util::format_number;
 
-
 using skin::transport::DiffusionSlab;
 using skin::transport::DiffusionStack;
 using skin::transport::RadialGrid;
 using skin::transport::RgbProfile;
 using skin::transport::SpectralProfile;
 
-
 using skin::model::SkinSpectrum;
-
 
 using skin::physics::Layer;
 using skin::physics::LayerStack;
@@ -37,7 +34,6 @@ using skin::physics::find_preset;
 using skin::physics::outside_skin_domain;
 using skin::physics::parameter_table;
 using skin::physics::presets;
-
 
 Column constant_column(std::string name, double value, std::size_t rows) {
   return Column{std::move(name), std::vector<double>(std::max<std::size_t>(rows, 1), value), {}};

@@ -10,7 +10,6 @@ namespace skin::transport::accurate {
 
 using skin::physics::LayerStack;
 
-
 AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     : AccurateStack(stack, options, Cache()) {}
 

@@ -12,9 +12,7 @@ namespace skin::transport {
 
 using skin::util::format_number;
 
-
 using skin::physics::fresnel_dielectric;
-
 
 double F_dr(double eta) {
   if (std::abs(eta - 1.0) < 1e-12) return 0.0;  // matched boundary: no internal reflection

@@ -18,11 +18,9 @@ namespace skin::transport {
 
 using skin::util::InputError;
 
-
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::fresnel_dielectric;
-
 
 std::ostream& operator<<(std::ostream& os, const Totals& t) {
   return os << "Totals{R_specular=" << t.R_specular << ", R_d=" << t.R_d << ", T_d=" << t.T_d

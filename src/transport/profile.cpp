@@ -20,11 +20,9 @@ using skin::util::lagrange4_weights;
 using skin::util::require_non_negative;
 using skin::util::require_positive;
 
-
 using skin::physics::ChannelWeights;
 using skin::physics::Spectrum;
 using skin::physics::WavelengthGrid;
-
 
 namespace {
 void require_radius_in_range(const char* name, double r) {

@@ -23,7 +23,6 @@ using skin::util::locate;
 using skin::util::metadata_numbers;
 using skin::util::parse_csv;
 
-
 namespace {
 
 // Node index and weight of alpha, interpolating in log(1 - alpha).

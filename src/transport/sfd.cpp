@@ -40,12 +40,10 @@ using skin::util::QuadratureRule;
 using skin::util::gauss_legendre;
 using skin::util::lagrange_weights;
 
-
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::fresnel_dielectric;
 using skin::physics::kInfinity;
-
 
 namespace detail {
 

@@ -32,11 +32,9 @@ using skin::util::metadata_number;
 using skin::util::metadata_numbers;
 using skin::util::parse_csv;
 
-
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::kInfinity;
-
 
 namespace {
 

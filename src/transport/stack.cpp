@@ -6,7 +6,6 @@ namespace skin::transport {
 
 using skin::physics::LayerStack;
 
-
 std::ostream& operator<<(std::ostream& os, const Transfer& t) {
   return os << "Transfer{R_down=" << t.R_down << ", T_down=" << t.T_down << ", R_up=" << t.R_up
             << ", T_up=" << t.T_up << '}';

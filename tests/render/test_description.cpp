@@ -15,7 +15,6 @@ namespace skin::render {
 
 using skin::util::InputError;
 
-
 using skin::physics::SkinParameters;
 using skin::physics::find_preset;
 

@@ -24,7 +24,6 @@ namespace skin::render {
 
 using skin::util::InputError;
 
-
 using skin::physics::SkinParameters;
 
 namespace {

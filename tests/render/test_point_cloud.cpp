@@ -18,9 +18,7 @@ namespace skin::render {
 using skin::util::InputError;
 using skin::util::Pcg32;
 
-
 using skin::model::skin_spectrum;
-
 
 using skin::physics::SkinParameters;
 using skin::physics::find_preset;

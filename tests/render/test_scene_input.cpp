@@ -19,7 +19,6 @@ namespace skin::render {
 
 using skin::transport::DiffusionStack;
 
-
 using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::kInfinity;

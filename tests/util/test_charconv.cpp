@@ -15,7 +15,6 @@
 
 namespace skin::util {
 
-
 namespace {
 
 std::string std_shortest(double v) {

@@ -41,10 +41,8 @@ using skin::util::InputError;
 using skin::util::Table;
 using skin::util::read_csv_file;
 
-
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
-
 
 using skin::model::SkinAppearance;
 using skin::model::SkinSpectrum;
@@ -55,7 +53,6 @@ using skin::model::skin_rgb_profile;
 using skin::model::skin_spectral_profile;
 using skin::model::skin_spectrum;
 using skin::model::skin_validity;
-
 
 using skin::physics::ParameterInfo;
 using skin::physics::SkinParameters;
