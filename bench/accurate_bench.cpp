@@ -9,6 +9,15 @@
 #include "skin/transport/model.hpp"
 
 using namespace skin;
+using skin::transport::DiffusionStack;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::transport::RadialResponse;
+using skin::model::skin_diffusion_stacks;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::skin_layer_stack;
 
 namespace {
 const SkinParameters& params(int preset) {
@@ -24,12 +33,12 @@ const char* label(int preset) { return preset == 0 ? "caucasian" : "african"; }
 static void BM_AccurateRdSpectrum(benchmark::State& state) {
   const WavelengthGrid grid;
   const auto& p = params(static_cast<int>(state.range(0)));
-  const accurate::Options o{static_cast<int>(state.range(1))};
-  const accurate::Cache cache;  // warm after the first iteration, as in the registry's model
+  const transport::accurate::Options o{static_cast<int>(state.range(1))};
+  const transport::accurate::Cache cache;  // warm after the first iteration, as in the registry's model
   for (auto _ : state) {
     double sum = 0;
     for (std::size_t i = 0; i < grid.size(); ++i)
-      sum += accurate::adding_doubling(skin_layer_stack(p, grid[i]), o, cache).R_d;
+      sum += transport::accurate::adding_doubling(skin_layer_stack(p, grid[i]), o, cache).R_d;
     benchmark::DoNotOptimize(sum);
   }
   state.SetLabel(label(static_cast<int>(state.range(0))));
@@ -48,10 +57,10 @@ static void BM_AccurateRdSpectrumColdTables(benchmark::State& state) {
   const WavelengthGrid grid;
   const auto& p = params(static_cast<int>(state.range(0)));
   for (auto _ : state) {
-    const accurate::Cache cache;
+    const transport::accurate::Cache cache;
     double sum = 0;
     for (std::size_t i = 0; i < grid.size(); ++i)
-      sum += accurate::adding_doubling(skin_layer_stack(p, grid[i]), {}, cache).R_d;
+      sum += transport::accurate::adding_doubling(skin_layer_stack(p, grid[i]), {}, cache).R_d;
     benchmark::DoNotOptimize(sum);
   }
   state.SetLabel(label(static_cast<int>(state.range(0))));
@@ -148,7 +157,7 @@ BENCHMARK(BM_MultipoleRgbProfile)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)
 // thread only.
 static void BM_FrequencyStack(benchmark::State& state) {
   const auto stack = skin_layer_stack(params(static_cast<int>(state.range(0))), 550);
-  for (auto _ : state) benchmark::DoNotOptimize(accurate::FrequencyStack(stack).total());
+  for (auto _ : state) benchmark::DoNotOptimize(transport::accurate::FrequencyStack(stack).total());
   state.SetLabel(label(static_cast<int>(state.range(0))));
 }
 BENCHMARK(BM_FrequencyStack)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(2)->UseRealTime();

@@ -3,5 +3,5 @@
 #include "skin/util/allocator.hpp"
 
 namespace {
-const bool kKept = (skin::keep_matrix_memory(), true);
+const bool kKept = (skin::util::keep_matrix_memory(), true);
 }  // namespace

@@ -7,6 +7,11 @@
 #include "skin/batch/batch.hpp"
 
 using namespace skin;
+using skin::transport::RadialGrid;
+using skin::model::skin_spectrum;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
 
 namespace {
 std::vector<SkinParameters> sets(std::size_t n) {
@@ -17,7 +22,7 @@ std::vector<SkinParameters> sets(std::size_t n) {
   }
   return out;
 }
-const transport::Model& model(std::int64_t which) {
+const transport::Model& transport_model(std::int64_t which) {
   return transport::find_model(which == 0 ? "accurate" : "multipole");
 }
 }  // namespace
@@ -26,7 +31,7 @@ const transport::Model& model(std::int64_t which) {
 static void BM_SingleCalls(benchmark::State& state) {
   const auto s = sets(1000);
   const WavelengthGrid grid;
-  const transport::Model& m = model(state.range(0));
+  const transport::Model& m = transport_model(state.range(0));
   for (auto _ : state)
     for (const auto& p : s) benchmark::DoNotOptimize(skin_spectrum(p, grid, m));
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(s.size()));
@@ -37,7 +42,7 @@ BENCHMARK(BM_SingleCalls)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRea
 static void BM_BatchSpectra(benchmark::State& state) {
   const auto s = sets(1000);
   const WavelengthGrid grid;
-  const transport::Model& m = model(state.range(0));
+  const transport::Model& m = transport_model(state.range(0));
   const batch::Options options{static_cast<int>(state.range(1))};
   for (auto _ : state) benchmark::DoNotOptimize(batch::spectra(s, grid, m, options));
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(s.size()));
@@ -51,7 +56,7 @@ static void BM_BatchRgbProfiles(benchmark::State& state) {
   const WavelengthGrid grid;
   const RadialGrid radii = RadialGrid::logarithmic(1e-2, 10.0, 64);
   const batch::Options options{static_cast<int>(state.range(1))};
-  for (auto _ : state) benchmark::DoNotOptimize(batch::rgb_profiles(s, grid, radii, model(state.range(0)), options));
+  for (auto _ : state) benchmark::DoNotOptimize(batch::rgb_profiles(s, grid, radii, transport_model(state.range(0)), options));
   state.SetItemsProcessed(state.iterations() * static_cast<std::int64_t>(s.size()));
 }
 BENCHMARK(BM_BatchRgbProfiles)->Args({0, 2})->Args({1, 2})->Unit(benchmark::kMillisecond)->UseRealTime();

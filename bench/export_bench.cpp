@@ -4,6 +4,8 @@
 #include "skin/export/export.hpp"
 
 using namespace skin;
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
 
 static void BM_ExportTarget(benchmark::State& state) {
   const exporting::Target& t = exporting::targets()[static_cast<std::size_t>(state.range(0))];

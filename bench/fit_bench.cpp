@@ -17,6 +17,9 @@
 #include "skin/model/skin_model.hpp"
 
 using namespace skin;
+using skin::model::skin_spectrum;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
 using namespace skin::fit;
 
 namespace {

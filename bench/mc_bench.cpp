@@ -9,7 +9,7 @@
 
 namespace {
 
-void run(benchmark::State& state, const skin::LayerStack& stack, std::uint64_t photons) {
+void run(benchmark::State& state, const skin::physics::LayerStack& stack, std::uint64_t photons) {
   skin::mc::Options o;
   o.photons = photons;
   o.threads = static_cast<int>(state.range(0));
@@ -29,20 +29,20 @@ void run(benchmark::State& state, const skin::LayerStack& stack, std::uint64_t p
 
 // The pale preset of DJ06 Fig. 10 at 650 nm, g = 0.9: long, weakly absorbed paths (the slow case).
 void BM_PalePreset650nm(benchmark::State& state) {
-  run(state, skin::skin_layer_stack(skin::find_preset("pale").parameters, 650.0), 20000);
+  run(state, skin::physics::skin_layer_stack(skin::physics::find_preset("pale").parameters, 650.0), 20000);
 }
 BENCHMARK(BM_PalePreset650nm)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The same at 450 nm: stronger absorption, shorter paths.
 void BM_PalePreset450nm(benchmark::State& state) {
-  run(state, skin::skin_layer_stack(skin::find_preset("pale").parameters, 450.0), 50000);
+  run(state, skin::physics::skin_layer_stack(skin::physics::find_preset("pale").parameters, 450.0), 50000);
 }
 BENCHMARK(BM_PalePreset450nm)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The MCML paper's matched slab (mu_a = 10/cm, mu_s = 90/cm, g = 0.75, d = 0.02 cm).
 void BM_MatchedSlab(benchmark::State& state) {
-  skin::LayerStack s;
-  s.layers = {skin::Layer{1.0, 2.25, 0.2, 1.0, 0.75}};
+  skin::physics::LayerStack s;
+  s.layers = {skin::physics::Layer{1.0, 2.25, 0.2, 1.0, 0.75}};
   run(state, s, 200000);
 }
 BENCHMARK(BM_MatchedSlab)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -23,7 +23,7 @@ constexpr int kBatch = 1024;
 // The caucasian preset's material (profiles, specular albedo), built once.
 const TranslucentMaterial& caucasian() {
   static const TranslucentMaterial m = [] {
-    MaterialDescription d = skin_description(skin::find_preset("caucasian").parameters);
+    MaterialDescription d = skin_description(skin::physics::find_preset("caucasian").parameters);
     d.name = "caucasian";
     return build_translucent(d);
   }();

@@ -6,6 +6,15 @@
 #include "skin/model/skin_model.hpp"
 
 using namespace skin;
+using skin::transport::DiffusionStack;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::model::skin_diffusion_stacks;
+using skin::model::skin_spectrum;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::skin_layer_stack;
 
 namespace {
 const SkinParameters& params() {

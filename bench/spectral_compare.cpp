@@ -32,6 +32,11 @@
 
 namespace {
 using namespace skin;  // NOLINT(google-build-using-namespace)
+using skin::util::Rgb;
+using skin::model::skin_spectrum;
+using skin::physics::WavelengthGrid;
+using skin::physics::presets;
+using skin::physics::paper_presets;
 
 // The film's white: the D65 white in linear sRGB that renders divide by.
 color::Lab lab_of(const Rgb& rgb, const color::Colorimetry& cm) {

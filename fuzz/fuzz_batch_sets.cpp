@@ -1,4 +1,4 @@
-// The inputs of `skin batch`: the --sets CSV (skin::parse_csv, then skin::batch::sets_from_table
+// The inputs of `skin batch`: the --sets CSV (skin::util::parse_csv, then skin::batch::sets_from_table
 // and validation of its sets), and every line of the input also as a --sweep and a --rows value
 // (skin::batch::parse_sweep, parse_rows).
 // Invariants: a table's sets take the table's values (NaN keeps the base); a sweep's values run
@@ -12,6 +12,10 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace skin;
+  using skin::util::Table;
+  using skin::util::parse_csv;
+  using skin::physics::SkinParameters;
+  using skin::physics::find_preset;
   const std::string_view input = fuzz::text(data, size);
   const SkinParameters base = find_preset("caucasian").parameters;
   Table table;

@@ -11,7 +11,7 @@
 
 namespace {
 
-std::string reprint(const skin::Layer& l) {
+std::string reprint(const skin::physics::Layer& l) {
   std::string spec;
   const skin::cli::json j = skin::cli::to_json(l);  // items() refers to it: kept alive here
   for (const auto& [key, value] : j.items()) {
@@ -27,6 +27,8 @@ std::string reprint(const skin::Layer& l) {
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace skin;
+  using skin::physics::LayerStack;
+  using skin::physics::to_string;
   std::vector<std::string> specs;
   std::string line;
   for (char c : fuzz::text(data, size)) {

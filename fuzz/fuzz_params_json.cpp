@@ -9,6 +9,9 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace skin;
+  using skin::physics::ParameterInfo;
+  using skin::physics::SkinParameters;
+  using skin::physics::parameter_table;
   static fuzz::InputFile input("json");
   const std::string& path = input.write(data, size);
   cli::ParameterFile file;

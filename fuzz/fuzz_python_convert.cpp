@@ -46,6 +46,8 @@ bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace skin;
+  using skin::physics::Layer;
+  using skin::physics::LayerStack;
   const std::vector<std::string> lines = split(std::string(fuzz::text(data, size)), '\n');
   LayerStack stack;
   for (const std::string& line : lines) {

@@ -1,5 +1,5 @@
 // Measured spectra (skin fit --spectrum FILE.csv [--column NAME], the measured-spectra report):
-// the CSV reader (skin::parse_csv) and the spectrum readers of the fit (skin::fit::read_spectrum
+// the CSV reader (skin::util::parse_csv) and the spectrum readers of the fit (skin::fit::read_spectrum
 // with and without a column, read_spectra) on the same file.
 #include "fuzz_support.hpp"
 #include "skin/fit/fit.hpp"
@@ -7,6 +7,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace skin;
+  using skin::util::Table;
+  using skin::util::parse_csv;
   static fuzz::InputFile input("csv");
   const std::string& path = input.write(data, size);
   Table table;

@@ -1,7 +1,7 @@
 #pragma once
 // Shared pieces of the libFuzzer harnesses (fuzz/README.md).
 // A harness feeds the fuzzer's bytes to the project's own reading code. The contract it checks:
-// any input either parses or throws skin::InputError (one line for the user, exit 2 in the CLI);
+// any input either parses or throws skin::util::InputError (one line for the user, exit 2 in the CLI);
 // every other exception, a crash, a hang, an out-of-memory or a sanitizer report is a finding.
 #include <unistd.h>
 
@@ -38,7 +38,7 @@ bool accepts(F&& parse) {
   try {
     parse();
     return true;
-  } catch (const InputError& e) {
+  } catch (const util::InputError& e) {
     const std::string_view m = e.what();
     bool control = false;
     for (const char c : m) control = control || static_cast<unsigned char>(c) < 0x20;

@@ -4,6 +4,13 @@
 
 namespace skin::python {
 
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::one_line;
+using skin::util::require_positive;
+
+using skin::physics::Layer;
+
 Layer layer_from_entries(const std::vector<std::pair<std::string, std::optional<double>>>& entries,
                          std::size_t index) {
   const std::string where = "layer " + std::to_string(index + 1);

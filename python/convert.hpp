@@ -18,7 +18,7 @@ inline constexpr std::string_view kLayerKeys = "keys: sigma_a, sigma_s_prime, th
 // None), as `skin layers --layer` reads one: sigma_a and sigma_s_prime are required, None is
 // allowed for the thickness only (semi-infinite), an unknown key is refused. InputError names the
 // layer ("layer 1: sigma_s_prime is missing: ...").
-Layer layer_from_entries(const std::vector<std::pair<std::string, std::optional<double>>>& entries,
+physics::Layer layer_from_entries(const std::vector<std::pair<std::string, std::optional<double>>>& entries,
                          std::size_t index);
 
 // A texture's linear sRGB values (fit_texture), rows of `width` pixels of 3: each must be in

@@ -50,6 +50,30 @@ using python::Arrays;
 using python::Shape;
 using python::stack_to_python;
 using python::to_python;
+using skin::util::Cancelled;
+using skin::util::InputError;
+using skin::util::WorkEstimate;
+using skin::util::check_memory;
+using skin::util::format_number;
+using skin::util::one_line;
+using skin::util::require_in_range;
+using skin::transport::DiffusionStack;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::model::SkinSpectrum;
+using skin::model::color_under;
+using skin::physics::LayerStack;
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::Spectrum;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::kDefaultPreset;
+using skin::physics::outside_skin_domain;
+using skin::physics::parameter_info;
+using skin::physics::parameter_table;
+using skin::physics::presets;
+using skin::physics::skin_layer_stack;
 
 namespace {
 
@@ -113,7 +137,7 @@ int thread_count(const py::handle& v) { return static_cast<int>(whole_number("th
 
 // Runs work() (C++ only: no Python object is touched) on a worker thread with the GIL released,
 // while the calling thread looks for Python's signals every 50 ms: on a KeyboardInterrupt (Ctrl-C)
-// it requests skin::cancel, which the library's loops poll, waits for the work to end (well
+// it requests skin::util::cancel, which the library's loops poll, waits for the work to end (well
 // within a second) and raises the KeyboardInterrupt. Work cancelled otherwise (another call's
 // interrupt: the flag is the process's) raises KeyboardInterrupt too.
 template <class F>
@@ -130,13 +154,13 @@ auto interruptible(F&& work) -> decltype(work()) {
       py::gil_scoped_acquire locked;
       if (PyErr_CheckSignals() != 0) {
         interrupted = true;
-        cancel::request();
+        util::cancel::request();
       }
     }
     worker.join();
   }
   if (interrupted) {
-    cancel::reset();
+    util::cancel::reset();
     try {
       (void)done.get();  // the work's own end (Cancelled, most likely) gives way to the signal's
     } catch (...) {
@@ -151,7 +175,7 @@ auto interruptible(F&& work) -> decltype(work()) {
   }
 }
 
-// batch(first, count) -> std::vector<R> over [0, n) in chunks of kChunkSets sets, polling skin::cancel
+// batch(first, count) -> std::vector<R> over [0, n) in chunks of kChunkSets sets, polling skin::util::cancel
 // between them: batch's functions prepare all their sets before the first is computed (a second
 // and more for a million sets), which Ctrl-C would have to wait for.
 constexpr std::size_t kChunkSets = 8192;
@@ -160,7 +184,7 @@ auto in_chunks(std::size_t n, F&& batch) -> decltype(batch(std::size_t{0}, std::
   decltype(batch(std::size_t{0}, std::size_t{0})) out;
   out.reserve(n);
   for (std::size_t first = 0; first < n; first += kChunkSets) {
-    cancel::check();
+    util::cancel::check();
     auto part = batch(first, std::min(kChunkSets, n - first));
     std::move(part.begin(), part.end(), std::back_inserter(out));
   }
@@ -393,7 +417,7 @@ PYBIND11_MODULE(_core, m) {
   m.doc() = "Spectral Skin: skin reflectance, profiles and colour from four biophysical "
             "parameters (units: mm, 1/mm, nm). Same names as the C++ API and the `skin` CLI.";
   m.attr("__version__") = SKIN_VERSION;
-  skin::keep_matrix_memory();  // skin/util/allocator.hpp: the frequency-domain profiles, ~1.8x
+  skin::util::keep_matrix_memory();  // skin/util/allocator.hpp: the frequency-domain profiles, ~1.8x
   py::register_exception<InputError>(m, "InputError", PyExc_ValueError);
   const std::string params = parameter_doc();
   const std::string default_solver(transport::kDefaultModel);

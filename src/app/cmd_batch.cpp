@@ -22,6 +22,19 @@
 
 namespace skin::cli {
 
+using skin::util::InputError;
+using skin::util::ProgressCallback;
+using skin::util::Table;
+using skin::util::format_number;
+using skin::util::read_csv_file;
+using skin::util::require_non_negative;
+
+using skin::transport::RadialGrid;
+
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
 namespace {
 
 std::string grid_text(const WavelengthGrid& grid) {
@@ -109,7 +122,7 @@ void register_batch(CLI::App& app) {
         o->rows.empty() ? std::pair<std::size_t, std::size_t>{0, sets.count} : batch::parse_rows(o->rows, sets.count);
     const std::size_t first = range.first, end = range.second;
     sets.validate(first, end);
-    if (const std::string ext = io::extension(o->output); !o->output.empty() && o->output != "-" &&
+    if (const std::string ext = util::io::extension(o->output); !o->output.empty() && o->output != "-" &&
                                                            ext != "csv" && ext != "txt" && !ext.empty())
       throw InputError("output = '" + o->output + "': skin batch writes CSV (.csv or .txt)");
     const WavelengthGrid grid = o->grid.resolve();
@@ -154,9 +167,9 @@ void register_batch(CLI::App& app) {
       }
     };
     if (o->output.empty() || o->output == "-") {
-      write_all([](const std::string& text) { io::write_stdout(text); });
+      write_all([](const std::string& text) { util::io::write_stdout(text); });
     } else {
-      io::write_via_temporary(o->output, [&](const std::string& tmp) {
+      util::io::write_via_temporary(o->output, [&](const std::string& tmp) {
         std::ofstream f(tmp, std::ios::binary);
         if (!f) throw InputError(o->output + ": cannot open for writing");
         write_all([&](const std::string& text) {

@@ -13,6 +13,10 @@
 
 namespace skin::cli {
 
+using skin::util::InputError;
+
+using skin::physics::SkinParameters;
+
 namespace {
 
 // "dir/name.ext" -> "dir/name"
@@ -167,17 +171,17 @@ void register_export(CLI::App& app) {
       const exporting::Export& e = j.e;
       for (const exporting::TextFile& f : e.files)
         if (f.suffix.empty() || !j.in_place)
-          io::write_file_atomic(f.suffix.empty() ? j.main_path : j.stem + f.suffix, f.content);
+          util::io::write_file_atomic(f.suffix.empty() ? j.main_path : j.stem + f.suffix, f.content);
       for (const exporting::ImageFile& f : e.images) {
         if (j.in_place) continue;
         const std::string path = j.stem + f.suffix;
-        if (io::extension(path) == "exr")
+        if (util::io::extension(path) == "exr")
           image::write_exr_planes(path, f.planes, {{"skin_export", e.report.target}},
                                   "export " + e.report.target);
         else
           image::write_image(path, f.rgb);
       }
-      if (!j.in_place) io::write_file_atomic(j.stem + ".fit.json", j.report);
+      if (!j.in_place) util::io::write_file_atomic(j.stem + ".fit.json", j.report);
       // Beside data written to standard output or a pipe the summary goes to standard error.
       std::ostream& out = j.in_place ? std::cerr : std::cout;
       const auto& r = e.report;

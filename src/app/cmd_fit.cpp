@@ -18,6 +18,11 @@
 
 namespace skin::cli {
 
+using skin::util::InputError;
+using skin::util::ProgressCallback;
+
+using skin::physics::WavelengthGrid;
+
 namespace {
 
 struct FitOpts {
@@ -60,7 +65,7 @@ std::vector<std::pair<fit::Parameter, fit::Bounds>> parse_bounds(const std::vect
 std::string fitted_text(const fit::FitResult& r, const std::string& path) {
   std::vector<double> resid(r.fitted.size());
   for (std::size_t i = 0; i < resid.size(); ++i) resid[i] = r.fitted[i] - r.measured[i];
-  if (io::extension(path) == "json") {
+  if (util::io::extension(path) == "json") {
     json j;
     j["wavelength_nm"] = r.wavelength_nm;
     j["measured"] = r.measured;
@@ -68,16 +73,16 @@ std::string fitted_text(const fit::FitResult& r, const std::string& path) {
     j["residual"] = resid;
     return j.dump(2) + "\n";
   }
-  if (io::extension(path) != "csv")
+  if (util::io::extension(path) != "csv")
     throw InputError("fitted = '" + path + "': the extension must be .csv or .json");
   return format_csv({"wavelength_nm", "measured", "R", "residual"}, {r.wavelength_nm, r.measured, r.fitted, resid});
 }
 
 void run_spectrum(const FitOpts& o) {
   // Everything that can fail on input is checked before anything is written.
-  if (!o.plot.empty() && io::extension(o.plot) != "png" && io::extension(o.plot) != "svg")
+  if (!o.plot.empty() && util::io::extension(o.plot) != "png" && util::io::extension(o.plot) != "svg")
     throw InputError("plot = '" + o.plot + "': the extension must be .png or .svg");
-  if (!o.fitted.empty() && io::extension(o.fitted) != "csv" && io::extension(o.fitted) != "json")
+  if (!o.fitted.empty() && util::io::extension(o.fitted) != "csv" && util::io::extension(o.fitted) != "json")
     throw InputError("fitted = '" + o.fitted + "': the extension must be .csv or .json");
   fit::SpectrumFitOptions opt;
   opt.start = o.params.resolve();
@@ -92,7 +97,7 @@ void run_spectrum(const FitOpts& o) {
   const fit::FitResult r = fit::SpectrumFitter(opt).fit(m);
 
   const Result result = schema::spectrum_fit_result(m, r, o.solver.name, o.includes_specular);
-  if (!o.fitted.empty()) io::write_file_atomic(o.fitted, fitted_text(r, o.fitted));
+  if (!o.fitted.empty()) util::io::write_file_atomic(o.fitted, fitted_text(r, o.fitted));
   if (!o.plot.empty()) {
     plot::Figure f;
     char rms[32];
@@ -135,7 +140,7 @@ void run_color(const FitOpts& o) {
 
 void run_texture(const FitOpts& o) {
   if (o.out.output.empty()) throw InputError("texture: give the output parameter maps with -o FILE.exr");
-  if (io::extension(o.out.output) != "exr")
+  if (util::io::extension(o.out.output) != "exr")
     throw InputError("output = '" + o.out.output + "': parameter maps are written as .exr");
   const fit::ColorFitOptions opt = color_fit_options(o);
   const image::Image img = image::read_image(o.texture);

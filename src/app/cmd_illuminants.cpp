@@ -7,6 +7,14 @@
 
 namespace skin::cli {
 
+using skin::util::InputError;
+
+using skin::model::SkinSpectrum;
+using skin::model::skin_spectrum;
+
+using skin::physics::WavelengthGrid;
+using skin::physics::presets;
+
 void register_illuminants(CLI::App& app) {
   struct Opts {
     bool compare = false;

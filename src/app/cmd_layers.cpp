@@ -10,6 +10,14 @@
 
 namespace skin::cli {
 
+using skin::util::require_non_negative;
+
+using skin::transport::DiffusionStack;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+
+using skin::physics::LayerStack;
+
 void register_layers(CLI::App& app) {
   struct Opts {
     StackOptions stack;

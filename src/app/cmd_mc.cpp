@@ -25,6 +25,13 @@
 
 namespace skin::cli {
 
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::require_in_range;
+
+using skin::physics::LayerStack;
+using skin::physics::skin_layer_stack;
+
 namespace {
 
 struct McOptions {
@@ -178,7 +185,7 @@ void register_validate_command(CLI::App& app) {
       const mc::ValidationRun run = run_cases(cases, {"multipole", "accurate"});
       std::ostringstream md;
       write_domain_report(md, run, o->out, o->domain_seed);
-      io::write_file_atomic(o->out + "/README.md", md.str());
+      util::io::write_file_atomic(o->out + "/README.md", md.str());
       std::cout << "wrote " << o->out << "/README.md and 4 maps (" << run.cases.size() << " cases, "
                 << format_number(run.seconds) << " s)\n";
       return;
@@ -212,7 +219,7 @@ void register_validate_command(CLI::App& app) {
 #else
     md << "Not built (the fitting library is needed).\n";
 #endif
-    io::write_file_atomic(o->out + "/README.md", md.str());
+    util::io::write_file_atomic(o->out + "/README.md", md.str());
     std::cout << "wrote " << o->out << "/README.md and " << plots
               << " plots (" << run.cases.size() << " cases, " << format_number(run.seconds)
               << " s)\n";
@@ -244,7 +251,7 @@ void register_random_walk_command(CLI::App& app) {
     o->t.seed = o->run.seed;
     o->t.threads = o->run.threads;
     const transport::RandomWalkTable table = mc::tabulate_random_walk(o->t);
-    io::write_file_atomic(o->out, table.to_csv());
+    util::io::write_file_atomic(o->out, table.to_csv());
     std::cout << "wrote " << o->out << ": " << table << '\n';
   });
 }
@@ -261,10 +268,10 @@ void register_skin_table_command(CLI::App& app) {
       "reads for skin (about 19 min on 2 cores)");
   sub->add_option("-o,--output", o->out, "Output CSV file (written atomically)")->required();
   sub->callback([o] {
-    accurate::SkinStackTable table = accurate::SkinStackTable::default_nodes();
+    transport::accurate::SkinStackTable table = transport::accurate::SkinStackTable::default_nodes();
     table.provenance = "skin tabulate-skin-profiles (FrequencyStack, k0 = 0.02 s)";
     table.compute(progress_bar("nodes"));  // drawn on a terminal only
-    io::write_file_atomic(o->out, table.to_csv());
+    util::io::write_file_atomic(o->out, table.to_csv());
     std::cout << "wrote " << o->out << ": " << table.tau.size() * table.a_e.size() * table.a_d.size()
               << " stacks, " << table.x.size() << " radii each\n";
   });

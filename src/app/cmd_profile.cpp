@@ -7,6 +7,22 @@
 
 namespace skin::cli {
 
+using skin::util::ProgressCallback;
+using skin::util::format_number;
+
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::transport::RgbProfile;
+using skin::transport::SpectralProfile;
+
+using skin::model::skin_profile_solves;
+using skin::model::skin_rgb_profile;
+using skin::model::skin_spectral_profile;
+using skin::model::skin_validity;
+
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
 void register_profile(CLI::App& app) {
   struct Opts {
     ParameterOptions params;

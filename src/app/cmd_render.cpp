@@ -15,6 +15,12 @@
 #include "skin/render/scene.hpp"
 
 namespace skin::cli {
+
+using skin::util::InputError;
+using skin::util::format_number;
+
+using skin::physics::SkinParameters;
+
 namespace {
 
 // The head mesh `skin figure` uses unless --mesh names another: where examples/head.json finds it,
@@ -45,7 +51,7 @@ void parse_resolution(const std::string& s, render::RenderSettings* rs) {
 }
 
 void check_output(const std::string& path) {
-  const std::string ext = io::extension(path);
+  const std::string ext = util::io::extension(path);
   if (ext != "png" && ext != "exr")
     throw InputError("output = '" + path + "': unknown image format, use .png or .exr");
 }
@@ -143,7 +149,7 @@ void run(const RenderOpts& o, const Target& target) {
   // The reference is read before the render: a bad file fails at once.
   std::optional<render::Image> reference;
   if (!o.reference.empty()) {
-    if (io::extension(o.reference) != "exr")
+    if (util::io::extension(o.reference) != "exr")
       throw InputError("reference = '" + o.reference + "': must be an .exr (linear float) image");
     reference = render::read_image(o.reference);
   }

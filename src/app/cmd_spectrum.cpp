@@ -6,6 +6,16 @@
 
 namespace skin::cli {
 
+using skin::model::SkinSpectrum;
+using skin::model::color_under;
+using skin::model::skin_spectrum;
+using skin::model::skin_validity;
+
+using skin::physics::Preset;
+using skin::physics::presets;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
 namespace {
 // Totals only: the model's validity for them (the multipole in a layer thinner than z_r).
 void warn_if_totals_invalid(const SkinParameters& p, const WavelengthGrid& grid,

@@ -19,6 +19,21 @@
 
 namespace skin::cli {
 
+using skin::util::InputError;
+using skin::util::WorkEstimate;
+using skin::util::estimate_work;
+using skin::util::format_number;
+using skin::util::require_positive;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::Spectrum;
+using skin::physics::find_preset;
+using skin::physics::parameter_table;
+using skin::physics::presets;
+
 namespace {
 std::vector<std::pair<int, Registrar>>& registrations() {
   static std::vector<std::pair<int, Registrar>> list;
@@ -277,7 +292,7 @@ void OutputOptions::add_to(CLI::App& app, bool table_allowed) {
 
 std::string OutputOptions::extension_problem(const std::string& path, bool or_own) const {
   if (path.empty() || path == "-") return {};
-  const std::string ext = io::extension(path);
+  const std::string ext = util::io::extension(path);
   if (ext == "json" || ext == "csv" || (ext == "txt" && with_table)) return {};
   if (or_own && std::find(own_extensions.begin(), own_extensions.end(), ext) != own_extensions.end()) return {};
   // A FIFO or device (/dev/null, a pipe) has no format of its own: the default, as on a pipe.
@@ -294,7 +309,7 @@ std::string OutputOptions::extension_problem(const std::string& path, bool or_ow
 Format OutputOptions::resolve() const {
   const bool to_stdout = output.empty() || output == "-";
   std::optional<Format> from_extension;
-  const std::string ext = to_stdout ? "" : io::extension(output);
+  const std::string ext = to_stdout ? "" : util::io::extension(output);
   if (ext == "json") from_extension = Format::json;
   if (ext == "csv") from_extension = Format::csv;
   if (ext == "txt" && with_table) from_extension = Format::table;
@@ -313,8 +328,8 @@ Format OutputOptions::resolve() const {
 }
 
 void OutputOptions::emit(const std::string& text) const {
-  if (output.empty() || output == "-") io::write_stdout(text);
-  else io::write_file_atomic(output, text);
+  if (output.empty() || output == "-") util::io::write_stdout(text);
+  else util::io::write_file_atomic(output, text);
 }
 
 void OutputOptions::write(const Result& result) const {

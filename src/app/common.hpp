@@ -43,20 +43,20 @@ bool stderr_is_terminal();
 // and the paper's symbol as an alias): the preset, then the file, then the flags given after it
 // (a flag given before --params is overridden by the file when the file sets that parameter).
 struct ParameterOptions {
-  std::string preset{kDefaultPreset};
+  std::string preset{physics::kDefaultPreset};
   std::string params_file;
-  SkinParameters values;  // targets of the flags
-  std::vector<std::pair<CLI::Option*, const ParameterInfo*>> flags;
+  physics::SkinParameters values;  // targets of the flags
+  std::vector<std::pair<CLI::Option*, const physics::ParameterInfo*>> flags;
   CLI::App* app = nullptr;
   CLI::Option* preset_option = nullptr;
   CLI::Option* params_option = nullptr;
   void add_to(CLI::App& app);
   // Whether --preset, --params or any parameter flag was given.
   bool given() const;
-  SkinParameters resolve() const;  // preset + file + overrides, validated
+  physics::SkinParameters resolve() const;  // preset + file + overrides, validated
   // The same as a change of any base set, used when --preset is not given (the renderer: each
   // material's own set). The file is read once, here; the change validates what it returns.
-  std::function<SkinParameters(const SkinParameters&)> change() const;
+  std::function<physics::SkinParameters(const physics::SkinParameters&)> change() const;
 };
 
 // Check of a whole-number option (counts, seeds, threads): anything but a whole number within
@@ -64,14 +64,14 @@ struct ParameterOptions {
 // would wrap "-1" around in an unsigned option).
 CLI::Validator whole_number(long long lo, long long hi = std::numeric_limits<long long>::max());
 
-// Checks a request before long or large work starts (skin::estimate_work,
+// Checks a request before long or large work starts (skin::util::estimate_work,
 // skin/util/work_estimate.hpp): refuses it (InputError) when its memory estimate exceeds the
 // machine's physical memory or its time estimate a week (a typo, surely); warns once on stderr
 // with the time estimate when it would take more than an hour (SIGINT or SIGTERM stop it
 // cleanly). `what` names the work ("a render of 16384x16384 pixels"), `units` /
 // `units_per_second_per_thread` give the time estimate for `threads` (0 = all cores); `bytes`
 // the memory.
-void warn_if_long(const WorkEstimate& estimate);
+void warn_if_long(const util::WorkEstimate& estimate);
 void check_request(const std::string& what, double units, double units_per_second_per_thread,
                    int threads, double bytes);
 // Measured rates for those estimates (docs/benchmarks.md; reference machine, one thread):
@@ -102,13 +102,13 @@ struct StackOptions {
   CLI::Option* layer_option = nullptr;
   CLI::Option* add_to(CLI::App& app, const std::string& note = "");
   bool given() const { return !layers.empty(); }
-  LayerStack resolve() const;  // parsed and validated
+  physics::LayerStack resolve() const;  // parsed and validated
 };
 
 struct GridOptions {
   double lambda_min = 400, lambda_max = 700, lambda_step = 2;
   void add_to(CLI::App& app);
-  WavelengthGrid resolve() const { return WavelengthGrid(lambda_min, lambda_max, lambda_step); }
+  physics::WavelengthGrid resolve() const { return physics::WavelengthGrid(lambda_min, lambda_max, lambda_step); }
 };
 
 // --solver NAME: a transport model of the registry (skin/transport/model.hpp, which holds the
@@ -153,17 +153,17 @@ struct OutputOptions {
   // Extensions of -o that the command writes itself, not a Result (skin fit --texture: .exr);
   // set before add_to.
   std::vector<std::string> own_extensions;
-  // Writes the text to the file (see skin::io) or stdout.
+  // Writes the text to the file (see skin::util::io) or stdout.
   void emit(const std::string& text) const;
   // The one result writer: the result in the resolved format, to the file or stdout.
   void write(const Result& result) const;
 };
 
-std::vector<double> to_vector(const Spectrum& s);
+std::vector<double> to_vector(const physics::Spectrum& s);
 
 // Parses "--layer sigma_a=A,sigma_s_prime=S,thickness=D,eta=N,g=G" (thickness missing or "inf"
 // = semi-infinite). Throws InputError naming the option and the problem.
-Layer parse_layer(const std::string& spec, std::size_t index);
+physics::Layer parse_layer(const std::string& spec, std::size_t index);
 
 // Warns on stderr (once per quantity) if a spectrum or profile has negative values: diffusion
 // outside its validity or an unphysical input. Values are never clamped.

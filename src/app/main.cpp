@@ -18,7 +18,7 @@ volatile std::sig_atomic_t received_signal = 0;
 
 extern "C" void on_signal(int sig) {
   received_signal = sig;
-  skin::cancel::request();
+  skin::util::cancel::request();
 }
 
 void install_signal_handlers() {
@@ -49,7 +49,7 @@ extern "C" const char* __lsan_default_suppressions() { return "leak:libfontconfi
 // (a full disk, /dev/full) is an error, exit 2, never a silent success.
 int main(int argc, char** argv) {
   using namespace skin::cli;
-  skin::keep_matrix_memory();
+  skin::util::keep_matrix_memory();
   CLI::App app{
       "Spectral Skin: physically based skin appearance from four biophysical parameters\n"
       "(after Donner & Jensen 2006). Units: lengths in mm, coefficients in 1/mm, wavelengths "
@@ -71,16 +71,16 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
       code = app.exit(e, text);
     }
-    skin::io::write_stdout(text.str());  // (flushes what the command wrote first)
+    skin::util::io::write_stdout(text.str());  // (flushes what the command wrote first)
   } catch (const CLI::ParseError& e) {
     std::cerr << "skin: error: " << e.what() << " (run with --help for the options)\n";
     return 2;
-  } catch (const skin::Cancelled&) {
+  } catch (const skin::util::Cancelled&) {
     const int sig = received_signal;
     std::cerr << "skin: interrupted by " << (sig == SIGTERM ? "SIGTERM" : "SIGINT")
               << ": stopped, no output written\n";
     return 128 + (sig ? sig : SIGINT);
-  } catch (const skin::InputError& e) {
+  } catch (const skin::util::InputError& e) {
     std::cerr << "skin: error: " << e.what() << '\n';
     return 2;
   } catch (const std::exception& e) {

@@ -13,6 +13,8 @@
 
 namespace skin::plot {
 
+using skin::util::InputError;
+
 namespace {
 
 struct Axis {
@@ -199,10 +201,10 @@ namespace {
 // extension), atomically.
 template <class Paint>
 void write(const std::string& path, int width, int height, Paint&& paint) {
-  const std::string ext = io::extension(path);
+  const std::string ext = util::io::extension(path);
   if (ext != "png" && ext != "svg")
     throw InputError("plot = '" + path + "' has an unsupported extension: use .png or .svg");
-  io::write_via_temporary(path, [&](const std::string& tmp) {
+  util::io::write_via_temporary(path, [&](const std::string& tmp) {
     cairo_surface_t* surface =
         ext == "png" ? cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height)
                      : cairo_svg_surface_create(tmp.c_str(), width, height);

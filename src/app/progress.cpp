@@ -11,6 +11,8 @@
 
 namespace skin::cli {
 
+using skin::util::ProgressCallback;
+
 namespace {
 
 using Clock = std::chrono::steady_clock;

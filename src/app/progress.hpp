@@ -1,6 +1,6 @@
 #pragma once
 // The application's one progress bar. Libraries report progress through callbacks
-// (skin::ProgressCallback, skin::render::Progress); the application draws it here.
+// (skin::util::ProgressCallback, skin::render::Progress); the application draws it here.
 #include <functional>
 #include <string>
 
@@ -16,7 +16,7 @@ namespace skin::cli {
 // the callback's creation or, for a new bar, its first call. When stderr is not a terminal the
 // callback is empty (nothing is drawn, and the libraries skip the calls), so logs and pipes get
 // no control characters. The callback may be called from any thread (calls are serialised).
-ProgressCallback progress_bar(const std::string& unit);
+util::ProgressCallback progress_bar(const std::string& unit);
 
 // The same bar for a fraction of the work in [0, 1] (the renderer's progress).
 std::function<void(double fraction)> progress_fraction_bar();

@@ -14,6 +14,8 @@
 
 namespace skin::cli {
 
+using skin::util::InputError;
+
 using fit::extended_parameters;
 using fit::FitResult;
 using fit::get;
@@ -147,7 +149,7 @@ void write_measured_report(const std::vector<MeasuredEntry>& entries,
                            const std::string& solver) {
   std::ostringstream md;
   write_measured_report(md, entries, spectra_dir, out_dir, solver);
-  io::write_file_atomic((std::filesystem::path(out_dir) / "README.md").string(), md.str());
+  util::io::write_file_atomic((std::filesystem::path(out_dir) / "README.md").string(), md.str());
 }
 
 }  // namespace skin::cli

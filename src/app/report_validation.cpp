@@ -14,6 +14,9 @@
 
 namespace skin::cli {
 
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+
 using mc::CaseResult;
 using mc::ValidationRun;
 

@@ -10,6 +10,20 @@
 
 namespace skin::batch {
 
+using skin::util::InputError;
+
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+
+using skin::model::SkinSpectrum;
+using skin::model::skin_rgb_profile;
+using skin::model::skin_spectral_profile;
+using skin::model::skin_spectrum;
+using skin::model::skin_validity;
+
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
 namespace {
 
 // compute(i) for i in [0, n) on `threads` workers (0 = all cores), one set per task: a set
@@ -25,7 +39,7 @@ void for_each_set(std::size_t n, const Options& options, const F& compute) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
                       [&](const tbb::blocked_range<std::size_t>& range) {
                         for (std::size_t i = range.begin(); i != range.end(); ++i) {
-                          cancel::check();
+                          util::cancel::check();
                           compute(i);
                         }
                       });
@@ -35,7 +49,7 @@ void for_each_set(std::size_t n, const Options& options, const F& compute) {
 }  // namespace
 
 std::vector<SkinSpectrum> spectra(std::span<const SkinParameters> sets, const WavelengthGrid& grid,
-                                  const Model& model, const Options& options) {
+                                  const transport::Model& model, const Options& options) {
   for (const SkinParameters& p : sets) p.validate();  // user errors before any work
   std::vector<SkinSpectrum> out(sets.size());
   for_each_set(sets.size(), options, [&](std::size_t i) { out[i] = skin_spectrum(sets[i], grid, model); });
@@ -44,7 +58,7 @@ std::vector<SkinSpectrum> spectra(std::span<const SkinParameters> sets, const Wa
 
 std::vector<RgbProfileResult> rgb_profiles(std::span<const SkinParameters> sets,
                                            const WavelengthGrid& grid, const RadialGrid& radii,
-                                           const Model& model, const Options& options) {
+                                           const transport::Model& model, const Options& options) {
   for (const SkinParameters& p : sets) p.validate();
   std::vector<RgbProfileResult> out(sets.size());
   tbb::enumerable_thread_specific<ProfileSolver> solvers([&] { return ProfileSolver(radii); });
@@ -57,7 +71,7 @@ std::vector<RgbProfileResult> rgb_profiles(std::span<const SkinParameters> sets,
 
 std::vector<SpectralProfileResult> spectral_profiles(std::span<const SkinParameters> sets,
                                                      const WavelengthGrid& grid,
-                                                     const RadialGrid& radii, const Model& model,
+                                                     const RadialGrid& radii, const transport::Model& model,
                                                      const Options& options) {
   for (const SkinParameters& p : sets) p.validate();
   std::vector<SpectralProfileResult> out(sets.size());

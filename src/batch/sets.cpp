@@ -11,12 +11,19 @@
 
 namespace skin::batch {
 
+using skin::util::InputError;
+using skin::util::Table;
+
+using skin::physics::ParameterNames;
+using skin::physics::SkinParameters;
+using skin::physics::parameter_info;
+
 namespace {
 
 double parse_number(std::string_view text, const std::string& what) {
   double v = 0;
   const char* end = text.data() + text.size();
-  const auto r = skin::from_chars(text.data(), end, v);
+  const auto r = skin::util::from_chars(text.data(), end, v);
   if (text.empty() || r.ec != std::errc() || r.ptr != end || !std::isfinite(v))
     throw InputError(what + ": '" + std::string(text) + "' is not a finite number");
   return v;
@@ -80,7 +87,7 @@ SkinParameters Sets::at(std::size_t i) const {
 
 void Sets::validate(std::size_t first, std::size_t end) const {
   for (std::size_t i = first; i < end; ++i) {
-    if ((i - first) % 4096 == 0) cancel::check();  // (a million sets take seconds under ASan)
+    if ((i - first) % 4096 == 0) util::cancel::check();  // (a million sets take seconds under ASan)
     try {
       at(i).validate();
     } catch (const InputError& e) {

@@ -11,6 +11,14 @@
 
 namespace skin::color {
 
+using skin::util::InputError;
+using skin::util::Rgb;
+using skin::util::Table;
+
+using skin::physics::Spectrum;
+using skin::physics::TabulatedFunction;
+using skin::physics::WavelengthGrid;
+
 std::ostream& operator<<(std::ostream& os, const Xyz& c) {
   return os << "XYZ(" << c.X << ", " << c.Y << ", " << c.Z << ')';
 }
@@ -21,7 +29,7 @@ std::ostream& operator<<(std::ostream& os, const Lab& c) {
 namespace {
 const TabulatedFunction& cmf(int c) {
   static const std::array<TabulatedFunction, 3> f = [] {
-    const Table& t = data::embedded_table("cie1931_2deg_xyz.csv");
+    const Table& t = util::data::embedded_table("cie1931_2deg_xyz.csv");
     const char* names[3] = {"xbar", "ybar", "zbar"};
     std::array<TabulatedFunction, 3> out;
     for (int i = 0; i < 3; ++i)

@@ -10,6 +10,13 @@
 
 namespace skin::color {
 
+using skin::util::InputError;
+using skin::util::Table;
+
+using skin::physics::Spectrum;
+using skin::physics::TabulatedFunction;
+using skin::physics::WavelengthGrid;
+
 double illuminant_a(double l) {
   constexpr double c2 = 1.435e7, T = 2848.0;  // [nm K], [K]
   return 100.0 * std::pow(560.0 / l, 5) * std::expm1(c2 / (T * 560.0)) / std::expm1(c2 / (T * l));
@@ -64,12 +71,12 @@ constexpr Entry kTable[] = {
 std::vector<Illuminant> load() {
   std::vector<Illuminant> out;
   {
-    const Table& t = data::embedded_table("d65.csv");
+    const Table& t = util::data::embedded_table("d65.csv");
     out.emplace_back("D65", "daylight, 6504 K",
                      TabulatedFunction(t.data[0], t.data[1], "data/d65.csv",
                                        TabulatedFunction::Outside::zero));
   }
-  const Table& t = data::embedded_table("cie_illuminants.csv");
+  const Table& t = util::data::embedded_table("cie_illuminants.csv");
   for (const Entry& e : kTable) {
     // The rows where the standard gives a value (an empty field reads as NaN).
     const std::vector<double>& y = t.data[t.column(e.name)];

@@ -9,6 +9,12 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::Rgb;
+
+
+using skin::physics::SkinParameters;
+
+
 namespace {
 
 double cycles_g0(double A) { return cycles_alpha(A, 0.0); }
@@ -69,7 +75,7 @@ Export write(const Context& ctx) {
   s << "# Run: blender --background --python THIS_FILE [-- --blend OUT.blend], or from Blender's\n"
        "# text editor. Creates (or updates) the material NAME and returns it from make_material().\n"
        "import os\nimport sys\n\nimport bpy\n\n";
-  s << "NAME = " << escape::python_string(o.name, kName) << "\n";
+  s << "NAME = " << util::escape::python_string(o.name, kName) << "\n";
   s << "SUBSURFACE_COLOR = (" << triple(w.A) << ")  # linear Rec.709\n";
   s << "SUBSURFACE_RADIUS = (" << triple(radius) << ")  # " << unit_name(unit)
     << " (Blender units): 4 pi x mean free path\n";
@@ -78,9 +84,9 @@ Export write(const Context& ctx) {
   s << "SPECULAR = " << num(specular_3x) << "  # 3.x: F0 / 0.08 x oiliness\n";
   s << "SPECULAR_IOR_LEVEL = " << num(0.5 * p.oiliness) << "  # 4.x: 0.5 = the IOR's own F0\n";
   if (mf)
-    s << "COLOR_MAP = " << escape::python_string(o.stem + ".subsurface_color.png", kOutput)
+    s << "COLOR_MAP = " << util::escape::python_string(o.stem + ".subsurface_color.png", kOutput)
       << "  # sRGB\n"
-      << "RADIUS_MAP = " << escape::python_string(o.stem + ".subsurface_radius.exr", kOutput)
+      << "RADIUS_MAP = " << util::escape::python_string(o.stem + ".subsurface_radius.exr", kOutput)
       << "  # linear, Blender units\n";
   else
     s << "COLOR_MAP = None\nRADIUS_MAP = None\n";

@@ -11,6 +11,12 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::Rgb;
+
+
+using skin::physics::SkinParameters;
+
+
 namespace {
 
 // Christensen & Burley 2015, eq. 6 (perpendicular incidence): d = l / s(A) for the mean free
@@ -51,7 +57,7 @@ Export write_unreal(const Context& ctx) {
   s << header_lines("#", e, ctx);
   s << "# Run inside the Unreal Editor (Python Editor Script Plugin): creates or updates the\n"
        "# Subsurface Profile asset /Game/NAME.\nimport unreal\n\n";
-  s << "NAME = " << escape::python_string(o.name, kName) << "\n";
+  s << "NAME = " << util::escape::python_string(o.name, kName) << "\n";
   s << "SETTINGS = {\n"
     << "    \"enable_burley\": True,\n"
     << "    \"surface_albedo\": unreal.LinearColor(" << triple(b.A) << ", 1.0),\n"
@@ -122,12 +128,12 @@ Export write_unity(const Context& ctx) {
     << " (sRGB " << color::hex(color::srgb8(b.A)) << ").\n";
   s << "using UnityEditor;\nusing UnityEngine;\nusing UnityEngine.Rendering.HighDefinition;\n\n";
   s << "public static class SpectralSkin_" << o.name << "\n{\n";
-  s << "    [MenuItem(" << escape::csharp_string("Tools/Spectral Skin/Create " + o.name, kName)
+  s << "    [MenuItem(" << util::escape::csharp_string("Tools/Spectral Skin/Create " + o.name, kName)
     << ")]\n";
   s << "    public static void Create()\n    {\n";
   s << "        var asset = ScriptableObject.CreateInstance<DiffusionProfileSettings>();\n";
   s << "        AssetDatabase.CreateAsset(asset, "
-    << escape::csharp_string("Assets/" + o.name + ".asset", kName) << ");\n";
+    << util::escape::csharp_string("Assets/" + o.name + ".asset", kName) << ");\n";
   s << "        var so = new SerializedObject(asset);\n";
   s << "        so.FindProperty(\"profile.scatteringDistance\").colorValue = new Color(" << num(d_rel.r)
     << "f, " << num(d_rel.g) << "f, " << num(d_rel.b) << "f, 1f);\n";

@@ -12,6 +12,15 @@
 
 namespace skin::exporting {
 
+using skin::util::InputError;
+using skin::util::ProgressCallback;
+using skin::util::format_number;
+
+using skin::transport::ProfileSolver;
+
+using skin::physics::SkinParameters;
+using skin::physics::parameter_info;
+
 using detail::Reference;
 
 // ---------------------------------------------------------------------------------------------

@@ -13,6 +13,14 @@
 namespace skin::exporting {
 
 
+
+using skin::transport::RadialGrid;
+
+
+using skin::physics::SkinParameters;
+
+
+
 double burley_profile(double d, double r) {
   if (!(r > 0) || !(d > 0)) return 0.0;
   return (std::exp(-r / d) + std::exp(-r / (3.0 * d))) / (8.0 * std::numbers::pi * d * r);

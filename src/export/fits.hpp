@@ -14,16 +14,16 @@ namespace skin::exporting::detail {
 // m = roughness, scaled by rho_s = oiliness, Fresnel at eta. Targets with a GGX lobe and a
 // "perceptual" roughness r (alpha = r^2) get r = sqrt(m): GGX and Beckmann of equal alpha have
 // close widths near the peak (Walter et al. 2007).
-double perceptual_roughness(const SkinParameters& p);
+double perceptual_roughness(const physics::SkinParameters& p);
 double fresnel_f0(double eta);
 
 // Random-walk targets (Cycles, OpenPBR, Standard Surface): albedo A through the target's
 // inversion alpha(A), the walk's total R(alpha) (data/random_walk_g0.csv), mean free path d.
 struct WalkFit {
-  Rgb A;         // the target's colour parameter (multiple-scattering albedo)
-  Rgb alpha;     // single-scattering albedo the target derives from it
-  Rgb d_mm;      // extinction mean free path 1 / sigma_t [mm]
-  Rgb R_d;       // the target's diffuse reflectance (colour under uniform white light)
+  util::Rgb A;         // the target's colour parameter (multiple-scattering albedo)
+  util::Rgb alpha;     // single-scattering albedo the target derives from it
+  util::Rgb d_mm;      // extinction mean free path 1 / sigma_t [mm]
+  util::Rgb R_d;       // the target's diffuse reflectance (colour under uniform white light)
   std::array<std::vector<double>, 3> R;  // its profile [1/mm^2]
   bool clamped = false;
 };
@@ -34,7 +34,7 @@ TexelFit walk_texel(const Reference& ref, const WalkFit& w, double radius_per_d)
 
 // Burley targets (Unity HDRP, Unreal): R(r) = A burley(d, r); the colour is A itself.
 struct BurleyFit {
-  Rgb A, d_mm, R_d;
+  util::Rgb A, d_mm, R_d;
   std::array<std::vector<double>, 3> R;
   bool clamped = false;
 };

@@ -29,6 +29,12 @@
 
 namespace skin::exporting::detail {
 
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::parameter_table;
+using skin::util::InputError;
+using skin::util::Rgb;
+
 namespace {
 
 // The draft of KHR_materials_volume_scatter this file follows (stated in the file and the docs).

@@ -12,6 +12,15 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::InputError;
+using skin::util::ProgressCallback;
+
+using skin::transport::ProfileSolver;
+
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::parameter_info;
+
 MapsFit fit_maps(TexelFit (*texel)(const Reference&), const SkinParameters& base,
                  const transport::Model& model, const ParameterMapsInput& maps,
                  const ProgressCallback& progress) {

@@ -10,6 +10,10 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::Rgb;
+
+using skin::physics::SkinParameters;
+
 namespace {
 
 // The two schemas take the same inputs under their own names; the radius is a scalar (with the
@@ -63,7 +67,7 @@ Export write(const Context& ctx, const Schema& s) {
                      {"specular_roughness", {perceptual_roughness(p)}},
                      {"specular_weight", {p.oiliness}}};
   std::ostringstream x;
-  const std::string material = escape::xml_attribute(o.name, kName);
+  const std::string material = util::escape::xml_attribute(o.name, kName);
   const std::string shader = material + "_surface";
   x << "<?xml version=\"1.0\"?>\n";
   x << "<materialx version=\"" << s.version << "\" colorspace=\"lin_rec709\">\n";
@@ -77,12 +81,12 @@ Export write(const Context& ctx, const Schema& s) {
   if (mf) {
     x << "  <image name=\"" << material << "_subsurface_color_map\" type=\"color3\">\n"
       << "    <input name=\"file\" type=\"filename\" value=\""
-      << escape::xml_attribute(o.stem + ".subsurface_color.png", kOutput)
+      << util::escape::xml_attribute(o.stem + ".subsurface_color.png", kOutput)
       << "\" colorspace=\"srgb_texture\" />\n  </image>\n";
     x << "  <image name=\"" << material << "_subsurface_radius_map\" type=\"color3\">\n"
       << "    <!-- linear data in " << u << " (no colour space) -->\n"
       << "    <input name=\"file\" type=\"filename\" value=\""
-      << escape::xml_attribute(o.stem + ".subsurface_radius.exr", kOutput) << "\" />\n  </image>\n";
+      << util::escape::xml_attribute(o.stem + ".subsurface_radius.exr", kOutput) << "\" />\n  </image>\n";
   }
   const std::string dist = " unittype=\"distance\" unit=\"" + u + "\"";
   auto connect = [&](const std::string& name, const std::string& type, const std::string& node) {

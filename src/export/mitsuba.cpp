@@ -7,6 +7,13 @@
 
 namespace skin::exporting::detail {
 
+using skin::model::skin_layer_stacks;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
 namespace {
 
 Export write(const Context& ctx) {
@@ -34,7 +41,7 @@ Export write(const Context& ctx) {
                              num(p.oiliness) + ")");
   std::ostringstream x;
   // Ids NAME_epidermis, ...: the name escaped (and checked) for Mitsuba, the suffixes plain.
-  const std::string name = escape::mitsuba_attribute(o.name, kName);
+  const std::string name = util::escape::mitsuba_attribute(o.name, kName);
   auto spectrum = [&](const std::string& quantity, const std::vector<double>& v) {
     std::string s = "        <spectrum name=\"" + quantity + "\" value=\"";
     for (std::size_t i = 0; i < grid.size(); ++i) {

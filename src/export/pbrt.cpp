@@ -11,6 +11,19 @@
 
 namespace skin::exporting::detail {
 
+using skin::transport::ProfileSolver;
+using skin::transport::RadialResponse;
+using skin::transport::RgbProfile;
+using skin::transport::SpectralProfile;
+
+using skin::model::skin_layer_stacks;
+using skin::model::skin_spectral_profile;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
 namespace {
 
 std::string pbrt_spectrum(const WavelengthGrid& g, const std::vector<double>& v) {
@@ -119,7 +132,7 @@ Export write(const Context& ctx) {
   std::ostringstream s;
   s << header_lines("#", e, ctx);
   s << "# sigma_a, sigma_s in " << unit_text << " (spectra as wavelength [nm], value pairs).\n";
-  const std::string name = escape::pbrt_string(o.name, kName);
+  const std::string name = util::escape::pbrt_string(o.name, kName);
   s << "MakeNamedMaterial " << name << "\n"
     << "    \"string type\" [ \"subsurface\" ]\n"
     << "    \"float eta\" [ " << num(p.eta) << " ]\n"
@@ -128,8 +141,8 @@ Export write(const Context& ctx) {
     << "    \"bool remaproughness\" [ false ]\n"
     << "    \"float scale\" [ 1 ]\n";
   if (o.spectra_files) {
-    s << "    \"spectrum sigma_a\" " << escape::pbrt_string(o.stem + ".sigma_a.spd", kOutput) << "\n"
-      << "    \"spectrum sigma_s\" " << escape::pbrt_string(o.stem + ".sigma_s.spd", kOutput) << "\n";
+    s << "    \"spectrum sigma_a\" " << util::escape::pbrt_string(o.stem + ".sigma_a.spd", kOutput) << "\n"
+      << "    \"spectrum sigma_s\" " << util::escape::pbrt_string(o.stem + ".sigma_s.spd", kOutput) << "\n";
     e.files.push_back({"", "", false});  // placeholder, filled below
     e.files.push_back({".sigma_a.spd", spd_file(grid, sa_u, "sigma_a [" + unit_text + "]"), true});
     e.files.push_back({".sigma_s.spd", spd_file(grid, ss_u, "sigma_s [" + unit_text + "]"), true});
@@ -153,7 +166,7 @@ Export write(const Context& ctx) {
       a[i] = layers[i].layers[l].sigma_a / scale;
       sc[i] = layers[i].layers[l].sigma_s() / scale;
     }
-    t << "MakeNamedMedium " << escape::pbrt_string(o.name + "_" + names[l], kName) << "\n"
+    t << "MakeNamedMedium " << util::escape::pbrt_string(o.name + "_" + names[l], kName) << "\n"
       << "    \"string type\" [ \"homogeneous\" ]\n"
       << "    \"float g\" [ " << num(layers[0].layers[l].g) << " ]\n"
       << "    \"float scale\" [ 1 ]\n"
@@ -171,8 +184,8 @@ Export write(const Context& ctx) {
          "2 7 6  3 0 4 3 4 7 ]\n";
     return b.str();
   };
-  const std::string epidermis = escape::pbrt_string(o.name + "_epidermis", kName);
-  const std::string dermis = escape::pbrt_string(o.name + "_dermis", kName);
+  const std::string epidermis = util::escape::pbrt_string(o.name + "_epidermis", kName);
+  const std::string dermis = util::escape::pbrt_string(o.name + "_dermis", kName);
   t << "AttributeBegin\n    MediumInterface " << epidermis << " \"\"\n"
     << "    Material \"dielectric\" \"float eta\" [ " << num(p.eta) << " ] \"float roughness\" [ "
     << num(p.roughness) << " ] \"bool remaproughness\" [ false ]\n"

@@ -9,6 +9,8 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::Rgb;
+
 namespace {
 
 Export write(const Context& ctx) {

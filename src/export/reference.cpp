@@ -8,6 +8,17 @@
 
 namespace skin::exporting::detail {
 
+using skin::util::Rgb;
+
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::transport::RgbProfile;
+
+using skin::model::skin_rgb_profile;
+
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
 RadialGrid reference_radii() { return RadialGrid::logarithmic(1e-5, 60.0, 400); }
 
 WavelengthGrid spectral_grid() { return WavelengthGrid(400.0, 700.0, 10.0); }

@@ -14,28 +14,28 @@ namespace skin::exporting::detail {
 // Our skin on a logarithmic radial grid [mm] (negative tails of out-of-gamut channels clamped to
 // zero for the fits and the error integrals).
 struct Reference {
-  SkinParameters parameters;
+  physics::SkinParameters parameters;
   const transport::Model* model = nullptr;
-  RadialGrid radii;
+  transport::RadialGrid radii;
   std::array<std::vector<double>, 3> R;  // [1/mm^2]
-  Rgb R_d;                               // channel totals (exact, from k = 0)
+  util::Rgb R_d;                               // channel totals (exact, from k = 0)
   std::array<double, 3> mean_radius{};   // [mm]
 };
-Reference make_reference(const SkinParameters& p, const transport::Model& model,
-                         ProfileSolver& solver);
+Reference make_reference(const physics::SkinParameters& p, const transport::Model& model,
+                         transport::ProfileSolver& solver);
 // The radial grid every reference uses.
-RadialGrid reference_radii();
+transport::RadialGrid reference_radii();
 // The grid of the spectra the files hold (400-700 nm, 10 nm).
-WavelengthGrid spectral_grid();
+physics::WavelengthGrid spectral_grid();
 
 // int f(r) 2 pi r dr on the log grid (trapezoid in ln r).
-double area_integral(const RadialGrid& radii, const std::vector<double>& f);
-double mean_radius(const RadialGrid& radii, const std::vector<double>& R);
+double area_integral(const transport::RadialGrid& radii, const std::vector<double>& f);
+double mean_radius(const transport::RadialGrid& radii, const std::vector<double>& R);
 // int |2 pi r (a - b)| dr / int 2 pi r b dr.
-double relative_l1(const RadialGrid& radii, const std::vector<double>& a,
+double relative_l1(const transport::RadialGrid& radii, const std::vector<double>& a,
                    const std::vector<double>& b);
 // CIEDE2000 between two linear sRGB colours (D65 white).
-double delta_e(const Rgb& a, const Rgb& b);
+double delta_e(const util::Rgb& a, const util::Rgb& b);
 
 // Solves f(x) = y for increasing f on [lo, hi] by bisection; returns the clamped end when y is
 // outside [f(lo), f(hi)].

@@ -22,6 +22,8 @@
 
 namespace skin::exporting {
 
+using skin::util::InputError;
+
 namespace detail {
 
 #define SKIN_EXPORT_DECLARE(t) TargetSpec t##_target();

@@ -11,10 +11,14 @@
 
 namespace skin::exporting {
 
+using skin::util::Rgb;
+
+using skin::physics::SkinParameters;
+
 namespace detail {
 
 std::string json_text(const std::string& text, std::string_view what) {
-  escape::require_utf8(text, what);
+  util::escape::require_utf8(text, what);
   return text;
 }
 
@@ -27,7 +31,7 @@ double rounded(double v) {
   if (!std::isfinite(v)) return v;
   const std::string t = num(v);
   double r = v;
-  skin::from_chars(t.data(), t.data() + t.size(), r);
+  skin::util::from_chars(t.data(), t.data() + t.size(), r);
   return r + 0.0;  // no -0
 }
 double rounded_error(double v) { return std::isfinite(v) ? std::round(v * 1e6) / 1e6 + 0.0 : v; }

@@ -34,12 +34,12 @@ double rounded(double v);
 double rounded_error(double v);
 // The document with every floating-point number rounded().
 json rounded(json j);
-std::string triple(const Rgb& c, const char* sep = ", ");
-std::vector<double> vec(const Rgb& c);
+std::string triple(const util::Rgb& c, const char* sep = ", ");
+std::vector<double> vec(const util::Rgb& c);
 
 // The fit report of ctx.target: its model in one line, its colour and its profile (per channel,
 // on ctx.ref.radii) against ours.
-FitReport fit_report(const Context& ctx, std::string target_model, const Rgb& R_d_target,
+FitReport fit_report(const Context& ctx, std::string target_model, const util::Rgb& R_d_target,
                      const std::array<std::vector<double>, 3>& R_target);
 // The comment lines every text file opens with (each line starting with `prefix`): the skin, the
 // units, the target's model, the fit's error and the report's notes.

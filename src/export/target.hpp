@@ -17,8 +17,8 @@ namespace skin::exporting::detail {
 
 // One texel of parameter maps through a target that takes textures.
 struct TexelFit {
-  Rgb color;      // the target's colour parameter (linear)
-  Rgb radius_mm;  // its radius parameter, mm (before the unit)
+  util::Rgb color;      // the target's colour parameter (linear)
+  util::Rgb radius_mm;  // its radius parameter, mm (before the unit)
   double delta_e = 0;
 };
 
@@ -58,9 +58,9 @@ const std::vector<TargetSpec>& registry();
 const TargetSpec& find_spec(std::string_view name);
 
 // Fits every distinct texel of `maps` (parameters over `base`) through `texel`, in parallel.
-MapsFit fit_maps(TexelFit (*texel)(const Reference&), const SkinParameters& base,
+MapsFit fit_maps(TexelFit (*texel)(const Reference&), const physics::SkinParameters& base,
                  const transport::Model& model, const ParameterMapsInput& maps,
-                 const ProgressCallback& progress);
+                 const util::ProgressCallback& progress);
 // The two textures of a maps fit: colour (PNG, sRGB-encoded) and radius (EXR, linear, in the
 // file's unit: radius_mm x radius_scale).
 void add_textures(Export& e, const MapsFit& mf, double radius_scale);

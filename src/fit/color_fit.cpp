@@ -17,6 +17,14 @@
 
 namespace skin::fit {
 
+using skin::util::InputError;
+using skin::util::ProgressCallback;
+using skin::util::format_number;
+using skin::util::require_in_range;
+using skin::util::require_non_negative;
+
+using skin::physics::SkinParameters;
+
 std::ostream& operator<<(std::ostream& os, const ColorFitResult& r) {
   return os << "ColorFitResult{C_m=" << r.parameters.melanin << ", beta_m=" << r.parameters.melanin_blend
             << ", C_h=" << r.parameters.hemoglobin << ", target=" << r.target << ", fitted=" << r.fitted
@@ -144,9 +152,9 @@ struct ColorFitter::Impl {
     table_lab.resize(table_p.size());
     // A cancelled build throws out of call_once (prepare()), which then builds again next time.
     tbb::parallel_for(std::size_t(0), table_p.size(), [&](std::size_t i) {
-      if (!cancel::requested()) table_lab[i] = lab(table_p[i]);
+      if (!util::cancel::requested()) table_lab[i] = lab(table_p[i]);
     });
-    cancel::check();
+    util::cancel::check();
   }
 };
 
@@ -317,7 +325,7 @@ struct TextureFitter::Impl {
     const std::size_t total = static_cast<std::size_t>(axis[0].n) * axis[1].n * axis[2].n;
     lab.resize(total);
     tbb::parallel_for(std::size_t(0), total, [&](std::size_t e) {
-      if (cancel::requested()) return;  // thrown below (out of call_once: built again next time)
+      if (util::cancel::requested()) return;  // thrown below (out of call_once: built again next time)
       const int k = static_cast<int>(e % axis[2].n);
       const int j = static_cast<int>((e / axis[2].n) % axis[1].n);
       const int i = static_cast<int>(e / (static_cast<std::size_t>(axis[2].n) * axis[1].n));
@@ -328,7 +336,7 @@ struct TextureFitter::Impl {
       const color::Lab l = coarse_lab(p);
       lab[e] = {l.L, l.a, l.b};
     });
-    cancel::check();
+    util::cancel::check();
   }
   // Trilinear interpolation at index coordinates u, with the derivative per coordinate.
   Eigen::Vector3d eval(const Eigen::Vector3d& u, Eigen::Matrix3d* J) const {
@@ -506,7 +514,7 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
     const std::size_t batch_end = std::min(nchunks, next_chunk + 64);
     tbb::parallel_for(next_chunk, batch_end, [&](std::size_t ch) {
       for (std::size_t q = ch * chunk; q < std::min(uniq.size(), (ch + 1) * chunk); ++q) {
-        if (cancel::requested()) return;  // thrown below, after the batch
+        if (util::cancel::requested()) return;  // thrown below, after the batch
         const std::uint64_t k = uniq[q];
         const auto channel = [k](int shift) { return static_cast<double>((k >> shift) & 0xffff) / 65535.0; };
         const color::Rgb rgb{channel(32), channel(16), channel(0)};
@@ -519,7 +527,7 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
       }
       done += chunk;
     });
-    cancel::check();
+    util::cancel::check();
     next_chunk = batch_end;
     if (progress) progress(std::min(done.load(), uniq.size()), uniq.size());
   }

@@ -15,6 +15,8 @@
 
 namespace skin::fit {
 
+using skin::util::InputError;
+
 const std::vector<Parameter>& extended_parameters() {
   static const std::vector<Parameter> v = {
       Parameter::epidermal_hemoglobin, Parameter::beta_carotene, Parameter::bilirubin,
@@ -118,7 +120,7 @@ std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir, 
     f_single.emplace_back(o);
   }
   tbb::parallel_for(std::size_t(0), entries.size(), [&](std::size_t i) {
-    if (cancel::requested()) return;  // thrown below
+    if (util::cancel::requested()) return;  // thrown below
     MeasuredEntry& e = entries[i];
     e.paper = f_paper.fit(e.spectrum);
     e.paper_specular = f_spec.fit(e.spectrum);
@@ -126,7 +128,7 @@ std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir, 
     for (std::size_t k = 0; k < f_single.size(); ++k)
       e.single_term_rms.emplace_back(extended_parameters()[k], f_single[k].fit(e.spectrum).rms);
   });
-  cancel::check();
+  util::cancel::check();
   return entries;
 }
 

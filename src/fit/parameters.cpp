@@ -11,6 +11,16 @@
 
 namespace skin::fit {
 
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::format_number;
+using skin::util::read_csv_file;
+
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::find_parameter;
+using skin::physics::parameter_table;
+
 Parameter Parameter::of(const ParameterInfo& row) {
   if (!row.fittable()) {
     std::string known;
@@ -23,7 +33,7 @@ Parameter Parameter::of(const ParameterInfo& row) {
 const ParameterInfo& Parameter::info() const {
   for (const ParameterInfo& row : parameter_table())
     if (row.member == member_) return row;
-  ::skin::assertion_failed("row.member == member_", __FILE__, __LINE__,
+  ::skin::util::assertion_failed("row.member == member_", __FILE__, __LINE__,
                            "a fit parameter without its row in the parameter table");
 }
 

@@ -20,6 +20,15 @@
 
 namespace skin::fit {
 
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::require_in_range;
+
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::fresnel_dielectric;
+using skin::physics::skin_layer_stack;
+
 ForwardModel forward_model(const transport::Model& model) {
   return [&model](const SkinParameters& p, double lambda) {
     const LayerStack stack = skin_layer_stack(p, lambda);

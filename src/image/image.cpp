@@ -34,6 +34,10 @@
 
 namespace skin::image {
 
+using skin::util::InputError;
+using skin::util::Rgb;
+using skin::util::require_finite;
+
 Rgb Image::mean(int x0, int y0, int x1, int y1) const {
   Rgb s;
   int n = 0;
@@ -470,18 +474,18 @@ Image read_exr(const std::string& path) {
 
 void write_image(const std::string& path, const Image& img, double exposure, ToneMap tone_map) {
   require_finite("exposure", exposure);
-  const std::string ext = io::extension(path);
+  const std::string ext = util::io::extension(path);
   if (ext != "png" && ext != "exr")
     throw InputError("output = '" + path + "': unknown image format '." + ext + "', use .png or .exr");
-  io::write_via_temporary(path, [&](const std::string& tmp) {
+  util::io::write_via_temporary(path, [&](const std::string& tmp) {
     if (ext == "png") write_png(tmp, path, img, exposure, tone_map);
     else write_exr(tmp, path, img);
   });
 }
 
 Image read_image(const std::string& path, bool srgb) {
-  io::check_input_file(path, "image");
-  const std::string ext = io::extension(path);
+  util::io::check_input_file(path, "image");
+  const std::string ext = util::io::extension(path);
   if (ext == "exr") return read_exr(path);
   const Format format = format_of(path, ext);
   if (format == Format::jpeg) return read_jpeg(path, srgb);  // (stb never sees a JPEG)
@@ -525,7 +529,7 @@ void write_exr_planes(const std::string& path, const Planes& planes,
   bool consistent = planes.width > 0 && planes.height > 0 && planes.names.size() == planes.values.size();
   for (const auto& v : planes.values) consistent = consistent && v.size() == npix;
   if (!consistent) throw InputError(what + ": inconsistent sizes for " + path);
-  io::write_via_temporary(path, [&](const std::string& tmp) {
+  util::io::write_via_temporary(path, [&](const std::string& tmp) {
     Imf::Header header(planes.width, planes.height);
     for (const auto& name : planes.names) header.channels().insert(name, Imf::Channel(Imf::FLOAT));
     for (const auto& [name, text] : attributes) header.insert(name, Imf::StringAttribute(text));
@@ -540,7 +544,7 @@ void write_exr_planes(const std::string& path, const Planes& planes,
 
 Planes read_exr_planes(const std::string& path, const std::vector<std::string>& names,
                        const std::string& what) {
-  io::check_input_file(path, what);
+  util::io::check_input_file(path, what);
   check_exr(path, what);
   try {
     Planes planes;

@@ -23,6 +23,16 @@
 
 namespace skin::mc {
 
+using skin::util::InputError;
+using skin::util::WorkEstimate;
+using skin::util::estimate_work;
+using skin::util::require_positive;
+
+using skin::physics::FresnelResult;
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::fresnel;
+
 namespace {
 // Boost.Random's engine interface over the batch generator, for its ziggurat. Boost takes the
 // ziggurat layer from the low 8 bits of a draw and the uniform from the rest; xoshiro256+'s
@@ -204,7 +214,7 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng rng, double 
   const std::size_t n_layers = slabs.size();
   const std::size_t bins = tally.S1.size();
   for (std::uint64_t p = 0; p < count; ++p) {
-    if (cancel::requested()) return;
+    if (util::cancel::requested()) return;
     double x = 0, y = 0, z = 0;
     double ux = 0, uy = 0, uz = 1;  // pencil beam at normal incidence (refraction-free)
     double w = 1;                   // per power that entered
@@ -230,7 +240,7 @@ void trace(const std::vector<Slab>& slabs, std::uint64_t count, Rng rng, double 
           tally.lost += w;
           break;
         }
-        if (cancel::requested()) return;
+        if (util::cancel::requested()) return;
       }
       const Slab& s = slabs[li];
       const double tau = tau_left > 0 ? tau_left : unit_exponential(rng);
@@ -384,7 +394,7 @@ double photons_per_second(const LayerStack& stack, const Options& options) {
     Tally t(1, 0);
     trace(slabs, n, Rng(options.seed, ~std::uint64_t{0} - done), 1.0 / options.r_max, options.source,
           ExitBins(), t);
-    cancel::check();
+    util::cancel::check();
     done += n;
     seconds = cpu_seconds() - start;
   }
@@ -434,7 +444,7 @@ Result simulate(const LayerStack& stack, const Options& options) {
       tbb::parallel_for(tbb::blocked_range<std::uint64_t>(0, count, 1),
                         [&](const tbb::blocked_range<std::uint64_t>& range) {
                           for (std::uint64_t k = range.begin(); k != range.end(); ++k) {
-                            if (cancel::requested()) return;  // thrown below, after the round
+                            if (util::cancel::requested()) return;  // thrown below, after the round
                             const std::uint64_t b = first + k;
                             const std::uint64_t photons =
                                 std::min(kBatchPhotons, N - b * kBatchPhotons);
@@ -445,7 +455,7 @@ Result simulate(const LayerStack& stack, const Options& options) {
                           }
                         });
     });
-    cancel::check();
+    util::cancel::check();
     for (std::uint64_t k = 0; k < count; ++k) total.add(slots[static_cast<std::size_t>(k)]);
     if (options.progress)
       options.progress(static_cast<std::size_t>(std::min(N, (first + count) * kBatchPhotons)),

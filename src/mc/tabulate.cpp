@@ -9,6 +9,12 @@
 
 namespace skin::mc {
 
+using skin::util::InputError;
+using skin::util::format_number;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+
 RandomWalkOptions RandomWalkOptions::defaults() {
   RandomWalkOptions o;
   o.alpha.push_back(0.05);

@@ -18,6 +18,21 @@
 
 namespace skin::mc {
 
+using skin::util::InputError;
+using skin::util::splitmix64;
+
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::Preset;
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+using skin::physics::kInfinity;
+using skin::physics::sample_skin_domain;
+using skin::physics::skin_layer_stack;
+
 namespace {
 
 std::string fmt(const char* f, double v) {
@@ -296,7 +311,7 @@ ValidationRun run_validation(const std::vector<ValidationCase>& cases,
     cr.mc = simulate(c.stack, o);
     cr.r_fine = log_radii(0.5 * cr.mc.r_mm.front(), c.r_max, 200);
     for (const auto& s : solvers) {
-      cancel::check();
+      util::cancel::check();
       cr.R_d.push_back(s.R_d(c.stack));
       if (s.profile) {
         auto [means, fine] = annulus_means(s, c.stack, cr.mc.r_mm, cr.r_fine);

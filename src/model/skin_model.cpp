@@ -6,7 +6,22 @@
 #include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
-namespace skin {
+namespace skin::model {
+
+using skin::util::ProgressCallback;
+
+using skin::transport::DiffusionStack;
+using skin::transport::Model;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialResponse;
+using skin::transport::RgbProfile;
+using skin::transport::SpectralProfile;
+
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::Spectrum;
+using skin::physics::WavelengthGrid;
+using skin::physics::skin_layer_stack;
 
 std::vector<LayerStack> skin_layer_stacks(const SkinParameters& p, const WavelengthGrid& grid) {
   p.validate();
@@ -49,7 +64,7 @@ SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid, 
   p.validate();
   SkinSpectrum s = empty_spectrum(p, grid, model);
   for (std::size_t i = 0; i < grid.size(); ++i) {
-    cancel::check();  // between wavelengths: a scene builds several spectra before its first pixel
+    util::cancel::check();  // between wavelengths: a scene builds several spectra before its first pixel
     const LayerStack stack = skin_layer_stack(p, grid[i]);
     set_layers(s, i, stack);
     s.R_d[i] = model.R_d(stack);
@@ -79,7 +94,7 @@ Responses responses(const std::vector<LayerStack>& stacks, const Model& model,
   Responses r;
   r.owned.reserve(stacks.size());
   for (const auto& s : stacks) {
-    cancel::check();  // between wavelengths: a stack's response can take a good part of a second
+    util::cancel::check();  // between wavelengths: a stack's response can take a good part of a second
     r.pointers.push_back(r.owned.emplace_back(model.response(s)).get());
     if (progress) progress(r.owned.size(), stacks.size());
   }
@@ -152,4 +167,4 @@ transport::Validity skin_validity(const SkinParameters& p, const WavelengthGrid&
   return transport::combined_validity(model, skin_layer_stacks(p, grid), wavelength_labels(grid));
 }
 
-}  // namespace skin
+}  // namespace skin::model

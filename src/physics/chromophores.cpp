@@ -6,22 +6,24 @@
 #include "skin/physics/spectrum.hpp"
 #include "skin/util/table.hpp"
 
-namespace skin::chromophores {
+namespace skin::physics::chromophores {
+
+using skin::util::Table;
 
 namespace {
 const TabulatedFunction& hb_table(int column) {
   static const TabulatedFunction oxy = [] {
-    const Table& t = data::embedded_table("hemoglobin_prahl.csv");
+    const Table& t = util::data::embedded_table("hemoglobin_prahl.csv");
     return TabulatedFunction(t.data[0], t.data[t.column("eps_HbO2")], "data/hemoglobin_prahl.csv");
   }();
   static const TabulatedFunction deoxy = [] {
-    const Table& t = data::embedded_table("hemoglobin_prahl.csv");
+    const Table& t = util::data::embedded_table("hemoglobin_prahl.csv");
     return TabulatedFunction(t.data[0], t.data[t.column("eps_Hb")], "data/hemoglobin_prahl.csv");
   }();
   return column == 0 ? oxy : deoxy;
 }
 TabulatedFunction eps_table(const char* file) {
-  const Table& t = data::embedded_table(file);
+  const Table& t = util::data::embedded_table(file);
   return TabulatedFunction(t.data[0], t.data[1], std::string("data/") + file);
 }
 const TabulatedFunction& carotene_table() {
@@ -57,4 +59,4 @@ double sigma_s_prime_epidermis(double lambda) {
   return 14.74 * std::pow(lambda, -0.22) + 2.2e11 * std::pow(lambda, -4.0);
 }
 
-}  // namespace skin::chromophores
+}  // namespace skin::physics::chromophores

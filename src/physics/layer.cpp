@@ -6,7 +6,13 @@
 
 #include "skin/util/error.hpp"
 
-namespace skin {
+namespace skin::physics {
+
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::require_in_range;
+using skin::util::require_non_negative;
+using skin::util::require_positive;
 
 void LayerStack::validate() const {
   if (layers.empty()) throw InputError("layer stack is empty: give at least one --layer");
@@ -50,4 +56,4 @@ std::string to_string(const LayerStack& s) {
   return ss.str();
 }
 
-}  // namespace skin
+}  // namespace skin::physics

@@ -8,7 +8,14 @@
 #include "skin/util/error.hpp"
 #include "skin/util/random.hpp"
 
-namespace skin {
+namespace skin::physics {
+
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::require_in_range;
+using skin::util::require_positive;
+using skin::util::splitmix64;
+
 
 namespace {
 constexpr double kInf = kInfinity;
@@ -332,4 +339,4 @@ const Preset& find_preset(std::string_view name) {
                    " (and several-lights = ear)");
 }
 
-}  // namespace skin
+}  // namespace skin::physics

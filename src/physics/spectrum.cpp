@@ -6,7 +6,11 @@
 
 #include "skin/util/error.hpp"
 
-namespace skin {
+namespace skin::physics {
+
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::require_positive;
 
 WavelengthGrid::WavelengthGrid(double lambda_min, double lambda_max, double step)
     : lambda_min_(lambda_min), lambda_max_(lambda_max), step_(step) {
@@ -84,4 +88,4 @@ Spectrum TabulatedFunction::sample(const WavelengthGrid& g) const {
   return s;
 }
 
-}  // namespace skin
+}  // namespace skin::physics

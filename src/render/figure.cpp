@@ -24,6 +24,13 @@
 #include "skin/render/figure.hpp"
 
 namespace skin::render {
+
+using skin::util::InputError;
+using skin::util::Rgb;
+
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+
 namespace {
 
 // The head mesh's frame: the Lee Perry-Smith scan's bounding box is 7.9451 units tall and

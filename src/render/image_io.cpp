@@ -9,6 +9,8 @@
 
 namespace skin::render {
 
+using skin::util::InputError;
+
 std::shared_ptr<Texture> load_texture(const std::string& path, bool srgb) {
   image::Image img = image::read_image(path, srgb);
   if (img.width <= 0 || img.height <= 0) throw InputError("image = '" + path + "': empty image");
@@ -25,7 +27,7 @@ std::shared_ptr<Texture> load_map_texture(const std::string& path, const std::st
   auto t = std::make_shared<Texture>();
   t->path = path;
   std::vector<float> plane;
-  if (io::extension(path) == "exr") {
+  if (util::io::extension(path) == "exr") {
     const std::string name = channel.empty() ? key : channel;
     image::Planes planes = image::read_exr_planes(
         path, {name}, "parameter map (give \"channel\" to read another)");

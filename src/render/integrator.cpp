@@ -38,6 +38,11 @@
 #include "skin/util/error.hpp"
 
 namespace skin::render {
+
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::require_non_negative;
+
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -560,12 +565,12 @@ PointSubsurface build_point_subsurface(const SceneData& s, const Integrator& int
   arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, at.size(), 256), [&](const tbb::blocked_range<std::size_t>& r) {
       for (std::size_t i = r.begin(); i < r.end(); ++i) {
-        if (cancel::requested()) return;
+        if (util::cancel::requested()) return;
         EA[i] = integ.entry_irradiance(at[i], seed, i, kPointIrradianceSamples, &position[i], &normal[i]) * A;
       }
     });
   });
-  cancel::check();
+  util::cancel::check();
   // The points are sorted by mesh: one cloud per material over its meshes' points.
   for (std::size_t mat = 0; mat < s.materials.size(); ++mat) {
     if (!s.materials[mat].translucent()) continue;
@@ -707,7 +712,7 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
           for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx) {
             for (int y = ty * kTile; y < std::min(H, (ty + 1) * kTile); ++y)
               for (int x = tx * kTile; x < std::min(W, (tx + 1) * kTile); ++x) {
-                if (cancel::requested()) return;  // thrown below, after the pass
+                if (util::cancel::requested()) return;  // thrown below, after the pass
                 const auto pixel = static_cast<std::uint64_t>(y) * static_cast<std::uint64_t>(W) + static_cast<std::uint64_t>(x);
                 if (!passes.active(pixel)) continue;
                 Film::Pixel acc = film.pixel(pixel);
@@ -744,7 +749,7 @@ Image render(const Scene& scene, const RenderSettings& settings, RenderStats* st
           }
       });
     });
-    cancel::check();
+    util::cancel::check();
     done = s1;
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (settings.time_budget > 0 && elapsed >= settings.time_budget) break;

@@ -16,6 +16,21 @@
 #include "skin/util/error.hpp"
 
 namespace skin::render {
+
+using skin::util::InputError;
+
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::transport::SpectralProfile;
+
+using skin::model::SkinProfiles;
+using skin::model::skin_profiles;
+using skin::model::skin_spectrum;
+
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+
 // r = 0, then logarithmic from 1 um to 20 mm: dense where the profile is peaked, reaching far
 // enough for the red channel of pale skin (its 1/sigma_tr is a few mm; at 20 mm R(r) is below
 // 1e-6 of R(0)). The transform's cost grows with the largest radius (panels no wider than a

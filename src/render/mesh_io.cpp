@@ -29,6 +29,9 @@
 #include "skin/util/input_file.hpp"
 
 namespace skin::render {
+
+using skin::util::InputError;
+
 namespace {
 
 [[noreturn]] void fail(const std::string& path, const std::string& what) {
@@ -253,7 +256,7 @@ std::vector<Mesh> load_gltf(const std::string& path, std::size_t material) {
   loader.SetImageLoader(skip_images, nullptr);
   tinygltf::Model model;
   std::string err, warn;
-  const bool ok = io::extension(path) == "glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+  const bool ok = util::io::extension(path) == "glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                                : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
@@ -273,8 +276,8 @@ std::vector<Mesh> load_gltf(const std::string& path, std::size_t material) {
 }  // namespace
 
 std::vector<Mesh> load_mesh_file(const std::string& path, std::size_t material) {
-  io::check_input_file(path, "mesh");
-  const std::string ext = io::extension(path);
+  util::io::check_input_file(path, "mesh");
+  const std::string ext = util::io::extension(path);
   if (ext == "obj") return load_obj(path, material);
   if (ext == "gltf" || ext == "glb") return load_gltf(path, material);
   fail(path, "unknown mesh format '." + ext + "': use .obj, .gltf or .glb");

@@ -9,6 +9,11 @@
 
 namespace skin::render {
 
+using skin::util::require_in_range;
+using skin::util::require_positive;
+
+using skin::physics::fresnel_dielectric;
+
 double Beckmann::D(const Vec3& h) const {
   const double c = h.z;
   if (c <= 0) return 0.0;

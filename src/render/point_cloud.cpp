@@ -12,6 +12,9 @@
 #include "skin/util/random.hpp"
 
 namespace skin::render {
+
+using skin::util::Pcg32;
+
 namespace {
 
 double triangle_area(const Mesh& m, const std::array<std::uint32_t, 3>& t) {

@@ -8,6 +8,9 @@
 
 namespace skin::render {
 
+using skin::util::Pcg32;
+using skin::util::mix64;
+
 std::ostream& operator<<(std::ostream& os, const Vec3& v) {
   return os << '(' << v.x << ", " << v.y << ", " << v.z << ')';
 }

@@ -18,6 +18,20 @@
 
 namespace skin::render {
 
+using skin::util::InputError;
+using skin::util::format_number;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_parameter;
+using skin::physics::find_preset;
+using skin::physics::kInfinity;
+using skin::physics::parameter_info;
+using skin::physics::parameter_table;
+
 using json = nlohmann::json;
 
 namespace {
@@ -140,7 +154,7 @@ MaterialDescription parse_material(const Reader& r, const std::string& name, con
   } else if (type == "skin") {
     SkinParameters p = r.has("preset") ? with_context(r.file(), r.path("preset"), [&] { return find_preset(r.string("preset")).parameters; })
                                        : SkinParameters{};
-    // Every parameter of the table by its key or the paper's symbol (skin::parameter_table()).
+    // Every parameter of the table by its key or the paper's symbol (skin::physics::parameter_table()).
     static const std::set<std::string> other = {"type", "preset", "albedo_texture", "texture_reference",
                                                 "parameter_maps", "solver"};
     std::set<const ParameterInfo*> given;
@@ -485,7 +499,7 @@ SceneDescription SceneDescription::parse(const std::string& text, const std::str
 }
 
 SceneDescription SceneDescription::load(const std::string& path) {
-  return parse(io::read_file(path, "scene"), std::filesystem::path(path).parent_path().string(), path);
+  return parse(util::io::read_file(path, "scene"), std::filesystem::path(path).parent_path().string(), path);
 }
 
 SceneDescription SceneDescription::default_scene() {

@@ -44,8 +44,8 @@ enum class MaterialKind { diffuse, skin, layered };
 // a shading point uses one node chosen at random with its multilinear interpolation weight: in
 // expectation, the profiles interpolated multilinearly in parameter space.
 struct ParameterMap {
-  double SkinParameters::*member = nullptr;
-  std::string key;  // parameter key (skin::parameter_table())
+  double physics::SkinParameters::*member = nullptr;
+  std::string key;  // parameter key (skin::physics::parameter_table())
   std::shared_ptr<const Texture> texture;
   double min = 0, max = 1;  // the nodes' range
   bool values = false;      // texels are values (else fractions of [min, max])
@@ -59,13 +59,13 @@ struct MaterialDescription {
   MaterialKind kind = MaterialKind::diffuse;
   Rgb3 albedo{0.5, 0.5, 0.5};                 // diffuse: reflectance
   std::shared_ptr<const Texture> albedo_map;  // diffuse: reflectance; translucent: colour to reproduce
-  SkinParameters parameters;                  // skin
+  physics::SkinParameters parameters;                  // skin
   const transport::Model* solver = &transport::default_model();  // translucent (the key `solver`)
-  std::array<LayerStack, 3> stacks;           // layered: the stack per channel
+  std::array<physics::LayerStack, 3> stacks;           // layered: the stack per channel
   double rho_s = 0, roughness = 0.35, eta = 1.4;  // layered (skin: from its parameters)
   // Skin with an albedo texture: the chromophores assumed to have produced it (DJ06 section
   // 3.6; default: the material's own parameters).
-  std::optional<SkinParameters> texture_reference;
+  std::optional<physics::SkinParameters> texture_reference;
   std::vector<ParameterMap> maps;             // skin
   bool as_diffuse = false;  // translucent: rendered as a diffuse material of its R_d (--diffuse)
   bool translucent() const { return kind != MaterialKind::diffuse; }
@@ -74,14 +74,14 @@ struct MaterialDescription {
 // The spectral profiles of one skin (spectral rendering): a table per wavelength of a 10 nm grid
 // over 400-700 nm, rescaled to each wavelength's exact R_d.
 struct SpectralSkin {
-  WavelengthGrid grid{kLambdaMin, kLambdaMax, 10.0};
+  physics::WavelengthGrid grid{kLambdaMin, kLambdaMax, 10.0};
   std::vector<TabulatedProfile> profile;  // per grid wavelength
   // The four channels at the sample's wavelengths: the two nearest tables mixed linearly.
   std::array<ProfileChannel, kWavelengths> channels(const SampledWavelengths& wl) const;
 };
 // A function of wavelength on the spectral grid, linear between its nodes.
 struct SpectralCurve {
-  WavelengthGrid grid{kLambdaMin, kLambdaMax, 10.0};
+  physics::WavelengthGrid grid{kLambdaMin, kLambdaMax, 10.0};
   std::vector<double> values;
   double operator()(double lambda) const;
 };
@@ -165,7 +165,7 @@ struct SceneData : SceneSetup {
 };
 
 // The radii of the renderer's profile tables [mm].
-RadialGrid skin_profile_radii();
+transport::RadialGrid skin_profile_radii();
 // The build: each distinct (parameters, solver, spectral) of skin (materials and parameter-map
 // nodes over all the descriptions) and each distinct layered material computed once, in
 // parallel; InputError names the scene and material.
@@ -175,9 +175,9 @@ void check_spectral(const SceneDescription::Data& s);
 // One translucent material alone (tests, benchmarks): a skin or layered description built as
 // build_scenes builds it.
 TranslucentMaterial build_translucent(const MaterialDescription& d, bool spectral = false);
-MaterialDescription skin_description(const SkinParameters& p,
+MaterialDescription skin_description(const physics::SkinParameters& p,
                                      const transport::Model& solver = transport::default_model());
-MaterialDescription layered_description(const std::array<LayerStack, 3>& stacks,
+MaterialDescription layered_description(const std::array<physics::LayerStack, 3>& stacks,
                                         const transport::Model& solver = transport::default_model());
 
 // Procedural geometry for built-in scenes (in scene units).

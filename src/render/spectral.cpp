@@ -10,6 +10,9 @@
 #include "skin/util/error.hpp"
 
 namespace skin::render {
+
+using skin::physics::WavelengthGrid;
+
 namespace {
 
 constexpr double kRange = kLambdaMax - kLambdaMin;  // [nm]

@@ -71,7 +71,7 @@ class RgbUpsampling {
   SampledSpectrum operator()(const Rgb3& rgb, const SampledWavelengths& wl) const;
   // Basis k = 0..5: cyan, magenta, yellow, red, green, blue on the grid (for tests and docs).
   const std::vector<double>& basis(int k) const { return basis_[static_cast<std::size_t>(k)]; }
-  static WavelengthGrid grid() { return WavelengthGrid(kLambdaMin, kLambdaMax, 10.0); }
+  static physics::WavelengthGrid grid() { return physics::WavelengthGrid(kLambdaMin, kLambdaMax, 10.0); }
 
  private:
   RgbUpsampling();

@@ -5,6 +5,13 @@
 
 namespace skin::schema {
 
+using skin::util::format_number;
+
+using skin::model::SkinSpectrum;
+
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+
 std::vector<Column> batch_columns(const BatchLayout& layout, std::size_t first,
                                   std::span<const SkinParameters> sets,
                                   const std::vector<SkinSpectrum>& spectra,

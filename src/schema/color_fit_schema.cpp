@@ -6,6 +6,10 @@
 
 namespace skin::schema {
 
+using skin::physics::ParameterInfo;
+using skin::physics::parameter_table;
+using skin::physics::WavelengthGrid;
+
 Result color_fit_result(const fit::ColorFitResult& r, const color::Rgb& target, double melanin_blend_prior,
                         double melanin_blend_weight) {
   const color::Colorimetry cm{WavelengthGrid{}};

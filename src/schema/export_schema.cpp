@@ -5,6 +5,10 @@
 
 namespace skin::schema {
 
+using skin::util::Rgb;
+
+using skin::physics::SkinParameters;
+
 json fit_report_document(const exporting::FitReport& r, const SkinParameters& p, std::string_view solver,
                          const std::vector<std::string>& files) {
   using exporting::report_error;
@@ -28,7 +32,7 @@ json fit_report_document(const exporting::FitReport& r, const SkinParameters& p,
                 {"colors", "linear Rec.709 (sRGB primaries, D65)"}};
   json names = json::array();
   for (const std::string& f : files) {
-    escape::require_utf8(f, "output");  // JSON holds text
+    util::escape::require_utf8(f, "output");  // JSON holds text
     names.push_back(f);
   }
   j["files"] = names;

@@ -15,7 +15,7 @@ namespace skin::schema {
 // reaches our skin, the notes, both colours, the errors, our mean radii, the target's values;
 // with parameter maps the texels and the worst colour error. Numbers as the files write them
 // (exporting::report_number, report_error); the parameters as given.
-json fit_report_document(const exporting::FitReport& report, const SkinParameters& parameters,
+json fit_report_document(const exporting::FitReport& report, const physics::SkinParameters& parameters,
                          std::string_view solver, const std::vector<std::string>& files);
 
 }  // namespace skin::schema

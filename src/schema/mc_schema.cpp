@@ -7,6 +7,11 @@
 
 namespace skin::schema {
 
+using skin::util::format_number;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+
 Result mc_result(const LayerStack& stack, const mc::Result& r, std::uint64_t seed,
                  const std::optional<McSkin>& skin) {
   Result result;

@@ -12,12 +12,37 @@
 
 namespace skin::schema {
 
+using skin::util::InputError;
+using skin::util::Rgb;
+using skin::util::format_number;
+
+using skin::transport::DiffusionSlab;
+using skin::transport::DiffusionStack;
+using skin::transport::RadialGrid;
+using skin::transport::RgbProfile;
+using skin::transport::SpectralProfile;
+
+using skin::model::SkinSpectrum;
+using skin::model::skin_spectrum;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::ParameterInfo;
+using skin::physics::ParameterNames;
+using skin::physics::Preset;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::outside_skin_domain;
+using skin::physics::parameter_table;
+using skin::physics::presets;
+
 Column constant_column(std::string name, double value, std::size_t rows) {
   return Column{std::move(name), std::vector<double>(std::max<std::size_t>(rows, 1), value), {}};
 }
 
 namespace {
-using escape::csv_field;
+using util::escape::csv_field;
 // Numbers of CSV files: ten significant digits.
 std::string num(double v) {
   char buf[32];
@@ -206,7 +231,7 @@ std::string color_table(const color::ColorSummary& c) {
 
 ParameterFile ParameterFile::read(const std::string& path) {
   const std::string where = "params = '" + path + "': ";
-  const std::string text = io::read_file(path, "params");
+  const std::string text = util::io::read_file(path, "params");
   json doc;
   try {
     doc = json::parse(text);

@@ -60,10 +60,10 @@ std::string format_fixed(double v, int digits);
 // Appends the columns `more` (of the same names, or `to` empty) to `to`, row after row.
 void append_rows(std::vector<Column>& to, const std::vector<Column>& more);
 
-json to_json(const SkinParameters& p);
+json to_json(const physics::SkinParameters& p);
 // A layer as the --layer keys name it: sigma_a, sigma_s_prime [1/mm], thickness_mm (null when
 // semi-infinite), eta, g.
-json to_json(const Layer& l);
+json to_json(const physics::Layer& l);
 json to_json(const color::ColorSummary& c);
 // {"totals": bool, "profile": bool, "reason": "..."} (reason only when one is false).
 json to_json(const transport::Validity& v);
@@ -76,32 +76,33 @@ std::vector<Column> color_columns(const color::ColorSummary& c);
 // naming the base set). read() and parse() throw InputError naming the file (`where`) and the key.
 struct ParameterFile {
   std::string preset;  // empty: none
-  std::vector<std::pair<const ParameterInfo*, double>> values;
+  std::vector<std::pair<const physics::ParameterInfo*, double>> values;
   static ParameterFile read(const std::string& path);
   // The same from a parsed document; `where` prefixes the messages ("params = 'FILE': ").
   static ParameterFile parse(const json& doc, const std::string& where);
-  bool sets(const ParameterInfo* info) const;
-  void apply(SkinParameters& p) const;  // the preset (if any), then the values
+  bool sets(const physics::ParameterInfo* info) const;
+  void apply(physics::SkinParameters& p) const;  // the preset (if any), then the values
 };
 
 // The results of the commands, as `skin <command> --format json|csv|table` writes them.
 // `preset` is the --preset the parameters started from.
-Result spectrum_result(const SkinSpectrum& s, const std::string& preset);
-// The colour `c` of s.R_d under c.illuminant (JSON key "illuminant"): skin::color_under(s, ...).
-Result color_result(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c);
+Result spectrum_result(const model::SkinSpectrum& s, const std::string& preset);
+// The colour `c` of s.R_d under c.illuminant (JSON key "illuminant"): skin::model::color_under(s, ...).
+Result color_result(const model::SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c);
 // skin profile --rgb, and skin profile per wavelength.
-Result rgb_profile_result(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
+Result rgb_profile_result(const transport::RgbProfile& rgb, const physics::SkinParameters& p, const std::string& preset,
                           const std::string& solver, const transport::Validity& validity);
-Result spectral_profile_result(const SpectralProfile& sp, const SkinParameters& p,
+Result spectral_profile_result(const transport::SpectralProfile& sp, const physics::SkinParameters& p,
                                const std::string& preset, const std::string& solver,
                                const transport::Validity& validity);
 // Their JSON documents alone (the results' `document`), without the columns and the table text:
 // for callers that need only the JSON (the web page's live update, Python's arrays of sets).
-json spectrum_document(const SkinSpectrum& s, const std::string& preset);
-json color_document(const SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c);
-json rgb_profile_document(const RgbProfile& rgb, const SkinParameters& p, const std::string& preset,
+json spectrum_document(const model::SkinSpectrum& s, const std::string& preset);
+json color_document(const model::SkinSpectrum& s, const std::string& preset, const color::ColorSummary& c);
+json rgb_profile_document(const transport::RgbProfile& rgb, const physics::SkinParameters& p, const std::string& preset,
                           const std::string& solver, const transport::Validity& validity);
-json spectral_profile_document(const SpectralProfile& sp, const SkinParameters& p, const std::string& preset,
+json spectral_profile_document(const transport::SpectralProfile& sp, const physics::SkinParameters& p,
+                               const std::string& preset,
                                const std::string& solver, const transport::Validity& validity);
 Result parameters_result();
 Result presets_result();
@@ -109,7 +110,7 @@ Result presets_result();
 // skin layers: the totals of `stack` by `solver` and its profile R [1/mm^2] at the radii r_mm (as
 // asked: in their order, repeats kept; both empty when none are), each layer with the diffusion
 // quantities of its slab in `diffusion` (alpha_prime, sigma_tr, z_r, z_b, A).
-Result layers_result(const LayerStack& stack, const DiffusionStack& diffusion, const std::string& solver,
+Result layers_result(const physics::LayerStack& stack, const transport::DiffusionStack& diffusion, const std::string& solver,
                      const transport::Totals& totals, const std::vector<double>& r_mm,
                      const std::vector<double>& R, const transport::Validity& validity);
 

@@ -6,7 +6,9 @@
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/skin_stack_table.hpp"
 
-namespace skin::accurate {
+namespace skin::transport::accurate {
+
+using skin::physics::LayerStack;
 
 AccurateStack::AccurateStack(const LayerStack& stack, const Options& options)
     : AccurateStack(stack, options, Cache()) {}
@@ -42,4 +44,4 @@ std::ostream& operator<<(std::ostream& os, const AccurateStack& s) {
             << (s.skin_table() ? ", skin table" : ", frequency domain") << '}';
 }
 
-}  // namespace skin::accurate
+}  // namespace skin::transport::accurate

@@ -8,7 +8,7 @@
 #include "skin/transport/accurate.hpp"
 #include "skin/physics/layer.hpp"
 
-namespace skin::accurate::detail {
+namespace skin::transport::accurate::detail {
 
 // Largest optical depth of the diamond-initialised thin layer (its error is second order in the
 // depth: 1/8 changes the MCML benchmark slab's totals by < 5e-5, docs/accurate-solver.md, sec.
@@ -23,9 +23,9 @@ struct Streams {
   double n_ref = 1;
   std::vector<double> edges;  // panel edges in s, ascending, last = n_ref
   std::vector<double> s2, a_ref;
-  double escape_density = kInfinity;  // quadrature points per unit of mu_ref in the first panel
+  double escape_density = physics::kInfinity;  // quadrature points per unit of mu_ref in the first panel
 };
-Streams make_streams(const LayerStack& stack, int points);
+Streams make_streams(const physics::LayerStack& stack, int points);
 // Number of streams that propagate in a medium of index n (they are the leading ones).
 int propagating(const Streams& st, double n);
 
@@ -34,7 +34,7 @@ using Vec = Eigen::VectorXd;
 
 // Quadrature points per panel for a stack (Options, or automatic: for the totals, or for the
 // frequency-domain solver); validates both.
-int quadrature_points(const LayerStack& stack, const Options& options,
+int quadrature_points(const physics::LayerStack& stack, const Options& options,
                       bool frequency_domain = false);
 
 // Angular data of one medium (index n, anisotropy g) on a stream set: cosines mu, sines s (of
@@ -53,7 +53,7 @@ struct LayerRT {
   Eigen::MatrixXd R, T;  // m x m, m = propagating(st, layer.eta)
 };
 // tabulate: layers from the interpolated tables of `cache` (true) or by direct doubling.
-LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulate,
+LayerRT layer_rt(const Streams& st, const physics::Layer& layer, int points, bool tabulate,
                  const Cache& cache);
 
 struct Boundary {
@@ -73,12 +73,12 @@ struct Below {
 void add_on_top(Below& b, const Mat& Re, const Mat& Te, bool need_T);
 // The whole stack below its top surface, from the bottom up: layers (layer(i): the i-th layer's
 // R and T on its propagating streams, `blocks` blocks of them) and the Fresnel interfaces.
-Below add_stack(const LayerStack& stack, const Streams& st, int blocks,
+Below add_stack(const physics::LayerStack& stack, const Streams& st, int blocks,
                 const std::function<LayerRT(std::size_t)>& layer);
 // The downward flux just under the top surface for the unit beam in stream 0 of block 0.
-Vec under_surface(const LayerStack& stack, const Streams& st, int blocks, const Below& below);
+Vec under_surface(const physics::LayerStack& stack, const Streams& st, int blocks, const Below& below);
 // Transmission of the top surface per stream (flux that escapes upwards).
-Vec escape_weights(const Streams& st, const LayerStack& stack);
+Vec escape_weights(const Streams& st, const physics::LayerStack& stack);
 
 // Azimuthal orders of the frequency-domain solver at frequency k (options, or automatic:
 // 3 + ceil(4 sqrt(kappa)), kappa = k / scaled_extinction of the layer of least
@@ -92,13 +92,13 @@ Vec escape_weights(const Streams& st, const LayerStack& stack);
 // at most kThinStackMostOrders.
 // scaled_extinction: sigma_a + sigma_s (1 - g^16), close to the delta-M scaled extinction of the
 // default quadrature (it sets only how many orders and nodes are used).
-double scaled_extinction(const Layer& l);
+double scaled_extinction(const physics::Layer& l);
 inline constexpr int kMaxAutomaticOrders = 8;
 inline constexpr int kThinStackOrders = 24;
 inline constexpr double kThinStackDepth = 0.5;
 inline constexpr double kThinStackOrderDepth = 1.5;
 inline constexpr int kThinStackMostOrders = 64;
-int azimuthal_orders(const LayerStack& stack, double k, const FrequencyOptions& options);
+int azimuthal_orders(const physics::LayerStack& stack, double k, const FrequencyOptions& options);
 
 // The layer equations (A, B) of the frequency-domain solver for one medium at kappa = k /
 // sigma_t (delta-M scaled) with `orders` azimuthal orders (block-major); from their modes (sfd.cpp),
@@ -111,10 +111,10 @@ bool finite_modes(const Mat& A, const Mat& B, double h, int doublings, LayerRT& 
 
 // Single scattering in the top layer that leaves directly, as the frequency-domain solver
 // discretises it (sfd.cpp), at each k [rad/mm].
-std::vector<double> single_scattering_k(const LayerStack& stack, const std::vector<double>& k,
+std::vector<double> single_scattering_k(const physics::LayerStack& stack, const std::vector<double>& k,
                                         const FrequencyOptions& options);
 
 // adding_doubling() with the choice of how layers are computed (tables or direct doubling).
-Totals solve(const LayerStack& stack, const Options& options, bool tabulate, const Cache& cache);
+Totals solve(const physics::LayerStack& stack, const Options& options, bool tabulate, const Cache& cache);
 
-}  // namespace skin::accurate::detail
+}  // namespace skin::transport::accurate::detail

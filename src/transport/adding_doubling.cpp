@@ -39,7 +39,19 @@
 #include "skin/util/interpolation.hpp"
 #include "skin/util/quadrature.hpp"
 
-namespace skin::accurate {
+namespace skin::transport::accurate {
+
+using skin::util::InputError;
+using skin::util::QuadratureRule;
+using skin::util::gauss_legendre;
+using skin::util::gauss_radau;
+using skin::util::lagrange4_weights;
+
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::fresnel_dielectric;
+
 
 std::ostream& operator<<(std::ostream& os, const Options& o) {
   return os << "accurate::Options{quadrature_points=" << o.quadrature_points << '}';
@@ -577,4 +589,4 @@ Totals adding_doubling(const LayerStack& stack, const Options& options) {
   return adding_doubling(stack, options, Cache());
 }
 
-}  // namespace skin::accurate
+}  // namespace skin::transport::accurate

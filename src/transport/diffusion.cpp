@@ -8,7 +8,11 @@
 #include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
 
-namespace skin {
+namespace skin::transport {
+
+using skin::util::format_number;
+
+using skin::physics::fresnel_dielectric;
 
 double F_dr(double eta) {
   if (std::abs(eta - 1.0) < 1e-12) return 0.0;  // matched boundary: no internal reflection
@@ -222,4 +226,4 @@ double R_d_semi_infinite(double alpha_prime, double A) {
   return 0.5 * alpha_prime * (1.0 + std::exp(-4.0 / 3.0 * A * root)) * std::exp(-root);
 }
 
-}  // namespace skin
+}  // namespace skin::transport

@@ -1,6 +1,6 @@
 // The registry of transport models (include/skin/transport/model.hpp): the multipole (DJ05
-// diffusion, skin::DiffusionStack) and the accurate model (adding-doubling totals, transport-table
-// profiles, skin::accurate::AccurateStack).
+// diffusion, skin::transport::DiffusionStack) and the accurate model (adding-doubling totals, transport-table
+// profiles, skin::transport::accurate::AccurateStack).
 #include "skin/transport/model.hpp"
 
 #include <array>
@@ -15,6 +15,12 @@
 #include "skin/util/error.hpp"
 
 namespace skin::transport {
+
+using skin::util::InputError;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::fresnel_dielectric;
 
 std::ostream& operator<<(std::ostream& os, const Totals& t) {
   return os << "Totals{R_specular=" << t.R_specular << ", R_d=" << t.R_d << ", T_d=" << t.T_d

@@ -12,7 +12,17 @@
 #include "skin/util/error.hpp"
 #include "skin/util/interpolation.hpp"
 
-namespace skin {
+namespace skin::transport {
+
+using skin::util::InputError;
+using skin::util::format_number;
+using skin::util::lagrange4_weights;
+using skin::util::require_non_negative;
+using skin::util::require_positive;
+
+using skin::physics::ChannelWeights;
+using skin::physics::Spectrum;
+using skin::physics::WavelengthGrid;
 
 namespace {
 void require_radius_in_range(const char* name, double r) {
@@ -269,4 +279,4 @@ double integrate_profile(const RadialGrid& radii, const std::vector<double>& R) 
   return 2.0 * std::numbers::pi * sum;
 }
 
-}  // namespace skin
+}  // namespace skin::transport

@@ -14,6 +14,15 @@
 
 namespace skin::transport {
 
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::csv_metadata;
+using skin::util::format_number;
+using skin::util::format_number_list;
+using skin::util::locate;
+using skin::util::metadata_numbers;
+using skin::util::parse_csv;
+
 namespace {
 
 // Node index and weight of alpha, interpolating in log(1 - alpha).
@@ -32,7 +41,7 @@ double lerp_at(const std::vector<double>& v, std::pair<std::size_t, double> w) {
 }  // namespace
 
 const RandomWalkTable& RandomWalkTable::builtin() {
-  static const RandomWalkTable t = from_csv(data::embedded("random_walk_g0.csv"),
+  static const RandomWalkTable t = from_csv(util::data::embedded("random_walk_g0.csv"),
                                             "data/random_walk_g0.csv");
   return t;
 }

@@ -33,7 +33,17 @@
 #include "skin/util/quadrature.hpp"
 #include "skin/physics/fresnel.hpp"
 
-namespace skin::accurate {
+namespace skin::transport::accurate {
+
+using skin::util::InputError;
+using skin::util::QuadratureRule;
+using skin::util::gauss_legendre;
+using skin::util::lagrange_weights;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::fresnel_dielectric;
+using skin::physics::kInfinity;
 
 namespace detail {
 
@@ -439,9 +449,9 @@ std::vector<double> frequency_response(const LayerStack& stack, const std::vecto
   return out;
 }
 
-}  // namespace skin::accurate
+}  // namespace skin::transport::accurate
 
-namespace skin::accurate {
+namespace skin::transport::accurate {
 
 FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options)
     : FrequencyStack(stack, options, Cache()) {}
@@ -719,4 +729,4 @@ double FrequencyStack::residual_k(double k) const {
   return out;
 }
 
-}  // namespace skin::accurate
+}  // namespace skin::transport::accurate

@@ -17,7 +17,24 @@
 #include "skin/util/interpolation.hpp"
 #include "skin/util/table.hpp"
 
-namespace skin::accurate {
+namespace skin::transport::accurate {
+
+using skin::util::InputError;
+using skin::util::Lagrange4Stencil;
+using skin::util::ProgressCallback;
+using skin::util::Table;
+using skin::util::csv_metadata;
+using skin::util::format_number;
+using skin::util::format_number_list;
+using skin::util::lagrange4_stencil;
+using skin::util::lagrange4_weights;
+using skin::util::metadata_number;
+using skin::util::metadata_numbers;
+using skin::util::parse_csv;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::kInfinity;
 
 namespace {
 
@@ -130,23 +147,23 @@ void SkinStackTable::compute(const ProgressCallback& progress) {
   // The top layers first (each lower-layer node subtracts its top layer's profile).
   std::vector<std::vector<double>> top(tau.size() * n_e);
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e, [&](std::size_t k) {
-    if (cancel::requested()) return;  // thrown below
+    if (util::cancel::requested()) return;  // thrown below
     const Layer a = absorber(*this);
     top[k] = solve(*this, tau[k / n_e], a_e[k % n_e], &a);
     const std::vector<double> ln_top = floored_log(top[k]);
     std::copy(ln_top.begin(), ln_top.end(), ln_rho_top.begin() + static_cast<std::ptrdiff_t>(k * n_x));
     tick();
   });
-  cancel::check();
+  util::cancel::check();
   tbb::parallel_for(std::size_t{0}, a_h.size(), [&](std::size_t k) {
-    if (cancel::requested()) return;
+    if (util::cancel::requested()) return;
     const std::vector<double> h = solve_half_space(a_h[k]);
     std::copy(h.begin(), h.end(), ln_rho_half.begin() + static_cast<std::ptrdiff_t>(k * n_x));
     tick();
   });
-  cancel::check();
+  util::cancel::check();
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e * n_d, [&](std::size_t k) {
-    if (cancel::requested()) return;
+    if (util::cancel::requested()) return;
     const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
     const Layer d = dermis(*this, a_d[i_d]);
     const std::vector<double> R = solve(*this, tau[i_t], a_e[i_e], &d);
@@ -156,7 +173,7 @@ void SkinStackTable::compute(const ProgressCallback& progress) {
       ln_rho[k * n_x + i] = std::log(std::max(R[i] - T[i], kFloor * peak));
     tick();
   });
-  cancel::check();
+  util::cancel::check();
 }
 
 std::string SkinStackTable::to_csv() const {
@@ -269,7 +286,7 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
 }
 
 const SkinStackTable& SkinStackTable::builtin() {
-  static const SkinStackTable t = parse(data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
+  static const SkinStackTable t = parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
   return t;
 }
 
@@ -407,4 +424,4 @@ double SkinStackProfile::operator()(double r) const {
   return std::isfinite(out) ? out : 0.0;  // (a table of nodes ~1e-9 apart in x: see clamp_ln)
 }
 
-}  // namespace skin::accurate
+}  // namespace skin::transport::accurate

@@ -2,7 +2,9 @@
 
 #include <ostream>
 
-namespace skin {
+namespace skin::transport {
+
+using skin::physics::LayerStack;
 
 std::ostream& operator<<(std::ostream& os, const Transfer& t) {
   return os << "Transfer{R_down=" << t.R_down << ", T_down=" << t.T_down << ", R_up=" << t.R_up
@@ -46,4 +48,4 @@ Transfer DiffusionStack::at(double k) const {
   return acc;
 }
 
-}  // namespace skin
+}  // namespace skin::transport

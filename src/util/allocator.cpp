@@ -6,7 +6,7 @@
 #include <malloc.h>
 #endif
 
-namespace skin {
+namespace skin::util {
 
 void keep_matrix_memory() {
 #if defined(__GLIBC__)
@@ -17,4 +17,4 @@ void keep_matrix_memory() {
 #endif
 }
 
-}  // namespace skin
+}  // namespace skin::util

@@ -16,7 +16,7 @@
 
 #include "skin/util/error.hpp"
 
-namespace skin::io {
+namespace skin::util::io {
 
 namespace fs = std::filesystem;
 
@@ -198,4 +198,4 @@ void write_file_atomic(const std::string& path, const std::string& content) {
   write_via_temporary(path, [&](const std::string& tmp) { write_new_file(path, tmp, content); });
 }
 
-}  // namespace skin::io
+}  // namespace skin::util::io

@@ -2,7 +2,7 @@
 
 #include <atomic>
 
-namespace skin::cancel {
+namespace skin::util::cancel {
 
 namespace {
 // Lock-free, hence usable from a signal handler.
@@ -14,4 +14,4 @@ void request() noexcept { flag.store(true, std::memory_order_relaxed); }
 bool requested() noexcept { return flag.load(std::memory_order_relaxed); }
 void reset() noexcept { flag.store(false, std::memory_order_relaxed); }
 
-}  // namespace skin::cancel
+}  // namespace skin::util::cancel

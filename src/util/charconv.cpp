@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <cstring>
 
-namespace skin {
+namespace skin::util {
 
 // libstdc++ has both conversions for double since GCC 11 and announces them with
 // __cpp_lib_to_chars; libc++ 14 declares them deleted and does not.
@@ -97,4 +97,4 @@ std::string to_chars_shortest_fallback(double value) {
 }
 
 }  // namespace detail
-}  // namespace skin
+}  // namespace skin::util

@@ -6,7 +6,7 @@
 
 #include "skin/util/charconv.hpp"
 
-namespace skin {
+namespace skin::util {
 
 std::string one_line(std::string_view text) {
   std::string out;
@@ -75,4 +75,4 @@ void assertion_failed(const char* expr, const char* file, int line, const std::s
   std::abort();
 }
 
-}  // namespace skin
+}  // namespace skin::util

@@ -6,7 +6,7 @@
 
 #include "skin/util/error.hpp"
 
-namespace skin::escape {
+namespace skin::util::escape {
 
 namespace {
 
@@ -180,4 +180,4 @@ std::string csv_field(std::string_view text) {
   return q + "\"";
 }
 
-}  // namespace skin::escape
+}  // namespace skin::util::escape

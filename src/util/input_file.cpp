@@ -10,7 +10,7 @@
 
 #include "skin/util/error.hpp"
 
-namespace skin::io {
+namespace skin::util::io {
 
 namespace fs = std::filesystem;
 
@@ -81,4 +81,4 @@ std::string read_file(const std::string& path, const std::string& what, std::uin
   return data;
 }
 
-}  // namespace skin::io
+}  // namespace skin::util::io

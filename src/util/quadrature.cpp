@@ -8,7 +8,7 @@
 
 #include "skin/util/error.hpp"
 
-namespace skin {
+namespace skin::util {
 namespace {
 
 using Mat = Eigen::MatrixXd;
@@ -61,4 +61,4 @@ const QuadratureRule& rule(int n, bool radau) {
 const QuadratureRule& gauss_legendre(int n) { return rule(n, false); }
 const QuadratureRule& gauss_radau(int n) { return rule(n, true); }
 
-}  // namespace skin
+}  // namespace skin::util

@@ -2,10 +2,10 @@
 
 #include <ostream>
 
-namespace skin {
+namespace skin::util {
 
 std::ostream& operator<<(std::ostream& os, const Rgb& c) {
   return os << "RGB(" << c.r << ", " << c.g << ", " << c.b << ')';
 }
 
-}  // namespace skin
+}  // namespace skin::util

@@ -8,7 +8,7 @@
 
 #include "skin/util/error.hpp"
 
-namespace skin {
+namespace skin::util {
 
 namespace {
 std::string duration_text(double seconds) {
@@ -45,4 +45,4 @@ WorkEstimate estimate_work(const std::string& what, double units, double units_p
   return e;
 }
 
-}  // namespace skin
+}  // namespace skin::util

@@ -8,6 +8,18 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::parse_csv;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::transport::RgbProfile;
+using skin::model::SkinSpectrum;
+using skin::model::skin_rgb_profile;
+using skin::model::skin_spectral_profile;
+using skin::model::skin_spectrum;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
 
 namespace {
 std::vector<SkinParameters> sweep(std::size_t n) {

@@ -45,7 +45,7 @@ TEST_F(Cli, FittedParameterMapsRenderLikeThePreset) {
   const auto a = skin::image::read_image((dir_ / "preset.exr").string(), false);
   const auto b = skin::image::read_image((dir_ / "fitted.exr").string(), false);
   ASSERT_EQ(a.rgb.size(), b.rgb.size());
-  const skin::color::Colorimetry cm{skin::WavelengthGrid{}};
+  const skin::color::Colorimetry cm{skin::physics::WavelengthGrid{}};
   double sum = 0;
   int n = 0;
   for (std::size_t i = 0; i < a.rgb.size(); i += 3) {

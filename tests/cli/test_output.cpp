@@ -1,4 +1,4 @@
-// Output safety of -o (every command writes through skin::io): a regular file is replaced
+// Output safety of -o (every command writes through skin::util::io): a regular file is replaced
 // atomically, a symbolic link's target is written and the link stays a link, a FIFO or device
 // is written in place and never replaced, "-" is standard output; a failing write (bad input,
 // a full device) touches nothing that existed. The format follows -o's extension; a

@@ -4,6 +4,9 @@
 #include "skin/color/color.hpp"
 
 using namespace skin;
+using skin::util::Rgb;
+using skin::physics::Spectrum;
+using skin::physics::WavelengthGrid;
 using namespace skin::color;
 
 TEST(Color, D65WhitePointOnTheFullCieGrid) {

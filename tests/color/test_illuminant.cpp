@@ -10,6 +10,11 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::util::Rgb;
+using skin::physics::Spectrum;
+using skin::physics::TabulatedFunction;
+using skin::physics::WavelengthGrid;
 using namespace skin::color;
 
 namespace {

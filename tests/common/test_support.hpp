@@ -45,7 +45,7 @@ std::vector<T> sanitized(std::initializer_list<T> cases) {
 // (mu + mu') dmu' on `nodes` Gauss-Legendre points in [0, 1] (the form that converges also for
 // omega -> 1); 200 nodes and 2000 sweeps give H(1) to better than 1e-10 for omega <= 0.99.
 inline double chandrasekhar_H(double omega, double mu, int nodes = 200) {
-  const QuadratureRule& rule = gauss_legendre(nodes);
+  const util::QuadratureRule& rule = util::gauss_legendre(nodes);
   const std::size_t n = rule.x.size();
   std::vector<double> x(n), w(n), H(n, 1.0), next(n);
   for (std::size_t i = 0; i < n; ++i) {

@@ -22,6 +22,15 @@
 #include "skin_test_paths.hpp"
 
 using namespace skin;
+using skin::util::Rgb;
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+using skin::transport::RgbProfile;
+using skin::model::skin_rgb_profile;
+using skin::model::skin_spectrum;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
 namespace fs = std::filesystem;
 
 namespace {

@@ -23,6 +23,9 @@
 #include "skin_test_paths.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
@@ -177,7 +180,7 @@ TEST(Escape, PythonStringsRoundTripThroughAst) {
   test::TempDir dir("skin-escape-py");
   std::string lines;
   for (const std::string& s : hostile()) {
-    const std::string lit = escape::python_string(s, "output");
+    const std::string lit = util::escape::python_string(s, "output");
     EXPECT_EQ(lit.find_first_of("\n\r"), std::string::npos) << lit;  // one line
     lines += lit + "\n";
   }
@@ -196,7 +199,7 @@ TEST(Escape, XmlAttributesRoundTripThroughExpat) {
   for (const std::string& s : hostile()) {
     if (s.find('\0') != std::string::npos) continue;  // refused below
     held.push_back(s);
-    const std::string v = escape::xml_attribute(s, "output");
+    const std::string v = util::escape::xml_attribute(s, "output");
     EXPECT_EQ(v.find_first_of("\n\r\"<"), std::string::npos) << v;
     lines += v + "\n";
   }
@@ -209,29 +212,29 @@ TEST(Escape, XmlAttributesRoundTripThroughExpat) {
   for (const std::string& s : {std::string("a\x01z"), std::string("nul\0", 4), std::string("\x1f"),
                                std::string("\x0b"), std::string("\xef\xbf\xbe"),
                                std::string("\xef\xbf\xbf")}) {
-    const std::string m = refusal([&] { escape::xml_attribute(s, "output"); });
+    const std::string m = refusal([&] { util::escape::xml_attribute(s, "output"); });
     EXPECT_EQ(m.rfind("output = '", 0), 0u) << m;
     EXPECT_NE(m.find("cannot be written in an XML file"), std::string::npos) << m;
     EXPECT_EQ(m.find('\n'), std::string::npos) << m;
   }
-  EXPECT_NE(refusal([] { escape::xml_attribute("a\x01z", "output"); }).find("U+0001"), std::string::npos);
+  EXPECT_NE(refusal([] { util::escape::xml_attribute("a\x01z", "output"); }).find("U+0001"), std::string::npos);
 }
 
 TEST(Escape, MitsubaAttributesRefuseWhatMitsubaReadsOtherwise) {
   // Mitsuba 3 substitutes $parameters in every attribute and refuses a '$' left over; a leading
   // '_' is reserved for its own ids. Everything else is XML's.
   for (const char* s : {"$x", "a$", "${x}"})
-    EXPECT_NE(refusal([&] { escape::mitsuba_attribute(s, "name"); }).find("name = '"), std::string::npos) << s;
-  EXPECT_NE(refusal([] { escape::mitsuba_attribute("_x", "name"); }).find("leading '_'"), std::string::npos);
-  EXPECT_EQ(escape::mitsuba_attribute("x_<&>\"'", "name"), escape::xml_attribute("x_<&>\"'", "name"));
-  EXPECT_NE(refusal([] { escape::mitsuba_attribute("a\x02", "name"); }), "");
+    EXPECT_NE(refusal([&] { util::escape::mitsuba_attribute(s, "name"); }).find("name = '"), std::string::npos) << s;
+  EXPECT_NE(refusal([] { util::escape::mitsuba_attribute("_x", "name"); }).find("leading '_'"), std::string::npos);
+  EXPECT_EQ(util::escape::mitsuba_attribute("x_<&>\"'", "name"), util::escape::xml_attribute("x_<&>\"'", "name"));
+  EXPECT_NE(refusal([] { util::escape::mitsuba_attribute("a\x02", "name"); }), "");
 }
 
 TEST(Escape, PbrtStringsAreOneTokenOfPbrtV4) {
   // pbrt-v4 strings hold every character through its escapes: each escaped name is exactly one
   // string token, whatever follows it (no parameter injected), and decodes to the name.
   for (const std::string& s : hostile()) {
-    const std::string lit = escape::pbrt_string(s, "output");
+    const std::string lit = util::escape::pbrt_string(s, "output");
     EXPECT_EQ(lit.find('\n'), std::string::npos) << lit;
     const std::vector<std::string> t = pbrt_tokens("\"spectrum sigma_a\" " + lit + " \"float g\" [ 0 ]\n");
     ASSERT_EQ(t.size(), 6u) << lit;
@@ -246,7 +249,7 @@ TEST(Escape, PbrtStringsAreOneTokenOfPbrtV4) {
 
 TEST(Escape, CsharpStringsDecodeToTheText) {
   for (const std::string& s : hostile()) {
-    const std::string lit = escape::csharp_string(s, "name");
+    const std::string lit = util::escape::csharp_string(s, "name");
     EXPECT_EQ(csharp_decode(lit), s) << lit;
   }
 }
@@ -258,7 +261,7 @@ TEST(Escape, CsvFieldsRoundTripThroughPythonsCsv) {
   for (const std::string& s : hostile()) {
     if (s.find('\0') != std::string::npos) continue;  // Python's csv refuses NUL
     held.push_back(s);
-    text += escape::csv_field(s) + "," + escape::csv_field("next") + "\n";
+    text += util::escape::csv_field(s) + "," + util::escape::csv_field("next") + "\n";
   }
   write(dir.path() / "a.csv", text);
   const json r = parse_with_python({dir.path() / "a.csv"}).begin().value();
@@ -272,10 +275,10 @@ TEST(Escape, CsvFieldsRoundTripThroughPythonsCsv) {
 
 TEST(Escape, TextThatIsNotUtf8IsRefusedByEveryFormat) {
   for (const char* s : {"\xc3\xa9", "\xf0\x9f\x98\x80", "\xf4\x8f\xbf\xbf", "\xe2\x80\xa8"})
-    EXPECT_NO_THROW(escape::require_utf8(s, "output")) << s;
+    EXPECT_NO_THROW(util::escape::require_utf8(s, "output")) << s;
   for (const std::string& s : kInvalidUtf8) {
-    for (const auto& f : {escape::python_string, escape::xml_attribute, escape::mitsuba_attribute,
-                          escape::pbrt_string, escape::csharp_string}) {
+    for (const auto& f : {util::escape::python_string, util::escape::xml_attribute, util::escape::mitsuba_attribute,
+                          util::escape::pbrt_string, util::escape::csharp_string}) {
       const std::string m = refusal([&] { f(s, "output"); });
       EXPECT_EQ(m.rfind("output = '", 0), 0u) << m;
       EXPECT_NE(m.find("is not UTF-8 text"), std::string::npos) << m;

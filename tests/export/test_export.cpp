@@ -15,6 +15,12 @@
 #include "skin/util/error.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::physics::Preset;
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+using skin::physics::presets;
+using skin::physics::paper_presets;
 using namespace skin::exporting;
 
 TEST(ExportModels, BurleyProfileIsNormalisedWithMeanRadius2point5d) {

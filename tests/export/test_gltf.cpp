@@ -19,6 +19,13 @@
 using namespace skin;
 using namespace skin::exporting;
 using json = nlohmann::json;
+using skin::physics::Preset;
+using skin::physics::ParameterInfo;
+using skin::physics::parameter_table;
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+using skin::physics::presets;
+using skin::util::InputError;
 
 namespace {
 

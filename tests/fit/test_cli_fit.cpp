@@ -42,7 +42,7 @@ CliRun run(const std::string& args, const std::string& prefix = "",
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
 }
 std::string temp(const std::string& name) { return (fs::temp_directory_path() / ("skin_fit_cli_" + name)).string(); }
-std::string write_spectrum(const std::string& name, const skin::SkinParameters& p) {
+std::string write_spectrum(const std::string& name, const skin::physics::SkinParameters& p) {
   const std::string path = temp(name);
   std::ofstream f(path);
   f << "# synthetic\nlambda_nm,R\n";
@@ -55,7 +55,7 @@ std::string write_spectrum(const std::string& name, const skin::SkinParameters& 
 }  // namespace
 
 TEST(CliFit, SpectrumJson) {
-  skin::SkinParameters p;
+  skin::physics::SkinParameters p;
   p.melanin = 0.04;
   p.melanin_blend = 0.4;
   p.hemoglobin = 0.02;
@@ -146,7 +146,7 @@ TEST(CliFit, MeasuredReportSpectraDir) {
                 .out.find("--spectra-dir TEXT=" + missing),
             std::string::npos);
   // A directory from the environment is used: one synthetic spectrum, the report is written.
-  skin::SkinParameters p;
+  skin::physics::SkinParameters p;
   p.melanin = 0.05;
   fs::create_directories(tmp.path() / "spectra");
   fs::copy_file(write_spectrum("measured.csv", p), tmp.path() / "spectra" / "measured.csv");

@@ -46,16 +46,16 @@ void srgb_round_trip(const char* solver_name, const std::vector<double>& cms,
   o.model = forward_model(solver_name);
   const skin::transport::Model& solver = skin::transport::find_model(solver_name);
   const ColorFitter fitter(o);
-  const color::Colorimetry cm{skin::WavelengthGrid{}};
+  const color::Colorimetry cm{skin::physics::WavelengthGrid{}};
   for (double c_m : cms)
     for (double b_m : bms)
       for (double c_h : chs) {
-        const auto truth = skin::skin_spectrum(params(c_m, b_m, c_h), {}, solver);
+        const auto truth = skin::model::skin_spectrum(params(c_m, b_m, c_h), {}, solver);
         const auto s8 = truth.color.srgb8;
         const color::Rgb input{color::srgb_decode(s8[0] / 255.0), color::srgb_decode(s8[1] / 255.0),
                                color::srgb_decode(s8[2] / 255.0)};
         const ColorFitResult r = fitter.fit(input);
-        const auto fitted = skin::skin_spectrum(r.parameters, {}, solver);
+        const auto fitted = skin::model::skin_spectrum(r.parameters, {}, solver);
         const double de = color::delta_e_2000(color::summarize_rgb(cm, input).lab, fitted.color.lab);
         SCOPED_TRACE(::testing::Message() << solver_name << " " << truth.parameters << " -> " << r);
         EXPECT_LT(de, 1.0);
@@ -80,7 +80,7 @@ TEST(ColorFit, SrgbRoundTripWithinOneDeltaEAccurate) {
 // With beta_m free but regularised, flat directions go to the prior: a fit of the colour of a
 // beta_m = 0.7 skin returns close to 0.7; fixing beta_m (not free) keeps it exactly.
 TEST(ColorFit, MelaninBlendResolvedByPriorOrFixed) {
-  const auto truth = skin::skin_spectrum(params(0.01, 0.7, 0.01), {}, skin::transport::find_model("multipole"));
+  const auto truth = skin::model::skin_spectrum(params(0.01, 0.7, 0.01), {}, skin::transport::find_model("multipole"));
   ColorFitOptions o = skin_test::multipole_color_options();
   o.free = {Parameter::melanin, Parameter::hemoglobin};
   o.start.melanin_blend = 0.3;
@@ -96,14 +96,14 @@ TEST(ColorFit, Parsing) {
   EXPECT_DOUBLE_EQ(a.r, b.r);
   EXPECT_DOUBLE_EQ(a.b, c.b);
   EXPECT_NEAR(a.r, color::srgb_decode(216 / 255.0), 1e-15);
-  EXPECT_THROW(parse_srgb8("1,2"), skin::InputError);
-  EXPECT_THROW(parse_srgb8("1,2,300"), skin::InputError);
-  EXPECT_THROW(parse_srgb8("a,2,3"), skin::InputError);
-  EXPECT_THROW(parse_hex("d8a89"), skin::InputError);
-  EXPECT_THROW(parse_hex("g8a890"), skin::InputError);
+  EXPECT_THROW(parse_srgb8("1,2"), skin::util::InputError);
+  EXPECT_THROW(parse_srgb8("1,2,300"), skin::util::InputError);
+  EXPECT_THROW(parse_srgb8("a,2,3"), skin::util::InputError);
+  EXPECT_THROW(parse_hex("d8a89"), skin::util::InputError);
+  EXPECT_THROW(parse_hex("g8a890"), skin::util::InputError);
   ColorFitOptions o = skin_test::multipole_color_options();
   o.free = {Parameter::oxygenation};
-  EXPECT_THROW(ColorFitter{o}, skin::InputError);
+  EXPECT_THROW(ColorFitter{o}, skin::util::InputError);
 }
 
 // The texture path interpolates a table (40 x 6 x 40 nodes, log-spaced in C_m and C_h; R_d at
@@ -135,7 +135,7 @@ TEST(TextureFit, TexelsOutsideAnAlbedoAreRefusedByName) {
     try {
       tex.fit(img);
       ADD_FAILURE() << bad << " accepted";
-    } catch (const skin::InputError& e) {
+    } catch (const skin::util::InputError& e) {
       EXPECT_NE(std::string(e.what()).find("texture: texel (2, 1) channel G = "), std::string::npos) << e.what();
       EXPECT_NE(std::string(e.what()).find("allowed: a linear albedo within [0, 1]"), std::string::npos) << e.what();
     }
@@ -147,12 +147,12 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
   // (far outside the skin gamut: large error expected there).
   const int w = 12, h = 5;
   std::vector<unsigned char> px(static_cast<std::size_t>(w * h * 3));
-  std::vector<skin::SkinParameters> truth;
+  std::vector<skin::physics::SkinParameters> truth;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const auto p = params(0.002 * std::pow(1.6, x), 0.7, 0.002 * std::pow(2.5, y));
       truth.push_back(p);
-      const auto s8 = skin::skin_spectrum(p, {}, skin::transport::find_model("multipole")).color.srgb8;
+      const auto s8 = skin::model::skin_spectrum(p, {}, skin::transport::find_model("multipole")).color.srgb8;
       for (int c = 0; c < 3; ++c) px[static_cast<std::size_t>((y * w + x) * 3 + c)] = static_cast<unsigned char>(s8[static_cast<std::size_t>(c)]);
     }
   px[0] = 0, px[1] = 0, px[2] = 255;
@@ -178,5 +178,5 @@ TEST(TextureFit, PngToExrMapsRoundTrip) {
     EXPECT_EQ(back.hemoglobin[i], maps.hemoglobin[i]);
     EXPECT_EQ(back.error[i], maps.error[i]);
   }
-  EXPECT_THROW(skin::image::read_image((dir / "no_such_texture.png").string()), skin::InputError);
+  EXPECT_THROW(skin::image::read_image((dir / "no_such_texture.png").string()), skin::util::InputError);
 }

@@ -6,8 +6,8 @@
 #include "skin/physics/skin_parameters.hpp"
 
 namespace skin_test {
-inline skin::SkinParameters params(double cm, double bm, double ch) {
-  skin::SkinParameters p;
+inline skin::physics::SkinParameters params(double cm, double bm, double ch) {
+  skin::physics::SkinParameters p;
   p.melanin = cm;
   p.melanin_blend = bm;
   p.hemoglobin = ch;

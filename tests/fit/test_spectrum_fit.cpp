@@ -22,7 +22,7 @@
 using namespace skin::fit;
 
 namespace {
-MeasuredSpectrum synthetic(const skin::SkinParameters& p, const SpectrumFitOptions& o, double sigma = 0,
+MeasuredSpectrum synthetic(const skin::physics::SkinParameters& p, const SpectrumFitOptions& o, double sigma = 0,
                            unsigned seed = 1) {
   MeasuredSpectrum m;
   m.name = "synthetic";
@@ -149,7 +149,7 @@ std::string write_temp(const std::string& name, const std::string& text) {
 std::string error_of(const std::string& path) {
   try {
     read_spectrum(path);
-  } catch (const skin::InputError& e) {
+  } catch (const skin::util::InputError& e) {
     return e.what();
   }
   return "";
@@ -182,9 +182,9 @@ TEST(SpectrumInput, WavelengthsMustIncrease) {
 TEST(SpectrumInput, OiilinessNeedsTheSpecularTerm) {
   SpectrumFitOptions o = skin_test::multipole_spectrum_options();
   o.free = {Parameter::melanin, Parameter::oiliness};
-  EXPECT_THROW(SpectrumFitter{o}, skin::InputError);
-  EXPECT_THROW(parse_parameter_list("melanin,melanin"), skin::InputError);
-  EXPECT_THROW(parse_parameter("carotene"), skin::InputError);
+  EXPECT_THROW(SpectrumFitter{o}, skin::util::InputError);
+  EXPECT_THROW(parse_parameter_list("melanin,melanin"), skin::util::InputError);
+  EXPECT_THROW(parse_parameter("carotene"), skin::util::InputError);
   EXPECT_EQ(parse_parameter("scattering-scale"), Parameter::scattering_scale);
   EXPECT_EQ(parse_parameter("beta_carotene"), Parameter::beta_carotene);
 }
@@ -194,9 +194,9 @@ TEST(SpectrumInput, OiilinessNeedsTheSpecularTerm) {
 // parameter named twice (by key and by symbol) is refused.
 TEST(FitParameters, ComeFromTheParameterTable) {
   std::size_t fittable = 0;
-  for (const skin::ParameterInfo& row : skin::parameter_table()) {
+  for (const skin::physics::ParameterInfo& row : skin::physics::parameter_table()) {
     if (!row.fittable()) {
-      EXPECT_THROW(parse_parameter(row.key), skin::InputError) << row.key;
+      EXPECT_THROW(parse_parameter(row.key), skin::util::InputError) << row.key;
       continue;
     }
     ++fittable;
@@ -212,7 +212,7 @@ TEST(FitParameters, ComeFromTheParameterTable) {
     const Bounds b = default_bounds(p);
     EXPECT_LT(b.lo, b.hi) << row.key;
     EXPECT_TRUE(row.in_range(b.lo) && row.in_range(b.hi)) << row.key;
-    skin::SkinParameters s;
+    skin::physics::SkinParameters s;
     set(s, p, 0.125);
     EXPECT_EQ(s.*(row.member), 0.125);
     EXPECT_EQ(get(s, p), 0.125);
@@ -232,11 +232,11 @@ TEST(FitParameters, ComeFromTheParameterTable) {
   EXPECT_EQ(parse_parameter_list("C_m, beta_m,C_h,gamma"),
             (std::vector<Parameter>{Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin,
                                     Parameter::oxygenation}));
-  EXPECT_THROW(parse_parameter_list("melanin,C_m"), skin::InputError);
-  EXPECT_THROW(parse_parameter("eta"), skin::InputError);  // in the table, not fitted
+  EXPECT_THROW(parse_parameter_list("melanin,C_m"), skin::util::InputError);
+  EXPECT_THROW(parse_parameter("eta"), skin::util::InputError);  // in the table, not fitted
   SpectrumFitOptions o = skin_test::multipole_spectrum_options();
   o.bounds = {{parse_parameter("melanin"), {0.0, 0.1}}, {parse_parameter("C_m"), {0.0, 0.2}}};
-  EXPECT_THROW(SpectrumFitter{o}, skin::InputError);
+  EXPECT_THROW(SpectrumFitter{o}, skin::util::InputError);
 }
 
 // The multipole's real source must lie inside the epidermis (z_r = 1 / sigma_t' < d): outside
@@ -298,14 +298,14 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
   EXPECT_NE(md.str().find("synth_a*"), std::string::npos);
   EXPECT_NE(md.str().find("with the multipole R_d"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "synth_a.png"));
-  EXPECT_THROW(fit_measured_spectra((dir / "missing").string()), skin::InputError);
-  EXPECT_THROW(fit_measured_spectra(out.string()), skin::InputError);  // a directory, no *.csv
+  EXPECT_THROW(fit_measured_spectra((dir / "missing").string()), skin::util::InputError);
+  EXPECT_THROW(fit_measured_spectra(out.string()), skin::util::InputError);  // a directory, no *.csv
 }
 
 // Forward models by name; a spectrum made with the adding-doubling solver is recovered by a fit
 // that uses it (the fit does not depend on the multipole).
 TEST(SpectrumFit, SolversByName) {
-  EXPECT_THROW(forward_model("diffusion-ish"), skin::InputError);
+  EXPECT_THROW(forward_model("diffusion-ish"), skin::util::InputError);
   EXPECT_NO_THROW(forward_model("multipole"));
   SpectrumFitOptions o;
   o.model = forward_model("accurate");

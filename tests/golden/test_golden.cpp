@@ -29,7 +29,7 @@ namespace {
 using json = nlohmann::ordered_json;
 const char* const kSolvers[] = {"multipole", "accurate"};
 
-std::vector<double> values(const skin::Spectrum& s) { return s.values; }
+std::vector<double> values(const skin::physics::Spectrum& s) { return s.values; }
 
 json color_json(const skin::color::ColorSummary& c) {
   return {{"XYZ", {c.XYZ.X, c.XYZ.Y, c.XYZ.Z}},
@@ -37,18 +37,18 @@ json color_json(const skin::color::ColorSummary& c) {
           {"lab", {c.lab.L, c.lab.a, c.lab.b}}};
 }
 
-std::vector<skin::LayerStack> generic_stacks() {
-  using skin::Layer;
-  std::vector<skin::LayerStack> out;
-  skin::LayerStack a;  // the README's two-layer example
-  a.layers = {Layer{0.5, 5, 0.25, 1.4, 0.9}, Layer{0.05, 2.5, skin::kInfinity, 1.4, 0.9}};
+std::vector<skin::physics::LayerStack> generic_stacks() {
+  using skin::physics::Layer;
+  std::vector<skin::physics::LayerStack> out;
+  skin::physics::LayerStack a;  // the README's two-layer example
+  a.layers = {Layer{0.5, 5, 0.25, 1.4, 0.9}, Layer{0.05, 2.5, skin::physics::kInfinity, 1.4, 0.9}};
   out.push_back(a);
-  skin::LayerStack b;  // an index step and a finite slab over glass
+  skin::physics::LayerStack b;  // an index step and a finite slab over glass
   b.layers = {Layer{0.2, 3, 0.4, 1.33, 0.8}, Layer{0.02, 1.5, 2.0, 1.55, 0.9}};
   b.eta_below = 1.5;
   out.push_back(b);
-  skin::LayerStack c;  // dark over bright
-  c.layers = {Layer{3.0, 4, 0.1, 1.4, 0.9}, Layer{0.01, 2, skin::kInfinity, 1.4, 0.9}};
+  skin::physics::LayerStack c;  // dark over bright
+  c.layers = {Layer{3.0, 4, 0.1, 1.4, 0.9}, Layer{0.01, 2, skin::physics::kInfinity, 1.4, 0.9}};
   out.push_back(c);
   return out;
 }
@@ -58,42 +58,42 @@ std::vector<skin::LayerStack> generic_stacks() {
 enum class Part { all, without_frequency_domain, frequency_domain };
 
 // Whether the accurate profile of a stack is the spatial-frequency-domain one.
-bool frequency_domain(const skin::LayerStack& stack) {
-  return !skin::accurate::SkinStackTable::builtin().gap(stack).empty();
+bool frequency_domain(const skin::physics::LayerStack& stack) {
+  return !skin::transport::accurate::SkinStackTable::builtin().gap(stack).empty();
 }
 
 json compute(Part part) {
   json out;
   if (part == Part::frequency_domain) {
-    const auto radii = skin::RadialGrid::logarithmic(0.001, 16, 24);
-    skin::ProfileSolver profiles(radii);
+    const auto radii = skin::transport::RadialGrid::logarithmic(0.001, 16, 24);
+    skin::transport::ProfileSolver profiles(radii);
     int i = 0;
     for (const auto& stack : generic_stacks()) {
       const std::string key = std::to_string(i++);
       if (frequency_domain(stack))
-        out["accurate"]["stacks"][key]["profile"] = profiles.profile(skin::accurate::AccurateStack(stack));
+        out["accurate"]["stacks"][key]["profile"] = profiles.profile(skin::transport::accurate::AccurateStack(stack));
     }
     return out;
   }
-  const skin::WavelengthGrid grid;  // 400-700 nm every 2 nm
-  const auto radii = skin::RadialGrid::logarithmic(0.001, 16, 24);
+  const skin::physics::WavelengthGrid grid;  // 400-700 nm every 2 nm
+  const auto radii = skin::transport::RadialGrid::logarithmic(0.001, 16, 24);
   for (const char* name : kSolvers) {
     const skin::transport::Model& solver = skin::transport::find_model(name);
     json& js = out[name];
-    skin::ProfileSolver profiles(radii);
-    for (const auto& preset : skin::paper_presets()) {
-      const auto s = skin::skin_spectrum(preset.parameters, grid, solver);
+    skin::transport::ProfileSolver profiles(radii);
+    for (const auto& preset : skin::physics::paper_presets()) {
+      const auto s = skin::model::skin_spectrum(preset.parameters, grid, solver);
       json& jp = js["presets"][preset.name];
       jp["R_d"] = values(s.R_d);
       jp["epidermis_sigma_a"] = values(s.epidermis_sigma_a);
       jp["dermis_sigma_a"] = values(s.dermis_sigma_a);
       jp["dermis_sigma_s_prime"] = values(s.dermis_sigma_s_prime);
       jp["color"] = color_json(s.color);
-      const auto rgb = skin::skin_rgb_profile(preset.parameters, grid, profiles, solver);
+      const auto rgb = skin::model::skin_rgb_profile(preset.parameters, grid, profiles, solver);
       jp["rgb_profile"] = {rgb.R[0], rgb.R[1], rgb.R[2]};
       jp["rgb_R_d"] = {rgb.R_d[0], rgb.R_d[1], rgb.R_d[2]};
-      const skin::WavelengthGrid three(450, 650, 100);
-      const auto sp = skin::skin_spectral_profile(preset.parameters, three, profiles, solver);
+      const skin::physics::WavelengthGrid three(450, 650, 100);
+      const auto sp = skin::model::skin_spectral_profile(preset.parameters, three, profiles, solver);
       jp["spectral_profile"] = sp.R;
     }
     int i = 0;
@@ -101,18 +101,18 @@ json compute(Part part) {
       json& jg = js["stacks"][std::to_string(i++)];
       jg["R_d"] = solver.R_d(stack);
       if (std::string(name) == "accurate") {
-        jg["T_d"] = skin::accurate::adding_doubling(stack).T_d;
+        jg["T_d"] = skin::transport::accurate::adding_doubling(stack).T_d;
         // (an AccurateStack off the skin table builds its frequency-domain response)
         if (part == Part::all || !frequency_domain(stack))
-          jg["profile"] = profiles.profile(skin::accurate::AccurateStack(stack));
+          jg["profile"] = profiles.profile(skin::transport::accurate::AccurateStack(stack));
       } else {
-        jg["profile"] = profiles.profile(skin::DiffusionStack(stack));
+        jg["profile"] = profiles.profile(skin::transport::DiffusionStack(stack));
       }
     }
     // Spectrum fit of a deterministic, slightly perturbed tanned spectrum.
     {
-      const skin::WavelengthGrid g5(400, 700, 5);
-      const auto s = skin::skin_spectrum(skin::find_preset("tanned").parameters, g5,
+      const skin::physics::WavelengthGrid g5(400, 700, 5);
+      const auto s = skin::model::skin_spectrum(skin::physics::find_preset("tanned").parameters, g5,
                                          skin::transport::find_model("multipole"));
       skin::fit::MeasuredSpectrum m;
       m.name = "golden";
@@ -149,7 +149,7 @@ json compute(Part part) {
     o.threads = 2;
     o.bins = 20;
     o.r_max = 2;
-    const auto stack = skin::skin_layer_stack(skin::find_preset("pale").parameters, 650);
+    const auto stack = skin::physics::skin_layer_stack(skin::physics::find_preset("pale").parameters, 650);
     const auto r = skin::mc::simulate(stack, o);
     out["mc"] = {{"R_d", r.R_d}, {"R_d_se", r.R_d_se}, {"T_d", r.T_d}, {"R", r.R}};
   }

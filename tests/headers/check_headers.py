@@ -7,6 +7,9 @@
 --check layers: a header of layer L (include/skin/L/) includes from include/skin/ only its own
   layer and the layers L links PUBLIC, directly or through them, as the target_link_libraries
   calls of src/CMakeLists.txt and src/*/CMakeLists.txt give them (docs/architecture.md).
+--check namespaces: a header of folder F (include/skin/F/) declares everything inside namespace
+  skin::F or a namespace nested in it (skin::exporting for include/skin/export/, as `export` is a
+  C++ keyword); nothing at global scope, in skin itself or in another folder's namespace.
 
 Standard library only. Exit 0 when the check passes, 1 with one line per finding otherwise.
 """
@@ -119,13 +122,139 @@ def check_layers(root):
     return findings
 
 
+# The namespace of each folder whose name is not its namespace's.
+NAMESPACE_OF_FOLDER = {"export": "exporting"}
+
+
+def code_only(text):
+    """The text with comments, string and character literals and preprocessor lines blanked
+    (newlines kept, so offsets still give line numbers)."""
+    out = []
+    i, n = 0, len(text)
+    at_line_start = True
+    while i < n:
+        c = text[i]
+        if at_line_start and c == "#":
+            # A preprocessor line, with its backslash continuations.
+            j = i
+            while True:
+                k = text.find("\n", j)
+                k = n if k < 0 else k
+                if k > 0 and text[k - 1] == "\\" and k < n:
+                    j = k + 1
+                    continue
+                break
+            out.append(re.sub(r"[^\n]", " ", text[i:k]))
+            i = k
+            continue
+        if c == "\n":
+            at_line_start = True
+            out.append(c)
+            i += 1
+            continue
+        if not c.isspace():
+            at_line_start = False
+        if text.startswith("//", i):
+            j = text.find("\n", i)
+            j = n if j < 0 else j
+            out.append(" " * (j - i))
+            i = j
+        elif text.startswith("/*", i):
+            j = text.find("*/", i + 2)
+            j = n if j < 0 else j + 2
+            out.append(re.sub(r"[^\n]", " ", text[i:j]))
+            i = j
+        elif text.startswith('R"', i) and (i == 0 or not (text[i - 1].isalnum() or text[i - 1] == "_")):
+            m = re.match(r'R"([^(\s]*)\(', text[i:])
+            end = text.find(")" + m.group(1) + '"', i) if m else -1
+            j = n if end < 0 else end + len(m.group(1)) + 2
+            out.append(re.sub(r"[^\n]", " ", text[i:j]))
+            i = j
+        elif c == "'" and i > 0 and text[i - 1].isalnum():
+            out.append(" ")  # a digit separator: 1'000
+            i += 1
+        elif c in "\"'":
+            j = i + 1
+            while j < n and text[j] != c and text[j] != "\n":
+                j += 2 if text[j] == "\\" else 1
+            out.append(" " * (min(j + 1, n) - i))
+            i = j + 1
+        else:
+            out.append(c)
+            i += 1
+    return "".join(out)
+
+
+OPEN_NAMESPACE = re.compile(r"\b(?:inline\s+)?namespace\s*((?:\w+\s*::\s*)*(?:inline\s+)?\w+)?\s*\{")
+
+
+def declared_scopes(text):
+    """(line number, namespace path) of each namespace scope that holds a declaration. The path
+    is a tuple of names ('' for an anonymous namespace); () is the global scope."""
+    code = code_only(text)
+    stack = []  # one entry per open brace: a tuple of names for a namespace, None otherwise
+    found = []
+    i, n = 0, len(code)
+    while i < n:
+        c = code[i]
+        if c.isspace():
+            i += 1
+            continue
+        in_namespace_scope = all(entry is not None for entry in stack)
+        m = OPEN_NAMESPACE.match(code, i) if in_namespace_scope else None
+        if m:
+            names = tuple(re.sub(r"\binline\s+", "", part).strip()
+                          for part in (m.group(1) or "").split("::"))
+            stack.append(names)
+            i = m.end()
+            continue
+        if c == "{":
+            stack.append(None)
+        elif c == "}":
+            if stack:
+                stack.pop()
+        elif in_namespace_scope:
+            path = tuple(name for entry in stack for name in entry)
+            line = code.count("\n", 0, i) + 1
+            if not found or found[-1][1] != path:
+                found.append((line, path))
+            # The rest of this declaration up to its end (';' or its body's '{') is not a new one.
+            m_end = re.compile(r"[;{}]").search(code, i)
+            if m_end and code[m_end.start()] == ";":
+                i = m_end.end()
+                continue
+            if m_end:
+                i = m_end.start()
+                continue
+            break
+        i += 1
+    return found
+
+
+def check_namespaces(root):
+    findings = []
+    for path in sorted((root / "include" / "skin").rglob("*.hpp")):
+        folder = path.relative_to(root / "include" / "skin").parts[0]
+        expected = ("skin", NAMESPACE_OF_FOLDER.get(folder, folder))
+        reported = set()
+        for line, scope in declared_scopes(path.read_text(encoding="utf-8")):
+            if scope[:2] == expected or scope in reported:
+                continue
+            reported.add(scope)
+            name = "::".join(part or "(anonymous)" for part in scope) or "the global namespace"
+            findings.append(f"{path.relative_to(root)}:{line}: declares in {name}, not in "
+                            f"{'::'.join(expected)} (the namespace of include/skin/{folder}/)")
+    return findings
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--source", required=True, help="the source tree (holds include/ and src/)")
-    ap.add_argument("--check", required=True, choices=["timings", "layers"])
+    ap.add_argument("--check", required=True, choices=["timings", "layers", "namespaces"])
     a = ap.parse_args()
     root = pathlib.Path(a.source).resolve()
-    findings = check_timings(root) if a.check == "timings" else check_layers(root)
+    findings = {"timings": check_timings, "layers": check_layers,
+                "namespaces": check_namespaces}[a.check](root)
     for f in findings:
         print(f)
     if not findings:

@@ -15,6 +15,10 @@
 #include "skin/util/error.hpp"
 
 namespace skin::image {
+
+using skin::util::InputError;
+using skin::util::Rgb;
+
 namespace {
 
 namespace fs = std::filesystem;

@@ -20,9 +20,9 @@
 
 namespace {
 
-using skin::Layer;
-using skin::LayerStack;
-using skin::kInfinity;
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::kInfinity;
 namespace mc = skin::mc;
 
 LayerStack one_layer(double sigma_a, double sigma_s_prime, double d, double eta, double g,
@@ -115,14 +115,14 @@ TEST(MonteCarloEstimate, RefusesARunOfAWeekWithTheCommandLinesLine) {
   try {
     (void)mc::estimate(one_layer(0.1, 1.0, kInfinity, 1.4, 0.9), o);
     FAIL() << "not refused";
-  } catch (const skin::InputError& e) {
+  } catch (const skin::util::InputError& e) {
     const std::string m = e.what();
     EXPECT_EQ(m.rfind("a Monte Carlo run of 10000000000000 photons would take about ", 0), 0u) << m;
     EXPECT_NE(m.find(" on 2 threads (estimate from the measured speed): refused, make it smaller"),
               std::string::npos) << m;
   }
   o.photons = 1000;
-  const skin::WorkEstimate e = mc::estimate(one_layer(0.1, 1.0, kInfinity, 1.4, 0.9), o);
+  const skin::util::WorkEstimate e = mc::estimate(one_layer(0.1, 1.0, kInfinity, 1.4, 0.9), o);
   EXPECT_FALSE(e.long_run()) << e.text;
   EXPECT_EQ(e.threads, 2);
 }
@@ -131,23 +131,23 @@ TEST(MonteCarloEstimate, RefusesARunOfAWeekWithTheCommandLinesLine) {
 // half-space one batch of 1000 photons can take many seconds.
 TEST(MonteCarloCancel, StopsWithinASecondWhateverTheMedium) {
   const LayerStack s = one_layer(0.0, 1.0, kInfinity, 1.4, 0.9);
-  skin::cancel::reset();
+  skin::util::cancel::reset();
   std::chrono::steady_clock::time_point requested;
   std::thread canceller([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     requested = std::chrono::steady_clock::now();
-    skin::cancel::request();
+    skin::util::cancel::request();
   });
-  EXPECT_THROW((void)mc::simulate(s, opts(100'000'000, 1, 1)), skin::Cancelled);
+  EXPECT_THROW((void)mc::simulate(s, opts(100'000'000, 1, 1)), skin::util::Cancelled);
   const double after = std::chrono::duration<double>(std::chrono::steady_clock::now() - requested).count();
   canceller.join();
-  skin::cancel::reset();
+  skin::util::cancel::reset();
   EXPECT_LT(after, 1.0);
   EXPECT_THROW((void)[&] {
-    skin::cancel::request();
-    struct Reset { ~Reset() { skin::cancel::reset(); } } reset;
+    skin::util::cancel::request();
+    struct Reset { ~Reset() { skin::util::cancel::reset(); } } reset;
     return mc::photons_per_second(s, opts(100'000'000));
-  }(), skin::Cancelled);
+  }(), skin::util::Cancelled);
 }
 
 TEST(MonteCarloExact, NonAbsorbingSlabConservesEnergy) {
@@ -243,7 +243,7 @@ TEST(MonteCarloStatistics, DifferentSeedsAgreeWithinTheirStandardErrors) {
 }
 
 TEST(MonteCarloStatistics, SameSeedSameResultWhateverTheThreadCount) {
-  const auto stack = skin::skin_layer_stack(skin::find_preset("caucasian").parameters, 550);
+  const auto stack = skin::physics::skin_layer_stack(skin::physics::find_preset("caucasian").parameters, 550);
   const auto a = mc::simulate(stack, opts(12345, 7, 1));
   const auto b = mc::simulate(stack, opts(12345, 7, 2));
   const auto c = mc::simulate(stack, opts(12345, 7, 3));
@@ -267,7 +267,7 @@ TEST(MonteCarloVsDiffusion, ThickHighAlbedoAgreesWithinAFewPercent) {
                         one_layer(0.01, 0.99, kInfinity, 1.4, 0.9),
                         one_layer(0.01, 0.99, 20.0, 1.4, 0.9)}) {
     const auto r = mc::simulate(s, opts(20000));
-    const double R_diff = skin::DiffusionStack(s).R_d();
+    const double R_diff = skin::transport::DiffusionStack(s).R_d();
     EXPECT_NEAR(R_diff, r.R_d, 0.04 * r.R_d + 4 * r.R_d_se) << s << '\n' << r;
   }
 }
@@ -299,7 +299,7 @@ TEST(MonteCarloDiffuseSource, NonAbsorbingSlabConservesEnergyAndTotalInternalRef
   EXPECT_GT(b.T_d, 1 - 1 / (1.4 * 1.4)) << b;  // plus the Fresnel share below the critical angle
   EXPECT_LT(b.T_d, 1 - 1 / (1.4 * 1.4) + 0.1) << b;
   // A diffuse source needs a bottom to start on.
-  EXPECT_THROW(mc::simulate(one_layer(0.1, 1, kInfinity, 1.4, 0.9), o), skin::InputError);
+  EXPECT_THROW(mc::simulate(one_layer(0.1, 1, kInfinity, 1.4, 0.9), o), skin::util::InputError);
 }
 
 TEST(MonteCarloExitHistogram, SumsToTheTotalsAndHankelOfItIsTheTransform) {
@@ -339,27 +339,27 @@ TEST(MonteCarloInput, RejectsBadOptionsAndStacks) {
   const auto s = one_layer(0.1, 1.0, kInfinity, 1.4, 0.9);
   auto o = opts(100);
   o.photons = 0;
-  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  EXPECT_THROW(mc::simulate(s, o), skin::util::InputError);
   o = opts(100);
   o.bins = 0;
-  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  EXPECT_THROW(mc::simulate(s, o), skin::util::InputError);
   o = opts(100);
   o.r_max = -1;
-  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  EXPECT_THROW(mc::simulate(s, o), skin::util::InputError);
   o = opts(100);
   o.r_max = std::nan("");
-  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  EXPECT_THROW(mc::simulate(s, o), skin::util::InputError);
   o = opts(100, 1, -2);
-  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
-  EXPECT_THROW(mc::simulate(LayerStack{}, opts(100)), skin::InputError);
-  EXPECT_THROW(mc::simulate(one_layer(-1, 1, 1, 1.4, 0.9), opts(100)), skin::InputError);
-  EXPECT_THROW(mc::simulate(one_layer(0.1, 1, 1, 1.4, 1.0), opts(100)), skin::InputError);
+  EXPECT_THROW(mc::simulate(s, o), skin::util::InputError);
+  EXPECT_THROW(mc::simulate(LayerStack{}, opts(100)), skin::util::InputError);
+  EXPECT_THROW(mc::simulate(one_layer(-1, 1, 1, 1.4, 0.9), opts(100)), skin::util::InputError);
+  EXPECT_THROW(mc::simulate(one_layer(0.1, 1, 1, 1.4, 1.0), opts(100)), skin::util::InputError);
   o = opts(100);
   o.exit_bins = 1;
-  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  EXPECT_THROW(mc::simulate(s, o), skin::util::InputError);
   o.exit_bins = 10;
   o.exit_r_max = o.exit_r_min;
-  EXPECT_THROW(mc::simulate(s, o), skin::InputError);
+  EXPECT_THROW(mc::simulate(s, o), skin::util::InputError);
 }
 
 }  // namespace

@@ -47,7 +47,7 @@ TEST(ValidationReport, ExtraSolverColumnAppearsInTablesAndPlots) {
   std::vector<mc::ValidationCase> two{cases[3], cases[4]};  // absorbing semi-infinite: fast
   mc::SolverColumn scaled = mc::solver_column(skin::transport::find_model("multipole"));
   scaled.name = "scaled-by-1.1";
-  scaled.R_d = [](const skin::LayerStack& s) { return 1.1 * skin::DiffusionStack(s).R_d(); };
+  scaled.R_d = [](const skin::physics::LayerStack& s) { return 1.1 * skin::transport::DiffusionStack(s).R_d(); };
   scaled.profile = {};  // no profile: the report must cope
   mc::Options o;
   o.photons = 3000;
@@ -187,7 +187,7 @@ TEST(ValidationReport, DomainReportHasItsSummaryMapsAndCases) {
   for (const auto& c : cases) {
     EXPECT_NO_THROW(c.stack.validate()) << c;
     ASSERT_TRUE(c.parameters.has_value());
-    EXPECT_TRUE(skin::outside_skin_domain(*c.parameters).empty()) << c;
+    EXPECT_TRUE(skin::physics::outside_skin_domain(*c.parameters).empty()) << c;
     EXPECT_GE(c.wavelength, 380);
     EXPECT_LE(c.wavelength, 780);
     ids.insert(c.id);

@@ -13,6 +13,20 @@
 #include "skin_test_paths.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::read_csv_file;
+using skin::model::SkinSpectrum;
+using skin::model::color_under;
+using skin::model::skin_spectrum;
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::Spectrum;
+using skin::physics::WavelengthGrid;
+using skin::physics::dermis_coefficients;
+using skin::physics::epidermis_coefficients;
+using skin::physics::find_preset;
+using skin::physics::skin_layer_stack;
 
 namespace {
 // Whole blood's absorption [1/mm] from a molar extinction coefficient [1/(cm M)], by the recipe
@@ -30,12 +44,12 @@ TEST(Chromophores, HemoglobinMatchesPrahlsPublishedRows) {
     double lambda, hbo2, hb;
   };
   for (const Row& r : {Row{250, 106112, 112736}, Row{400, 266232, 223296}, Row{414, 524280, 342596}}) {
-    EXPECT_NEAR(chromophores::sigma_a_oxyhemoglobin(r.lambda) / published_blood_mu_a_per_mm(r.hbo2), 1.0, 5e-4)
+    EXPECT_NEAR(physics::chromophores::sigma_a_oxyhemoglobin(r.lambda) / published_blood_mu_a_per_mm(r.hbo2), 1.0, 5e-4)
         << r.lambda;
-    EXPECT_NEAR(chromophores::sigma_a_deoxyhemoglobin(r.lambda) / published_blood_mu_a_per_mm(r.hb), 1.0, 5e-4)
+    EXPECT_NEAR(physics::chromophores::sigma_a_deoxyhemoglobin(r.lambda) / published_blood_mu_a_per_mm(r.hb), 1.0, 5e-4)
         << r.lambda;
   }
-  EXPECT_NEAR(chromophores::sigma_a_oxyhemoglobin(576) / published_blood_mu_a_per_mm(55540), 1.0, 5e-4);
+  EXPECT_NEAR(physics::chromophores::sigma_a_oxyhemoglobin(576) / published_blood_mu_a_per_mm(55540), 1.0, 5e-4);
 }
 
 // Every row of the published tabulation as kept in ../shared/data (hemoglobin/
@@ -47,9 +61,9 @@ TEST(Chromophores, HemoglobinMatchesPrahlsWholeTable) {
   ASSERT_EQ(t.rows(), 376u);
   for (std::size_t i = 0; i < t.rows(); ++i) {
     const double lambda = t.data[0][i];
-    EXPECT_NEAR(chromophores::sigma_a_oxyhemoglobin(lambda) / published_blood_mu_a_per_mm(t.data[1][i]), 1.0, 5e-4)
+    EXPECT_NEAR(physics::chromophores::sigma_a_oxyhemoglobin(lambda) / published_blood_mu_a_per_mm(t.data[1][i]), 1.0, 5e-4)
         << lambda;
-    EXPECT_NEAR(chromophores::sigma_a_deoxyhemoglobin(lambda) / published_blood_mu_a_per_mm(t.data[2][i]), 1.0, 5e-4)
+    EXPECT_NEAR(physics::chromophores::sigma_a_deoxyhemoglobin(lambda) / published_blood_mu_a_per_mm(t.data[2][i]), 1.0, 5e-4)
         << lambda;
   }
 }
@@ -61,8 +75,8 @@ TEST(Chromophores, HemoglobinMatchesPrahlsWholeTable) {
 // within 0.5 % at the peak.
 TEST(Chromophores, CaroteneAndBilirubinMatchTheirPublishedPeaks) {
   const double per_uM = std::log(10.0) * 1e-6 / 10.0;
-  EXPECT_NEAR(chromophores::sigma_a_beta_carotene_per_uM(451) / (139500 * per_uM), 1.0, 5e-3);
-  EXPECT_NEAR(chromophores::sigma_a_bilirubin_per_uM(450.8) / (55000 * per_uM), 1.0, 5e-3);
+  EXPECT_NEAR(physics::chromophores::sigma_a_beta_carotene_per_uM(451) / (139500 * per_uM), 1.0, 5e-3);
+  EXPECT_NEAR(physics::chromophores::sigma_a_bilirubin_per_uM(450.8) / (55000 * per_uM), 1.0, 5e-3);
 }
 
 // The paper's eumelanin (DJ06 eq 3) against an independent published fit: Jacques' melanosome
@@ -72,7 +86,7 @@ TEST(Chromophores, CaroteneAndBilirubinMatchTheirPublishedPeaks) {
 TEST(Chromophores, EumelaninAgreesWithJacquesMelanosomeFit) {
   for (double l = 400; l <= 700; l += 10) {
     const double jacques = 1.70e12 * std::pow(l, -3.48) / 10.0;
-    EXPECT_NEAR(chromophores::sigma_a_eumelanin(l) / jacques, 1.0, 0.05) << l;
+    EXPECT_NEAR(physics::chromophores::sigma_a_eumelanin(l) / jacques, 1.0, 0.05) << l;
   }
 }
 
@@ -80,22 +94,22 @@ TEST(Chromophores, HemoglobinConversionMatchesHandComputedValue) {
   // Prahl's table at 576 nm: eps(HbO2) = 55540 1/(cm M). Whole blood, 150 g/L, 64500 g/mol:
   // 2.303 * 55540 * 150 / 64500 = 297.5 1/cm = 29.75 1/mm for pure blood (the worked example of
   // shared/data/PROVENANCE.md section 1). The code uses ln 10 = 2.302585093 rather than 2.303.
-  EXPECT_NEAR(chromophores::sigma_a_oxyhemoglobin(576.0), 2.302585093 * 55540 * 150 / 64500 / 10, 1e-8);
-  EXPECT_NEAR(chromophores::sigma_a_oxyhemoglobin(576.0), 29.75, 0.01);
+  EXPECT_NEAR(physics::chromophores::sigma_a_oxyhemoglobin(576.0), 2.302585093 * 55540 * 150 / 64500 / 10, 1e-8);
+  EXPECT_NEAR(physics::chromophores::sigma_a_oxyhemoglobin(576.0), 29.75, 0.01);
   // Interpolation between table rows (414 nm is a row; 415 is halfway between 414 and 416).
-  const double mid = 0.5 * (chromophores::sigma_a_deoxyhemoglobin(414) + chromophores::sigma_a_deoxyhemoglobin(416));
-  EXPECT_NEAR(chromophores::sigma_a_deoxyhemoglobin(415), mid, 1e-12);
+  const double mid = 0.5 * (physics::chromophores::sigma_a_deoxyhemoglobin(414) + physics::chromophores::sigma_a_deoxyhemoglobin(416));
+  EXPECT_NEAR(physics::chromophores::sigma_a_deoxyhemoglobin(415), mid, 1e-12);
   // Outside the table: a clear error, not a silent extrapolation.
-  EXPECT_THROW(chromophores::sigma_a_oxyhemoglobin(1200), InputError);
+  EXPECT_THROW(physics::chromophores::sigma_a_oxyhemoglobin(1200), InputError);
 }
 
 TEST(Chromophores, PaperFormulas) {
   // eqs 3-5 and 8 at 500 nm, evaluated by hand.
-  EXPECT_NEAR(chromophores::sigma_a_eumelanin(500), 6.6e10 * std::pow(500.0, -3.33), 1e-12);
-  EXPECT_NEAR(chromophores::sigma_a_eumelanin(500), 67.92, 0.01);
-  EXPECT_NEAR(chromophores::sigma_a_pheomelanin(500), 2.9e14 * std::pow(500.0, -4.75), 1e-12);
-  EXPECT_NEAR(chromophores::sigma_a_baseline(500), 0.0244 + 8.53 * std::exp(-346 / 66.2), 1e-15);
-  EXPECT_NEAR(chromophores::sigma_s_prime_epidermis(500), 14.74 * std::pow(500.0, -0.22) + 3.52, 1e-12);
+  EXPECT_NEAR(physics::chromophores::sigma_a_eumelanin(500), 6.6e10 * std::pow(500.0, -3.33), 1e-12);
+  EXPECT_NEAR(physics::chromophores::sigma_a_eumelanin(500), 67.92, 0.01);
+  EXPECT_NEAR(physics::chromophores::sigma_a_pheomelanin(500), 2.9e14 * std::pow(500.0, -4.75), 1e-12);
+  EXPECT_NEAR(physics::chromophores::sigma_a_baseline(500), 0.0244 + 8.53 * std::exp(-346 / 66.2), 1e-15);
+  EXPECT_NEAR(physics::chromophores::sigma_s_prime_epidermis(500), 14.74 * std::pow(500.0, -0.22) + 3.52, 1e-12);
 }
 
 TEST(SkinModel, LayerCoefficientsFollowEquations6And7) {
@@ -104,7 +118,7 @@ TEST(SkinModel, LayerCoefficientsFollowEquations6And7) {
   p.melanin_blend = 0.3;
   p.hemoglobin = 0.02;
   const double l = 550;
-  using namespace chromophores;
+  using namespace physics::chromophores;
   const auto e = epidermis_coefficients(p, l);
   EXPECT_NEAR(e.sigma_a, 0.1 * (0.3 * sigma_a_eumelanin(l) + 0.7 * sigma_a_pheomelanin(l)) + 0.9 * sigma_a_baseline(l), 1e-12);
   const auto d = dermis_coefficients(p, l);

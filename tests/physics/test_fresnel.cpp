@@ -7,6 +7,11 @@
 #include "skin/physics/fresnel.hpp"
 
 namespace skin {
+
+using skin::physics::FresnelResult;
+using skin::physics::fresnel;
+using skin::physics::fresnel_dielectric;
+
 namespace {
 
 TEST(Fresnel, NormalIncidenceIsTheSquaredIndexContrast) {

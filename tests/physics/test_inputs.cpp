@@ -11,6 +11,22 @@
 #include "skin/util/table.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::parse_csv;
+using skin::util::read_csv_file;
+using skin::transport::DiffusionStack;
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::kDefaultPreset;
+using skin::physics::kInfinity;
+using skin::physics::outside_skin_domain;
+using skin::physics::parameter_info;
+using skin::physics::parameter_table;
+using skin::physics::presets;
+using skin::physics::sample_skin_domain;
 
 namespace {
 std::string message_of(const std::function<void()>& f) {
@@ -83,9 +99,9 @@ TEST(Inputs, CsvParsing) {
 // its defaults are those of SkinParameters and inside their ranges, and every spelling finds
 // its row.
 TEST(ParameterTable, CoversEveryMemberOnceWithValidDefaults) {
-  const auto table = skin::parameter_table();
+  const auto table = skin::physics::parameter_table();
   // SkinParameters holds only doubles (and functions): its size counts the members.
-  EXPECT_EQ(table.size() * sizeof(double), sizeof(skin::SkinParameters));
+  EXPECT_EQ(table.size() * sizeof(double), sizeof(skin::physics::SkinParameters));
   for (std::size_t i = 0; i < table.size(); ++i) {
     for (std::size_t j = i + 1; j < table.size(); ++j) {
       EXPECT_NE(table[i].member, table[j].member) << table[i].key << " and " << table[j].key;
@@ -93,17 +109,17 @@ TEST(ParameterTable, CoversEveryMemberOnceWithValidDefaults) {
     }
     const auto& p = table[i];
     EXPECT_TRUE(p.in_range(p.default_value())) << p.key;
-    EXPECT_EQ(skin::find_parameter(p.key), &p);
-    EXPECT_EQ(skin::find_parameter(p.flag()), &p);
+    EXPECT_EQ(skin::physics::find_parameter(p.key), &p);
+    EXPECT_EQ(skin::physics::find_parameter(p.flag()), &p);
     if (!p.symbol.empty()) {
-      EXPECT_EQ(skin::find_parameter(p.symbol), &p);
+      EXPECT_EQ(skin::physics::find_parameter(p.symbol), &p);
     }
     EXPECT_FALSE(p.in_range(std::nan(""))) << p.key;
-    EXPECT_THROW(p.check(p.min_open ? p.min : p.min - 1.0), skin::InputError) << p.key;
+    EXPECT_THROW(p.check(p.min_open ? p.min : p.min - 1.0), skin::util::InputError) << p.key;
   }
-  EXPECT_EQ(skin::find_parameter("beta_m")->key, "melanin_blend");
-  EXPECT_EQ(skin::find_parameter("colour"), nullptr);
-  EXPECT_THROW(skin::parameter_info("colour"), skin::InputError);
+  EXPECT_EQ(skin::physics::find_parameter("beta_m")->key, "melanin_blend");
+  EXPECT_EQ(skin::physics::find_parameter("colour"), nullptr);
+  EXPECT_THROW(skin::physics::parameter_info("colour"), skin::util::InputError);
 }
 
 // The skin domain (issue 31): inside every parameter's allowed range, the paper's presets and the

@@ -78,10 +78,10 @@ inline void direction_chi_square(const std::function<bool(Vec2, Vec3*)>& sample,
 // One channel (0, 1, 2 = r, g, b) of the caucasian preset's RGB profile on the renderer's grid.
 inline TabulatedProfile skin_channel(int c) {
   std::vector<double> r{0.0};
-  const RadialGrid g = RadialGrid::logarithmic(1e-3, 20.0, 128);
+  const transport::RadialGrid g = transport::RadialGrid::logarithmic(1e-3, 20.0, 128);
   r.insert(r.end(), g.r.begin(), g.r.end());
-  ProfileSolver solver(RadialGrid::from(r));
-  const RgbProfile p = skin_rgb_profile(find_preset("caucasian").parameters, WavelengthGrid(400, 700, 10), solver);
+  transport::ProfileSolver solver(transport::RadialGrid::from(r));
+  const transport::RgbProfile p = model::skin_rgb_profile(physics::find_preset("caucasian").parameters, physics::WavelengthGrid(400, 700, 10), solver);
   return TabulatedProfile(p.radii.r, p.R[static_cast<std::size_t>(c)], p.R_d[static_cast<std::size_t>(c)]);
 }
 

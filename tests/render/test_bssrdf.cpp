@@ -14,6 +14,9 @@
 #include "spectral.hpp"
 
 namespace skin::render {
+
+using skin::physics::find_preset;
+
 namespace {
 using namespace test;  // NOLINT(google-build-using-namespace)
 

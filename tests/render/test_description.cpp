@@ -12,6 +12,12 @@
 #include "skin/util/error.hpp"
 
 namespace skin::render {
+
+using skin::util::InputError;
+
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+
 namespace {
 
 // A scene of the given materials (JSON object members), one sphere each.

@@ -8,6 +8,9 @@
 #include "skin/util/error.hpp"
 
 namespace skin::render {
+
+using skin::util::InputError;
+
 namespace {
 
 TEST(RenderError, RelativeRmsErrorInClosedForm) {

@@ -21,6 +21,11 @@
 #include "skin_test_paths.hpp"
 
 namespace skin::render {
+
+using skin::util::InputError;
+
+using skin::physics::SkinParameters;
+
 namespace {
 
 const std::string kHead = std::string(SKIN_SHARED_DATA_DIR) + "/meshes/LeePerrySmith/LeePerrySmith.glb";

@@ -11,6 +11,18 @@
 #include "skin/render/scene.hpp"
 
 namespace skin::render {
+
+using skin::model::SkinSpectrum;
+using skin::model::skin_spectrum;
+
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::kInfinity;
+
 namespace {
 
 struct Stats {

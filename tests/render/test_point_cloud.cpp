@@ -14,6 +14,15 @@
 #include "skin/util/error.hpp"
 
 namespace skin::render {
+
+using skin::util::InputError;
+using skin::util::Pcg32;
+
+using skin::model::skin_spectrum;
+
+using skin::physics::SkinParameters;
+using skin::physics::find_preset;
+
 namespace {
 
 TranslucentMaterial caucasian() { return build_translucent(skin_description(find_preset("caucasian").parameters)); }

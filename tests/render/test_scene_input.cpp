@@ -16,6 +16,13 @@
 namespace fs = std::filesystem;
 
 namespace skin::render {
+
+using skin::transport::DiffusionStack;
+
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::kInfinity;
+
 namespace {
 
 class SceneInput : public ::testing::Test {

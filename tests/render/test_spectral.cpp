@@ -10,6 +10,9 @@
 #include "spectral.hpp"
 
 namespace skin::render {
+
+using skin::physics::WavelengthGrid;
+
 namespace {
 
 // The film's colour of a spectrum (radiance at lambda), integrated over 400-700 nm by the hero

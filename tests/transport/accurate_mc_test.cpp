@@ -23,8 +23,8 @@
 
 namespace {
 
-using skin::Layer;
-using skin::LayerStack;
+using skin::physics::Layer;
+using skin::physics::LayerStack;
 
 skin::mc::Result run_mc(const LayerStack& s, std::uint64_t photons, std::uint64_t seed,
                         double r_max = 10.0, std::size_t bins = 200) {
@@ -79,10 +79,10 @@ class PresetTotals : public ::testing::TestWithParam<PresetCase> {};
 
 TEST_P(PresetTotals, RdWithinTwoPercentAndThreeSEOfMonteCarlo) {
   const auto [name, lambda] = GetParam();
-  const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
+  const auto st = skin::physics::skin_layer_stack(skin::physics::find_preset(name).parameters, lambda);
   const auto mc = run_mc_precise(st, 42);
   ASSERT_LE(rel_se(st, mc), kMaxRelSe) << name << " " << lambda << " nm: MC " << mc.R_d << " +- " << mc.R_d_se;
-  const auto ad = skin::accurate::adding_doubling(st);
+  const auto ad = skin::transport::accurate::adding_doubling(st);
   EXPECT_NEAR(ad.R_specular, mc.R_specular, 1e-12);
   EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
       << name << " " << lambda << " nm: AD " << ad << " MC " << mc.R_d << " +- " << mc.R_d_se;
@@ -94,10 +94,10 @@ INSTANTIATE_TEST_SUITE_P(
 
 // The same check fails for diffusion in dark skin (it overstates R_d about 3.5 times at 450 nm).
 TEST(PresetTotals, MultipoleFailsTheSameCheckInDarkSkin) {
-  const auto st = skin::skin_layer_stack(skin::find_preset("african").parameters, 450);
+  const auto st = skin::physics::skin_layer_stack(skin::physics::find_preset("african").parameters, 450);
   const auto mc = run_mc_precise(st, 42);
-  EXPECT_FALSE(within(skin::DiffusionStack(st).R_d(), mc.R_d, mc.R_d_se, 0.02));
-  EXPECT_GT(skin::DiffusionStack(st).R_d() / mc.R_d, 2.0);
+  EXPECT_FALSE(within(skin::transport::DiffusionStack(st).R_d(), mc.R_d, mc.R_d_se, 0.02));
+  EXPECT_GT(skin::transport::DiffusionStack(st).R_d() / mc.R_d, 2.0);
 }
 
 // Generic stacks: sigma in 1/mm; one transport mean free path is 1 / (sigma_a + sigma_s').
@@ -118,11 +118,11 @@ LayerStack one(double sigma_a, double sigma_s_prime, double d, double n, double 
 std::vector<GenericCase> generic_cases() {
   std::vector<GenericCase> c;
   // Semi-infinite, reduced albedo 0.1 .. 0.999, matched and mismatched.
-  c.push_back({"semi_albedo0.1_n1.0", one(0.9, 0.1, skin::kInfinity, 1.0, 0.9)});
-  c.push_back({"semi_albedo0.5_n1.4", one(0.5, 0.5, skin::kInfinity, 1.4, 0.9)});
-  c.push_back({"semi_albedo0.999_n1.4", one(0.001, 0.999, skin::kInfinity, 1.4, 0.9)});
-  c.push_back({"semi_albedo0.9_n1.5_g0", one(0.1, 0.9, skin::kInfinity, 1.5, 0.0)});
-  c.push_back({"semi_albedo0.86_n1.03", one(0.415918, 2.51028, skin::kInfinity, 1.03, 0.9)});
+  c.push_back({"semi_albedo0.1_n1.0", one(0.9, 0.1, skin::physics::kInfinity, 1.0, 0.9)});
+  c.push_back({"semi_albedo0.5_n1.4", one(0.5, 0.5, skin::physics::kInfinity, 1.4, 0.9)});
+  c.push_back({"semi_albedo0.999_n1.4", one(0.001, 0.999, skin::physics::kInfinity, 1.4, 0.9)});
+  c.push_back({"semi_albedo0.9_n1.5_g0", one(0.1, 0.9, skin::physics::kInfinity, 1.5, 0.0)});
+  c.push_back({"semi_albedo0.86_n1.03", one(0.415918, 2.51028, skin::physics::kInfinity, 1.03, 0.9)});
   // Slabs of 0.1 to 20 transport mean free paths.
   c.push_back({"slab0.1mfp_albedo0.9_n1.4", one(0.1, 0.9, 0.1, 1.4, 0.9)});
   c.push_back({"slab1mfp_albedo0.3_n1.33", one(0.7, 0.3, 1.0, 1.33, 0.8)});
@@ -130,10 +130,10 @@ std::vector<GenericCase> generic_cases() {
   c.push_back({"mcml_slab_n1.5", one(1.0, 2.25, 0.2, 1.5, 0.75)});
   // Bright over dark, dark over bright, and an internal index step.
   LayerStack bd;
-  bd.layers = {Layer{0.01, 2.0, 0.3, 1.4, 0.9}, Layer{2.0, 0.5, skin::kInfinity, 1.4, 0.9}};
+  bd.layers = {Layer{0.01, 2.0, 0.3, 1.4, 0.9}, Layer{2.0, 0.5, skin::physics::kInfinity, 1.4, 0.9}};
   c.push_back({"bright_over_dark", bd});
   LayerStack db;
-  db.layers = {Layer{3.0, 1.0, 0.1, 1.4, 0.9}, Layer{0.005, 1.5, skin::kInfinity, 1.4, 0.9}};
+  db.layers = {Layer{3.0, 1.0, 0.1, 1.4, 0.9}, Layer{0.005, 1.5, skin::physics::kInfinity, 1.4, 0.9}};
   c.push_back({"dark_over_bright", db});
   LayerStack step;
   step.layers = {Layer{0.1, 2.0, 0.2, 1.5, 0.9}, Layer{0.05, 1.0, 0.5, 1.33, 0.8}};
@@ -143,7 +143,7 @@ std::vector<GenericCase> generic_cases() {
   // An index step above a half-space (the interface between the last two layers).
   LayerStack step_half;
   step_half.layers = {Layer{0.373415, 0.933955, 0.447847, 1.31763, 0.5},
-                      Layer{0.0190289, 2.42362, skin::kInfinity, 1.09022, 0.5}};
+                      Layer{0.0190289, 2.42362, skin::physics::kInfinity, 1.09022, 0.5}};
   c.push_back({"index_step_over_half_space", step_half});
   // Random stacks with index steps between every layer (docs/validation/accurate-solver-history.md
   // sec. 1; the automatic quadrature uses 16 points per panel for them).
@@ -168,7 +168,7 @@ TEST_P(GenericTotals, RdAndTdWithinTwoPercentAndThreeSEOfMonteCarlo) {
   const auto mc = run_mc_precise(stack, 7);
   ASSERT_LE(rel_se(stack, mc), kMaxRelSe) << label << ": MC R_d " << mc.R_d << " +- " << mc.R_d_se
                                           << ", T_d " << mc.T_d << " +- " << mc.T_d_se;
-  const auto ad = skin::accurate::adding_doubling(stack);
+  const auto ad = skin::transport::accurate::adding_doubling(stack);
   EXPECT_NEAR(ad.R_specular, mc.R_specular, 1e-12);
   EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
       << label << ": AD " << ad << " MC R_d " << mc.R_d << " +- " << mc.R_d_se;
@@ -190,11 +190,11 @@ INSTANTIATE_TEST_SUITE_P(Stacks, GenericTotals, ::testing::ValuesIn(generic_case
 // differ measurably in a thin, dark epidermis, and the solver follows the Monte Carlo in both.
 TEST(Anisotropy, SolverFollowsMonteCarloForBothG) {
   for (double g : {0.0, 0.9}) {
-    auto st = skin::skin_layer_stack(skin::find_preset("asian").parameters, 500);
+    auto st = skin::physics::skin_layer_stack(skin::physics::find_preset("asian").parameters, 500);
     for (auto& l : st.layers) l.g = g;
     const auto mc = run_mc_precise(st, 3);
     ASSERT_LE(rel_se(st, mc), kMaxRelSe) << "g=" << g;
-    const auto ad = skin::accurate::adding_doubling(st);
+    const auto ad = skin::transport::accurate::adding_doubling(st);
     EXPECT_TRUE(within(ad.R_d, mc.R_d, mc.R_d_se, 0.02))
         << "g=" << g << " AD " << ad << " MC " << mc.R_d << " +- " << mc.R_d_se;
   }
@@ -220,7 +220,7 @@ struct ProfileErrors {
 // Photons: enough for ~8000 reflected (40 000 to 800 000; dark skin's photons are cheap, they
 // are absorbed within a few steps).
 ProfileErrors profile_errors(const LayerStack& st) {
-  const double R_d = skin::accurate::adding_doubling(st).R_d;
+  const double R_d = skin::transport::accurate::adding_doubling(st).R_d;
   const auto photons = static_cast<std::uint64_t>(std::clamp(8000 / R_d, 4e4, 8e5));
   constexpr double r_max = 5.0;
   constexpr std::size_t bins = 200;
@@ -230,9 +230,9 @@ ProfileErrors profile_errors(const LayerStack& st) {
   std::vector<double> radii;
   for (std::size_t b = 0; b < bins; ++b)
     for (int s = 0; s < sub; ++s) radii.push_back((static_cast<double>(b) + (s + 0.5) / sub) * dr);
-  skin::ProfileSolver solver(skin::RadialGrid::from(radii));
-  const skin::accurate::AccurateStack acc(st);
-  const skin::DiffusionStack mp(st);
+  skin::transport::ProfileSolver solver(skin::transport::RadialGrid::from(radii));
+  const skin::transport::accurate::AccurateStack acc(st);
+  const skin::transport::DiffusionStack mp(st);
   const auto Ra = solver.profile(acc);
   const auto Rm = solver.profile(mp);
   ProfileErrors e;
@@ -269,10 +269,10 @@ ProfileErrors profile_errors(const LayerStack& st) {
 
 ProfileErrors profile_errors(const char* name, double lambda, double g = 0.9,
                              double dermis_scattering_scale = 0.5) {
-  auto params = skin::find_preset(name).parameters;
+  auto params = skin::physics::find_preset(name).parameters;
   params.g = g;
   params.dermis_scattering_scale = dermis_scattering_scale;
-  return profile_errors(skin::skin_layer_stack(params, lambda));
+  return profile_errors(skin::physics::skin_layer_stack(params, lambda));
 }
 
 class PresetProfiles : public ::testing::TestWithParam<PresetCase> {};
@@ -296,7 +296,7 @@ INSTANTIATE_TEST_SUITE_P(
 TEST(HalfSpaceProfiles, WithinFivePercentAndThreeSEOfMonteCarlo) {
   for (double alpha : {0.5, 0.9, 0.99}) {
     LayerStack s;
-    s.layers = {Layer{1 - alpha, alpha, skin::kInfinity, 1.4, 0.9}};
+    s.layers = {Layer{1 - alpha, alpha, skin::physics::kInfinity, 1.4, 0.9}};
     constexpr std::size_t bins = 100;
     constexpr int sub = 8;
     const double dr = 5.0 / bins;
@@ -304,8 +304,8 @@ TEST(HalfSpaceProfiles, WithinFivePercentAndThreeSEOfMonteCarlo) {
     std::vector<double> radii;
     for (std::size_t b = 0; b < bins; ++b)
       for (int k = 0; k < sub; ++k) radii.push_back((static_cast<double>(b) + (k + 0.5) / sub) * dr);
-    skin::ProfileSolver solver(skin::RadialGrid::from(radii));
-    const skin::accurate::AccurateStack acc(s);
+    skin::transport::ProfileSolver solver(skin::transport::RadialGrid::from(radii));
+    const skin::transport::accurate::AccurateStack acc(s);
     ASSERT_TRUE(acc.skin_table());
     const auto R = solver.profile(acc);
     int checked = 0;
@@ -369,9 +369,9 @@ TEST(DomainTotals, StrongForwardScatteringAtLowIndexWithinHalfAPercentAndThreeSE
     ASSERT_EQ(s.layers.front().eta, 1.33);
     const auto mc = run_mc(s, 1000000, 11);
     const double tol = 0.005 * mc.R_d + 3 * mc.R_d_se;
-    const double rd = skin::accurate::adding_doubling(s).R_d;
+    const double rd = skin::transport::accurate::adding_doubling(s).R_d;
     EXPECT_NEAR(rd, mc.R_d, tol) << cases[i].id << ": MC " << mc.R_d << " +- " << mc.R_d_se;
-    const double rd12 = skin::accurate::adding_doubling(s, skin::accurate::Options{12}).R_d;
+    const double rd12 = skin::transport::accurate::adding_doubling(s, skin::transport::accurate::Options{12}).R_d;
     EXPECT_GT(std::abs(rd12 - mc.R_d), tol) << cases[i].id << ": 12 points pass too";
   }
 }
@@ -383,12 +383,12 @@ TEST(DomainTotals, StrongForwardScatteringAtLowIndexWithinHalfAPercentAndThreeSE
 TEST(DomainProfiles, StrongForwardScatteringNearTheBeam) {
   const LayerStack s = skin::mc::domain_cases(60, 2026)[19].stack;
   const auto mc = run_mc(s, 2000000, 13, 0.1, 5);
-  auto annuli = [&](const skin::RadialResponse& model) {
+  auto annuli = [&](const skin::transport::RadialResponse& model) {
     std::vector<double> radii;
     constexpr int sub = 8;
     for (std::size_t b = 0; b < 5; ++b)
       for (int k = 0; k < sub; ++k) radii.push_back(0.02 * (static_cast<double>(b) + (k + 0.5) / sub));
-    skin::ProfileSolver ps(skin::RadialGrid::from(radii));
+    skin::transport::ProfileSolver ps(skin::transport::RadialGrid::from(radii));
     const auto R = ps.profile(model);
     std::vector<double> out;
     for (std::size_t b = 0; b < 5; ++b) {
@@ -398,10 +398,10 @@ TEST(DomainProfiles, StrongForwardScatteringNearTheBeam) {
     }
     return out;
   };
-  skin::accurate::FrequencyProfileOptions twelve;
+  skin::transport::accurate::FrequencyProfileOptions twelve;
   twelve.transport.totals.quadrature_points = 12;
-  const auto R = annuli(skin::accurate::AccurateStack(s));
-  const auto R12 = annuli(skin::accurate::FrequencyStack(s, twelve));
+  const auto R = annuli(skin::transport::accurate::AccurateStack(s));
+  const auto R12 = annuli(skin::transport::accurate::FrequencyStack(s, twelve));
   int checked = 0, bad12 = 0;
   for (std::size_t b = 1; b < 5; ++b) {
     if (!(mc.R_se[b] < 0.03 * mc.R[b])) continue;

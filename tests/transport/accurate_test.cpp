@@ -24,10 +24,10 @@
 
 namespace {
 
-using skin::Layer;
-using skin::LayerStack;
-using skin::accurate::adding_doubling;
-using skin::accurate::Options;
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::transport::accurate::adding_doubling;
+using skin::transport::accurate::Options;
 
 LayerStack slab(double sigma_a, double sigma_s, double g, double d, double n, double n_out = 1.0) {
   LayerStack s;
@@ -45,13 +45,13 @@ TEST(Quadrature, StreamsSplitAtCriticalAnglesAndWeightsSumToOneInEveryMedium) {
   s.layers = {Layer{0.1, 1, 0.1, 1.4, 0.9}, Layer{0.1, 1, 0.2, 1.33, 0.9}};
   s.eta_above = 1.0;
   s.eta_below = 1.5;
-  const auto st = skin::accurate::detail::make_streams(s, 6);
+  const auto st = skin::transport::accurate::detail::make_streams(s, 6);
   // Edges at 1.0, 1.33 and the largest layer index 1.4 (the medium below, 1.5, is above it).
   ASSERT_EQ(st.edges.size(), 3u);
   EXPECT_EQ(st.N, 18);
   EXPECT_EQ(st.s2[0], 0.0);  // the normal direction is stream 0
   for (double n : {1.0, 1.33, 1.4}) {
-    const int m = skin::accurate::detail::propagating(st, n);
+    const int m = skin::transport::accurate::detail::propagating(st, n);
     double sum = 0;
     for (int i = 0; i < m; ++i) sum += st.a_ref[static_cast<std::size_t>(i)];
     // sum of flux weights over the streams of a medium = (n / n_ref)^2 in reference units
@@ -78,7 +78,7 @@ TEST(Published, VanDeHulstMatchedSlab) {
 TEST(Published, ChandrasekharPlaneAlbedoOfIsotropicHalfSpace) {
   for (double omega : {0.3, 0.8, 0.95, 0.99}) {
     LayerStack s;
-    s.layers = {Layer{1 - omega, omega, skin::kInfinity, 1.0, 0.0}};
+    s.layers = {Layer{1 - omega, omega, skin::physics::kInfinity, 1.0, 0.0}};
     s.eta_above = 1.0;
     const double expected = 1 - skin::test::chandrasekhar_H(omega, 1.0) * std::sqrt(1 - omega);
     const auto t = adding_doubling(s);
@@ -107,7 +107,7 @@ TEST(Limits, NoAbsorptionConservesEnergy) {
   EXPECT_NEAR(t.R_d + t.T_d, 1.0, 1e-9) << t;
   // Semi-infinite without absorption returns everything.
   LayerStack half;
-  half.layers = {Layer{0, 1, skin::kInfinity, 1.4, 0.9}};
+  half.layers = {Layer{0, 1, skin::physics::kInfinity, 1.4, 0.9}};
   EXPECT_NEAR(adding_doubling(half).R_d, 1.0, 1e-6);
 }
 
@@ -135,7 +135,7 @@ TEST(Limits, ClearSlabIsTheFresnelEtalon) {
 // A half-space under an index step is the limit of ever thicker slabs over the same medium.
 TEST(Limits, HalfSpaceUnderAnIndexStepIsTheThickSlabLimit) {
   LayerStack half;
-  half.layers = {Layer{0.37, 0.93, 0.45, 1.32, 0.5}, Layer{0.02, 2.4, skin::kInfinity, 1.09, 0.5}};
+  half.layers = {Layer{0.37, 0.93, 0.45, 1.32, 0.5}, Layer{0.02, 2.4, skin::physics::kInfinity, 1.09, 0.5}};
   LayerStack thick = half;
   thick.layers[1].thickness = 200.0;
   thick.eta_below = 1.09;
@@ -154,13 +154,13 @@ TEST(Limits, SplittingALayerChangesNothing) {
 }
 
 TEST(Limits, SemiInfiniteTableMatchesDirectDoubling) {
-  const skin::accurate::Cache cache;
+  const skin::transport::accurate::Cache cache;
   for (double albedo_prime : {0.05, 0.3, 0.7, 0.95, 0.999, 0.99999}) {
     for (double n : {1.0, 1.4}) {
       LayerStack s;
-      s.layers = {Layer{1 - albedo_prime, albedo_prime, skin::kInfinity, n, 0.9}};
-      const auto tab = skin::accurate::detail::solve(s, {}, true, cache);
-      const auto direct = skin::accurate::detail::solve(s, {}, false, cache);
+      s.layers = {Layer{1 - albedo_prime, albedo_prime, skin::physics::kInfinity, n, 0.9}};
+      const auto tab = skin::transport::accurate::detail::solve(s, {}, true, cache);
+      const auto direct = skin::transport::accurate::detail::solve(s, {}, false, cache);
       EXPECT_NEAR(tab.R_d, direct.R_d, 1e-6 * std::max(direct.R_d, 1e-3))
           << "alpha'=" << albedo_prime << " n=" << n;
     }
@@ -170,13 +170,13 @@ TEST(Limits, SemiInfiniteTableMatchesDirectDoubling) {
 // The finite-layer table (bicubic in sqrt(1 - omega) and log tau) against direct doubling, over
 // the skin presets' whole spectrum and a spread of generic slabs.
 TEST(Limits, SlabTableMatchesDirectDoubling) {
-  const skin::accurate::Cache cache;
+  const skin::transport::accurate::Cache cache;
   double worst = 0;
-  for (const auto& preset : skin::presets()) {
+  for (const auto& preset : skin::physics::presets()) {
     for (double lambda = 400; lambda <= 700; lambda += 10) {
-      const auto st = skin::skin_layer_stack(preset.parameters, lambda);
-      const auto tab = skin::accurate::detail::solve(st, {}, true, cache);
-      const auto direct = skin::accurate::detail::solve(st, {}, false, cache);
+      const auto st = skin::physics::skin_layer_stack(preset.parameters, lambda);
+      const auto tab = skin::transport::accurate::detail::solve(st, {}, true, cache);
+      const auto direct = skin::transport::accurate::detail::solve(st, {}, false, cache);
       worst = std::max(worst, std::abs(tab.R_d / direct.R_d - 1));
     }
   }
@@ -184,8 +184,8 @@ TEST(Limits, SlabTableMatchesDirectDoubling) {
     for (double d : {0.03, 0.3, 3.0, 30.0}) {
       for (double n : {1.0, 1.4}) {
         const LayerStack s = slab(1 - albedo, 10 * albedo, 0.9, d, n);
-        const auto tab = skin::accurate::detail::solve(s, {}, true, cache);
-        const auto direct = skin::accurate::detail::solve(s, {}, false, cache);
+        const auto tab = skin::transport::accurate::detail::solve(s, {}, true, cache);
+        const auto direct = skin::transport::accurate::detail::solve(s, {}, false, cache);
         EXPECT_NEAR(tab.R_d, direct.R_d, 1e-4 * direct.R_d + 1e-9) << albedo << " " << d << " " << n;
         EXPECT_NEAR(tab.T_d, direct.T_d, 1e-4 * direct.T_d + 1e-7) << albedo << " " << d << " " << n;
       }
@@ -196,7 +196,7 @@ TEST(Limits, SlabTableMatchesDirectDoubling) {
 
 TEST(Limits, ThickSlabTendsToHalfSpace) {
   LayerStack half;
-  half.layers = {Layer{0.05, 2.0, skin::kInfinity, 1.4, 0.9}};
+  half.layers = {Layer{0.05, 2.0, skin::physics::kInfinity, 1.4, 0.9}};
   LayerStack thick = half;
   thick.layers[0].thickness = 400.0;  // 20 diffusion lengths
   const auto a = adding_doubling(half), b = adding_doubling(thick);
@@ -209,17 +209,17 @@ TEST(Limits, ThickSlabTendsToHalfSpace) {
 TEST(Limits, AgreesWithDiffusionOnlyWhereDiffusionHolds) {
   auto ad = [](double albedo_prime) {
     LayerStack s;
-    s.layers = {Layer{1 - albedo_prime, albedo_prime, skin::kInfinity, 1.0, 0.9}};
+    s.layers = {Layer{1 - albedo_prime, albedo_prime, skin::physics::kInfinity, 1.0, 0.9}};
     return adding_doubling(s).R_d;
   };
-  EXPECT_NEAR(ad(0.999) / skin::R_d_semi_infinite(0.999, 1.0), 1.0, 0.02);
-  EXPECT_LT(ad(0.2) / skin::R_d_semi_infinite(0.2, 1.0), 0.8);
+  EXPECT_NEAR(ad(0.999) / skin::transport::R_d_semi_infinite(0.999, 1.0), 1.0, 0.02);
+  EXPECT_LT(ad(0.2) / skin::transport::R_d_semi_infinite(0.2, 1.0), 0.8);
 }
 
 TEST(Convergence, EightPointsPerPanelAreWithinAFewTenthsOfAPercent) {
   for (const char* name : {"caucasian", "african", "asian"}) {
     for (double lambda : {450.0, 650.0}) {
-      const auto st = skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
+      const auto st = skin::physics::skin_layer_stack(skin::physics::find_preset(name).parameters, lambda);
       const double fine = adding_doubling(st, Options{24}).R_d;
       const double def = adding_doubling(st).R_d;
       EXPECT_NEAR(def / fine, 1.0, 3e-3) << name << " " << lambda;
@@ -233,7 +233,7 @@ TEST(Convergence, EightPointsPerPanelAreWithinAFewTenthsOfAPercent) {
 TEST(Convergence, NearlyMatchedIndexStaysConverged) {
   for (double n : {1.01, 1.03, 1.1}) {
     LayerStack s;
-    s.layers = {Layer{0.415918, 2.51028, skin::kInfinity, n, 0.9}};
+    s.layers = {Layer{0.415918, 2.51028, skin::physics::kInfinity, n, 0.9}};
     const double fine = adding_doubling(s, Options{32}).R_d;
     EXPECT_NEAR(adding_doubling(s).R_d / fine, 1.0, 3e-3) << "n=" << n;
   }
@@ -289,26 +289,26 @@ TEST(Convergence, IndexStepsUseMorePointsAndStayConverged) {
 
 TEST(Input, BadOptionsAndStacksThrowInputError) {
   const LayerStack s = slab(1, 1, 0.9, 1, 1.4);
-  EXPECT_THROW(adding_doubling(s, Options{1}), skin::InputError);
-  EXPECT_THROW(adding_doubling(s, Options{65}), skin::InputError);
-  EXPECT_THROW(adding_doubling(s, Options{-3}), skin::InputError);
+  EXPECT_THROW(adding_doubling(s, Options{1}), skin::util::InputError);
+  EXPECT_THROW(adding_doubling(s, Options{65}), skin::util::InputError);
+  EXPECT_THROW(adding_doubling(s, Options{-3}), skin::util::InputError);
   LayerStack bad = s;
   bad.layers[0].sigma_a = std::nan("");
-  EXPECT_THROW(adding_doubling(bad), skin::InputError);
+  EXPECT_THROW(adding_doubling(bad), skin::util::InputError);
   bad = s;
   bad.layers.clear();
-  EXPECT_THROW(adding_doubling(bad), skin::InputError);
-  EXPECT_THROW(skin::accurate::AccurateStack{bad}, skin::InputError);
+  EXPECT_THROW(adding_doubling(bad), skin::util::InputError);
+  EXPECT_THROW(skin::transport::accurate::AccurateStack{bad}, skin::util::InputError);
   try {
     adding_doubling(s, Options{1});
-  } catch (const skin::InputError& e) {
+  } catch (const skin::util::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("quadrature-points = 1"), std::string::npos) << e.what();
   }
 }
 
 TEST(Input, TypesPrintThemselves) {
   std::ostringstream os;
-  os << skin::accurate::Totals{0.04, 0.5, 0.1} << ' ' << Options{8};
+  os << skin::transport::accurate::Totals{0.04, 0.5, 0.1} << ' ' << Options{8};
   EXPECT_EQ(os.str(), "Totals{R_specular=0.04, R_d=0.5, T_d=0.1} accurate::Options{quadrature_points=8}");
 }
 
@@ -320,12 +320,12 @@ TEST(Input, TypesPrintThemselves) {
 // integrates to the adding-doubling total (computed here on its own, not read from the
 // AccurateStack), within the 0.5 % of the integration grid.
 TEST(AccurateStack, OutsideTheTablesTheProfileIsTheFrequencyDomainOne) {
-  auto params = skin::find_preset("caucasian").parameters;
+  auto params = skin::physics::find_preset("caucasian").parameters;
   params.g = 0.7;
-  const auto st = skin::skin_layer_stack(params, 550);
-  const skin::accurate::AccurateStack acc(st);
+  const auto st = skin::physics::skin_layer_stack(params, 550);
+  const skin::transport::accurate::AccurateStack acc(st);
   ASSERT_FALSE(acc.skin_table());
-  const skin::accurate::FrequencyStack fs(st);
+  const skin::transport::accurate::FrequencyStack fs(st);
   for (double k : {0.0, 0.7, 30.0}) EXPECT_EQ(acc.residual_k(k), fs.residual_k(k)) << k;
   for (double r : {0.0, 0.01, 1.0}) EXPECT_EQ(acc.singular(r), fs.singular(r)) << r;
   EXPECT_EQ(acc.total(), adding_doubling(st).R_d);
@@ -336,11 +336,11 @@ TEST(AccurateStack, OutsideTheTablesTheProfileIsTheFrequencyDomainOne) {
 // (checked down to 1e-6 of the value at 10 um, below which the inverse transform's round-off,
 // ~1e-10 of the peak, dominates).
 TEST(AccurateStack, ProfilesOfThePresetsArePositiveAndDecreasing) {
-  skin::ProfileSolver solver(skin::RadialGrid::logarithmic(0.01, 8, 40));
+  skin::transport::ProfileSolver solver(skin::transport::RadialGrid::logarithmic(0.01, 8, 40));
   for (const char* name : {"caucasian", "asian", "african"}) {
     for (double lambda : {450.0, 650.0}) {
-      const skin::accurate::AccurateStack acc(
-          skin::skin_layer_stack(skin::find_preset(name).parameters, lambda));
+      const skin::transport::accurate::AccurateStack acc(
+          skin::physics::skin_layer_stack(skin::physics::find_preset(name).parameters, lambda));
       const auto R = solver.profile(acc);
       for (std::size_t j = 1; j < R.size() && R[j - 1] > 1e-6 * R[0]; ++j) {
         EXPECT_GT(R[j], 0) << name << " " << lambda << " r=" << solver.radii().r[j];
@@ -358,10 +358,10 @@ TEST(AccurateStack, ThinTopLayersStayPositive) {
   LayerStack two;
   two.layers = {Layer{0.25, 0.26, 0.036, 1.4, 0.89}, Layer{0.013, 0.89, 0.13, 1.4, 0.82}};
   two.eta_below = 1.4;
-  skin::ProfileSolver solver(skin::RadialGrid::logarithmic(1e-3, 20, 64));
+  skin::transport::ProfileSolver solver(skin::transport::RadialGrid::logarithmic(1e-3, 20, 64));
   // (The deeper stack only under the sanitizers: the thin one gets 24 azimuthal orders, ~75 CPU-s.)
   for (const auto& s : skin::test::sanitized({two, one})) {
-    const skin::accurate::AccurateStack acc(s);
+    const skin::transport::accurate::AccurateStack acc(s);
     EXPECT_FALSE(acc.skin_table()) << s;
     const auto R = solver.profile(acc);
     for (double v : R) EXPECT_GE(v, -2e-4 * R[0]) << acc;
@@ -375,14 +375,14 @@ TEST(AccurateStack, ThinTopLayersStayPositive) {
 // with one cache shared by two threads that fill its tables concurrently, gives the same totals
 // to the last bit (every table node is the same whoever fills it first).
 TEST(Cache, SharedAcrossThreadsGivesTheSameNumbers) {
-  const skin::WavelengthGrid grid(400, 700, 20);
+  const skin::physics::WavelengthGrid grid(400, 700, 20);
   std::vector<LayerStack> stacks;
   for (const char* name : {"caucasian", "african"})
     for (std::size_t i = 0; i < grid.size(); ++i)
-      stacks.push_back(skin::skin_layer_stack(skin::find_preset(name).parameters, grid[i]));
+      stacks.push_back(skin::physics::skin_layer_stack(skin::physics::find_preset(name).parameters, grid[i]));
   std::vector<double> fresh;
   for (const auto& st : stacks) fresh.push_back(adding_doubling(st).R_d);
-  const skin::accurate::Cache shared;
+  const skin::transport::accurate::Cache shared;
   std::vector<double> a(stacks.size()), b(stacks.size());
   std::thread t1([&] {
     for (std::size_t i = 0; i < stacks.size(); ++i) a[i] = adding_doubling(stacks[i], {}, shared).R_d;
@@ -402,16 +402,16 @@ TEST(Cache, SharedAcrossThreadsGivesTheSameNumbers) {
 TEST(FrequencyResponse, ZeroFrequencyIsTheAddingDoublingTotal) {
   // Skin-like two layers, a slab in air, index steps at every interface.
   LayerStack two;
-  two.layers = {Layer{0.5, 4, 0.1, 1.4, 0.9}, Layer{0.02, 2, skin::kInfinity, 1.4, 0.8}};
+  two.layers = {Layer{0.5, 4, 0.1, 1.4, 0.9}, Layer{0.02, 2, skin::physics::kInfinity, 1.4, 0.8}};
   LayerStack steps;
   steps.layers = {Layer{0.2, 1, 0.3, 1.33, 0.5}, Layer{0.05, 3, 0.5, 1.5, 0.95},
                   Layer{0.1, 1, 0.4, 1.4, 0}};
   steps.eta_below = 1.2;
   for (const LayerStack& s : {two, slab(0.1, 10, 0.75, 0.2, 1.4), steps}) {
-    const double direct = skin::accurate::detail::solve(s, {}, false, skin::accurate::Cache()).R_d;
-    skin::accurate::FrequencyOptions o;
+    const double direct = skin::transport::accurate::detail::solve(s, {}, false, skin::transport::accurate::Cache()).R_d;
+    skin::transport::accurate::FrequencyOptions o;
     o.azimuthal_orders = 4;
-    const auto R = skin::accurate::frequency_response(s, {0.0, 1e-9}, o);
+    const auto R = skin::transport::accurate::frequency_response(s, {0.0, 1e-9}, o);
     EXPECT_NEAR(R[0], direct, 1e-12 * direct) << s;
     // Continuous at k = 0 (at k > 0 the layers come from their modes, which agree with doubling
     // to ~1e-9 where the orders are nearly degenerate, as for g = 0 at k -> 0).
@@ -425,9 +425,9 @@ TEST(FrequencyResponse, ZeroFrequencyIsTheAddingDoublingTotal) {
 // coupling; f(A, B, label) for each.
 template <class F>
 void for_each_layer_equations(F f) {
-  namespace d = skin::accurate::detail;
+  namespace d = skin::transport::accurate::detail;
   LayerStack s;
-  s.layers = {Layer{0.1, 1, skin::kInfinity, 1.4, 0.9}};
+  s.layers = {Layer{0.1, 1, skin::physics::kInfinity, 1.4, 0.9}};
   const d::Streams st = d::make_streams(s, 8);
   for (double g : {0.9, 0.0}) {
     const d::Angular geo = d::angular(st, 1.4, g, 6);
@@ -447,7 +447,7 @@ TEST(FrequencyResponse, HalfSpaceFromItsModesIsTheDoubledOne) {
   // The half-space's R at k > 0 from the decaying modes of the layer equations equals doubling
   // of the diamond layer until nothing is transmitted (the diamond layer is a Cayley transform of
   // the layer equations: it keeps their invariant subspaces, so the limit is the same).
-  namespace d = skin::accurate::detail;
+  namespace d = skin::transport::accurate::detail;
   for_each_layer_equations([](const d::Mat& A, const d::Mat& B, const std::string& label) {
     d::Mat R;
     ASSERT_TRUE(d::semi_infinite_modes(A, B, R)) << label;
@@ -461,7 +461,7 @@ TEST(FrequencyResponse, HalfSpaceFromItsModesIsTheDoubledOne) {
 TEST(FrequencyResponse, FiniteLayerFromItsModesIsTheDoubledOne) {
   // A finite layer from its modes, attenuated as the diamond layer doubled n times, equals that
   // doubled layer, thin to thick.
-  namespace d = skin::accurate::detail;
+  namespace d = skin::transport::accurate::detail;
   for_each_layer_equations([](const d::Mat& A, const d::Mat& B, const std::string& label) {
     for (int n : {0, 3, 12}) {
       d::LayerRT modes;
@@ -481,11 +481,11 @@ TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
   // sigma_t (the azimuthal integral of 1 / (1 + mu + i kappa sin(theta) cos(phi)) in closed
   // form). 16 orders resolve kappa <= 10 to 4e-4 (8: 5 % at kappa = 10; the streams, 1e-4).
   const double omega = 1e-4;
-  const LayerStack s = slab(1 - omega, omega, 0.0, skin::kInfinity, 1.0);
-  skin::accurate::FrequencyOptions o;
+  const LayerStack s = slab(1 - omega, omega, 0.0, skin::physics::kInfinity, 1.0);
+  skin::transport::accurate::FrequencyOptions o;
   o.azimuthal_orders = 16;
   const std::vector<double> kappa{0, 1, 3, 10};
-  const auto R = skin::accurate::frequency_response(s, kappa, o);
+  const auto R = skin::transport::accurate::frequency_response(s, kappa, o);
   for (std::size_t i = 0; i < kappa.size(); ++i) {
     double closed = 0;
     constexpr int n = 20000;
@@ -496,9 +496,9 @@ TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
     }
     EXPECT_NEAR(R[i], closed, 5e-4 * closed) << "kappa = " << kappa[i];
   }
-  EXPECT_THROW(skin::accurate::frequency_response(s, {-1.0}, o), skin::InputError);
+  EXPECT_THROW(skin::transport::accurate::frequency_response(s, {-1.0}, o), skin::util::InputError);
   o.azimuthal_orders = -1;
-  EXPECT_THROW(skin::accurate::frequency_response(s, {1.0}, o), skin::InputError);
+  EXPECT_THROW(skin::transport::accurate::frequency_response(s, {1.0}, o), skin::util::InputError);
 }
 
 // The exact single scattering of the top layer in space integrates to its closed-form total
@@ -509,16 +509,16 @@ TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
 // low index over a high one, whose steep rays are totally reflected on the way up.
 TEST(FrequencyStack, SingleScatteringInSpaceIntegratesToItsTotal) {
   const LayerStack thin_top{{Layer{0.103, 3.96, 0.00744, 1.55, 0.82}, Layer{0.558, 1.71, 0.107, 1.38, 0.5},
-                             Layer{0.0112, 3.79, skin::kInfinity, 1.44, 0.07}},
+                             Layer{0.0112, 3.79, skin::physics::kInfinity, 1.44, 0.07}},
                             1.0, 1.0};
   const LayerStack low_over_high{{Layer{0.05, 1.5, 0.2, 1.33, 0.8}, Layer{0.2, 3, 0.3, 1.5, 0.9}}, 1.0,
                                  1.0};
-  for (const LayerStack& s : {slab(0.1, 1, 0.0, skin::kInfinity, 1.0), slab(0.5, 4, 0.9, 0.1, 1.4),
+  for (const LayerStack& s : {slab(0.1, 1, 0.0, skin::physics::kInfinity, 1.0), slab(0.5, 4, 0.9, 0.1, 1.4),
                               thin_top, low_over_high}) {
-    skin::accurate::FrequencyProfileOptions o;
+    skin::transport::accurate::FrequencyProfileOptions o;
     o.k_hi = 0.01;  // few nodes, few streams: only the single scattering is used here
     o.transport.totals.quadrature_points = 4;
-    const skin::accurate::FrequencyStack fs(s, o);
+    const skin::transport::accurate::FrequencyStack fs(s, o);
     const int n = 2000;
     const double a = std::log(1e-7), b = std::log(200.0), h = (b - a) / n;
     double sum = 0;
@@ -537,11 +537,11 @@ TEST(FrequencyStack, SingleScatteringInSpaceIntegratesToItsTotal) {
 // for a slab in air with an index step below and a dark-over-bright pair.
 TEST(FrequencyStack, ProfileIntegratesToTheAddingDoublingTotal) {
   LayerStack dark;
-  dark.layers = {Layer{3.0, 4, 0.1, 1.4, 0.9}, Layer{0.05, 2, skin::kInfinity, 1.4, 0.9}};
+  dark.layers = {Layer{3.0, 4, 0.1, 1.4, 0.9}, Layer{0.05, 2, skin::physics::kInfinity, 1.4, 0.9}};
   LayerStack glass = slab(0.2, 3, 0.8, 0.4, 1.33, 1.0);
   glass.eta_below = 1.5;
   for (const LayerStack& s : {dark, glass}) {
-    const skin::accurate::FrequencyStack fs(s);
+    const skin::transport::accurate::FrequencyStack fs(s);
     const double R_d = adding_doubling(s).R_d;
     EXPECT_EQ(fs.total(), R_d);
     EXPECT_NEAR(skin::test::integrated_profile(fs), R_d, 0.005 * R_d) << s;
@@ -566,10 +566,10 @@ TEST(FrequencyStack, ProfileIntegratesToTheAddingDoublingTotal) {
 // same code with 8 orders (the totals and the ballistic return do not depend on the orders).
 TEST(FrequencyStack, TheBallisticReturnStaysAtTheBeamAndAThinSlabGetsTheOrdersItNeeds) {
   const LayerStack s{{Layer{0.017, 1.97, 0.014, 1.47, 0.13}}, 1.0, 1.0};
-  EXPECT_EQ(skin::accurate::detail::azimuthal_orders(s, 1.0, {}), 48);
-  skin::accurate::FrequencyProfileOptions options;
+  EXPECT_EQ(skin::transport::accurate::detail::azimuthal_orders(s, 1.0, {}), 48);
+  skin::transport::accurate::FrequencyProfileOptions options;
   if (skin::test::kUnderSanitizers) options.transport.azimuthal_orders = 8;
-  const skin::accurate::FrequencyStack fs(s, options);
+  const skin::transport::accurate::FrequencyStack fs(s, options);
   const double R_d = fs.total();
   EXPECT_GT(fs.ballistic_return(), 0.6 * R_d);
   // Monte Carlo R [1/mm^2] averaged over [lo, lo + 0.01 mm], the tolerance checked.
@@ -586,7 +586,7 @@ TEST(FrequencyStack, TheBallisticReturnStaysAtTheBeamAndAThinSlabGetsTheOrdersIt
       r.push_back(0.5 * (lo + hi) + 0.5 * (hi - lo) * x);
       w.push_back(wx * r.back());
     }
-    skin::ProfileSolver solver(skin::RadialGrid::from(r));
+    skin::transport::ProfileSolver solver(skin::transport::RadialGrid::from(r));
     const auto R = solver.profile(fs);
     double sum = 0, norm = 0;
     for (std::size_t i = 0; i < R.size(); ++i) {
@@ -596,8 +596,8 @@ TEST(FrequencyStack, TheBallisticReturnStaysAtTheBeamAndAThinSlabGetsTheOrdersIt
     EXPECT_NEAR(sum / norm / mc, 1.0, tol) << "annulus " << lo << "-" << hi << " mm";
   }
   EXPECT_NEAR(skin::test::integrated_profile(fs), R_d, 0.005 * R_d);
-  const skin::RadialGrid from_1um = skin::RadialGrid::logarithmic(1e-3, 60.0, 400);
-  skin::ProfileSolver coarse(from_1um);
+  const skin::transport::RadialGrid from_1um = skin::transport::RadialGrid::logarithmic(1e-3, 60.0, 400);
+  skin::transport::ProfileSolver coarse(from_1um);
   const double from_1um_total = skin::test::integrate_with_disc(from_1um, coarse.profile(fs));
   EXPECT_NEAR(from_1um_total, R_d - 0.03 * fs.ballistic_return(), 0.005 * R_d);
 }
@@ -613,12 +613,12 @@ TEST(FrequencyStack, TheProfileDoesNotDependOnTheScaleOfTheSolve) {
   for (double v = 0.01; v < 1.2; v *= 1.3) x.push_back(v);
   std::vector<std::vector<double>> rho;
   for (double s : {1.0, 9.2}) {
-    const LayerStack st{{Layer{4.55 * s, s, 2.0 / s, 1.4, 0.9}, Layer{0.225 * s, 0.5 * s, skin::kInfinity, 1.4, 0.9}},
+    const LayerStack st{{Layer{4.55 * s, s, 2.0 / s, 1.4, 0.9}, Layer{0.225 * s, 0.5 * s, skin::physics::kInfinity, 1.4, 0.9}},
                         1.0, 1.0};
-    const skin::accurate::FrequencyStack fs(st);
+    const skin::transport::accurate::FrequencyStack fs(st);
     std::vector<double> r;
     for (double v : x) r.push_back(v / s);
-    skin::ProfileSolver solver(skin::RadialGrid::from(r));
+    skin::transport::ProfileSolver solver(skin::transport::RadialGrid::from(r));
     auto R = solver.profile(fs);
     for (double& v : R) v /= s * s;
     rho.push_back(R);
@@ -635,15 +635,15 @@ TEST(FrequencyStack, TheProfileDoesNotDependOnTheScaleOfTheSolve) {
 // 10^7 photons over 0.50-0.55 mm), decreases smoothly there: each step of 8 % in r lowers it by
 // 10-45 %, never raises it (checked to fail with Options{8}).
 TEST(FrequencyStack, ForwardScatteringGetsMoreDirectionsAndNoRipple) {
-  skin::SkinParameters p = skin::find_preset("african").parameters;
+  skin::physics::SkinParameters p = skin::physics::find_preset("african").parameters;
   p.g = 0.95;
-  const LayerStack s = skin::skin_layer_stack(p, 650);
-  EXPECT_EQ(skin::accurate::detail::quadrature_points(s, {}, true), skin::accurate::kForwardQuadraturePoints);
-  EXPECT_EQ(skin::accurate::detail::quadrature_points(s, {}), skin::accurate::kForwardTotalsQuadraturePoints);
+  const LayerStack s = skin::physics::skin_layer_stack(p, 650);
+  EXPECT_EQ(skin::transport::accurate::detail::quadrature_points(s, {}, true), skin::transport::accurate::kForwardQuadraturePoints);
+  EXPECT_EQ(skin::transport::accurate::detail::quadrature_points(s, {}), skin::transport::accurate::kForwardTotalsQuadraturePoints);
   std::vector<double> r;
   for (double v = 0.3; v <= 1.25; v *= 1.08) r.push_back(v);
-  skin::ProfileSolver ps(skin::RadialGrid::from(r));
-  const auto R = ps.profile(skin::accurate::FrequencyStack(s));
+  skin::transport::ProfileSolver ps(skin::transport::RadialGrid::from(r));
+  const auto R = ps.profile(skin::transport::accurate::FrequencyStack(s));
   for (std::size_t i = 1; i < R.size(); ++i) {
     EXPECT_LT(R[i], 0.92 * R[i - 1]) << "r = " << r[i];
     EXPECT_GT(R[i], 0.5 * R[i - 1]) << "r = " << r[i];
@@ -656,11 +656,11 @@ TEST(FrequencyStack, ForwardScatteringGetsMoreDirectionsAndNoRipple) {
 // with the period 2 pi / k_hi = 8.5 um at up to 6.6e-7 of R(0.01 mm), and 4-point interpolation
 // echoed at 1e-7; now the largest |R| there is 3.2e-8 of it.
 TEST(FrequencyStack, TheDarkFarFieldDoesNotRing) {
-  const LayerStack st = skin::skin_layer_stack(skin::find_preset("african").parameters, 450);
-  const skin::accurate::FrequencyStack fs(st);
+  const LayerStack st = skin::physics::skin_layer_stack(skin::physics::find_preset("african").parameters, 450);
+  const skin::transport::accurate::FrequencyStack fs(st);
   std::vector<double> r{0.01};
   for (int i = 0; i <= 100; ++i) r.push_back(0.3 + 0.001 * i);
-  skin::ProfileSolver solver(skin::RadialGrid::from(r));
+  skin::transport::ProfileSolver solver(skin::transport::RadialGrid::from(r));
   const auto R = solver.profile(fs);
   double worst = 0;
   for (std::size_t i = 1; i < R.size(); ++i) worst = std::max(worst, std::abs(R[i]));
@@ -671,15 +671,15 @@ TEST(FrequencyStack, TheDarkFarFieldDoesNotRing) {
 // bit for bit on one thread and on all (a shared scratch matrix or an order-dependent sum would
 // show here as differences at the last bits).
 TEST(FrequencyStack, TheSameNumbersOnOneThreadAndOnAll) {
-  const LayerStack s{{Layer{0.3, 2.0, 0.1, 1.4, 0.8}, Layer{0.02, 1.0, skin::kInfinity, 1.4, 0.9}}, 1.0,
+  const LayerStack s{{Layer{0.3, 2.0, 0.1, 1.4, 0.8}, Layer{0.02, 1.0, skin::physics::kInfinity, 1.4, 0.9}}, 1.0,
                      1.0};
   std::vector<double> k;
   for (int j = 0; j < 12; ++j) k.push_back(2.0 * j * j);
-  const auto all = skin::accurate::frequency_response(s, k);
+  const auto all = skin::transport::accurate::frequency_response(s, k);
   std::vector<double> one;
   {
     tbb::global_control serial(tbb::global_control::max_allowed_parallelism, 1);
-    one = skin::accurate::frequency_response(s, k);
+    one = skin::transport::accurate::frequency_response(s, k);
   }
   ASSERT_EQ(all.size(), k.size());
   for (std::size_t j = 0; j < k.size(); ++j) EXPECT_EQ(all[j], one[j]) << "k = " << k[j];
@@ -689,13 +689,13 @@ TEST(FrequencyStack, TheSameNumbersOnOneThreadAndOnAll) {
 // closed form, the one below through the top) adds up to the single scattering of the whole, at
 // every radius (to 1e-4: the two are integrated over different angles; 1e-5 seen) and in total.
 TEST(FrequencyStack, SingleScatteringOfALayerCutInTwoIsTheWhole) {
-  const Layer half{0.1, 2.0, skin::kInfinity, 1.4, 0.8};
+  const Layer half{0.1, 2.0, skin::physics::kInfinity, 1.4, 0.8};
   Layer top = half;
   top.thickness = 0.05;
-  skin::accurate::FrequencyProfileOptions o;
+  skin::transport::accurate::FrequencyProfileOptions o;
   o.k_hi = 1;
-  const skin::accurate::FrequencyStack whole(LayerStack{{half}, 1.0, 1.0}, o);
-  const skin::accurate::FrequencyStack cut(LayerStack{{top, half}, 1.0, 1.0}, o);
+  const skin::transport::accurate::FrequencyStack whole(LayerStack{{half}, 1.0, 1.0}, o);
+  const skin::transport::accurate::FrequencyStack cut(LayerStack{{top, half}, 1.0, 1.0}, o);
   for (double r : {0.001, 0.01, 0.03, 0.1, 0.3, 1.0, 3.0})
     EXPECT_NEAR(cut.single_scattering(r), whole.single_scattering(r), 1e-4 * whole.single_scattering(r))
         << "r = " << r;

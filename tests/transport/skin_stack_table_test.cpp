@@ -18,11 +18,11 @@
 #include "test_support.hpp"
 
 namespace {
-using skin::Layer;
-using skin::accurate::SkinStackTable;
+using skin::physics::Layer;
+using skin::transport::accurate::SkinStackTable;
 
-skin::LayerStack preset_stack(const char* name, double lambda) {
-  return skin::skin_layer_stack(skin::find_preset(name).parameters, lambda);
+skin::physics::LayerStack preset_stack(const char* name, double lambda) {
+  return skin::physics::skin_layer_stack(skin::physics::find_preset(name).parameters, lambda);
 }
 
 TEST(SkinStackTable, BuiltinHasTheDefaultNodesAndGeometry) {
@@ -94,14 +94,14 @@ TEST(SkinStackTable, HalfSpaceNodesAreTheFrequencyDomainProfiles) {
 // where that level lies beyond x = r sigma_t' = 6, at alpha' 0.3-0.85 and sigma_t' 20, up to 7 %,
 // where FrequencyStack solved at another scale differs from itself by several per cent).
 TEST(SkinStackTable, HalfSpaceProfilesMatchTheSolverBetweenNodes) {
-  const skin::RadialGrid radii = skin::RadialGrid::logarithmic(0.02, 10.0, 60);
+  const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 60);
   for (const double alpha : {0.55, 0.9, 0.985}) {
-    skin::LayerStack s;
-    s.layers = {Layer{1 - alpha, alpha, skin::kInfinity, 1.4, 0.9}};
-    const skin::accurate::AccurateStack table(s);
+    skin::physics::LayerStack s;
+    s.layers = {Layer{1 - alpha, alpha, skin::physics::kInfinity, 1.4, 0.9}};
+    const skin::transport::accurate::AccurateStack table(s);
     ASSERT_TRUE(table.skin_table()) << alpha;
-    const skin::accurate::FrequencyStack solved(s);
-    skin::ProfileSolver ps(radii);
+    const skin::transport::accurate::FrequencyStack solved(s);
+    skin::transport::ProfileSolver ps(radii);
     const std::vector<double> a = ps.profile(table), b = ps.profile(solved);
     double worst = 0;
     for (std::size_t i = 0; i < b.size(); ++i)
@@ -118,16 +118,16 @@ TEST(SkinStackTable, HalfSpaceProfilesMatchTheSolverBetweenNodes) {
 // FrequencyStack's inversion noise; asian skin at 590-650 nm, a_e 0.4-0.56, within 0.9 % and
 // 0.8 %). The four stacks checked here: 0.5 % and 2.3 %.
 TEST(SkinStackTable, PresetProfilesMatchTheSolverBetweenNodes) {
-  const skin::RadialGrid radii = skin::RadialGrid::logarithmic(0.02, 10.0, 80);
+  const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);
   // (The first only under the sanitizers.)
   for (const auto& [name, lambda] : skin::test::sanitized<std::pair<const char*, double>>(
            {{"caucasian", 650.0}, {"pale", 450.0}, {"tanned", 400.0}, {"asian", 600.0}})) {
-    const skin::LayerStack s = preset_stack(name, lambda);
-    const skin::accurate::AccurateStack table(s);
+    const skin::physics::LayerStack s = preset_stack(name, lambda);
+    const skin::transport::accurate::AccurateStack table(s);
     ASSERT_TRUE(table.skin_table()) << name;
-    const skin::accurate::FrequencyStack solved(s);
+    const skin::transport::accurate::FrequencyStack solved(s);
     EXPECT_NEAR(table.total(), solved.total(), 1e-12);
-    skin::ProfileSolver ps(radii);
+    skin::transport::ProfileSolver ps(radii);
     const std::vector<double> a = ps.profile(table), b = ps.profile(solved);
     double worst4 = 0, worst5 = 0;
     for (std::size_t i = 0; i < b.size(); ++i) {
@@ -142,11 +142,11 @@ TEST(SkinStackTable, PresetProfilesMatchTheSolverBetweenNodes) {
 
 // 2 pi int r R(r) dr over 1e-7-100 mm (log grid, 20000 points) is the adding-doubling R_d.
 TEST(SkinStackTable, ProfileIntegratesToTheTotal) {
-  skin::LayerStack half_space;
-  half_space.layers = {Layer{0.3, 4.0, skin::kInfinity, 1.4, 0.9}};
+  skin::physics::LayerStack half_space;
+  half_space.layers = {Layer{0.3, 4.0, skin::physics::kInfinity, 1.4, 0.9}};
   for (const auto& [name, s] : {std::pair{"pale", preset_stack("pale", 700)}, {"tanned", preset_stack("tanned", 400)},
                                 {"half-space", half_space}}) {
-    const skin::accurate::AccurateStack a(s);
+    const skin::transport::accurate::AccurateStack a(s);
     ASSERT_TRUE(a.skin_table()) << name;
     const int n = 20000;
     const double l0 = std::log(1e-7), l1 = std::log(100.0), h = (l1 - l0) / n;
@@ -161,42 +161,42 @@ TEST(SkinStackTable, ProfileIntegratesToTheTotal) {
 
 TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   const SkinStackTable& t = SkinStackTable::builtin();
-  for (const auto& preset : skin::paper_presets())
+  for (const auto& preset : skin::physics::paper_presets())
     for (double lambda = 380; lambda <= 780; lambda += 10)
       EXPECT_EQ(t.gap(preset_stack(preset.name.c_str(), lambda)), "") << preset.name << ' ' << lambda;
   // An epidermis darker than the last node (6.93 sigma_s'): african skin with twice its melanin.
-  skin::SkinParameters dark = skin::find_preset("african").parameters;
+  skin::physics::SkinParameters dark = skin::physics::find_preset("african").parameters;
   dark.melanin = 1.0;
-  EXPECT_NE(t.gap(skin::skin_layer_stack(dark, 450)).find("is outside the skin table's [0.004, 6.9"),
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(dark, 450)).find("is outside the skin table's [0.004, 6.9"),
             std::string::npos)
-      << t.gap(skin::skin_layer_stack(dark, 450));
-  skin::SkinParameters p;
+      << t.gap(skin::physics::skin_layer_stack(dark, 450));
+  skin::physics::SkinParameters p;
   p.g = 0.8;
-  EXPECT_NE(t.gap(skin::skin_layer_stack(p, 550)).find("g is not"), std::string::npos);
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("g is not"), std::string::npos);
   p = {};
   p.epidermis_thickness = 2.0;
-  EXPECT_NE(t.gap(skin::skin_layer_stack(p, 550)).find("sigma_s' d ="), std::string::npos);
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("sigma_s' d ="), std::string::npos);
   p = {};
   p.dermis_scattering_scale = 0.7;
-  EXPECT_NE(t.gap(skin::skin_layer_stack(p, 550)).find("0.5 x the top"), std::string::npos);
-  skin::LayerStack three = preset_stack("caucasian", 550);
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("0.5 x the top"), std::string::npos);
+  skin::physics::LayerStack three = preset_stack("caucasian", 550);
   three.layers.push_back(three.layers.back());
   three.layers[1].thickness = 1.0;
   EXPECT_EQ(t.gap(three), "neither a half-space nor two layers");
   // Half-spaces: skin's index and g under air, alpha' 0.038-0.9999.
-  skin::LayerStack h;
-  h.layers = {Layer{0.01, 1.0, skin::kInfinity, 1.4, 0.9}};
+  skin::physics::LayerStack h;
+  h.layers = {Layer{0.01, 1.0, skin::physics::kInfinity, 1.4, 0.9}};
   EXPECT_EQ(t.gap(h), "");
   h.layers[0].g = 0.8;
   EXPECT_EQ(t.gap(h), "g is not the skin table's 0.9");
   h.layers[0].g = 0.9;
   h.layers[0].thickness = 2.0;
   EXPECT_EQ(t.gap(h), "a slab, not a half-space");
-  h.layers[0].thickness = skin::kInfinity;
+  h.layers[0].thickness = skin::physics::kInfinity;
   h.layers[0].sigma_a = 30.0;
   EXPECT_NE(t.gap(h).find("is outside the skin table's half-space [1e-04, 25]"), std::string::npos) << t.gap(h);
   // Outside the table the accurate model solves the stack in the frequency domain.
-  EXPECT_FALSE(skin::accurate::AccurateStack(three).skin_table());
+  EXPECT_FALSE(skin::transport::accurate::AccurateStack(three).skin_table());
 }
 
 TEST(SkinStackTable, MalformedTablesAreRefused) {
@@ -214,7 +214,7 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
     try {
       SkinStackTable::parse(text, "t.csv");
       ADD_FAILURE() << "accepted; expected: " << what;
-    } catch (const skin::InputError& e) {
+    } catch (const skin::util::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
       EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
     }
@@ -238,8 +238,8 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
   bad.erase(bad.find("\ninf,0.01,inf,"));
   bad += '\n';
   const SkinStackTable no_half = SkinStackTable::parse(bad, "t.csv");
-  skin::LayerStack h;
-  h.layers = {Layer{0.1, 1.0, skin::kInfinity, 1.4, 0.9}};
+  skin::physics::LayerStack h;
+  h.layers = {Layer{0.1, 1.0, skin::physics::kInfinity, 1.4, 0.9}};
   EXPECT_EQ(no_half.gap(h), "the skin table has no half-space nodes");
   bad = good;
   bad.replace(bad.rfind("-1.0000"), 7, "nan");
@@ -280,13 +280,13 @@ TEST(SkinStackTable, ProfilesOfAnyParsedTableAreFiniteAndNonNegative) {
   t.ln_rho_half = t.ln_rho_top;
   const SkinStackTable table = SkinStackTable::parse(t.to_csv(), "t.csv");
   const double s = 5.0;
-  skin::LayerStack two, half;
+  skin::physics::LayerStack two, half;
   two.layers = {Layer{0.3 * s, s, 2.5 / s, table.eta, table.g},
-                Layer{0.3 * s, table.dermis_ratio * s, skin::kInfinity, table.eta, table.g}};
-  half.layers = {Layer{0.3 * s, s, skin::kInfinity, table.eta, table.g}};
+                Layer{0.3 * s, table.dermis_ratio * s, skin::physics::kInfinity, table.eta, table.g}};
+  half.layers = {Layer{0.3 * s, s, skin::physics::kInfinity, table.eta, table.g}};
   for (const auto* st : {&two, &half}) {
     ASSERT_EQ(table.gap(*st), "");
-    const skin::accurate::SkinStackProfile profile(table, *st, 0.5);
+    const skin::transport::accurate::SkinStackProfile profile(table, *st, 0.5);
     for (double r = 0; r < 100; r = r == 0 ? 1e-6 : r * 1.3) {
       const double v = profile(r);
       EXPECT_TRUE(std::isfinite(v) && v >= 0) << "r " << r << ": " << v;

@@ -9,6 +9,12 @@
 #include "skin/transport/stack.hpp"
 
 using namespace skin;
+using skin::transport::A_boundary;
+using skin::transport::DiffusionSlab;
+using skin::transport::F_dr;
+using skin::transport::F_dr_exact;
+using skin::transport::R_d_semi_infinite;
+using skin::physics::kInfinity;
 
 namespace {
 // Brute-force 2D Fourier (Hankel order 0) transform of a spatial profile:

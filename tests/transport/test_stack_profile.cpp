@@ -13,6 +13,32 @@
 #include "test_support.hpp"
 
 using namespace skin;
+using skin::util::InputError;
+using skin::transport::A_boundary;
+using skin::transport::DiffusionSlab;
+using skin::transport::DiffusionStack;
+using skin::transport::ProfileSolver;
+using skin::transport::R_d_semi_infinite;
+using skin::transport::RadialGrid;
+using skin::transport::RgbProfile;
+using skin::transport::SpectralProfile;
+using skin::transport::Transfer;
+using skin::transport::add_layers;
+using skin::transport::kMaxRadius;
+using skin::model::SkinAppearance;
+using skin::model::SkinSpectrum;
+using skin::model::skin_appearance;
+using skin::model::skin_rgb_profile;
+using skin::model::skin_spectral_profile;
+using skin::model::skin_spectrum;
+using skin::physics::paper_presets;
+using skin::physics::Layer;
+using skin::physics::LayerStack;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_preset;
+using skin::physics::kInfinity;
+using skin::physics::presets;
 
 TEST(Stack, OneSemiInfiniteLayerIsTheDipole) {
   LayerStack st;

@@ -14,17 +14,18 @@
 namespace {
 
 using skin::color::Lab;
+using skin::util::Rgb;
 
 // CIELAB (D65, the colour grid's white) of an 8-bit sRGB colour, as `skin fit --hex` decodes it.
 Lab lab_of_hex(int r, int g, int b) {
   using namespace skin::color;
-  const Colorimetry cm{skin::WavelengthGrid{}};
+  const Colorimetry cm{skin::physics::WavelengthGrid{}};
   const Rgb lin{srgb_decode(r / 255.0), srgb_decode(g / 255.0), srgb_decode(b / 255.0)};
   return summarize_rgb(cm, lin).lab;
 }
 
 Lab preset_lab(const std::string& name) {
-  return skin::skin_spectrum(skin::find_preset(name).parameters, skin::WavelengthGrid{}).color.lab;
+  return skin::model::skin_spectrum(skin::physics::find_preset(name).parameters, skin::physics::WavelengthGrid{}).color.lab;
 }
 
 struct Target {
@@ -49,7 +50,7 @@ TEST(TonePresets, MonkPresetsMatchThePublishedSwatchesOrTheStatedGamutDistance) 
   for (const Target& t : kMonk) {
     SCOPED_TRACE(t.preset);
     const double de = skin::color::delta_e_2000(preset_lab(t.preset), lab_of_hex(t.r, t.g, t.b));
-    const skin::Preset& p = skin::find_preset(t.preset);
+    const skin::physics::Preset& p = skin::physics::find_preset(t.preset);
     if (t.gamut_distance == 0) {
       EXPECT_LE(de, 1.0);
       EXPECT_EQ(p.description.find("outside"), std::string::npos) << p.description;
@@ -63,20 +64,20 @@ TEST(TonePresets, MonkPresetsMatchThePublishedSwatchesOrTheStatedGamutDistance) 
     std::snprintf(hex, sizeof hex, "#%02x%02x%02x", t.r, t.g, t.b);
     EXPECT_EQ(p.target_hex, hex);
     // Inside the skin domain, so the transport models' validation covers it.
-    EXPECT_TRUE(skin::outside_skin_domain(p.parameters).empty());
+    EXPECT_TRUE(skin::physics::outside_skin_domain(p.parameters).empty());
   }
 }
 
 TEST(TonePresets, ThePaperPresetsSayWhatTheyAreAndAfricanIsNearBlack) {
   for (const char* name : {"caucasian", "asian", "african", "pale", "tanned", "ear"}) {
-    const skin::Preset& p = skin::find_preset(name);
+    const skin::physics::Preset& p = skin::physics::find_preset(name);
     EXPECT_NE(p.source.find("tuned by eye under its multipole model"), std::string::npos) << name;
     EXPECT_TRUE(p.target_hex.empty()) << name;
   }
   // The description's L* 7.0 is the exact solver's.
   const Lab african = preset_lab("african");
   EXPECT_NEAR(african.L, 7.0, 0.05);
-  EXPECT_NE(skin::find_preset("african").description.find("near black under exact transport (L* 7.0)"),
+  EXPECT_NE(skin::physics::find_preset("african").description.find("near black under exact transport (L* 7.0)"),
             std::string::npos);
 }
 

@@ -13,7 +13,8 @@
 #include "skin/util/charconv.hpp"
 #include "skin/util/random.hpp"
 
-namespace skin {
+namespace skin::util {
+
 namespace {
 
 std::string std_shortest(double v) {
@@ -81,4 +82,4 @@ TEST(Charconv, ParsesShortestTextBackExactly) {
 }
 
 }  // namespace
-}  // namespace skin
+}  // namespace skin::util

@@ -13,7 +13,8 @@
 #include "skin/util/rgb.hpp"
 #include "test_support.hpp"
 
-namespace skin {
+namespace skin::util {
+
 namespace {
 
 // --- Interpolation -------------------------------------------------------------------------
@@ -206,4 +207,4 @@ TEST(Rgb, ArithmeticAndPrinting) {
 }
 
 }  // namespace
-}  // namespace skin
+}  // namespace skin::util

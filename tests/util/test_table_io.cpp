@@ -18,7 +18,7 @@ namespace {
 std::string message_of(const std::function<void()>& f) {
   try {
     f();
-  } catch (const skin::InputError& e) {
+  } catch (const skin::util::InputError& e) {
     return e.what();
   }
   return "(no error)";
@@ -26,40 +26,40 @@ std::string message_of(const std::function<void()>& f) {
 }  // namespace
 
 TEST(CsvReader, SkipsAUtf8ByteOrderMark) {
-  const skin::Table t = skin::parse_csv("\xEF\xBB\xBFlambda_nm,R\n400,0.5\n", "s.csv");
+  const skin::util::Table t = skin::util::parse_csv("\xEF\xBB\xBFlambda_nm,R\n400,0.5\n", "s.csv");
   ASSERT_EQ(t.columns.size(), 2u);
   EXPECT_EQ(t.columns[0], "lambda_nm");
   EXPECT_EQ(t.column("lambda_nm"), 0u);
   // Also before comment lines.
-  EXPECT_EQ(skin::parse_csv("\xEF\xBB\xBF# note\nmelanin\n0.1\n", "s.csv").columns[0], "melanin");
+  EXPECT_EQ(skin::util::parse_csv("\xEF\xBB\xBF# note\nmelanin\n0.1\n", "s.csv").columns[0], "melanin");
 }
 
 TEST(CsvReader, RefusesNanTextNamingLineAndColumnButTakesEmptyFields) {
   for (const char* nan : {"nan", "NaN", "-nan", "+NAN", "nan(1)"}) {
-    EXPECT_EQ(message_of([&] { skin::parse_csv(std::string("lambda_nm,R\n400,0.5\n402,") + nan + "\n", "s.csv"); }),
+    EXPECT_EQ(message_of([&] { skin::util::parse_csv(std::string("lambda_nm,R\n400,0.5\n402,") + nan + "\n", "s.csv"); }),
               std::string("s.csv:3: column 'R' (field 2) is '") + nan +
                   "', not a number (leave the field empty for a missing value)");
   }
-  const skin::Table t = skin::parse_csv("lambda_nm,R\n400,\n402,0.5\n", "s.csv");
+  const skin::util::Table t = skin::util::parse_csv("lambda_nm,R\n400,\n402,0.5\n", "s.csv");
   EXPECT_TRUE(std::isnan(t.data[1][0]));  // empty: a missing value
-  EXPECT_EQ(skin::parse_csv("a,b\n1,inf\n", "s.csv").data[1][0], HUGE_VAL);  // data files hold inf
+  EXPECT_EQ(skin::util::parse_csv("a,b\n1,inf\n", "s.csv").data[1][0], HUGE_VAL);  // data files hold inf
 }
 
 TEST(CsvReader, RefusesAFirstLineOfNumbers) {
-  EXPECT_EQ(message_of([] { skin::parse_csv("# spectrum\n400,0.5\n402,0.25\n", "s.csv"); }),
+  EXPECT_EQ(message_of([] { skin::util::parse_csv("# spectrum\n400,0.5\n402,0.25\n", "s.csv"); }),
             "s.csv:2: the first line ('400,0.5') holds numbers, not column names: the file needs a header "
             "line naming its columns");
-  EXPECT_EQ(message_of([] { skin::parse_csv("0.1\n0.2\n", "s.csv"); }).rfind("s.csv:1: the first line ('0.1')", 0), 0u);
+  EXPECT_EQ(message_of([] { skin::util::parse_csv("0.1\n0.2\n", "s.csv"); }).rfind("s.csv:1: the first line ('0.1')", 0), 0u);
   // One name among numbers is a header.
-  EXPECT_EQ(skin::parse_csv("lambda_nm,400\n1,2\n", "s.csv").columns[1], "400");
+  EXPECT_EQ(skin::util::parse_csv("lambda_nm,400\n1,2\n", "s.csv").columns[1], "400");
 }
 
 TEST(TextFileReader, RefusesNulBytesAtOnce) {
-  EXPECT_EQ(message_of([] { skin::io::read_file("/dev/zero", "params"); }),
+  EXPECT_EQ(message_of([] { skin::util::io::read_file("/dev/zero", "params"); }),
             "params = '/dev/zero': not a text file (a NUL byte at byte 0)");
   const auto path = std::filesystem::temp_directory_path() / ("skin_nul_" + std::to_string(::getpid()) + ".json");
   std::ofstream(path, std::ios::binary) << std::string("{\"melanin\": 0.1}\n\0x", 18);
-  EXPECT_EQ(message_of([&] { skin::io::read_file(path.string(), "params"); }),
+  EXPECT_EQ(message_of([&] { skin::util::io::read_file(path.string(), "params"); }),
             "params = '" + path.string() + "': not a text file (a NUL byte at byte 17)");
   std::filesystem::remove(path);
 }
@@ -75,7 +75,7 @@ TEST(TextFileReader, ReadsAStreamToItsLimitPlusOneByte) {
   ASSERT_GE(writer, 0);
   const std::string offered(20000, 'y');  // within the pipe's buffer; the writer stays open
   ASSERT_EQ(::write(writer, offered.data(), offered.size()), static_cast<ssize_t>(offered.size()));
-  EXPECT_EQ(message_of([&] { skin::io::read_file(fifo.string(), "CSV file", 10000); })
+  EXPECT_EQ(message_of([&] { skin::util::io::read_file(fifo.string(), "CSV file", 10000); })
                 .rfind("CSV file = '" + fifo.string() + "': more than the ", 0),
             0u);
   char rest[32768];
@@ -87,6 +87,6 @@ TEST(TextFileReader, ReadsAStreamToItsLimitPlusOneByte) {
   // Exactly the limit is accepted.
   const auto file = std::filesystem::temp_directory_path() / ("skin_exact_" + std::to_string(::getpid()));
   std::ofstream(file, std::ios::binary) << std::string(100, 'a');
-  EXPECT_EQ(skin::io::read_file(file.string(), "x", 100).size(), 100u);
+  EXPECT_EQ(skin::util::io::read_file(file.string(), "x", 100).size(), 100u);
   std::filesystem::remove(file);
 }

@@ -36,6 +36,32 @@
 #include "skin/util/table.hpp"
 
 namespace skin::web {
+
+using skin::util::InputError;
+using skin::util::Table;
+using skin::util::read_csv_file;
+
+using skin::transport::ProfileSolver;
+using skin::transport::RadialGrid;
+
+using skin::model::SkinAppearance;
+using skin::model::SkinSpectrum;
+using skin::model::color_under;
+using skin::model::skin_appearance;
+using skin::model::skin_profile_solves;
+using skin::model::skin_rgb_profile;
+using skin::model::skin_spectral_profile;
+using skin::model::skin_spectrum;
+using skin::model::skin_validity;
+
+using skin::physics::ParameterInfo;
+using skin::physics::SkinParameters;
+using skin::physics::WavelengthGrid;
+using skin::physics::find_parameter;
+using skin::physics::find_preset;
+using skin::physics::kDefaultPreset;
+using skin::physics::parameter_table;
+
 namespace {
 
 using schema::json;

@@ -4,7 +4,7 @@
 // (each set is computed by the same library function; threads share only the transport models'
 // read-only tables). Used by `skin batch` and by the Python package's array calls. The thread
 // pool (TBB) stays private: this header exposes standard types only. A cancellation request
-// (skin/util/cancel.hpp) ends a call between sets by throwing skin::Cancelled.
+// (skin/util/cancel.hpp) ends a call between sets by throwing skin::util::Cancelled.
 #include <span>
 #include <vector>
 
@@ -17,28 +17,28 @@ struct Options {
 };
 
 // skin_spectrum for every set: R_d(lambda), the layer coefficients and the colour.
-std::vector<SkinSpectrum> spectra(std::span<const SkinParameters> sets, const WavelengthGrid& grid,
-                                  const Model& model, const Options& options = {});
+std::vector<model::SkinSpectrum> spectra(std::span<const physics::SkinParameters> sets, const physics::WavelengthGrid& grid,
+                                  const transport::Model& model, const Options& options = {});
 
 // A profile and whether the model's profile of that skin is in its validated range
 // (skin_validity on the same grid).
 struct RgbProfileResult {
-  RgbProfile profile;
+  transport::RgbProfile profile;
   transport::Validity validity;
 };
 struct SpectralProfileResult {
-  SpectralProfile profile;
+  transport::SpectralProfile profile;
   transport::Validity validity;
 };
 
 // skin_rgb_profile / skin_spectral_profile for every set at the same radii (one ProfileSolver per
 // worker thread).
-std::vector<RgbProfileResult> rgb_profiles(std::span<const SkinParameters> sets,
-                                           const WavelengthGrid& grid, const RadialGrid& radii,
-                                           const Model& model, const Options& options = {});
-std::vector<SpectralProfileResult> spectral_profiles(std::span<const SkinParameters> sets,
-                                                     const WavelengthGrid& grid,
-                                                     const RadialGrid& radii, const Model& model,
+std::vector<RgbProfileResult> rgb_profiles(std::span<const physics::SkinParameters> sets,
+                                           const physics::WavelengthGrid& grid, const transport::RadialGrid& radii,
+                                           const transport::Model& model, const Options& options = {});
+std::vector<SpectralProfileResult> spectral_profiles(std::span<const physics::SkinParameters> sets,
+                                                     const physics::WavelengthGrid& grid,
+                                                     const transport::RadialGrid& radii, const transport::Model& model,
                                                      const Options& options = {});
 
 }  // namespace skin::batch

@@ -18,7 +18,7 @@ namespace skin::color {
 struct Xyz {
   double X = 0, Y = 0, Z = 0;
 };
-using Rgb = skin::Rgb;  // linear sRGB unless a name says otherwise
+using Rgb = skin::util::Rgb;  // linear sRGB unless a name says otherwise
 struct Lab {
   double L = 0, a = 0, b = 0;
 };
@@ -48,15 +48,15 @@ class ChromaticAdaptation {
 // reflector has Y = 1.
 class Colorimetry {
  public:
-  explicit Colorimetry(const WavelengthGrid& grid,
+  explicit Colorimetry(const physics::WavelengthGrid& grid,
                        const Illuminant& illuminant = find_illuminant(kDefaultIlluminant));
-  const WavelengthGrid& grid() const { return grid_; }
+  const physics::WavelengthGrid& grid() const { return grid_; }
   const Illuminant& illuminant() const { return *illuminant_; }
   // XYZ under the illuminant (not adapted). Throws InputError if the spectrum is on another grid.
-  Xyz xyz(const Spectrum& reflectance) const;
+  Xyz xyz(const physics::Spectrum& reflectance) const;
   // Linear sRGB after the adaptation to D65 (none under D65), white-balanced: a perfect reflector
   // is (1, 1, 1) under every illuminant.
-  Rgb srgb_linear(const Spectrum& reflectance) const;
+  Rgb srgb_linear(const physics::Spectrum& reflectance) const;
   // The same for an XYZ under the illuminant: adapted, linear sRGB, white-balanced.
   Rgb srgb_linear(const Xyz& c) const;
   Xyz white() const { return white_; }          // the illuminant's white on this grid, Y = 1
@@ -68,13 +68,13 @@ class Colorimetry {
   Rgb illuminant_rgb() const;
   // Per-wavelength weights w such that srgb_linear = sum_i w[i] R(lambda_i): the colour
   // conversion is linear, so it also applies to profiles in the frequency domain.
-  const ChannelWeights& srgb_weights() const { return weights_; }
+  const physics::ChannelWeights& srgb_weights() const { return weights_; }
 
  private:
-  WavelengthGrid grid_;
+  physics::WavelengthGrid grid_;
   const Illuminant* illuminant_;
   std::vector<std::array<double, 3>> xyz_weights_;
-  ChannelWeights weights_;
+  physics::ChannelWeights weights_;
   Xyz white_, d65_white_;
   ChromaticAdaptation adaptation_;
   Rgb white_rgb_;  // D65's white in linear sRGB: the white balance
@@ -104,7 +104,7 @@ struct ColorSummary {
   std::string hex;
   Lab lab;  // relative to the illuminant's white on the grid
 };
-ColorSummary summarize(const Colorimetry& cm, const Spectrum& reflectance);
+ColorSummary summarize(const Colorimetry& cm, const physics::Spectrum& reflectance);
 // From a white-balanced linear sRGB colour (D65-referred): XYZ under cm's illuminant is the
 // adaptation undone, CIELAB relative to that illuminant's white.
 ColorSummary summarize_rgb(const Colorimetry& cm, const Rgb& srgb_linear);
@@ -123,7 +123,7 @@ struct RgbVsSpectral {
   ColorSummary spectral, rgb;
   double delta_e_2000 = 0;  // between spectral.lab and rgb.lab
 };
-RgbVsSpectral rgb_vs_spectral(const Colorimetry& d65, const Colorimetry& under, const Spectrum& R_d);
+RgbVsSpectral rgb_vs_spectral(const Colorimetry& d65, const Colorimetry& under, const physics::Spectrum& R_d);
 std::ostream& operator<<(std::ostream& os, const ColorSummary& c);
 
 }  // namespace skin::color

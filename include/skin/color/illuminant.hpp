@@ -29,20 +29,20 @@ class Illuminant {
   using ClosedForm = double (*)(double lambda_nm);
   // `closed_form`, if given, defines the illuminant over the table's range (A); the table is then
   // the standard's rounding of it.
-  Illuminant(std::string name, std::string description, TabulatedFunction table,
+  Illuminant(std::string name, std::string description, physics::TabulatedFunction table,
              ClosedForm closed_form = nullptr);
   const std::string& name() const { return name_; }
   const std::string& description() const { return description_; }  // e.g. "daylight, 6504 K"
   // Relative spectral power at `lambda_nm` [nm] (A and the D series are 100 at 560 nm): the
   // closed form, or the table linearly interpolated; 0 outside the table's range.
   double operator()(double lambda_nm) const;
-  Spectrum sample(const WavelengthGrid& grid) const;
-  const TabulatedFunction& table() const { return table_; }
+  physics::Spectrum sample(const physics::WavelengthGrid& grid) const;
+  const physics::TabulatedFunction& table() const { return table_; }
   bool has_closed_form() const { return closed_form_ != nullptr; }
 
  private:
   std::string name_, description_;
-  TabulatedFunction table_;
+  physics::TabulatedFunction table_;
   ClosedForm closed_form_ = nullptr;
 };
 std::ostream& operator<<(std::ostream& os, const Illuminant& i);

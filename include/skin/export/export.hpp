@@ -95,7 +95,7 @@ struct FitReport {
   Unit unit = Unit::mm;
   bool representable = true;     // false where the target's model cannot reach our skin
   std::vector<std::string> notes;
-  Rgb R_d_ours, R_d_target;      // diffuse reflectance (colour) under uniform white light
+  util::Rgb R_d_ours, R_d_target;      // diffuse reflectance (colour) under uniform white light
   double delta_e_2000 = 0;       // between the two colours (D65, CIEDE2000)
   std::array<double, 3> profile_l1{};         // int |2 pi r (R_t - R_o)| dr / int 2 pi r R_o dr
   std::array<double, 3> mean_radius_mm{};     // ours
@@ -125,15 +125,15 @@ struct ParameterMapsInput {
 // Our skin as every target starts from it (its RGB profile, colour and mean exit radii),
 // computed once by prepare() and shared by the exports of several targets (--target all).
 struct Prepared;
-std::shared_ptr<const Prepared> prepare(const SkinParameters& parameters,
+std::shared_ptr<const Prepared> prepare(const physics::SkinParameters& parameters,
                                         const transport::Model& model);
 Export export_prepared(std::string_view target, const Prepared& ours, const Options& options);
 
 // Exports `parameters` (validated) for `target` (find_target). progress(texels done, texels) with
 // parameter maps.
-Export export_skin(std::string_view target, const SkinParameters& parameters,
+Export export_skin(std::string_view target, const physics::SkinParameters& parameters,
                    const transport::Model& model, const Options& options,
-                   const ParameterMapsInput* maps = nullptr, const ProgressCallback& progress = {});
+                   const ParameterMapsInput* maps = nullptr, const util::ProgressCallback& progress = {});
 
 // The fit report's numbers as the files write them (6 significant digits), and its errors
 // (colour differences, relative errors: rounded to 1e-6 absolutely, their noise around zero has

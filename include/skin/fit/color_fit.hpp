@@ -30,16 +30,16 @@ struct ColorFitOptions {
   // A subset of {melanin, melanin_blend, hemoglobin}; the others keep their values in `start`.
   std::vector<Parameter> free = {Parameter::melanin, Parameter::melanin_blend,
                                  Parameter::hemoglobin};
-  SkinParameters start;            // fixed values (and the other model parameters)
+  physics::SkinParameters start;            // fixed values (and the other model parameters)
   double melanin_blend_prior = 0.7;   // beta_prior (the paper's Caucasian and African value)
   double melanin_blend_weight = 0.2;  // w [Lab units per unit beta_m], >= 0
-  WavelengthGrid grid;                // colour integration grid, as `skin color`
+  physics::WavelengthGrid grid;                // colour integration grid, as `skin color`
   std::vector<std::pair<Parameter, Bounds>> bounds;  // overriding default_bounds
   ForwardModel model;                 // empty: forward_model(transport::default_model())
 };
 
 struct ColorFitResult {
-  SkinParameters parameters;
+  physics::SkinParameters parameters;
   color::Lab target, fitted;     // CIELAB relative to the grid's D65 white
   color::Rgb fitted_srgb_linear;
   double delta_e = 0;            // CIEDE2000 between target and fitted
@@ -64,7 +64,7 @@ class ColorFitter {
   // Target as linear sRGB (white-balanced: a perfect reflector is 1, 1, 1).
   ColorFitResult fit(const color::Rgb& srgb_linear) const;
   // The model's colour for a parameter set (Lab relative to the grid's white).
-  color::Lab lab(const SkinParameters& p) const;
+  color::Lab lab(const physics::SkinParameters& p) const;
   void prepare() const;
 
  private:
@@ -102,11 +102,11 @@ class TextureFitter {
   TextureFitter& operator=(TextureFitter&&) noexcept;
   void prepare() const;  // builds the table (otherwise the first fit does)
   // progress(distinct colours done, distinct colours) after each batch (may be empty).
-  ParameterMaps fit(const Image& linear_srgb, const ProgressCallback& progress = {}) const;
+  ParameterMaps fit(const Image& linear_srgb, const util::ProgressCallback& progress = {}) const;
   // One colour through the texture path (interpolated table), for tests.
   ColorFitResult fit_color(const color::Rgb& srgb_linear) const;
   // The interpolated model colour for a parameter set (for tests against ColorFitter::lab).
-  color::Lab lab(const SkinParameters& p) const;
+  color::Lab lab(const physics::SkinParameters& p) const;
 
  private:
   struct Impl;

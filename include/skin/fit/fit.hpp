@@ -24,28 +24,28 @@ namespace skin::fit {
 class Parameter {
  public:
   // The table's row; InputError unless the row has a fit interval.
-  static Parameter of(const ParameterInfo& row);
-  const ParameterInfo& info() const;
-  constexpr double SkinParameters::*member() const { return member_; }
+  static Parameter of(const physics::ParameterInfo& row);
+  const physics::ParameterInfo& info() const;
+  constexpr double physics::SkinParameters::*member() const { return member_; }
   bool operator==(const Parameter&) const = default;
   // The rows the fit's own code names (each has a fit interval; all_parameters() lists them all).
   static const Parameter melanin, melanin_blend, hemoglobin, oiliness, oxygenation,
       epidermis_thickness, epidermal_hemoglobin, beta_carotene, bilirubin, scattering_scale;
 
  private:
-  constexpr explicit Parameter(double SkinParameters::*member) : member_(member) {}
-  double SkinParameters::*member_;
+  constexpr explicit Parameter(double physics::SkinParameters::*member) : member_(member) {}
+  double physics::SkinParameters::*member_;
 };
-inline constexpr Parameter Parameter::melanin{&SkinParameters::melanin};
-inline constexpr Parameter Parameter::melanin_blend{&SkinParameters::melanin_blend};
-inline constexpr Parameter Parameter::hemoglobin{&SkinParameters::hemoglobin};
-inline constexpr Parameter Parameter::oiliness{&SkinParameters::oiliness};
-inline constexpr Parameter Parameter::oxygenation{&SkinParameters::oxygenation};
-inline constexpr Parameter Parameter::epidermis_thickness{&SkinParameters::epidermis_thickness};
-inline constexpr Parameter Parameter::epidermal_hemoglobin{&SkinParameters::epidermal_hemoglobin};
-inline constexpr Parameter Parameter::beta_carotene{&SkinParameters::beta_carotene};
-inline constexpr Parameter Parameter::bilirubin{&SkinParameters::bilirubin};
-inline constexpr Parameter Parameter::scattering_scale{&SkinParameters::scattering_scale};
+inline constexpr Parameter Parameter::melanin{&physics::SkinParameters::melanin};
+inline constexpr Parameter Parameter::melanin_blend{&physics::SkinParameters::melanin_blend};
+inline constexpr Parameter Parameter::hemoglobin{&physics::SkinParameters::hemoglobin};
+inline constexpr Parameter Parameter::oiliness{&physics::SkinParameters::oiliness};
+inline constexpr Parameter Parameter::oxygenation{&physics::SkinParameters::oxygenation};
+inline constexpr Parameter Parameter::epidermis_thickness{&physics::SkinParameters::epidermis_thickness};
+inline constexpr Parameter Parameter::epidermal_hemoglobin{&physics::SkinParameters::epidermal_hemoglobin};
+inline constexpr Parameter Parameter::beta_carotene{&physics::SkinParameters::beta_carotene};
+inline constexpr Parameter Parameter::bilirubin{&physics::SkinParameters::bilirubin};
+inline constexpr Parameter Parameter::scattering_scale{&physics::SkinParameters::scattering_scale};
 
 std::string_view key(Parameter p);   // "melanin_blend"
 std::string flag(Parameter p);       // "melanin-blend"
@@ -59,8 +59,8 @@ std::vector<Parameter> parse_parameter_list(std::string_view list);
 // The rows of the parameter table with a fit interval, in the table's order.
 const std::vector<Parameter>& all_parameters();
 
-double get(const SkinParameters& s, Parameter p);
-void set(SkinParameters& s, Parameter p, double value);
+double get(const physics::SkinParameters& s, Parameter p);
+void set(physics::SkinParameters& s, Parameter p, double value);
 
 // Search interval of a parameter (inclusive).
 struct Bounds {
@@ -78,7 +78,7 @@ void check_bounds(const std::vector<std::pair<Parameter, Bounds>>& bounds);
 // The forward model: total diffuse reflectance R_d at one wavelength [nm]. Swappable so that
 // another model (Monte Carlo tables, ...) can replace the transport models. Must be thread-safe
 // (it is called from several threads by the texture fit and the report).
-using ForwardModel = std::function<double(const SkinParameters& p, double lambda)>;
+using ForwardModel = std::function<double(const physics::SkinParameters& p, double lambda)>;
 // R_d of skin_layer_stack(p, lambda) by a transport model of the registry (its totals; NaN where
 // they are outside the model's validated range, which the fit treats as a barrier). The model
 // must outlive the function (the registry's do).
@@ -94,7 +94,7 @@ struct MeasuredSpectrum {
 };
 std::ostream& operator<<(std::ostream& os, const MeasuredSpectrum& m);
 
-// Reads a spectrum from a CSV file (skin::read_csv_file): the first column is the wavelength in
+// Reads a spectrum from a CSV file (skin::util::read_csv_file): the first column is the wavelength in
 // nm; the reflectance is `column` if given, else the second column, and the file must then have
 // exactly two columns. Rows whose reflectance is empty (NaN) are skipped. Validated with
 // validate_spectrum. Throws InputError naming the file and the problem.
@@ -110,7 +110,7 @@ struct SpectrumFitOptions {
   // Parameters to fit; the others keep their values in `start`.
   std::vector<Parameter> free = {Parameter::melanin, Parameter::melanin_blend,
                                  Parameter::hemoglobin};
-  SkinParameters start;  // fixed values, and the LM start for the extended terms
+  physics::SkinParameters start;  // fixed values, and the LM start for the extended terms
   // The measurement includes the surface reflection (integrating sphere, specular included):
   // the model becomes rho_s F + (1 - rho_s F) R_d with F = specular_albedo, and `oiliness` is
   // freed. F defaults to the normal-incidence Fresnel reflectance of eta (0.028 for 1.4).
@@ -125,7 +125,7 @@ struct SpectrumFitOptions {
 };
 
 struct FitResult {
-  SkinParameters parameters;     // fitted values (others as in the options' start)
+  physics::SkinParameters parameters;     // fitted values (others as in the options' start)
   std::vector<Parameter> free;   // what was fitted, in this order in `uncertainty`
   std::vector<double> uncertainty;  // one standard deviation, from s^2 (J^T J)^-1
   std::vector<bool> at_bound;       // parameter ended on its bound (uncertainty is then local)
@@ -162,7 +162,7 @@ class SpectrumFitter {
 FitResult fit_spectrum(const MeasuredSpectrum& m, const SpectrumFitOptions& options = {});
 
 // The model's reflectance (R_d plus the options' specular term) at the given wavelengths.
-std::vector<double> model_reflectance(const SkinParameters& p, const std::vector<double>& lambda,
+std::vector<double> model_reflectance(const physics::SkinParameters& p, const std::vector<double>& lambda,
                                       const SpectrumFitOptions& options);
 
 }  // namespace skin::fit

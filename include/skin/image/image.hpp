@@ -23,18 +23,18 @@ struct Image {
   std::vector<float> rgb;  // width * height * 3
   Image() = default;
   Image(int w, int h) : width(w), height(h), rgb(static_cast<std::size_t>(w) * h * 3, 0.0f) {}
-  Rgb at(int x, int y) const {
+  util::Rgb at(int x, int y) const {
     const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
     return {rgb[i], rgb[i + 1], rgb[i + 2]};
   }
-  void set(int x, int y, const Rgb& c) {
+  void set(int x, int y, const util::Rgb& c) {
     const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
     rgb[i] = static_cast<float>(c.r);
     rgb[i + 1] = static_cast<float>(c.g);
     rgb[i + 2] = static_cast<float>(c.b);
   }
   // Mean over a pixel rectangle [x0, x1) x [y0, y1).
-  Rgb mean(int x0, int y0, int x1, int y1) const;
+  util::Rgb mean(int x0, int y0, int x1, int y1) const;
 };
 std::ostream& operator<<(std::ostream& os, const Image& img);
 

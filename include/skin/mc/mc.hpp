@@ -44,7 +44,7 @@ struct Options {
   // Photons finished of options.photons, after each round of batches (may be empty). Every
   // photon ends: by escaping, by the roulette, or after a bounded number of steps (a nearly
   // non-absorbing medium; its weight is then counted in Result::lost).
-  ProgressCallback progress;
+  util::ProgressCallback progress;
   Source source = Source::pencil;
   // Exit-radius histograms of both surfaces on logarithmic bins (0 = none): bin 0 is
   // [0, exit_r_min), then exit_bins - 1 bins evenly in log r up to exit_r_max [mm]; exits beyond
@@ -80,18 +80,18 @@ struct Result {
 std::ostream& operator<<(std::ostream& os, const Result& r);
 
 // Validates the stack and the options (InputError naming the parameter), then runs. Polls
-// skin::cancel (skin/util/cancel.hpp) at every photon and within long ones: throws Cancelled.
-Result simulate(const LayerStack& stack, const Options& options);
+// skin::util::cancel (skin/util/cancel.hpp) at every photon and within long ones: throws Cancelled.
+Result simulate(const physics::LayerStack& stack, const Options& options);
 
 // Photons per second per thread of `options` on `stack`: a pilot on the calling thread that
 // traces photons until it has used a few hundredths of a second of CPU time (or traced
 // options.photons), plus at most one photon's longest path. Validates as simulate() does; polls
-// skin::cancel.
-double photons_per_second(const LayerStack& stack, const Options& options);
+// skin::util::cancel.
+double photons_per_second(const physics::LayerStack& stack, const Options& options);
 // The check before a run, shared by `skin mc` and the Python module: its time from
 // photons_per_second() and its memory (memory_bytes()) for "a Monte Carlo run of N photons".
-// Throws InputError when refused (skin::estimate_work); long_run() when it should be announced.
-WorkEstimate estimate(const LayerStack& stack, const Options& options);
+// Throws InputError when refused (skin::util::estimate_work); long_run() when it should be announced.
+util::WorkEstimate estimate(const physics::LayerStack& stack, const Options& options);
 
 // The 2D Fourier (Hankel) transform F(k) = sum_i w_i J0(k r_i) of exits histogrammed on
 // `edges` (weights `w`, one per bin), each bin's weight spread uniformly over its annulus:

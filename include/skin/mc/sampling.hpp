@@ -10,7 +10,7 @@
 namespace skin::mc {
 
 // The Monte Carlo solver's generator (its stream is part of the golden numbers).
-using Rng = Xoshiro256Plus;
+using Rng = util::Xoshiro256Plus;
 
 // Henyey-Greenstein phase function in the cosine of the scattering angle, normalised over
 // cos_theta in [-1, 1]:  p(mu) = (1 - g^2) / (2 (1 + g^2 - 2 g mu)^{3/2})  (Henyey & Greenstein

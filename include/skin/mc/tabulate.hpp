@@ -19,7 +19,7 @@ struct RandomWalkOptions {
   std::size_t bins_per_decade = 12;  // annuli from rho = 1e-3 to 1e3, plus [0, 1e-3)
   std::uint64_t seed = 1;
   int threads = 0;
-  ProgressCallback progress;  // nodes done of alpha.size()
+  util::ProgressCallback progress;  // nodes done of alpha.size()
   // The default nodes: 1 - alpha = 10^(-4 + 4 j / 33), j = 0..32 (alpha 0.9999 to 0.24), and
   // alpha = 0.05.
   static RandomWalkOptions defaults();

@@ -26,11 +26,11 @@ namespace skin::mc {
 struct SolverColumn {
   std::string name;  // column header, e.g. "multipole"
   // Total diffuse reflectance per power that entered.
-  std::function<double(const LayerStack&)> R_d;
+  std::function<double(const physics::LayerStack&)> R_d;
   // R(r) per power that entered [1/mm^2] at the radii given [mm]; empty function = no profile.
-  std::function<std::vector<double>(const LayerStack&, const std::vector<double>& r_mm)> profile;
+  std::function<std::vector<double>(const physics::LayerStack&, const std::vector<double>& r_mm)> profile;
 };
-// A transport model of the registry (its R_d, and R(r) by skin::ProfileSolver of its response);
+// A transport model of the registry (its R_d, and R(r) by skin::transport::ProfileSolver of its response);
 // the column is named after the model.
 SolverColumn solver_column(const transport::Model& model);
 
@@ -38,13 +38,13 @@ struct ValidationCase {
   std::string id;     // file-name safe: "pale-650nm", "slab-2mfp"
   std::string group;  // section of the report: "Skin presets", "Semi-infinite", ...
   std::string title;  // one line for humans
-  LayerStack stack;
+  physics::LayerStack stack;
   // Thick, high-albedo (alpha' >= 0.99, several transport mean free paths): where diffusion is
   // known to be accurate and the report expects agreement within a few per cent.
   bool diffusion_regime = false;
   double r_max = 10.0;  // outer radius of the profile [mm]
   // For a skin case: its parameters and wavelength [nm] (domain_cases; the report's maps).
-  std::optional<SkinParameters> parameters;
+  std::optional<physics::SkinParameters> parameters;
   double wavelength = 0;
 };
 std::ostream& operator<<(std::ostream& os, const ValidationCase& c);

@@ -13,19 +13,18 @@
 #include "skin/physics/spectrum.hpp"
 #include "skin/transport/stack.hpp"
 
-namespace skin {
+namespace skin::model {
 
 // Light transport in the layers is a transport::Model from the registry
 // (skin/transport/model.hpp: transport::find_model(name), transport::default_model()).
-using transport::Model;
 
 struct SkinSpectrum {
-  SkinParameters parameters;
+  physics::SkinParameters parameters;
   std::string solver{transport::kDefaultModel};  // name of the transport model
-  WavelengthGrid grid;
-  Spectrum epidermis_sigma_a, epidermis_sigma_s_prime;  // [1/mm]
-  Spectrum dermis_sigma_a, dermis_sigma_s_prime;        // [1/mm]
-  Spectrum R_d;                                         // total diffuse reflectance
+  physics::WavelengthGrid grid;
+  physics::Spectrum epidermis_sigma_a, epidermis_sigma_s_prime;  // [1/mm]
+  physics::Spectrum dermis_sigma_a, dermis_sigma_s_prime;        // [1/mm]
+  physics::Spectrum R_d;                                         // total diffuse reflectance
   color::ColorSummary color;                            // colour of R_d under D65
 };
 
@@ -39,26 +38,26 @@ color::ColorSummary color_under(const SkinSpectrum& s, const color::Illuminant& 
 color::ColorSummary color_under(const SkinSpectrum& s, const color::Colorimetry& cm);
 
 // One two-layer stack per wavelength (validates the parameters).
-std::vector<LayerStack> skin_layer_stacks(const SkinParameters& p, const WavelengthGrid& grid);
-std::vector<DiffusionStack> skin_diffusion_stacks(const SkinParameters& p,
-                                                  const WavelengthGrid& grid);
+std::vector<physics::LayerStack> skin_layer_stacks(const physics::SkinParameters& p, const physics::WavelengthGrid& grid);
+std::vector<transport::DiffusionStack> skin_diffusion_stacks(const physics::SkinParameters& p,
+                                                  const physics::WavelengthGrid& grid);
 
 // R_d(lambda) and colour. Throws InputError for invalid parameters.
-SkinSpectrum skin_spectrum(const SkinParameters& p, const WavelengthGrid& grid = {},
-                           const Model& model = transport::default_model());
+SkinSpectrum skin_spectrum(const physics::SkinParameters& p, const physics::WavelengthGrid& grid = {},
+                           const transport::Model& model = transport::default_model());
 
 // Radial profiles per wavelength, or per linear sRGB channel (colour weights from `grid`, under
 // sRGB's white, color::kSrgbWhite). `progress` counts the wavelengths whose response is built
 // (the slow part where a response is solved rather than read from the accurate model's skin
 // table; docs/benchmarks.md).
-SpectralProfile skin_spectral_profile(const SkinParameters& p, const WavelengthGrid& grid,
-                                      ProfileSolver& profiles,
-                                      const Model& model = transport::default_model(),
-                                      const ProgressCallback& progress = {});
-RgbProfile skin_rgb_profile(const SkinParameters& p, const WavelengthGrid& grid,
-                            ProfileSolver& profiles,
-                            const Model& model = transport::default_model(),
-                            const ProgressCallback& progress = {});
+transport::SpectralProfile skin_spectral_profile(const physics::SkinParameters& p, const physics::WavelengthGrid& grid,
+                                      transport::ProfileSolver& profiles,
+                                      const transport::Model& model = transport::default_model(),
+                                      const util::ProgressCallback& progress = {});
+transport::RgbProfile skin_rgb_profile(const physics::SkinParameters& p, const physics::WavelengthGrid& grid,
+                            transport::ProfileSolver& profiles,
+                            const transport::Model& model = transport::default_model(),
+                            const util::ProgressCallback& progress = {});
 
 // The spectrum and the RGB profile of one skin together, as skin_spectrum and skin_rgb_profile
 // give them (the same numbers): the profile's radial responses give R_d too (a response's total
@@ -66,11 +65,11 @@ RgbProfile skin_rgb_profile(const SkinParameters& p, const WavelengthGrid& grid,
 // page's live update).
 struct SkinAppearance {
   SkinSpectrum spectrum;
-  RgbProfile rgb;
+  transport::RgbProfile rgb;
 };
-SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& grid,
-                               ProfileSolver& profiles,
-                               const Model& model = transport::default_model());
+SkinAppearance skin_appearance(const physics::SkinParameters& p, const physics::WavelengthGrid& grid,
+                               transport::ProfileSolver& profiles,
+                               const transport::Model& model = transport::default_model());
 
 // Everything a renderer takes from one skin, from one call: the shape of its RGB profile and its
 // validity on `grid` (the transport responses built once per wavelength and used for both), the
@@ -78,24 +77,24 @@ SkinAppearance skin_appearance(const SkinParameters& p, const WavelengthGrid& gr
 // `spectral` the per-wavelength profiles on `grid` from the same responses. The numbers are those
 // of skin_rgb_profile, skin_validity, skin_spectrum and skin_spectral_profile.
 struct SkinProfiles {
-  RgbProfile rgb;                          // on `grid`
+  transport::RgbProfile rgb;                          // on `grid`
   SkinSpectrum total;                      // skin_spectrum(p, WavelengthGrid(), model)
   transport::Validity validity;            // on `grid`
-  std::optional<SpectralProfile> spectral; // on `grid`, when asked for
+  std::optional<transport::SpectralProfile> spectral; // on `grid`, when asked for
 };
-SkinProfiles skin_profiles(const SkinParameters& p, const WavelengthGrid& grid, ProfileSolver& profiles,
-                           const Model& model = transport::default_model(), bool spectral = false);
+SkinProfiles skin_profiles(const physics::SkinParameters& p, const physics::WavelengthGrid& grid, transport::ProfileSolver& profiles,
+                           const transport::Model& model = transport::default_model(), bool spectral = false);
 
 // How many wavelengths of `grid` the model's profile of this skin solves numerically
 // (Model::response_is_solved; the cost is in docs/benchmarks.md) rather than reads: 0 for the accurate
 // model on its skin table, every wavelength for sfd.
-std::size_t skin_profile_solves(const SkinParameters& p, const WavelengthGrid& grid,
-                                const Model& model = transport::default_model());
+std::size_t skin_profile_solves(const physics::SkinParameters& p, const physics::WavelengthGrid& grid,
+                                const transport::Model& model = transport::default_model());
 
 // Whether the model's profiles (and totals) of this skin are in its validated range at every
 // wavelength of `grid`; the reason names the first wavelength out and how many are
 // (transport::combined_validity).
-transport::Validity skin_validity(const SkinParameters& p, const WavelengthGrid& grid,
-                                  const Model& model = transport::default_model());
+transport::Validity skin_validity(const physics::SkinParameters& p, const physics::WavelengthGrid& grid,
+                                  const transport::Model& model = transport::default_model());
 
-}  // namespace skin
+}  // namespace skin::model

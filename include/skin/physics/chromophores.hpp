@@ -2,7 +2,7 @@
 // Absorption and scattering of the skin's constituents, Donner & Jensen 2006 (DJ06) eqs 3-8.
 // All coefficients in 1/mm, wavelengths in nm.
 
-namespace skin::chromophores {
+namespace skin::physics::chromophores {
 
 // Hemoglobin content of whole blood and its molar mass (OMLC convention, model-notes section 2).
 inline constexpr double kBloodHemoglobin_g_per_L = 150.0;
@@ -23,4 +23,4 @@ double sigma_a_bilirubin_per_uM(double lambda);
 // eq 8: reduced scattering of the epidermis, 14.74 lambda^-0.22 + 2.2e11 lambda^-4.
 double sigma_s_prime_epidermis(double lambda);
 
-}  // namespace skin::chromophores
+}  // namespace skin::physics::chromophores

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace skin {
+namespace skin::physics {
 
 struct FresnelResult {
   double R;      // reflectance, 1 at and beyond total internal reflection
@@ -31,4 +31,4 @@ inline FresnelResult fresnel(double cos_i, double n1, double n2) {
 // The reflectance alone.
 inline double fresnel_dielectric(double cos_i, double n1, double n2) { return fresnel(cos_i, n1, n2).R; }
 
-}  // namespace skin
+}  // namespace skin::physics

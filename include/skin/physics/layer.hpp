@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace skin {
+namespace skin::physics {
 
 inline constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
@@ -39,4 +39,4 @@ std::ostream& operator<<(std::ostream& os, const Layer& l);
 std::ostream& operator<<(std::ostream& os, const LayerStack& s);
 std::string to_string(const LayerStack& s);
 
-}  // namespace skin
+}  // namespace skin::physics

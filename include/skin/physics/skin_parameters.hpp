@@ -12,7 +12,7 @@
 
 #include "skin/physics/layer.hpp"
 
-namespace skin {
+namespace skin::physics {
 
 struct SkinParameters {
   // The paper's four parameters (Table 1).
@@ -138,4 +138,4 @@ inline constexpr std::string_view kDefaultPreset = "caucasian";
 // ("several-lights" for "ear").
 const Preset& find_preset(std::string_view name);
 
-}  // namespace skin
+}  // namespace skin::physics

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-namespace skin {
+namespace skin::physics {
 
 // Evenly spaced wavelengths lambda_min, lambda_min + step, ..., up to lambda_max inclusive.
 class WavelengthGrid {
@@ -79,4 +79,4 @@ class TabulatedFunction {
   Outside outside_ = Outside::error;
 };
 
-}  // namespace skin
+}  // namespace skin::physics

@@ -20,7 +20,7 @@ struct FigureLayout {
   int columns = 1, rows = 1;
   std::string title;
   std::vector<std::string> labels;
-  std::vector<SkinParameters> parameters;
+  std::vector<physics::SkinParameters> parameters;
 };
 
 // The figures there are: 3, 4, 5, 6, 7, 8, 10.
@@ -30,7 +30,7 @@ const std::vector<int>& figure_numbers();
 // --preset and parameter flags) changes each cell's set; a sweep's own parameter then keeps the
 // paper's value of the cell (so `--preset african` sweeps oiliness on African skin). Throws
 // InputError for a number not in figure_numbers().
-FigureLayout figure_layout(int number, const std::function<SkinParameters(const SkinParameters&)>& change = {});
+FigureLayout figure_layout(int number, const std::function<physics::SkinParameters(const physics::SkinParameters&)>& change = {});
 
 // The scenes of a figure, one per cell of its layout.
 struct Figure {
@@ -51,10 +51,10 @@ struct FigureDescription {
 // when `mesh_path` is empty. `albedo_texture` (Fig. 10 only; empty: none) is the mesh's colour
 // texture, normalised by the R_d colour of caucasian skin (DJ06 section 3.6).
 FigureDescription describe_figure(int number, const std::string& mesh_path, const std::string& albedo_texture = "",
-                                  const std::function<SkinParameters(const SkinParameters&)>& change = {});
+                                  const std::function<physics::SkinParameters(const physics::SkinParameters&)>& change = {});
 // describe_figure(...).build().
 Figure make_figure(int number, const std::string& mesh_path, const std::string& albedo_texture = "",
-                   const std::function<SkinParameters(const SkinParameters&)>& change = {});
+                   const std::function<physics::SkinParameters(const physics::SkinParameters&)>& change = {});
 
 // Renders every cell with `settings` (its width and height are a cell's; a time budget is split
 // evenly over the cells) and assembles the cells into the layout's grid, without labels.

@@ -53,6 +53,6 @@ struct Frame {
 
 // Linear RGB (linear sRGB primaries, D65 white): radiance, throughput, reflectance; the
 // project's one RGB type (skin/util/rgb.hpp).
-using Rgb3 = skin::Rgb;
+using Rgb3 = skin::util::Rgb;
 
 }  // namespace skin::render

@@ -12,7 +12,7 @@
 namespace skin::render {
 
 // The renderer's generator (skin/util/random.hpp): PCG32, one per pixel sample.
-using Rng = Pcg32;
+using Rng = util::Pcg32;
 
 struct Vec2 {
   double x = 0, y = 0;
@@ -31,7 +31,7 @@ class Sampler {
  public:
   static constexpr std::uint32_t kQuasiDimensions = 64;
   // Random mode: independent numbers from a generator.
-  explicit Sampler(const Pcg32& rng) : rng_(rng) {}
+  explicit Sampler(const util::Pcg32& rng) : rng_(rng) {}
   // Quasi-random mode: sample `index` of stream `stream` of an image seeded with `seed`.
   Sampler(std::uint64_t seed, std::uint64_t stream, std::uint32_t index);
   double uniform();
@@ -40,13 +40,13 @@ class Sampler {
   // ones in every sample of the stream whatever the calls before took (so that a path's later
   // decisions stay stratified when earlier ones took a varying number of dimensions).
   void start_block(std::uint32_t block) {
-    key_ = mix64(base_ + block);
+    key_ = util::mix64(base_ + block);
     dim_ = 0;
   }
 
  private:
-  std::uint32_t next_seed() { return static_cast<std::uint32_t>(mix64(key_ + dim_++)); }
-  Pcg32 rng_;
+  std::uint32_t next_seed() { return static_cast<std::uint32_t>(util::mix64(key_ + dim_++)); }
+  util::Pcg32 rng_;
   std::uint64_t base_ = 0, key_ = 0;
   std::uint32_t reversed_index_ = 0, dim_ = 0;
   bool quasi_ = false;

@@ -81,10 +81,10 @@ class SceneDescription {
 
   // Edits (no physics runs until build()).
   // Replaces the parameters of every `skin` material (the CLI's --preset).
-  void set_skin_parameters(const SkinParameters& p);
+  void set_skin_parameters(const physics::SkinParameters& p);
   // Changes the parameters of every `skin` material: each gets change(its parameters) (the CLI's
   // parameter flags, applied to each material's own set). Mapped parameters keep their maps.
-  void update_skin_parameters(const std::function<SkinParameters(const SkinParameters&)>& change);
+  void update_skin_parameters(const std::function<physics::SkinParameters(const physics::SkinParameters&)>& change);
   // Every translucent material (skin, layered) with this transport model (the CLI's --solver; a
   // material's own `solver` key otherwise, the registry's default without one).
   void set_solver(const transport::Model& solver);

@@ -29,7 +29,7 @@
 #include "skin/transport/model.hpp"
 #include "skin/transport/stack.hpp"
 
-namespace skin::accurate {
+namespace skin::transport::accurate {
 
 class SkinStackProfile;  // skin_stack_table.hpp
 
@@ -89,9 +89,9 @@ class Cache {
 };
 
 // Validates the stack (LayerStack::validate) and the options (InputError naming the parameter).
-Totals adding_doubling(const LayerStack& stack, const Options& options, const Cache& cache);
+Totals adding_doubling(const physics::LayerStack& stack, const Options& options, const Cache& cache);
 // With a cache of its own (the same numbers; each call fills the table nodes it needs).
-Totals adding_doubling(const LayerStack& stack, const Options& options = {});
+Totals adding_doubling(const physics::LayerStack& stack, const Options& options = {});
 
 // Radiative transfer in the spatial-frequency domain (docs/accurate-solver.md, sec. 3): R(k), the
 // 2D Fourier transform of the radial profile R(r) of the flux that leaves through the top surface
@@ -108,7 +108,7 @@ struct FrequencyOptions {
   // only (false: the solver of issue 15's first sessions, kept for comparison).
   bool deep_single_scattering = true;
 };
-std::vector<double> frequency_response(const LayerStack& stack, const std::vector<double>& k,
+std::vector<double> frequency_response(const physics::LayerStack& stack, const std::vector<double>& k,
                                        const FrequencyOptions& options = {});
 
 // The radial response of any stack from frequency_response() (docs/accurate-solver.md, sec. 3):
@@ -131,8 +131,8 @@ struct FrequencyProfileOptions {
 };
 class FrequencyStack final : public RadialResponse {
  public:
-  explicit FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options = {});
-  FrequencyStack(const LayerStack& stack, const FrequencyProfileOptions& options,
+  explicit FrequencyStack(const physics::LayerStack& stack, const FrequencyProfileOptions& options = {});
+  FrequencyStack(const physics::LayerStack& stack, const FrequencyProfileOptions& options,
                  const Cache& cache);
   double total() const override { return totals_.R_d; }
   double singular(double r) const override;
@@ -189,9 +189,9 @@ class FrequencyStack final : public RadialResponse {
 // - every other stack: FrequencyStack, solved (its cost: docs/benchmarks.md).
 class AccurateStack final : public RadialResponse {
  public:
-  explicit AccurateStack(const LayerStack& stack, const Options& options = {});
+  explicit AccurateStack(const physics::LayerStack& stack, const Options& options = {});
   // With the solver's cache (the model of the registry keeps one).
-  AccurateStack(const LayerStack& stack, const Options& options, const Cache& cache);
+  AccurateStack(const physics::LayerStack& stack, const Options& options, const Cache& cache);
   ~AccurateStack() override;
 
   double total() const override { return totals_.R_d; }
@@ -207,7 +207,7 @@ class AccurateStack final : public RadialResponse {
   bool skin_table() const { return skin_ != nullptr; }
   // Whether AccurateStack(stack) reads the table (the one routing rule; the model registry asks
   // it before building a response).
-  static bool reads_skin_table(const LayerStack& stack);
+  static bool reads_skin_table(const physics::LayerStack& stack);
 
  private:
   Totals totals_;
@@ -216,4 +216,4 @@ class AccurateStack final : public RadialResponse {
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);
 
-}  // namespace skin::accurate
+}  // namespace skin::transport::accurate

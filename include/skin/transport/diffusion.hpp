@@ -8,7 +8,7 @@
 #include <array>
 #include <iosfwd>
 
-namespace skin {
+namespace skin::transport {
 
 // Diffuse Fresnel reflectance F_dr(eta) for light inside a medium of relative index
 // eta = n_inside / n_outside: the polynomial fits used by the multipole papers (Egan & Hilgeman
@@ -71,4 +71,4 @@ std::ostream& operator<<(std::ostream& os, const DiffusionSlab& s);
 // (alpha'/2) (1 + exp(-(4/3) A sqrt(3 (1 - alpha')))) exp(-sqrt(3 (1 - alpha'))).
 double R_d_semi_infinite(double alpha_prime, double A);
 
-}  // namespace skin
+}  // namespace skin::transport

@@ -1,6 +1,6 @@
 #pragma once
 // Transport models of a layer stack, one interface, chosen by name. A model gives, for a
-// LayerStack, its totals (R_specular, R_d, T_d), the radial response that skin::ProfileSolver
+// LayerStack, its totals (R_specular, R_d, T_d), the radial response that skin::transport::ProfileSolver
 // inverts into R(r), and whether the stack lies inside the range where the model has been
 // validated (and why not). The registry holds every model by name and the one default; callers
 // (the skin model, the fit, the renderer, the CLI's --solver, Python's solver=) never branch on
@@ -45,17 +45,17 @@ class Model {
   // One line for help texts.
   virtual std::string_view description() const = 0;
   // Validates the stack (InputError naming the layer and parameter).
-  virtual Totals totals(const LayerStack& stack) const = 0;
+  virtual Totals totals(const physics::LayerStack& stack) const = 0;
   // R_d alone (models may compute it more cheaply than all the totals).
-  virtual double R_d(const LayerStack& stack) const { return totals(stack).R_d; }
+  virtual double R_d(const physics::LayerStack& stack) const { return totals(stack).R_d; }
   // The radial response (total == R_d); validates the stack.
-  virtual std::unique_ptr<RadialResponse> response(const LayerStack& stack) const = 0;
-  virtual Validity validity(const LayerStack& stack) const = 0;
+  virtual std::unique_ptr<RadialResponse> response(const physics::LayerStack& stack) const = 0;
+  virtual Validity validity(const physics::LayerStack& stack) const = 0;
   // Whether response() solves the stack numerically (the frequency-domain solver) rather than
   // evaluating a closed form or reading a table, which is orders of magnitude cheaper
   // (docs/benchmarks.md). Interactive callers (the web page) ask before they build many
   // responses.
-  virtual bool response_is_solved(const LayerStack& stack) const = 0;
+  virtual bool response_is_solved(const physics::LayerStack& stack) const = 0;
 };
 
 // The models (model_names()):
@@ -89,7 +89,7 @@ std::string model_names_text();
 // Several stacks of one material (per wavelength, per channel): the first stack outside the
 // range gives the reason, preceded by the labels of the first and last stacks out and how many
 // are ("at 400 nm .. 452 nm (27 of 151): ..."); `labels[i]` names stack i.
-Validity combined_validity(const Model& model, const std::vector<LayerStack>& stacks,
+Validity combined_validity(const Model& model, const std::vector<physics::LayerStack>& stacks,
                            const std::vector<std::string>& labels);
 
 }  // namespace skin::transport

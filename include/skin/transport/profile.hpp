@@ -17,7 +17,7 @@
 #include "skin/physics/spectrum.hpp"
 #include "skin/transport/stack.hpp"
 
-namespace skin {
+namespace skin::transport {
 
 // The largest radius a profile is evaluated at [mm]: a metre of tissue, far beyond any rendering or
 // measurement of skin. The panels of the product integration grow with the largest radius (a
@@ -41,10 +41,10 @@ std::ostream& operator<<(std::ostream& os, const RadialGrid& g);
 
 // A profile per wavelength: R[i * radii.size() + j] = R(radii[j], grid[i]) [1/mm^2].
 struct SpectralProfile {
-  WavelengthGrid grid;
+  physics::WavelengthGrid grid;
   RadialGrid radii;
   std::vector<double> R;
-  Spectrum R_d;  // totals, from k = 0 (exact, no integration)
+  physics::Spectrum R_d;  // totals, from k = 0 (exact, no integration)
   double at(std::size_t i_lambda, std::size_t j_r) const { return R[i_lambda * radii.size() + j_r]; }
 };
 
@@ -73,13 +73,13 @@ class ProfileSolver {
   std::vector<double> profile(const RadialResponse& stack);
   // One response per wavelength of `grid` (size == grid.size()).
   SpectralProfile spectral(const std::vector<const RadialResponse*>& stacks,
-                           const WavelengthGrid& grid);
+                           const physics::WavelengthGrid& grid);
   // Three channels; the weighting is linear, so it is applied in the frequency domain before the
   // inverse transform (three transforms instead of one per wavelength).
-  RgbProfile rgb(const std::vector<const RadialResponse*>& stacks, const ChannelWeights& weights);
+  RgbProfile rgb(const std::vector<const RadialResponse*>& stacks, const physics::ChannelWeights& weights);
   // Conveniences for the multipole model.
-  SpectralProfile spectral(const std::vector<DiffusionStack>& stacks, const WavelengthGrid& grid);
-  RgbProfile rgb(const std::vector<DiffusionStack>& stacks, const ChannelWeights& weights);
+  SpectralProfile spectral(const std::vector<DiffusionStack>& stacks, const physics::WavelengthGrid& grid);
+  RgbProfile rgb(const std::vector<DiffusionStack>& stacks, const physics::ChannelWeights& weights);
 
   // Upper frequency of the numerical transform for these stacks [rad/mm] (where |G| has fallen
   // below 1e-10 of the total), and the number of frequency samples used by the last call.
@@ -96,4 +96,4 @@ class ProfileSolver {
 // Trapezoid estimate of 2 pi int R(r) r dr over the grid (for checks of a tabulated profile).
 double integrate_profile(const RadialGrid& radii, const std::vector<double>& R);
 
-}  // namespace skin
+}  // namespace skin::transport

@@ -35,7 +35,7 @@
 #include "skin/physics/layer.hpp"
 #include "skin/util/progress.hpp"
 
-namespace skin::accurate {
+namespace skin::transport::accurate {
 
 struct SkinStackTable {
   double eta = 1.4, g = 0.9, dermis_ratio = 0.5;  // the geometry (air above)
@@ -53,14 +53,14 @@ struct SkinStackTable {
   static SkinStackTable default_nodes();
   // Computes every node with FrequencyStack (parallel over nodes; cancellable: throws Cancelled).
   // progress(done, total) is called after each node, from worker threads, one call at a time.
-  void compute(const ProgressCallback& progress = {});
+  void compute(const util::ProgressCallback& progress = {});
   std::string to_csv() const;
   // Throws InputError naming `source` for a malformed table.
   static SkinStackTable parse(std::string_view text, std::string_view source);
   static const SkinStackTable& builtin();
 
   // Why a stack is not in the table (empty when it is).
-  std::string gap(const LayerStack& stack) const;
+  std::string gap(const physics::LayerStack& stack) const;
   // ln rho at the x nodes of the stack (tau, a_e, a_d), or of the half-space a (inside the node
   // ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
@@ -77,7 +77,7 @@ struct SkinStackTable {
 // The profile of a stack in the table (gap() empty), as R(r) [1/mm^2] scaled to integrate to R_d.
 class SkinStackProfile {
  public:
-  SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d);
+  SkinStackProfile(const SkinStackTable& table, const physics::LayerStack& stack, double R_d);
   double operator()(double r) const;
 
  private:
@@ -87,4 +87,4 @@ class SkinStackProfile {
   std::vector<double> ln_x_, ln_rho_;
 };
 
-}  // namespace skin::accurate
+}  // namespace skin::transport::accurate

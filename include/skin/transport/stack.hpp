@@ -11,7 +11,7 @@
 #include "skin/physics/layer.hpp"
 #include "skin/transport/profile_fwd.hpp"
 
-namespace skin {
+namespace skin::transport {
 
 // Reflectance and transmittance of a layer or stack at one frequency, from above and from below.
 struct Transfer {
@@ -29,7 +29,7 @@ class DiffusionStack final : public RadialResponse {
   // Validates the stack (InputError) and builds each layer with the boundary conditions of its
   // neighbours: at an interface between indices n_inside and n_outside, A = A_boundary(n_inside /
   // n_outside), so an interface between equal indices is matched (A = 1).
-  explicit DiffusionStack(const LayerStack& stack);
+  explicit DiffusionStack(const physics::LayerStack& stack);
 
   Transfer at(double k) const;
   double R_k(double k) const { return at(k).R_down; }
@@ -51,4 +51,4 @@ class DiffusionStack final : public RadialResponse {
   std::vector<DiffusionSlab> down_;  // each layer with its boundaries; transfer_k gives both directions
 };
 
-}  // namespace skin
+}  // namespace skin::transport

@@ -2,7 +2,7 @@
 // Process-wide allocator settings for programs that use Spectral Skin (the `skin` executable,
 // the Python module, the benchmarks call it once at start-up; a library never does it behind a
 // program's back).
-namespace skin {
+namespace skin::util {
 
 // The transport solvers work on dense matrices of 64-512 rows (32 KB-2 MB each) that are made
 // and freed thousands of times per profile. With glibc's defaults, blocks from 128 KB up are
@@ -12,4 +12,4 @@ namespace skin {
 // heap in the process. No effect where the C library is not glibc (WebAssembly, other systems).
 void keep_matrix_memory();
 
-}  // namespace skin
+}  // namespace skin::util

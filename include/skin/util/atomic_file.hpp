@@ -12,7 +12,7 @@
 #include <string>
 #include <string_view>
 
-namespace skin::io {
+namespace skin::util::io {
 
 // Writes `content` to `path` as above. Throws InputError naming the file on failure.
 void write_file_atomic(const std::string& path, const std::string& content);
@@ -34,4 +34,4 @@ void flush_stdout();
 // Lower-case extension of a path without the dot ("png"), or "" if none.
 std::string extension(const std::string& path);
 
-}  // namespace skin::io
+}  // namespace skin::util::io

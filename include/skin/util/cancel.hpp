@@ -8,7 +8,7 @@
 // One flag per process: a signal concerns the whole process.
 #include <stdexcept>
 
-namespace skin {
+namespace skin::util {
 
 class Cancelled : public std::runtime_error {
  public:
@@ -25,4 +25,4 @@ inline void check() {
 }
 }  // namespace cancel
 
-}  // namespace skin
+}  // namespace skin::util

@@ -6,7 +6,7 @@
 #include <charconv>
 #include <string>
 
-namespace skin {
+namespace skin::util {
 
 // As std::from_chars(first, last, value) in the general format: optional '-', decimal digits
 // with an optional point and exponent, or inf/infinity/nan (no '+', no whitespace, no hex).
@@ -20,4 +20,4 @@ std::from_chars_result from_chars_fallback(const char* first, const char* last, 
 std::string to_chars_shortest_fallback(double value);
 }  // namespace detail
 
-}  // namespace skin
+}  // namespace skin::util

@@ -1,12 +1,12 @@
 #pragma once
-// User-facing input errors. A user error throws skin::InputError with one line naming the
+// User-facing input errors. A user error throws skin::util::InputError with one line naming the
 // parameter, its value and the allowed range; the command line reports it once and exits 2.
 // Broken invariants (programmer errors) use SKIN_ASSERT, which aborts with both operands.
 #include <stdexcept>
 #include <string>
 #include <string_view>
 
-namespace skin {
+namespace skin::util {
 
 // Its message is one line by construction: control characters (a newline, a carriage return,
 // bytes of the user's file quoted by a decoder's message) are shown as \xNN escapes.
@@ -33,10 +33,10 @@ void require_non_negative(std::string_view name, double value, std::string_view 
 [[noreturn]] void assertion_failed(const char* expr, const char* file, int line,
                                    const std::string& detail);
 
-}  // namespace skin
+}  // namespace skin::util
 
 // Invariant check kept in release builds (cheap checks only, never in hot loops).
 #define SKIN_ASSERT(cond, detail)                                                  \
   do {                                                                             \
-    if (!(cond)) ::skin::assertion_failed(#cond, __FILE__, __LINE__, (detail));    \
+    if (!(cond)) ::skin::util::assertion_failed(#cond, __FILE__, __LINE__, (detail));  \
   } while (0)

@@ -16,7 +16,7 @@
 #include <string>
 #include <string_view>
 
-namespace skin::escape {
+namespace skin::util::escape {
 
 // InputError "what = '...': is not UTF-8 text ..." unless `text` is valid UTF-8 (no overlong
 // forms, no surrogates, at most U+10FFFF).
@@ -47,4 +47,4 @@ std::string csharp_string(std::string_view text, std::string_view what);
 // comma, a quote, a line feed or a carriage return. CSV holds any bytes: nothing is refused.
 std::string csv_field(std::string_view text);
 
-}  // namespace skin::escape
+}  // namespace skin::util::escape

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string>
 
-namespace skin::io {
+namespace skin::util::io {
 
 // Text inputs (CSV tables, JSON) are read whole into memory; larger ones are refused before
 // reading (measured spectra, scenes and parameter files are kilobytes to megabytes).
@@ -23,4 +23,4 @@ void check_input_file(const std::string& path, const std::string& what,
 std::string read_file(const std::string& path, const std::string& what,
                       std::uintmax_t max_bytes = kMaxTextFileBytes);
 
-}  // namespace skin::io
+}  // namespace skin::util::io

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-namespace skin {
+namespace skin::util {
 
 // Weights of N-point Lagrange interpolation through nodes 0, 1, ..., N - 1 evaluated at t:
 // f(t) ~ sum_a w[a] f(a), w[a] = prod_{b != a} (t - b) / (a - b). Exact for polynomials of degree
@@ -62,4 +62,4 @@ inline std::pair<std::size_t, double> locate(const std::vector<double>& nodes, d
   const std::size_t i = static_cast<std::size_t>(it - nodes.begin()) - 1;
   return {i, (v - nodes[i]) / (nodes[i + 1] - nodes[i])};
 }
-}  // namespace skin
+}  // namespace skin::util

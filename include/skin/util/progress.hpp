@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <functional>
 
-namespace skin {
+namespace skin::util {
 
 // progress(done, total): `done` of `total` units of work (photons, table nodes, colours, cases)
 // are finished. Called from the thread that called the library function, never concurrently,
@@ -12,4 +12,4 @@ namespace skin {
 // called, so a library pays nothing when nobody watches.
 using ProgressCallback = std::function<void(std::size_t done, std::size_t total)>;
 
-}  // namespace skin
+}  // namespace skin::util

@@ -3,7 +3,7 @@
 // the returned references stay valid for the program's life).
 #include <vector>
 
-namespace skin {
+namespace skin::util {
 
 struct QuadratureRule {
   std::vector<double> x, w;  // nodes ascending, weights
@@ -15,4 +15,4 @@ const QuadratureRule& gauss_legendre(int n);
 // node's weight is 2 / n^2.
 const QuadratureRule& gauss_radau(int n);
 
-}  // namespace skin
+}  // namespace skin::util

@@ -8,7 +8,7 @@
 // results never depend on the thread schedule. Tested in tests/util/test_numerics.cpp.
 #include <cstdint>
 
-namespace skin {
+namespace skin::util {
 
 // SplitMix64 (Steele, Lea & Flood 2014): advances `state` by the golden-ratio increment and
 // returns a bijective 64-bit mix of it. Derives generator states from seeds.
@@ -80,4 +80,4 @@ class Pcg32 {
   std::uint64_t state_ = 0, inc_ = 1;
 };
 
-}  // namespace skin
+}  // namespace skin::util

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <iosfwd>
 
-namespace skin {
+namespace skin::util {
 
 struct Rgb {
   double r = 0, g = 0, b = 0;
@@ -28,4 +28,4 @@ constexpr Rgb operator*(double s, const Rgb& c) { return c * s; }
 // "RGB(r, g, b)".
 std::ostream& operator<<(std::ostream& os, const Rgb& c);
 
-}  // namespace skin
+}  // namespace skin::util

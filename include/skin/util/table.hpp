@@ -9,7 +9,7 @@
 #include <string_view>
 #include <vector>
 
-namespace skin {
+namespace skin::util {
 
 struct Table {
   std::string source;                     // file name, for messages
@@ -50,4 +50,4 @@ std::string_view embedded(std::string_view name);
 const Table& embedded_table(std::string_view name);
 }  // namespace data
 
-}  // namespace skin
+}  // namespace skin::util

@@ -5,7 +5,7 @@
 // is announced (the caller says how: a line on stderr, a Python warning).
 #include <string>
 
-namespace skin {
+namespace skin::util {
 
 inline constexpr double kWarnedSeconds = 3600, kRefusedSeconds = 7 * 86400;
 
@@ -26,4 +26,4 @@ WorkEstimate estimate_work(const std::string& what, double units, double units_p
 // The memory part alone.
 void check_memory(const std::string& what, double bytes);
 
-}  // namespace skin
+}  // namespace skin::util

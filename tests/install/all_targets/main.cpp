@@ -31,9 +31,9 @@
 
 int main() {
   std::string parts = "util physics transport color model";
-  const skin::Table t = skin::parse_csv("a,b\n1,2\n", "t.csv");
-  const skin::WavelengthGrid grid(550, 550, 1);
-  const skin::SkinSpectrum s = skin::skin_spectrum(skin::find_preset("caucasian").parameters, grid,
+  const skin::util::Table t = skin::util::parse_csv("a,b\n1,2\n", "t.csv");
+  const skin::physics::WavelengthGrid grid(550, 550, 1);
+  const skin::model::SkinSpectrum s = skin::model::skin_spectrum(skin::physics::find_preset("caucasian").parameters, grid,
                                                    skin::transport::default_model());
   if (t.rows() != 1 || !(s.R_d[0] > 0) || skin::color::find_illuminant("d65").name() != "D65") return 1;
 #ifdef SKIN_HAVE_MC
@@ -60,12 +60,12 @@ int main() {
   try {
     skin::render::Scene::parse("not json", ".", "scene.json");
     return 1;
-  } catch (const skin::InputError&) {
+  } catch (const skin::util::InputError&) {
     parts += " render";
   }
 #endif
 #ifdef SKIN_HAVE_BATCH
-  if (skin::batch::spectra(std::vector<skin::SkinParameters>(2), grid, skin::transport::default_model()).size() != 2)
+  if (skin::batch::spectra(std::vector<skin::physics::SkinParameters>(2), grid, skin::transport::default_model()).size() != 2)
     return 1;
   parts += " batch";
 #endif
