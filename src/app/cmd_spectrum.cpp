@@ -1,6 +1,7 @@
 // skin spectrum / skin color: total diffuse reflectance R_d(lambda), layer coefficients, colour.
 #include "common.hpp"
 #include "skin/color/color.hpp"
+#include "skin/fit/color_fit.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/plot/plot.hpp"
 
@@ -135,10 +136,7 @@ void register_presets(CLI::App& app) {
         const SkinSpectrum s = skin_spectrum(p.parameters, grid, model);
         const std::array<double, 3> rgb = encoded(s.color.srgb8);
         f.series.push_back({p.name, grid.values(), s.R_d.values, rgb});
-        const unsigned long t = std::stoul(p.target_hex.substr(1), nullptr, 16);  // "#rrggbb", from the table
-        const color::ColorSummary target = color::summarize_rgb(
-            cm, {color::srgb_decode(((t >> 16) & 0xff) / 255.0), color::srgb_decode(((t >> 8) & 0xff) / 255.0),
-                 color::srgb_decode((t & 0xff) / 255.0)});
+        const color::ColorSummary target = color::summarize_rgb(cm, fit::parse_hex(p.target_hex));
         g.rows.push_back(p.name);
         g.cells.push_back({encoded(target.srgb8), std::nullopt, p.target_hex});
         g.cells.push_back({rgb, std::nullopt,
