@@ -9,7 +9,15 @@
 # CI (.ci/run) runs both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+# Each step's wall time is printed after it ("[time] step: N s"), so that every run, CI's
+# included, gives its own breakdown.
+timed() {
+  local name=$1 t0=$SECONDS
+  shift
+  "$@"
+  echo "[time] $name: $((SECONDS - t0)) s"
+}
+timed "install dependencies" bash scripts/install-deps.sh
 # ccache (when installed) keys compilations by paths relative to the checkout, so that a fresh
 # clone elsewhere on the same machine (CI) reuses them.
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
@@ -21,27 +29,27 @@ if [ "${1:-}" = "--sanitize" ]; then
   # 10 min under ASan), and five accuracy sweeps of the frequency-domain solver.
   release_only='^(Golden\.FrequencyDomainProfilesUnchanged|FrequencyStack\.ForwardScatteringGetsMoreDirectionsAndNoRipple|FrequencyStack\.TheProfileDoesNotDependOnTheScaleOfTheSolve|PresetProfilesOffTheSkinTable\.WithinFivePercentAndThreeSEOfMonteCarlo|SkinDomainAgainstMonteCarlo\.FreshCasesWithinFivePercentAndThreeSE|DomainProfiles\.StrongForwardScatteringNearTheBeam|Convergence\.IndexStepsUseMorePointsAndStayConverged|SkinStackTable\.NodesAreTheFrequencyDomainProfiles)$'
   bash scripts/configure-asan.sh
-  cmake --build build-asan
+  timed "sanitizer build" cmake --build build-asan
   # (print_suppressions=0: the fontconfig leak suppression of src/app/main.cpp stays silent, so
   # that commands print only their own lines)
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     LSAN_OPTIONS=print_suppressions=0 \
-    ctest --test-dir build-asan --output-on-failure -j 2 -E "$release_only"
-  bash scripts/fuzz.sh "${SKIN_FUZZ_SECONDS:-5}"
+    timed "sanitizer suite" ctest --test-dir build-asan --output-on-failure -j 2 -E "$release_only"
+  timed "fuzz smoke" bash scripts/fuzz.sh "${SKIN_FUZZ_SECONDS:-5}"
   exit 0
 fi
 dir=build
 launcher=()
 if command -v ccache >/dev/null; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
 cmake -S . -B "$dir" -G Ninja -DSKIN_BUILD_TESTS=ON -DCMAKE_BUILD_TYPE=Release "${launcher[@]}"
-cmake --build "$dir"
-ctest --test-dir "$dir" --output-on-failure -j 2
+timed "Release build" cmake --build "$dir"
+timed "Release suite" ctest --test-dir "$dir" --output-on-failure -j 2
 # The Python package as users install it: pip into a fresh virtual environment (Debian's
 # interpreter; no package index), reusing the module built above; its tests run on that copy.
 venv="$PWD/$dir/venv"
 /usr/bin/python3 -m venv --system-site-packages --clear "$venv"
 SKIN_BUILD_DIR="$dir" "$venv/bin/pip" install --no-build-isolation --no-index -q .
 (cd "$dir" && SKIN_EXPECT_INSTALLED=1 SKIN_BINARY="$PWD/bin/skin" \
-  "$venv/bin/python" ../tests/python/test_spectral_skin.py)
+  timed "Python package tests" "$venv/bin/python" ../tests/python/test_spectral_skin.py)
 # The web page (scripts/web-test.sh: WebAssembly build, module and browser tests).
-bash scripts/web-test.sh
+timed "web tests" bash scripts/web-test.sh
