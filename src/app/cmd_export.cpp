@@ -115,8 +115,12 @@ void register_export(CLI::App& app) {
                                            std::move(planes.values)};
     }
     // Our profile and colour, shared by the targets.
+    // Off the skin table each wavelength is solved: said before it starts, with an estimate, and
+    // a bar on a terminal.
+    const std::size_t solves = maps ? 0 : exporting::prepare_solves(p, model);
+    note_profile_solves(solves, exporting::prepare_wavelengths());
     const std::shared_ptr<const exporting::Prepared> ours =
-        maps ? nullptr : exporting::prepare(p, model);
+        maps ? nullptr : exporting::prepare(p, model, solves > 0 ? progress_bar("wavelengths") : util::ProgressCallback{});
     std::string folder;
     if (all) {
       folder = o->output.empty() ? "." : o->output;

@@ -216,7 +216,11 @@ void register_render(CLI::App& app) {
     if (sub->count("--solver") > 0) description.set_solver(o->solver.model());  // else the scene's
     if (o->diffuse) description.make_translucent_diffuse();
     if (o->spectral) description.set_spectral(true);
-    const render::Scene scene = description.build();
+    // Profiles solved off the skin table take a good part of a second each: said before the build
+    // starts, with an estimate, and a bar on a terminal.
+    const render::BuildWork work = description.build_work();
+    note_profile_solves(work.solved, work.profiles, "profiles (wavelengths and channels of the materials)");
+    const render::Scene scene = description.build(work.solved > 0 ? progress_bar("profiles") : util::ProgressCallback{});
     Target t;
     t.scenes = {&scene};
     t.render = [&scene](const render::RenderSettings& rs, render::RenderStats* st, const render::Progress& p) {
@@ -285,7 +289,10 @@ void register_render(CLI::App& app) {
       if (fig->count("--solver") > 0) cell.set_solver(f->solver.model());
       if (f->spectral) cell.set_spectral(true);
     }
-    auto figure = std::make_shared<render::Figure>(description.build());
+    const render::BuildWork work = description.build_work();
+    note_profile_solves(work.solved, work.profiles, "profiles (wavelengths and channels of the materials)");
+    auto figure = std::make_shared<render::Figure>(
+        description.build(work.solved > 0 ? progress_bar("profiles") : util::ProgressCallback{}));
     Target t;
     for (const auto& cell : figure->cells) t.scenes.push_back(&cell);
     t.layout = &figure->layout;

@@ -86,7 +86,7 @@ inline constexpr double kFrequencySolvesPerSecond = 1.7;
 // On a terminal, when `solves` of `wavelengths` profiles are solved rather than read: one line
 // before the work starts, "skin: note: 151 of 151 wavelengths are off the skin table and solved
 // in the frequency domain: about 44 s on 2 threads".
-void note_profile_solves(std::size_t solves, std::size_t wavelengths);
+void note_profile_solves(std::size_t solves, std::size_t wavelengths, const std::string& what = "wavelengths");
 
 // The run group: --seed and --threads, the same in every command that draws random numbers.
 struct RunOptions {

@@ -80,11 +80,17 @@ struct Prepared {
 };
 
 std::shared_ptr<const Prepared> prepare(const SkinParameters& parameters,
-                                        const transport::Model& model) {
+                                        const transport::Model& model, const ProgressCallback& progress) {
   parameters.validate();
   ProfileSolver solver(detail::reference_radii());
-  return std::make_shared<const Prepared>(Prepared{detail::make_reference(parameters, model, solver)});
+  return std::make_shared<const Prepared>(Prepared{detail::make_reference(parameters, model, solver, progress)});
 }
+
+std::size_t prepare_solves(const SkinParameters& parameters, const transport::Model& model) {
+  return skin::model::skin_profile_solves(parameters, detail::reference_grid(), model);
+}
+
+std::size_t prepare_wavelengths() { return detail::reference_grid().size(); }
 
 Export export_prepared(std::string_view target_name, const Prepared& ours, const Options& options) {
   const Target& target = find_target(target_name);

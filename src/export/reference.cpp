@@ -65,13 +65,15 @@ double invert_increasing(const std::function<double(double)>& f, double y, doubl
   return 0.5 * (lo + hi);
 }
 
+WavelengthGrid reference_grid() { return WavelengthGrid{}; }
+
 Reference make_reference(const SkinParameters& p, const transport::Model& model,
-                         ProfileSolver& solver) {
+                         ProfileSolver& solver, const util::ProgressCallback& progress) {
   Reference ref;
   ref.parameters = p;
   ref.model = &model;
   ref.radii = solver.radii();
-  const RgbProfile prof = skin_rgb_profile(p, WavelengthGrid{}, solver, model);
+  const RgbProfile prof = skin_rgb_profile(p, reference_grid(), solver, model, progress);
   for (int c = 0; c < 3; ++c) {
     ref.R[c] = prof.R[c];
     for (double& v : ref.R[c]) v = std::max(v, 0.0);

@@ -22,7 +22,9 @@ struct Reference {
   std::array<double, 3> mean_radius{};   // [mm]
 };
 Reference make_reference(const physics::SkinParameters& p, const transport::Model& model,
-                         transport::ProfileSolver& solver);
+                         transport::ProfileSolver& solver, const util::ProgressCallback& progress = {});
+// The wavelengths of a reference's profile (the paper's 2 nm grid).
+physics::WavelengthGrid reference_grid();
 // The radial grid every reference uses.
 transport::RadialGrid reference_radii();
 // The grid of the spectra the files hold (400-700 nm, 10 nm).

@@ -144,9 +144,9 @@ std::vector<std::string> wavelength_labels(const WavelengthGrid& grid) {
 }  // namespace
 
 SkinProfiles skin_profiles(const SkinParameters& p, const WavelengthGrid& grid, ProfileSolver& profiles,
-                           const Model& model, bool spectral) {
+                           const Model& model, bool spectral, const ProgressCallback& progress) {
   const auto stacks = skin_layer_stacks(p, grid);  // validates
-  const auto r = responses(stacks, model);
+  const auto r = responses(stacks, model, progress);
   SkinProfiles out;
   out.rgb = profiles.rgb(r.pointers, color::Colorimetry(grid).srgb_weights());
   if (spectral) out.spectral = profiles.spectral(r.pointers, grid);

@@ -266,15 +266,23 @@ FigureDescription describe_figure(int number, const std::string& mesh_path, cons
   return fig;
 }
 
-Figure FigureDescription::build() const {
+namespace {
+std::vector<const SceneDescription*> cells_of(const FigureDescription& f) {
+  std::vector<const SceneDescription*> d;
+  for (const SceneDescription& c : f.cells) d.push_back(&c);
+  return d;
+}
+}  // namespace
+
+Figure FigureDescription::build(const util::ProgressCallback& progress) const {
   Figure fig;
   fig.layout = layout;
   fig.on_mesh = on_mesh;
-  std::vector<const SceneDescription*> d;
-  for (const SceneDescription& c : cells) d.push_back(&c);
-  fig.cells = render::build(d);
+  fig.cells = render::build(cells_of(*this), progress);
   return fig;
 }
+
+BuildWork FigureDescription::build_work() const { return render::build_work(cells_of(*this)); }
 
 Figure make_figure(int number, const std::string& mesh_path, const std::string& albedo_texture,
                    const std::function<SkinParameters(const SkinParameters&)>& change) {

@@ -13,6 +13,7 @@
 
 #include "scene_data.hpp"
 #include "skin/model/skin_model.hpp"
+#include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
 
 namespace skin::render {
@@ -83,9 +84,9 @@ struct SkinResult {
   std::shared_ptr<const SpectralCurve> spectral_R_d;  // the skin's own R_d spectrum
 };
 
-SkinResult compute_skin(const SkinKey& k) {
+SkinResult compute_skin(const SkinKey& k, const util::ProgressCallback& progress = {}) {
   ProfileSolver solver(skin_profile_radii());
-  const SkinProfiles prof = skin_profiles(k.p, shape_grid(), solver, *k.solver, k.spectral);
+  const SkinProfiles prof = skin_profiles(k.p, shape_grid(), solver, *k.solver, k.spectral, progress);
   SkinResult r;
   r.validity = prof.validity;
   const auto total = prof.total.color.srgb_linear;
@@ -175,10 +176,26 @@ void check_spectral(const SceneDescription::Data& s) {
                        "diffuse materials");
 }
 
-std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Data*>& descriptions) {
-  // Plan: the distinct skins (materials and parameter-map nodes) and the layered materials.
+namespace {
+
+// The plan of a build: the distinct skins (materials and parameter-map nodes) and the layered
+// materials, and what each material takes from them.
+struct Plan {
+  std::size_t key = 0;                  // skin
+  std::vector<std::size_t> node_keys;   // skin with maps
+  std::size_t layered = 0;              // layered
+};
+struct BuildPlan {
   std::vector<SkinKey> keys;
   std::vector<std::pair<const SceneDescription::Data*, const MaterialDescription*>> key_owner;  // for messages
+  std::vector<std::vector<Plan>> plans;
+  std::vector<std::pair<const SceneDescription::Data*, const MaterialDescription*>> layered;
+};
+
+BuildPlan plan_build(const std::vector<const SceneDescription::Data*>& descriptions) {
+  BuildPlan b;
+  auto& keys = b.keys;
+  auto& key_owner = b.key_owner;
   const auto key_of = [&](const SceneDescription::Data* s, const MaterialDescription& d, const SkinParameters& p) {
     const SkinKey k{p, d.solver, s->spectral && !d.as_diffuse};
     const auto it = std::find(keys.begin(), keys.end(), k);
@@ -187,13 +204,9 @@ std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Da
     key_owner.emplace_back(s, &d);
     return keys.size() - 1;
   };
-  struct Plan {
-    std::size_t key = 0;                  // skin
-    std::vector<std::size_t> node_keys;   // skin with maps
-    std::size_t layered = 0;              // layered
-  };
-  std::vector<std::vector<Plan>> plans(descriptions.size());
-  std::vector<std::pair<const SceneDescription::Data*, const MaterialDescription*>> layered;
+  auto& plans = b.plans;
+  plans.resize(descriptions.size());
+  auto& layered = b.layered;
   for (std::size_t si = 0; si < descriptions.size(); ++si) {
     const SceneDescription::Data* s = descriptions[si];
     if (s->spectral) check_spectral(*s);
@@ -222,18 +235,78 @@ std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Da
       plans[si].push_back(std::move(plan));
     }
   }
+  return b;
+}
+
+// The wavelengths (skin) or channels (layered) of each job whose profile its solver computes
+// numerically, in job order (the skins, then the layered materials); stacks that fail to build
+// count as none (the build reports them).
+std::vector<std::size_t> solved_per_job(const BuildPlan& b) {
+  std::vector<std::size_t> out;
+  for (const SkinKey& k : b.keys) {
+    try {
+      out.push_back(skin::model::skin_profile_solves(k.p, shape_grid(), *k.solver));
+    } catch (const InputError&) {
+      out.push_back(0);
+    }
+  }
+  for (const auto& [s, d] : b.layered) {
+    std::size_t n = 0;
+    for (const LayerStack& stack : d->stacks) {
+      try {
+        n += d->solver->response_is_solved(stack) ? 1 : 0;
+      } catch (const InputError&) {
+      }
+    }
+    out.push_back(n);
+  }
+  return out;
+}
+
+}  // namespace
+
+BuildWork build_work(const std::vector<const SceneDescription::Data*>& descriptions) {
+  const BuildPlan b = plan_build(descriptions);
+  BuildWork w;
+  for (std::size_t n : solved_per_job(b)) w.solved += n;
+  w.profiles = b.keys.size() * shape_grid().size() + 3 * b.layered.size();
+  return w;
+}
+
+std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Data*>& descriptions,
+                                    const util::ProgressCallback& progress) {
+  const BuildPlan b = plan_build(descriptions);
+  const auto& keys = b.keys;
+  const auto& key_owner = b.key_owner;
+  const auto& plans = b.plans;
+  const auto& layered = b.layered;
   // The physics: every job once, in parallel; the first failure in plan order is reported.
   std::vector<SkinResult> skins(keys.size());
   std::vector<LayeredResult> layers(layered.size());
   std::vector<std::exception_ptr> failed(keys.size() + layered.size());
-  tbb::parallel_for(std::size_t{0}, failed.size(), [&](std::size_t i) {
+  const auto job = [&](std::size_t i, const util::ProgressCallback& p) {
     try {
-      if (i < keys.size()) skins[i] = compute_skin(keys[i]);
+      if (i < keys.size()) skins[i] = compute_skin(keys[i], p);
       else layers[i - keys.size()] = compute_layered(*layered[i - keys.size()].second);
     } catch (...) {
       failed[i] = std::current_exception();
     }
-  });
+  };
+  // The jobs that only read tables (milliseconds each) all at once; with a progress callback, the
+  // jobs that solve profiles (each solve parallel inside) one after the other, so that progress
+  // is reported per wavelength from this thread.
+  std::vector<std::size_t> quick, solving;
+  const std::vector<std::size_t> solved = progress ? solved_per_job(b) : std::vector<std::size_t>(failed.size(), 0);
+  for (std::size_t i = 0; i < failed.size(); ++i) (solved[i] > 0 ? solving : quick).push_back(i);
+  tbb::parallel_for(std::size_t{0}, quick.size(), [&](std::size_t q) { job(quick[q], {}); });
+  std::size_t total = 0, done = 0;
+  for (std::size_t i : solving) total += i < keys.size() ? shape_grid().size() : 3;
+  for (std::size_t i : solving) {
+    util::cancel::check();
+    job(i, [&](std::size_t d, std::size_t) { progress(done + d, total); });
+    done += i < keys.size() ? shape_grid().size() : 3;
+    progress(done, total);
+  }
   for (std::size_t i = 0; i < failed.size(); ++i)
     if (failed[i]) {
       const auto& [s, d] = i < keys.size() ? key_owner[i] : layered[i - keys.size()];

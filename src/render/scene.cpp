@@ -559,14 +559,29 @@ void SceneDescription::make_translucent_diffuse() {
     if (m.translucent()) m.as_diffuse = true;
 }
 
-Scene SceneDescription::build() const { return std::move(render::build({this}).front()); }
+Scene SceneDescription::build(const util::ProgressCallback& progress) const {
+  return std::move(render::build({this}, progress).front());
+}
 
-std::vector<Scene> build(const std::vector<const SceneDescription*>& descriptions) {
+BuildWork SceneDescription::build_work() const { return render::build_work({this}); }
+
+namespace {
+std::vector<const SceneDescription::Data*> data_of(const std::vector<const SceneDescription*>& descriptions) {
   std::vector<const SceneDescription::Data*> data;
   for (const SceneDescription* d : descriptions) data.push_back(&d->data());
+  return data;
+}
+}  // namespace
+
+std::vector<Scene> build(const std::vector<const SceneDescription*>& descriptions,
+                         const util::ProgressCallback& progress) {
   std::vector<Scene> out;
-  for (SceneData& s : build_scenes(data)) out.push_back(make_scene(std::move(s)));
+  for (SceneData& s : build_scenes(data_of(descriptions), progress)) out.push_back(make_scene(std::move(s)));
   return out;
+}
+
+BuildWork build_work(const std::vector<const SceneDescription*>& descriptions) {
+  return build_work(data_of(descriptions));
 }
 
 bool Scene::spectral() const { return impl_->data.spectral; }

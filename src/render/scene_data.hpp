@@ -169,7 +169,11 @@ transport::RadialGrid skin_profile_radii();
 // The build: each distinct (parameters, solver, spectral) of skin (materials and parameter-map
 // nodes over all the descriptions) and each distinct layered material computed once, in
 // parallel; InputError names the scene and material.
-std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Data*>& descriptions);
+// With a progress callback, the jobs that solve profiles run one after the other and report
+// progress(done, total) per wavelength (channel, for layered materials) of those jobs.
+std::vector<SceneData> build_scenes(const std::vector<const SceneDescription::Data*>& descriptions,
+                                    const util::ProgressCallback& progress = {});
+BuildWork build_work(const std::vector<const SceneDescription::Data*>& descriptions);
 // Spectral rendering needs a spectrum of every material: InputError for a layered one.
 void check_spectral(const SceneDescription::Data& s);
 // One translucent material alone (tests, benchmarks): a skin or layered description built as

@@ -125,8 +125,14 @@ struct ParameterMapsInput {
 // Our skin as every target starts from it (its RGB profile, colour and mean exit radii),
 // computed once by prepare() and shared by the exports of several targets (--target all).
 struct Prepared;
+// progress(wavelengths done, wavelengths) while its profile is computed; prepare_solves() is
+// how many of those wavelengths the model solves numerically (off the accurate model's skin
+// table, or sfd), each a good part of a second (docs/benchmarks.md), known before it starts.
 std::shared_ptr<const Prepared> prepare(const physics::SkinParameters& parameters,
-                                        const transport::Model& model);
+                                        const transport::Model& model,
+                                        const util::ProgressCallback& progress = {});
+std::size_t prepare_solves(const physics::SkinParameters& parameters, const transport::Model& model);
+std::size_t prepare_wavelengths();
 Export export_prepared(std::string_view target, const Prepared& ours, const Options& options);
 
 // Exports `parameters` (validated) for `target` (find_target). progress(texels done, texels) with

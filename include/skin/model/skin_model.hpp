@@ -83,7 +83,8 @@ struct SkinProfiles {
   std::optional<transport::SpectralProfile> spectral; // on `grid`, when asked for
 };
 SkinProfiles skin_profiles(const physics::SkinParameters& p, const physics::WavelengthGrid& grid, transport::ProfileSolver& profiles,
-                           const transport::Model& model = transport::default_model(), bool spectral = false);
+                           const transport::Model& model = transport::default_model(), bool spectral = false,
+                           const util::ProgressCallback& progress = {});
 
 // How many wavelengths of `grid` the model's profile of this skin solves numerically
 // (Model::response_is_solved; the cost is in docs/benchmarks.md) rather than reads: 0 for the accurate

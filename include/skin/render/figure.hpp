@@ -44,7 +44,8 @@ struct FigureDescription {
   FigureLayout layout;
   std::vector<SceneDescription> cells;
   bool on_mesh = false;
-  Figure build() const;
+  Figure build(const util::ProgressCallback& progress = {}) const;  // (SceneDescription::build)
+  BuildWork build_work() const;
 };
 // Describes the cells on the face mesh `mesh_path` (OBJ, glTF, GLB; placed by its bounding box
 // in the frame of the Lee Perry-Smith head, 22 mm per unit as examples/head.json), or on spheres

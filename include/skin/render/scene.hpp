@@ -13,6 +13,7 @@
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/render/image.hpp"
 #include "skin/transport/model.hpp"
+#include "skin/util/progress.hpp"
 
 namespace skin::render {
 
@@ -63,6 +64,15 @@ std::ostream& operator<<(std::ostream& os, const RenderStats& s);
 
 class Scene;
 
+// The profiles a build computes: `profiles` in all (a skin's wavelengths, a layered material's
+// three channels; each distinct one once), of which `solved` are solved numerically by their
+// transport model (transport::Model::response_is_solved: off the accurate model's skin table, or
+// sfd) rather than read from a table, each a good part of a second (docs/benchmarks.md).
+struct BuildWork {
+  std::size_t profiles = 0;
+  std::size_t solved = 0;
+};
+
 // A scene as described, before any physics: what the scene file (or the built-in scene) says,
 // edited by the CLI's flags and by `skin figure`; build() then computes every material once.
 // Its materials are skin (parameters, parameter maps, an albedo texture and its reference),
@@ -97,8 +107,11 @@ class SceneDescription {
   void make_translucent_diffuse();
 
   // Computes the materials' profiles (each distinct skin once) and the acceleration structure.
-  // InputError names the scene and the material.
-  Scene build() const;
+  // InputError names the scene and the material. With `progress`, the materials that solve
+  // profiles (build_work) report per wavelength.
+  Scene build(const util::ProgressCallback& progress = {}) const;
+  // What build() will compute, known before it starts (to announce a long build).
+  BuildWork build_work() const;
 
   SceneDescription(const SceneDescription&);
   SceneDescription& operator=(const SceneDescription&);
@@ -117,7 +130,9 @@ class SceneDescription {
 
 // Builds several descriptions together (a figure's cells): each distinct skin over all of them
 // is computed once.
-std::vector<Scene> build(const std::vector<const SceneDescription*>& descriptions);
+std::vector<Scene> build(const std::vector<const SceneDescription*>& descriptions,
+                         const util::ProgressCallback& progress = {});
+BuildWork build_work(const std::vector<const SceneDescription*>& descriptions);
 
 // A built scene: what render() takes.
 class Scene {
