@@ -484,8 +484,8 @@ ColorTargets color_targets(const py::object& hex, const py::object& srgb) {
     } catch (const py::error_already_set&) {
       throw InputError(wrong);
     }
+    if (a.ndim() == 1 && a.shape(0) == 0) throw InputError("hex is an empty sequence: give at least one colour");
     if (a.ndim() != 1 || a.dtype().kind() != 'U') throw InputError(wrong);
-    if (a.shape(0) == 0) throw InputError("hex is an empty sequence: give at least one colour");
     t.several = true;
     for (py::ssize_t i = 0; i < a.shape(0); ++i) {
       try {

@@ -345,10 +345,12 @@ class Bindings(unittest.TestCase):
         with open(tour, encoding="utf-8") as f:
             text = f.read()
         section = text[text.index("\n## Python"):]
-        start = section.index("```python\n") + len("```python\n")
-        block = section[start:section.index("```\n", start)]
-        self.assertIn("import spectral_skin", block)
-        exec(compile(block, "docs/tour.md (## Python)", "exec"), {})
+        section = section[:section.index("\n## ", 1)]
+        blocks = section.split("```python\n")[1:]  # every block of the section, in one namespace
+        self.assertIn("import spectral_skin", blocks[0])
+        namespace = {}
+        for block in blocks:
+            exec(compile(block[:block.index("```\n")], "docs/tour.md (## Python)", "exec"), namespace)
 
     def test_bad_input_raises_value_error_naming_the_parameter(self):
         with self.assertRaisesRegex(ValueError, r"melanin \(C_m\) = 1.5 is out of range"):
@@ -464,6 +466,143 @@ class EveryDoorHolds(unittest.TestCase):
         r = ss.mc(layers=[{"sigma_a": 0, "sigma_s_prime": 1}], photons=200)
         self.assertAlmostEqual(r["R_d"] + r["lost"], 1.0, places=12)
         self.assertLess(r["lost"], 0.05)
+
+
+def assert_row_is_the_single_call(test, many, single, i, path="", axes=None):
+    """Row i of a call on N targets equals the single call on target i exactly (bit for bit): the
+    values with a leading axis (named in many["axes"]) at i, the others as they are."""
+    axes = many["axes"] if axes is None else axes
+    keys = set(single) - {"axes"}
+    test.assertEqual(keys, set(many) - {"axes"}, path)
+    for k in keys:
+        v, p = single[k], f"{path}.{k}" if path else k
+        if isinstance(v, dict):
+            assert_row_is_the_single_call(test, many[k], v, i, p, axes)
+        elif p in axes and axes[p][0] in ("target", "spectrum"):
+            got = np.asarray(many[k])[i]
+            want = np.nan if v is None else v  # an uncertainty None (not finite) is NaN in a batch
+            np.testing.assert_array_equal(got, np.asarray(want, dtype=got.dtype), err_msg=p)
+            if got.dtype.kind == "f":  # the same bits, not merely equal
+                test.assertEqual(np.asarray(want, dtype=float).tobytes(), got.tobytes(), p)
+        else:
+            if p not in axes:
+                test.assertNotIsInstance(many[k], np.ndarray, f"{p} varies but has no axes")
+            assert_equal(test, many[k], v)
+
+
+class ManyFitsAtOnce(unittest.TestCase):
+    """Issue 32, item 3: fit_color on N colours and fit_spectrum on N spectra are N single calls,
+    bit for bit, computed on all cores without the GIL; fit_texture takes numpy arrays."""
+
+    def test_n_colours_are_n_single_calls(self):
+        srgb = np.array([[169, 143, 116], [250.5, 200.25, 180], [60, 40, 30], [0, 0, 0], [255, 255, 255]])
+        many = ss.fit_color(srgb=srgb, solver="multipole")
+        self.assertEqual(many["parameters"]["melanin"].shape, (5,))
+        self.assertEqual(many["target"]["lab"].shape, (5, 3))
+        self.assertEqual(many["axes"]["target.lab"], ("target", "Lab"))
+        self.assertEqual(list(many["target"]["hex"]), ["#a98f74", "#fbc8b4", "#3c281e", "#000000", "#ffffff"])
+        for i in range(len(srgb)):
+            assert_row_is_the_single_call(self, many, ss.fit_color(srgb=srgb[i], solver="multipole"), i)
+        # The same colours as texts, as 8-bit integers, on one thread: the same numbers.
+        as_hex = ss.fit_color(hex=["a98f74", "#3c281e"], solver="multipole")
+        assert_equal(self, as_hex["parameters"], ss.fit_color(srgb=srgb[[0, 2]], solver="multipole")["parameters"])
+        one_thread = ss.fit_color(srgb=srgb[[0, 2]].astype(np.uint8), solver="multipole", threads=1)
+        assert_equal(self, one_thread, ss.fit_color(srgb=srgb[[0, 2]], solver="multipole"))
+        # One row is still N = 1 (arrays), not the single call's lists.
+        self.assertEqual(ss.fit_color(srgb=srgb[:1], solver="multipole")["delta_e_2000"].shape, (1,))
+
+    def test_n_colours_with_fixed_parameters_and_the_default_solver(self):
+        srgb = np.array([[190, 150, 120], [120, 80, 60]])
+        kw = {"free": ["melanin", "hemoglobin"], "melanin_blend": 0.5, "bounds": {"C_h": (0.001, 0.1)}}
+        many = ss.fit_color(srgb=srgb, **kw)
+        for i in range(len(srgb)):
+            assert_row_is_the_single_call(self, many, ss.fit_color(srgb=srgb[i], **kw), i)
+        np.testing.assert_array_equal(many["parameters"]["melanin_blend"], [0.5, 0.5])
+
+    def test_n_spectra_are_n_single_calls(self):
+        s = ss.spectrum(melanin=[0.02, 0.08, 0.25], hemoglobin=[0.01, 0.05, 0.002], lambda_step=10,
+                        solver="multipole")
+        rng = np.random.default_rng(3)
+        R = np.clip(s["R_d"] + rng.normal(0, 0.003, s["R_d"].shape), 0, 1)
+        for kw in ({}, {"includes_specular": True, "free": ["melanin", "hemoglobin", "oxygenation"]}):
+            many = ss.fit_spectrum(s["wavelength_nm"], R, solver="multipole", **kw)
+            self.assertEqual(many["fitted"]["R"].shape, (3, 31))
+            self.assertEqual(many["axes"]["fitted.R"], ("spectrum", "wavelength_nm"))
+            self.assertEqual(many["rms"].shape, (3,))
+            for i in range(3):
+                single = ss.fit_spectrum(s["wavelength_nm"], list(R[i]), solver="multipole", **kw)
+                assert_row_is_the_single_call(self, many, single, i)
+
+    def test_the_gil_is_released(self):
+        import threading
+        import time
+        srgb = np.tile([[169, 143, 116], [90, 60, 45]], (60, 1)) + np.arange(120)[:, None] % 7
+        done = []
+        worker = threading.Thread(target=lambda: done.append(ss.fit_color(srgb=srgb, solver="multipole")))
+        start = time.monotonic()
+        worker.start()
+        ticks, last, longest = 0, time.monotonic(), 0.0
+        while worker.is_alive():  # this thread runs Python meanwhile
+            now = time.monotonic()
+            longest, last, ticks = max(longest, now - last), now, ticks + 1
+        worker.join()
+        self.assertGreater(time.monotonic() - start, 0.2)  # long enough to tell
+        self.assertEqual(done[0]["parameters"]["melanin"].shape, (120,))
+        self.assertLess(longest, 0.15)
+        self.assertGreater(ticks, 1000)
+
+    def test_ctrl_c_stops_them(self):
+        interrupted_after = EveryDoorHolds.interrupted_after
+        many = np.tile([[169, 143, 116], [90, 60, 45]], (5000, 1))
+        self.assertLess(interrupted_after(self, 0.3, lambda: ss.fit_color(srgb=many, solver="multipole")), 1.0)
+        s = ss.spectrum(melanin=0.1, lambda_step=10, solver="multipole")
+        R = np.tile(s["R_d"], (20000, 1))
+        self.assertLess(interrupted_after(self, 0.3, lambda: ss.fit_spectrum(s["wavelength_nm"], R, solver="multipole")),
+                        1.0)
+        self.assertEqual(ss.fit_color(srgb=many[:2], solver="multipole")["delta_e_2000"].shape, (2,))  # not left cancelled
+
+    def test_bad_input_is_one_value_error_naming_the_parameter(self):
+        wl = np.arange(400.0, 701.0, 20.0)
+        R = np.full((2, 16), 0.4)
+        cases = [
+            (lambda: ss.fit_color(srgb=np.zeros((2, 4))), r"^srgb has shape \(2, 4\): N colours are an array of shape \(N, 3\)"),
+            (lambda: ss.fit_color(srgb=np.zeros((0, 3))), r"^srgb is an empty array \(shape \(0, 3\)\): give at least one colour$"),
+            (lambda: ss.fit_color(srgb=[[1, 2, 3], [4, 5, np.nan]]), r"^srgb\[1, 2\] = nan is out of range: allowed range is \[0, 255\]$"),
+            (lambda: ss.fit_color(srgb=[[300, 2, 3]]), r"^srgb\[0, 0\] = 300 is out of range"),
+            (lambda: ss.fit_color(srgb=[[-1, 2, 3]]), r"^srgb\[0, 0\] = -1 is out of range"),
+            (lambda: ss.fit_color(srgb=np.zeros((2, 3, 1))), r"^srgb = .* must be three numbers R,G,B"),
+            (lambda: ss.fit_color(srgb=np.zeros((2, 3), dtype=bool)), r"^srgb = .* must be three numbers R,G,B"),
+            (lambda: ss.fit_color(hex=["a98f74", "zz"]), r"^hex\[1\]: hex = 'zz' must be six hexadecimal digits RRGGBB$"),
+            (lambda: ss.fit_color(hex=[]), r"^hex is an empty sequence: give at least one colour$"),
+            (lambda: ss.fit_color(hex=[1, 2]), r"^hex = \[1, 2\] must be a text RRGGBB or a sequence of them$"),
+            (lambda: ss.fit_color(srgb=[[1, 2, 3]], threads=-1), r"^threads = -1 is out of range"),
+            (lambda: ss.fit_spectrum(wl, np.full((2, 15), 0.4)), r"^R has shape \(2, 15\) but wavelength_nm has 16 values"),
+            (lambda: ss.fit_spectrum(wl, np.zeros((0, 16))), r"^R is an empty array \(shape \(0, 16\)\): give at least one spectrum$"),
+            (lambda: ss.fit_spectrum(wl, np.where(np.arange(32).reshape(2, 16) == 20, np.nan, R)),
+             r"^spectrum 'R\[1\]': reflectance = nan at 480 nm is out of range: must be within \[0, 1\]$"),
+            (lambda: ss.fit_spectrum(wl, R * 50), r"^spectrum 'R\[0\]': reflectance = 20 at 400 nm is out of range"),
+            (lambda: ss.fit_spectrum(wl, np.full((1, 2, 16), 0.4)), r"^R must be a reflectance spectrum .* not an array of shape \(1, 2, 16\)$"),
+            (lambda: ss.fit_spectrum(wl, [[0.4] * 16, [0.4]]), r"^R must be a reflectance spectrum"),
+            (lambda: ss.fit_spectrum(wl, np.full(16, "x")), r"^R must be a reflectance spectrum"),
+            (lambda: ss.fit_spectrum(wl, R, threads=10**6), r"^threads = 1000000 is out of range"),
+        ]
+        for call, message in cases:
+            with self.assertRaisesRegex(ValueError, message):
+                call()
+
+    def test_fit_texture_takes_numpy_arrays_as_they_are(self):
+        import pathlib
+        rgb = np.array(ss.color("tanned", solver="multipole")["color"]["srgb_linear"])
+        image = np.stack([np.tile(rgb, (3, 1)), np.tile(rgb * 0.8, (3, 1))]).astype(np.float32)  # (2, 3, 3)
+        maps = ss.fit_texture(image, solver="multipole")
+        for same in (image.astype(np.float64), np.asfortranarray(image), np.repeat(image, 2, axis=1)[:, ::2],
+                     image.tolist()):
+            again = ss.fit_texture(same, solver="multipole")
+            for k in ("melanin", "melanin_blend", "hemoglobin", "error"):
+                np.testing.assert_array_equal(again[k], maps[k], err_msg=k)
+                self.assertEqual(again[k].dtype, np.float32)
+        with self.assertRaisesRegex(ValueError, "no-such-albedo.png"):  # a path object is a file name
+            ss.fit_texture(pathlib.Path("no-such-albedo.png"))
 
 
 @unittest.skipUnless(os.environ.get("SKIN_EXPECT_INSTALLED"), "set by scripts/test.sh in its venv")
