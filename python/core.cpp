@@ -583,6 +583,7 @@ PYBIND11_MODULE(_core, m) {
       for (const char* k : {"R_d", "epidermis.sigma_a", "epidermis.sigma_s_prime", "dermis.sigma_a",
                             "dermis.sigma_s_prime"})
         axes[k] = wl;
+      if (sets.arrays.contains("epidermis_thickness")) axes["epidermis.thickness_mm"] = names(sets.axes, {});
     }
     axes["color.XYZ"] = names(sets.axes, {"XYZ"});
     axes["color.srgb_linear"] = names(sets.axes, {"channel"});
@@ -693,6 +694,9 @@ PYBIND11_MODULE(_core, m) {
       axes["R"] = names(sets.axes, {"wavelength_nm", "r_mm"});
       axes["R_d"] = names(sets.axes, {"wavelength_nm"});
     }
+    if (!sets.shape.empty())  // the validity of each set (outside_skin_domain: a list per set)
+      for (auto item : py::cast<py::dict>(d["validity"]))
+        axes[py::str("validity." + py::cast<std::string>(item.first))] = names(sets.axes, {});
     parameter_axes(sets, axes);
     d["axes"] = axes;
     return d;

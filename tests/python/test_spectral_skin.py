@@ -605,6 +605,128 @@ class ManyFitsAtOnce(unittest.TestCase):
             ss.fit_texture(pathlib.Path("no-such-albedo.png"))
 
 
+def write_png(path, rgb8):
+    """A 8-bit RGB PNG of an array (height, width, 3) of uint8 (zlib, no image library)."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    h, w, _ = rgb8.shape
+    rows = b"".join(b"\0" + rgb8[y].tobytes() for y in range(h))
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def has_dask():
+    try:
+        import dask.distributed  # noqa: F401
+        return True
+    except ImportError:
+        return False
+
+
+@unittest.skipUnless(has_dask(), "dask is not importable: apt-get install python3-dask python3-distributed "
+                                 "(scripts/install-deps.sh installs them)")
+class OnADaskCluster(unittest.TestCase):
+    """Issue 32, item 4: spectral_skin.distributed maps texture fits and parameter sweeps onto a
+    Dask cluster (here two local worker processes); the results are those of the run on one
+    machine, every number equal."""
+
+    @classmethod
+    def setUpClass(cls):
+        import logging
+        from dask.distributed import Client, LocalCluster
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)  # Debian's tornado and distributed 2022.12
+            cls.cluster = LocalCluster(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None,
+                                       silence_logs=logging.ERROR)
+        cls.client = Client(cls.cluster)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        cls.cluster.close()
+
+    def test_a_sweep_is_the_call_on_one_machine(self):
+        import spectral_skin.distributed as sd
+        grid = {"melanin": np.linspace(0, 0.5, 7)[:, None], "C_h": [0.002, 0.02, 0.05], "solver": "multipole",
+                "lambda_step": 20}
+        many = sd.sweep(self.client, "color", chunk_size=4, **grid)  # 21 sets in 6 tasks, rows split
+        assert_equal(self, many, ss.color(**grid))
+        self.assertEqual(many["color"]["lab"].shape, (7, 3, 3))
+        profiles = {"melanin": [0.1, 0.3], "hemoglobin": np.array([[0.01], [0.03], [0.05]]), "r_mm": [0.1, 1.0],
+                    "eta": np.float64(1.3), "solver": "multipole", "lambda_step": 50}
+        assert_equal(self, sd.sweep(self.client, "rgb_profile", "african", chunk_size=1, **profiles),
+                     ss.rgb_profile("african", **profiles))
+        assert_equal(self, sd.sweep(self.client, "profile", chunk_size=5, **profiles), ss.profile(**profiles))
+        layers = {"epidermis_thickness": [0.15, 0.25, 0.35], "lambda_step": 50, "solver": "multipole"}
+        assert_equal(self, sd.sweep(self.client, "spectrum", chunk_size=2, **layers), ss.spectrum(**layers))
+        one = {"melanin": 0.2, "solver": "multipole"}  # no arrays: one task
+        assert_equal(self, sd.sweep(self.client, "spectrum", **one), ss.spectrum(**one))
+
+    def test_texture_fits_are_the_calls_on_one_machine(self):
+        import pathlib
+        import spectral_skin.distributed as sd
+        rng = np.random.default_rng(5)
+        arrays = list(rng.uniform(0.02, 0.7, (3, 4, 5, 3)))
+        with tempfile.TemporaryDirectory() as d:
+            png = pathlib.Path(d) / "albedo.png"
+            write_png(png, rng.integers(40, 230, (6, 4, 3), dtype=np.uint8))
+            images = arrays + [png, str(png)]
+            maps = sd.fit_textures(self.client, images, solver="multipole")
+            self.assertEqual(len(maps), len(images))
+            for got, image in zip(maps, images):
+                assert_equal(self, got, ss.fit_texture(image, solver="multipole"))
+        self.assertEqual(maps[-1]["melanin"].shape, (6, 4))
+
+    def test_a_scheduler_address_instead_of_a_client(self):
+        import spectral_skin.distributed as sd
+        grid = {"melanin": [0.05, 0.1, 0.2], "solver": "multipole", "lambda_step": 50}
+        assert_equal(self, sd.sweep(self.cluster.scheduler_address, "spectrum", chunk_size=2, **grid),
+                     ss.spectrum(**grid))
+
+    def test_bad_input_is_the_calls_value_error(self):
+        import spectral_skin.distributed as sd
+        with self.assertRaisesRegex(ValueError, r"^melanin \(C_m\) = 2 is out of range"):
+            sd.sweep(self.client, "color", melanin=[0.1, 0.2, 2.0], chunk_size=1)
+        with self.assertRaisesRegex(ValueError, r"^image\[0, 0, 0\] = 3 is out of range"):
+            sd.fit_textures(self.client, [np.full((2, 2, 3), 0.5), np.full((2, 2, 3), 3.0)])
+        with self.assertRaisesRegex(ValueError, "^the parameter arrays do not broadcast together"):
+            sd.sweep(self.client, "color", melanin=[0.1, 0.2], hemoglobin=[0.01, 0.02, 0.03])
+        with self.assertRaisesRegex(ValueError, "^function = 'fit_color' is not a sweep: one of spectrum, color"):
+            sd.sweep(self.client, "fit_color", melanin=[0.1])
+        with self.assertRaisesRegex(ValueError, "^chunk_size = 0 is out of range: must be a whole number >= 1$"):
+            sd.sweep(self.client, "color", melanin=[0.1], chunk_size=0)
+        with self.assertRaisesRegex(ValueError, "^images is empty"):
+            sd.fit_textures(self.client, [])
+        with self.assertRaisesRegex(ValueError, "^client = None must be a dask.distributed.Client or a scheduler address"):
+            sd.fit_textures(None, [np.full((1, 1, 3), 0.5)])
+
+
+class EveryArrayHasAxes(unittest.TestCase):
+    def test_every_array_of_a_call_on_sets_has_its_axes_named(self):
+        # result["axes"] names the axes of every array of a result (spectral_skin.distributed
+        # relies on it to join the sets of its tasks): the validity of each set too.
+        def arrays(d, prefix=""):
+            for k, v in d.items():
+                p = f"{prefix}.{k}" if prefix else k
+                if isinstance(v, dict) and k != "axes":
+                    yield from arrays(v, p)
+                elif isinstance(v, np.ndarray):
+                    yield p, v
+        every = {p["key"]: [value_in_range(p), p["default"]] for p in ss.parameters()}
+        for f, kw in ((ss.spectrum, {}), (ss.color, {}), (ss.rgb_profile, {"r_mm": [0.5]}),
+                      (ss.profile, {"r_mm": [0.5]})):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                r = f(lambda_step=100, solver="multipole", **kw, **every)
+            for path, a in arrays(r):
+                self.assertIn(path, r["axes"], f.__name__)
+                self.assertEqual(len(r["axes"][path]), a.ndim, f"{f.__name__} {path}")
+
+
 @unittest.skipUnless(os.environ.get("SKIN_EXPECT_INSTALLED"), "set by scripts/test.sh in its venv")
 class Installed(unittest.TestCase):
     """scripts/test.sh runs these tests in a virtual environment the package was pip-installed
