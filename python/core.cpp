@@ -11,6 +11,7 @@
 #include <climits>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <future>
 #include <iterator>
 #include <span>
@@ -35,6 +36,7 @@
 #include "skin/batch/batch.hpp"
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/fit/fit_many.hpp"
 #include "skin/mc/mc.hpp"
 #include "skin/export/export.hpp"
 #include "skin/model/skin_model.hpp"
@@ -396,7 +398,7 @@ std::vector<std::pair<fit::Parameter, fit::Bounds>> fit_bounds(
 std::string srgb_text(const py::object& srgb) {
   if (py::isinstance<py::str>(srgb)) return py::cast<std::string>(srgb);
   const std::string wrong = "srgb = " + one_line(py::cast<std::string>(py::repr(srgb))) +
-                            " must be three numbers R,G,B (8-bit sRGB, 0-255): a text 'R,G,B' or a sequence of 3";
+                            " must be three numbers R,G,B (8-bit sRGB, 0-255): a text 'R,G,B' or a sequence of 3 (N colours: an array of shape (N, 3))";
   if (py::isinstance<py::bytes>(srgb) || py::isinstance<py::bool_>(srgb)) throw InputError(wrong);
   py::array a;
   try {
@@ -409,6 +411,111 @@ std::string srgb_text(const py::object& srgb) {
   for (const py::handle item : srgb)  // each a number (not bool, not text)
     text += (text.empty() ? "" : ",") + format_number(number("srgb", item));
   return text;
+}
+
+
+// An array of numbers (dtype integer or float; not bool, complex, text or objects) as float64, or
+// nullopt when `value` is none.
+std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>> numbers_array(const py::object& value) {
+  if (py::isinstance<py::str>(value) || py::isinstance<py::bytes>(value) || py::isinstance<py::bool_>(value))
+    return std::nullopt;
+  py::module_ np = py::module_::import("numpy");
+  py::array a;
+  try {
+    a = np.attr("asarray")(value);
+  } catch (const py::error_already_set&) {  // ragged nested lists
+    return std::nullopt;
+  }
+  const char kind = a.dtype().kind();
+  if (kind != 'i' && kind != 'u' && kind != 'f') return std::nullopt;
+  return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(np.attr("asarray")(a, "dtype"_a = "float64"));
+}
+
+std::string shape_text(const py::array& a) { return py::cast<std::string>(py::str(py::cast<py::object>(a).attr("shape"))); }
+
+// fit_spectrum's R: one spectrum (an array of numbers) or N of them (N, samples), one per row.
+struct Reflectances {
+  std::vector<std::vector<double>> rows;
+  bool several = false;
+};
+Reflectances reflectances(const py::object& R, std::size_t samples) {
+  const std::string allowed = "R must be a reflectance spectrum (numbers 0-1, one per wavelength) or N of them, an "
+                              "array of shape (N, " + std::to_string(samples) + ") with one spectrum per row, not ";
+  const auto a = numbers_array(R);
+  if (!a || a->ndim() == 0 || a->ndim() > 2)
+    throw InputError(allowed + (a ? "an array of shape " + shape_text(*a)
+                                  : one_line(py::cast<std::string>(py::repr(R))).substr(0, 80)));
+  Reflectances r;
+  const double* v = a->data();
+  if (a->ndim() == 1) {
+    r.rows.emplace_back(v, v + a->shape(0));
+    return r;
+  }
+  r.several = true;
+  if (a->shape(0) == 0)
+    throw InputError("R is an empty array (shape " + shape_text(*a) + "): give at least one spectrum");
+  if (static_cast<std::size_t>(a->shape(1)) != samples)
+    throw InputError("R has shape " + shape_text(*a) + " but wavelength_nm has " + std::to_string(samples) +
+                     " values: each row of R is one spectrum, a reflectance per wavelength");
+  for (py::ssize_t i = 0; i < a->shape(0); ++i) r.rows.emplace_back(v + i * a->shape(1), v + (i + 1) * a->shape(1));
+  return r;
+}
+
+// fit_color's targets (linear sRGB, decoded as `skin fit --hex/--srgb` decodes them) and whether
+// the call gave several: hex, a text or a sequence of N texts; srgb, a text 'R,G,B', three numbers
+// or an array (N, 3) of them (8-bit sRGB, 0-255).
+struct ColorTargets {
+  std::vector<color::Rgb> rgb;
+  bool several = false;
+};
+ColorTargets color_targets(const py::object& hex, const py::object& srgb) {
+  if (hex.is_none() == srgb.is_none()) throw InputError("fit_color: give one target: hex or srgb");
+  ColorTargets t;
+  if (!hex.is_none()) {
+    if (py::isinstance<py::str>(hex)) {
+      t.rgb.push_back(fit::parse_hex(py::cast<std::string>(hex)));
+      return t;
+    }
+    const std::string wrong = "hex = " + one_line(py::cast<std::string>(py::repr(hex))).substr(0, 80) +
+                              " must be a text RRGGBB or a sequence of them";
+    py::array a;
+    try {
+      a = py::module_::import("numpy").attr("asarray")(hex);
+    } catch (const py::error_already_set&) {
+      throw InputError(wrong);
+    }
+    if (a.ndim() == 1 && a.shape(0) == 0) throw InputError("hex is an empty sequence: give at least one colour");
+    if (a.ndim() != 1 || a.dtype().kind() != 'U') throw InputError(wrong);
+    t.several = true;
+    for (py::ssize_t i = 0; i < a.shape(0); ++i) {
+      try {
+        t.rgb.push_back(fit::parse_hex(py::cast<std::string>(a[py::int_(i)])));
+      } catch (const InputError& e) {
+        throw InputError("hex[" + std::to_string(i) + "]: " + e.what());
+      }
+    }
+    return t;
+  }
+  const auto a = py::isinstance<py::str>(srgb) ? std::nullopt : numbers_array(srgb);
+  if (!a || a->ndim() != 2) {  // one colour: a text or three numbers (srgb_text says what is wrong)
+    t.rgb.push_back(fit::parse_srgb8(srgb_text(srgb)));
+    return t;
+  }
+  t.several = true;
+  if (a->shape(1) != 3)
+    throw InputError("srgb has shape " + shape_text(*a) + ": N colours are an array of shape (N, 3) (8-bit sRGB, 0-255)");
+  if (a->shape(0) == 0) throw InputError("srgb is an empty array (shape " + shape_text(*a) + "): give at least one colour");
+  const double* v = a->data();
+  for (py::ssize_t i = 0; i < a->shape(0); ++i) {
+    std::string text;  // the text of one colour: decoded as srgb='R,G,B' is (the same bits)
+    for (py::ssize_t c = 0; c < 3; ++c) {
+      const double x = v[i * 3 + c];
+      require_in_range("srgb[" + std::to_string(i) + ", " + std::to_string(c) + "]", x, 0.0, 255.0);
+      text += (c ? "," : "") + format_number(x);
+    }
+    t.rgb.push_back(fit::parse_srgb8(text));
+  }
+  return t;
 }
 
 }  // namespace
@@ -476,6 +583,7 @@ PYBIND11_MODULE(_core, m) {
       for (const char* k : {"R_d", "epidermis.sigma_a", "epidermis.sigma_s_prime", "dermis.sigma_a",
                             "dermis.sigma_s_prime"})
         axes[k] = wl;
+      if (sets.arrays.contains("epidermis_thickness")) axes["epidermis.thickness_mm"] = names(sets.axes, {});
     }
     axes["color.XYZ"] = names(sets.axes, {"XYZ"});
     axes["color.srgb_linear"] = names(sets.axes, {"channel"});
@@ -586,6 +694,9 @@ PYBIND11_MODULE(_core, m) {
       axes["R"] = names(sets.axes, {"wavelength_nm", "r_mm"});
       axes["R_d"] = names(sets.axes, {"wavelength_nm"});
     }
+    if (!sets.shape.empty())  // the validity of each set (outside_skin_domain: a list per set)
+      for (auto item : py::cast<py::dict>(d["validity"]))
+        axes[py::str("validity." + py::cast<std::string>(item.first))] = names(sets.axes, {});
     parameter_axes(sets, axes);
     d["axes"] = axes;
     return d;
@@ -714,11 +825,12 @@ PYBIND11_MODULE(_core, m) {
 
   m.def(
       "fit_spectrum",
-      [](const std::vector<double>& wavelength_nm, const std::vector<double>& R, const std::string& preset,
+      [](const std::vector<double>& wavelength_nm, const py::object& R, const std::string& preset,
          const std::optional<std::vector<std::string>>& free, bool includes_specular,
          double fit_lambda_min, double fit_lambda_max,
          const std::map<std::string, std::pair<double, double>>& bounds, const std::string& solver,
-         const py::kwargs& kw) {
+         const py::object& threads, const py::kwargs& kw) {
+        const fit::ManyOptions many{thread_count(threads)};
         const Sets sets = parameter_sets(preset, kw);
         if (!sets.shape.empty()) throw InputError("fit_spectrum: the start is one parameter set (no arrays)");
         fit::SpectrumFitOptions opt;
@@ -729,25 +841,67 @@ PYBIND11_MODULE(_core, m) {
         opt.lambda_max = fit_lambda_max;
         opt.bounds = fit_bounds(bounds);
         opt.model = fit::forward_model(solver);
-        const fit::MeasuredSpectrum m{"spectrum", wavelength_nm, R};
-        const fit::FitResult r = interruptible([&] { return fit::SpectrumFitter(opt).fit(m); });
-        py::dict d = to_python(
-            schema::spectrum_fit_result(m, r, std::string(transport::find_model(solver).name()), includes_specular)
-                .document);
-        d["axes"] = py::dict("fitted.wavelength_nm"_a = py::make_tuple("wavelength_nm"),
-                             "fitted.measured"_a = py::make_tuple("wavelength_nm"),
-                             "fitted.R"_a = py::make_tuple("wavelength_nm"));
+        const std::string solver_name(transport::find_model(solver).name());
+        const Reflectances r = reflectances(R, wavelength_nm.size());
+        std::vector<fit::MeasuredSpectrum> spectra;
+        for (std::size_t i = 0; i < r.rows.size(); ++i) {
+          // Each row checked under its own name (R[i]), fitted under the one spectrum's.
+          if (r.several) fit::validate_spectrum({"R[" + std::to_string(i) + "]", wavelength_nm, r.rows[i]});
+          spectra.push_back({"spectrum", wavelength_nm, r.rows[i]});
+        }
+        const std::vector<fit::FitResult> fits =
+            interruptible([&] { return fit::fit_spectra(fit::SpectrumFitter(opt), spectra, many); });
+        const auto document = [&](std::size_t i) {
+          return schema::spectrum_fit_result(spectra[i], fits[i], solver_name, includes_specular).document;
+        };
+        py::dict axes;
+        if (!r.several) {
+          py::dict d = to_python(document(0));
+          d["axes"] = py::dict("fitted.wavelength_nm"_a = py::make_tuple("wavelength_nm"),
+                               "fitted.measured"_a = py::make_tuple("wavelength_nm"),
+                               "fitted.R"_a = py::make_tuple("wavelength_nm"));
+          return d;
+        }
+        // N spectra: each one's document, its values arrays with the axis "spectrum" first; an
+        // uncertainty the single document gives as null (not finite) is NaN.
+        py::dict d = stack_to_python(
+            Shape{static_cast<py::ssize_t>(spectra.size())},
+            [&](std::size_t i) {
+              schema::json j = document(i);
+              for (auto& u : j["uncertainty"]) if (u.is_null()) u = std::numeric_limits<double>::quiet_NaN();
+              return j;
+            },
+            [](std::string_view path) {
+              return path == "input" || path == "solver" || path == "includes_specular" || path == "free" ||
+                     path == "fitted.wavelength_nm";
+            });
+        const py::tuple one = py::make_tuple("spectrum");
+        for (const char* group : {"parameters", "uncertainty", "at_bound"})
+          for (auto item : py::cast<py::dict>(d[group])) axes[py::str(std::string(group) + "." + py::cast<std::string>(item.first))] = one;
+        for (const char* k : {"rms", "specular", "iterations", "starts"}) axes[k] = one;
+        axes["fitted.wavelength_nm"] = py::make_tuple("wavelength_nm");
+        axes["fitted.measured"] = py::make_tuple("spectrum", "wavelength_nm");
+        axes["fitted.R"] = py::make_tuple("spectrum", "wavelength_nm");
+        d["axes"] = axes;
         return d;
       },
       "wavelength_nm"_a, "R"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "free"_a = py::none(),
       "includes_specular"_a = false, "fit_lambda_min"_a = 400.0, "fit_lambda_max"_a = 700.0,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
+      "threads"_a = py::int_(0),
       ("`skin fit --spectrum`: the parameters whose R_d best matches a measured reflectance R "
        "(0-1) at wavelength_nm [nm] (increasing, covering 450-650 nm). free: parameter keys (or "
        "the paper's symbols) to fit (default melanin, melanin_blend, hemoglobin); the others keep the preset's or the "
        "keywords' values (the start). bounds: {key or symbol: (lo, hi)}. includes_specular: the "
        "measurement includes the surface reflection. Returns parameters, uncertainty (one sigma), "
-       "at_bound, rms, fitted. " + solver_doc() + params).c_str());
+       "at_bound, rms, fitted. "
+       "R may hold N spectra, an array (N, len(wavelength_nm)) with one spectrum per row: they are "
+       "fitted on all cores (threads: worker threads, 0 = all) with the GIL released, each result "
+       "bit for bit the one of fit_spectrum(wavelength_nm, R[i], ...), and returned as one dict "
+       "shaped like a single result whose values are arrays with a leading axis of length N "
+       "(result['axes'] names it 'spectrum'; fitted.R is (N, samples)); input, solver, "
+       "includes_specular, free and fitted.wavelength_nm stay single, and an uncertainty that a "
+       "single result gives as None is NaN. " + solver_doc() + params).c_str());
 
   auto color_fit_options = [](const Sets& sets, const std::optional<std::vector<std::string>>& free,
                               double prior, double weight,
@@ -766,27 +920,50 @@ PYBIND11_MODULE(_core, m) {
 
   m.def(
       "fit_color",
-      [color_fit_options](const std::optional<std::string>& hex, const py::object& srgb,
-                          const std::string& preset, const std::optional<std::vector<std::string>>& free,
-                          double melanin_blend_prior, double melanin_blend_weight,
-                          const std::map<std::string, std::pair<double, double>>& bounds,
-                          const std::string& solver, const py::kwargs& kw) {
-        if (hex.has_value() == !srgb.is_none()) throw InputError("fit_color: give one target: hex or srgb");
+      [color_fit_options](const py::object& hex, const py::object& srgb, const std::string& preset,
+                          const std::optional<std::vector<std::string>>& free, double melanin_blend_prior,
+                          double melanin_blend_weight, const std::map<std::string, std::pair<double, double>>& bounds,
+                          const std::string& solver, const py::object& threads, const py::kwargs& kw) {
+        const fit::ManyOptions many{thread_count(threads)};
+        const ColorTargets targets = color_targets(hex, srgb);
         const fit::ColorFitOptions opt = color_fit_options(parameter_sets(preset, kw), free, melanin_blend_prior,
                                                            melanin_blend_weight, bounds, solver);
-        const color::Rgb target = hex ? fit::parse_hex(*hex) : fit::parse_srgb8(srgb_text(srgb));
-        const fit::ColorFitResult r = interruptible([&] { return fit::ColorFitter(opt).fit(target); });
-        // The command's document with its arrays as lists (as fit_color has always returned them).
-        return to_python(schema::color_fit_result(r, target, melanin_blend_prior, melanin_blend_weight).document,
-                         Arrays::lists);
+        const std::vector<fit::ColorFitResult> fits =
+            interruptible([&] { return fit::fit_colors(fit::ColorFitter(opt), targets.rgb, many); });
+        const auto document = [&](std::size_t i) {
+          return schema::color_fit_result(fits[i], targets.rgb[i], melanin_blend_prior, melanin_blend_weight).document;
+        };
+        // One colour: the command's document with its arrays as lists (as fit_color has always
+        // returned it).
+        if (!targets.several) return to_python(document(0), Arrays::lists);
+        // N colours: each one's document, its values arrays with the axis "target" first.
+        py::dict d = stack_to_python(Shape{static_cast<py::ssize_t>(fits.size())}, document, [](std::string_view path) {
+          return path == "melanin_blend_prior" || path == "melanin_blend_weight";
+        });
+        py::dict axes;
+        const py::tuple one = py::make_tuple("target");
+        for (const ParameterInfo& info : parameter_table()) axes[py::str("parameters." + std::string(info.key))] = one;
+        for (const char* k : {"target.hex", "fitted.hex", "delta_e_2000"}) axes[k] = one;
+        axes["target.lab"] = py::make_tuple("target", "Lab");
+        axes["fitted.lab"] = py::make_tuple("target", "Lab");
+        axes["fitted.srgb_linear"] = py::make_tuple("target", "channel");
+        d["axes"] = axes;
+        return py::object(d);
       },
       py::kw_only(), "hex"_a = py::none(), "srgb"_a = py::none(), "preset"_a = std::string(kDefaultPreset),
       "free"_a = py::none(), "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
+      "threads"_a = py::int_(0),
       ("`skin fit --hex/--srgb`: the parameters (melanin, melanin_blend, hemoglobin by default) "
        "whose colour matches an 8-bit sRGB colour: hex='a98f74', srgb='169,143,116' or srgb=(169, 143, 116). "
        "melanin_blend_prior, melanin_blend_weight [Lab units]: the weak prior that resolves "
-       "beta_m. Returns target, parameters, fitted, delta_e_2000. " + solver_doc() + params).c_str());
+       "beta_m. Returns target, parameters, fitted, delta_e_2000 (lists for one colour). "
+       "N colours: srgb an array of shape (N, 3) (or hex a sequence of N texts), fitted on all "
+       "cores (threads: worker threads, 0 = all) with the GIL released, each result bit for bit "
+       "the one of fit_color(srgb=srgb[i], ...); returned as one dict shaped like a single result "
+       "whose values are numpy arrays with a leading axis of length N (result['axes'] names it "
+       "'target'; target.lab is (N, 3), parameters.melanin (N,), fitted.hex an array of str); "
+       "melanin_blend_prior and melanin_blend_weight stay single. " + solver_doc() + params).c_str());
 
   m.def(
       "fit_texture",
@@ -798,8 +975,12 @@ PYBIND11_MODULE(_core, m) {
         const fit::ColorFitOptions opt = color_fit_options(parameter_sets(preset, kw), free, melanin_blend_prior,
                                                            melanin_blend_weight, bounds, solver);
         image::Image img;
-        if (py::isinstance<py::str>(image)) {
-          img = image::read_image(py::cast<std::string>(image));
+        // A file name: a text or a path object (pathlib.Path).
+        py::object name = image;
+        if (py::isinstance(image, py::module_::import("os").attr("PathLike")))
+          name = py::module_::import("os").attr("fspath")(image);
+        if (py::isinstance<py::str>(name)) {
+          img = image::read_image(py::cast<std::string>(name));
         } else {
           const std::string allowed = "image must be a file name or an array of numbers of shape (height, width, 3) "
                                       "(height, width >= 1) of linear sRGB in [0, 1], not ";
@@ -844,7 +1025,9 @@ PYBIND11_MODULE(_core, m) {
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
       ("`skin fit --texture`: per-pixel parameter maps (float32, axes y, x) melanin, "
        "melanin_blend, hemoglobin and error (CIEDE2000) of an albedo texture: a file name (PNG, "
-       "JPEG, ...) or an array (height, width, 3) of linear sRGB in 0-1; on all cores. "
+       "JPEG, ...; a text or a path object) or an array (height, width, 3) of linear sRGB in 0-1 "
+       "(any numpy array of numbers, float32 or float64, any memory layout; copied as float32); on "
+       "all cores with the GIL released. "
        "Options as fit_color(). " + solver_doc() + params).c_str());
 
   m.def(

@@ -16,6 +16,7 @@ PKGS=(
                                                    # Python package: numpy results, pip install
                                                    # into a venv (scripts/test.sh)
   python3-hypothesis                               # property-based tests of the Python API
+  python3-dask python3-distributed                 # spectral_skin.distributed (fits, sweeps on a Dask cluster)
   python3-matplotlib                               # Python example (examples/melanin_sweep.py)
   emscripten node-acorn                            # web page: WebAssembly build (acorn: its JS optimizer)
   chromium                                         # web page: the browser test (headless)

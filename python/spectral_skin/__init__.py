@@ -12,7 +12,9 @@ every set is computed on all cores, and ``result["axes"]`` names the axes of eve
     s["R_d"].shape        # (21, 151)
     s["axes"]["R_d"]      # ('melanin', 'wavelength_nm')
 
-Bad input raises ValueError with the command's one-line message.
+The fits take many targets at once (fit_color on an array (N, 3), fit_spectrum on N spectra),
+each result the single call's. ``spectral_skin.distributed`` (with Dask) maps texture fits and
+parameter sweeps onto a cluster. Bad input raises ValueError with the command's one-line message.
 """
 from ._core import (  # noqa: F401  (the package's interface)
     InputError,

@@ -209,8 +209,26 @@ class Arguments(unittest.TestCase):
     def test_fit_color(self, srgb):
         r = self.check(lambda: ss.fit_color(srgb=srgb, solver="multipole"), ["srgb"], srgb)
         if r is not None:
-            rgb = np.asarray([float(v) for v in (srgb.split(",") if isinstance(srgb, str) else srgb)])
+            rgb = np.asarray([float(v) for v in srgb.split(",")] if isinstance(srgb, str) else srgb, dtype=float)
             self.assertTrue(np.all((rgb >= 0) & (rgb <= 255)))
+            self.assertEqual(np.shape(r["delta_e_2000"]), rgb.shape[:-1])  # one per colour (N, 3)
+
+    @SLOW
+    @given(srgb=hnp.arrays(st.sampled_from([np.float64, np.float32, np.uint8, np.int64]),
+                           st.tuples(st.integers(1, 3), st.just(3)), elements=st.integers(0, 255)),
+           fraction=st.sampled_from([0.0, 0.5, 0.25]))
+    def test_n_colours_are_n_single_calls(self, srgb, fraction):
+        # Issue 32: fit_color on an array (N, 3) is N single calls, bit for bit.
+        if srgb.dtype.kind == "f":
+            srgb = srgb + np.where(srgb < 255, fraction, 0).astype(srgb.dtype)
+        many = ss.fit_color(srgb=srgb, solver="multipole")
+        for i in range(len(srgb)):
+            one = ss.fit_color(srgb=srgb[i], solver="multipole")
+            for k, v in one["parameters"].items():
+                self.assertEqual(many["parameters"][k][i], v, k)
+            self.assertEqual(many["delta_e_2000"][i], one["delta_e_2000"])
+            self.assertEqual(list(many["fitted"]["lab"][i]), one["fitted"]["lab"])
+            self.assertEqual(many["fitted"]["hex"][i], one["fitted"]["hex"])
 
     @SLOW
     @given(image=st.one_of(anything, hnp.arrays(np.float64, st.tuples(st.integers(0, 2), st.integers(0, 2),

@@ -345,10 +345,12 @@ class Bindings(unittest.TestCase):
         with open(tour, encoding="utf-8") as f:
             text = f.read()
         section = text[text.index("\n## Python"):]
-        start = section.index("```python\n") + len("```python\n")
-        block = section[start:section.index("```\n", start)]
-        self.assertIn("import spectral_skin", block)
-        exec(compile(block, "docs/tour.md (## Python)", "exec"), {})
+        section = section[:section.index("\n## ", 1)]
+        blocks = section.split("```python\n")[1:]  # every block of the section, in one namespace
+        self.assertIn("import spectral_skin", blocks[0])
+        namespace = {}
+        for block in blocks:
+            exec(compile(block[:block.index("```\n")], "docs/tour.md (## Python)", "exec"), namespace)
 
     def test_bad_input_raises_value_error_naming_the_parameter(self):
         with self.assertRaisesRegex(ValueError, r"melanin \(C_m\) = 1.5 is out of range"):
@@ -464,6 +466,265 @@ class EveryDoorHolds(unittest.TestCase):
         r = ss.mc(layers=[{"sigma_a": 0, "sigma_s_prime": 1}], photons=200)
         self.assertAlmostEqual(r["R_d"] + r["lost"], 1.0, places=12)
         self.assertLess(r["lost"], 0.05)
+
+
+def assert_row_is_the_single_call(test, many, single, i, path="", axes=None):
+    """Row i of a call on N targets equals the single call on target i exactly (bit for bit): the
+    values with a leading axis (named in many["axes"]) at i, the others as they are."""
+    axes = many["axes"] if axes is None else axes
+    keys = set(single) - {"axes"}
+    test.assertEqual(keys, set(many) - {"axes"}, path)
+    for k in keys:
+        v, p = single[k], f"{path}.{k}" if path else k
+        if isinstance(v, dict):
+            assert_row_is_the_single_call(test, many[k], v, i, p, axes)
+        elif p in axes and axes[p][0] in ("target", "spectrum"):
+            got = np.asarray(many[k])[i]
+            want = np.nan if v is None else v  # an uncertainty None (not finite) is NaN in a batch
+            np.testing.assert_array_equal(got, np.asarray(want, dtype=got.dtype), err_msg=p)
+            if got.dtype.kind == "f":  # the same bits, not merely equal
+                test.assertEqual(np.asarray(want, dtype=float).tobytes(), got.tobytes(), p)
+        else:
+            if p not in axes:
+                test.assertNotIsInstance(many[k], np.ndarray, f"{p} varies but has no axes")
+            assert_equal(test, many[k], v)
+
+
+class ManyFitsAtOnce(unittest.TestCase):
+    """Issue 32, item 3: fit_color on N colours and fit_spectrum on N spectra are N single calls,
+    bit for bit, computed on all cores without the GIL; fit_texture takes numpy arrays."""
+
+    def test_n_colours_are_n_single_calls(self):
+        srgb = np.array([[169, 143, 116], [250.5, 200.25, 180], [60, 40, 30], [0, 0, 0], [255, 255, 255]])
+        many = ss.fit_color(srgb=srgb, solver="multipole")
+        self.assertEqual(many["parameters"]["melanin"].shape, (5,))
+        self.assertEqual(many["target"]["lab"].shape, (5, 3))
+        self.assertEqual(many["axes"]["target.lab"], ("target", "Lab"))
+        self.assertEqual(list(many["target"]["hex"]), ["#a98f74", "#fbc8b4", "#3c281e", "#000000", "#ffffff"])
+        for i in range(len(srgb)):
+            assert_row_is_the_single_call(self, many, ss.fit_color(srgb=srgb[i], solver="multipole"), i)
+        # The same colours as texts, as 8-bit integers, on one thread: the same numbers.
+        as_hex = ss.fit_color(hex=["a98f74", "#3c281e"], solver="multipole")
+        assert_equal(self, as_hex["parameters"], ss.fit_color(srgb=srgb[[0, 2]], solver="multipole")["parameters"])
+        one_thread = ss.fit_color(srgb=srgb[[0, 2]].astype(np.uint8), solver="multipole", threads=1)
+        assert_equal(self, one_thread, ss.fit_color(srgb=srgb[[0, 2]], solver="multipole"))
+        # One row is still N = 1 (arrays), not the single call's lists.
+        self.assertEqual(ss.fit_color(srgb=srgb[:1], solver="multipole")["delta_e_2000"].shape, (1,))
+
+    def test_n_colours_with_fixed_parameters_and_the_default_solver(self):
+        srgb = np.array([[190, 150, 120], [120, 80, 60]])
+        kw = {"free": ["melanin", "hemoglobin"], "melanin_blend": 0.5, "bounds": {"C_h": (0.001, 0.1)}}
+        many = ss.fit_color(srgb=srgb, **kw)
+        for i in range(len(srgb)):
+            assert_row_is_the_single_call(self, many, ss.fit_color(srgb=srgb[i], **kw), i)
+        np.testing.assert_array_equal(many["parameters"]["melanin_blend"], [0.5, 0.5])
+
+    def test_n_spectra_are_n_single_calls(self):
+        s = ss.spectrum(melanin=[0.02, 0.08, 0.25], hemoglobin=[0.01, 0.05, 0.002], lambda_step=10,
+                        solver="multipole")
+        rng = np.random.default_rng(3)
+        R = np.clip(s["R_d"] + rng.normal(0, 0.003, s["R_d"].shape), 0, 1)
+        for kw in ({}, {"includes_specular": True, "free": ["melanin", "hemoglobin", "oxygenation"]}):
+            many = ss.fit_spectrum(s["wavelength_nm"], R, solver="multipole", **kw)
+            self.assertEqual(many["fitted"]["R"].shape, (3, 31))
+            self.assertEqual(many["axes"]["fitted.R"], ("spectrum", "wavelength_nm"))
+            self.assertEqual(many["rms"].shape, (3,))
+            for i in range(3):
+                single = ss.fit_spectrum(s["wavelength_nm"], list(R[i]), solver="multipole", **kw)
+                assert_row_is_the_single_call(self, many, single, i)
+
+    def test_the_gil_is_released(self):
+        import threading
+        import time
+        srgb = np.tile([[169, 143, 116], [90, 60, 45]], (60, 1)) + np.arange(120)[:, None] % 7
+        done = []
+        worker = threading.Thread(target=lambda: done.append(ss.fit_color(srgb=srgb, solver="multipole")))
+        start = time.monotonic()
+        worker.start()
+        ticks, last, longest = 0, time.monotonic(), 0.0
+        while worker.is_alive():  # this thread runs Python meanwhile
+            now = time.monotonic()
+            longest, last, ticks = max(longest, now - last), now, ticks + 1
+        worker.join()
+        self.assertGreater(time.monotonic() - start, 0.2)  # long enough to tell
+        self.assertEqual(done[0]["parameters"]["melanin"].shape, (120,))
+        self.assertLess(longest, 0.15)
+        self.assertGreater(ticks, 1000)
+
+    def test_ctrl_c_stops_them(self):
+        interrupted_after = EveryDoorHolds.interrupted_after
+        many = np.tile([[169, 143, 116], [90, 60, 45]], (5000, 1))
+        self.assertLess(interrupted_after(self, 0.3, lambda: ss.fit_color(srgb=many, solver="multipole")), 1.0)
+        s = ss.spectrum(melanin=0.1, lambda_step=10, solver="multipole")
+        R = np.tile(s["R_d"], (20000, 1))
+        self.assertLess(interrupted_after(self, 0.3, lambda: ss.fit_spectrum(s["wavelength_nm"], R, solver="multipole")),
+                        1.0)
+        self.assertEqual(ss.fit_color(srgb=many[:2], solver="multipole")["delta_e_2000"].shape, (2,))  # not left cancelled
+
+    def test_bad_input_is_one_value_error_naming_the_parameter(self):
+        wl = np.arange(400.0, 701.0, 20.0)
+        R = np.full((2, 16), 0.4)
+        cases = [
+            (lambda: ss.fit_color(srgb=np.zeros((2, 4))), r"^srgb has shape \(2, 4\): N colours are an array of shape \(N, 3\)"),
+            (lambda: ss.fit_color(srgb=np.zeros((0, 3))), r"^srgb is an empty array \(shape \(0, 3\)\): give at least one colour$"),
+            (lambda: ss.fit_color(srgb=[[1, 2, 3], [4, 5, np.nan]]), r"^srgb\[1, 2\] = nan is out of range: allowed range is \[0, 255\]$"),
+            (lambda: ss.fit_color(srgb=[[300, 2, 3]]), r"^srgb\[0, 0\] = 300 is out of range"),
+            (lambda: ss.fit_color(srgb=[[-1, 2, 3]]), r"^srgb\[0, 0\] = -1 is out of range"),
+            (lambda: ss.fit_color(srgb=np.zeros((2, 3, 1))), r"^srgb = .* must be three numbers R,G,B"),
+            (lambda: ss.fit_color(srgb=np.zeros((2, 3), dtype=bool)), r"^srgb = .* must be three numbers R,G,B"),
+            (lambda: ss.fit_color(hex=["a98f74", "zz"]), r"^hex\[1\]: hex = 'zz' must be six hexadecimal digits RRGGBB$"),
+            (lambda: ss.fit_color(hex=[]), r"^hex is an empty sequence: give at least one colour$"),
+            (lambda: ss.fit_color(hex=[1, 2]), r"^hex = \[1, 2\] must be a text RRGGBB or a sequence of them$"),
+            (lambda: ss.fit_color(srgb=[[1, 2, 3]], threads=-1), r"^threads = -1 is out of range"),
+            (lambda: ss.fit_spectrum(wl, np.full((2, 15), 0.4)), r"^R has shape \(2, 15\) but wavelength_nm has 16 values"),
+            (lambda: ss.fit_spectrum(wl, np.zeros((0, 16))), r"^R is an empty array \(shape \(0, 16\)\): give at least one spectrum$"),
+            (lambda: ss.fit_spectrum(wl, np.where(np.arange(32).reshape(2, 16) == 20, np.nan, R)),
+             r"^spectrum 'R\[1\]': reflectance = nan at 480 nm is out of range: must be within \[0, 1\]$"),
+            (lambda: ss.fit_spectrum(wl, R * 50), r"^spectrum 'R\[0\]': reflectance = 20 at 400 nm is out of range"),
+            (lambda: ss.fit_spectrum(wl, np.full((1, 2, 16), 0.4)), r"^R must be a reflectance spectrum .* not an array of shape \(1, 2, 16\)$"),
+            (lambda: ss.fit_spectrum(wl, [[0.4] * 16, [0.4]]), r"^R must be a reflectance spectrum"),
+            (lambda: ss.fit_spectrum(wl, np.full(16, "x")), r"^R must be a reflectance spectrum"),
+            (lambda: ss.fit_spectrum(wl, R, threads=10**6), r"^threads = 1000000 is out of range"),
+        ]
+        for call, message in cases:
+            with self.assertRaisesRegex(ValueError, message):
+                call()
+
+    def test_fit_texture_takes_numpy_arrays_as_they_are(self):
+        import pathlib
+        rgb = np.array(ss.color("tanned", solver="multipole")["color"]["srgb_linear"])
+        image = np.stack([np.tile(rgb, (3, 1)), np.tile(rgb * 0.8, (3, 1))]).astype(np.float32)  # (2, 3, 3)
+        maps = ss.fit_texture(image, solver="multipole")
+        for same in (image.astype(np.float64), np.asfortranarray(image), np.repeat(image, 2, axis=1)[:, ::2],
+                     image.tolist()):
+            again = ss.fit_texture(same, solver="multipole")
+            for k in ("melanin", "melanin_blend", "hemoglobin", "error"):
+                np.testing.assert_array_equal(again[k], maps[k], err_msg=k)
+                self.assertEqual(again[k].dtype, np.float32)
+        with self.assertRaisesRegex(ValueError, "no-such-albedo.png"):  # a path object is a file name
+            ss.fit_texture(pathlib.Path("no-such-albedo.png"))
+
+
+def write_png(path, rgb8):
+    """A 8-bit RGB PNG of an array (height, width, 3) of uint8 (zlib, no image library)."""
+    import struct
+    import zlib
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    h, w, _ = rgb8.shape
+    rows = b"".join(b"\0" + rgb8[y].tobytes() for y in range(h))
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
+                chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def has_dask():
+    try:
+        import dask.distributed  # noqa: F401
+        return True
+    except ImportError:
+        return False
+
+
+@unittest.skipUnless(has_dask(), "dask is not importable: apt-get install python3-dask python3-distributed "
+                                 "(scripts/install-deps.sh installs them)")
+class OnADaskCluster(unittest.TestCase):
+    """Issue 32, item 4: spectral_skin.distributed maps texture fits and parameter sweeps onto a
+    Dask cluster (here two local worker processes); the results are those of the run on one
+    machine, every number equal."""
+
+    @classmethod
+    def setUpClass(cls):
+        import logging
+        from dask.distributed import Client, LocalCluster
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)  # Debian's tornado and distributed 2022.12
+            cls.cluster = LocalCluster(n_workers=2, processes=True, threads_per_worker=1, dashboard_address=None,
+                                       silence_logs=logging.ERROR)
+        cls.client = Client(cls.cluster)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        cls.cluster.close()
+
+    def test_a_sweep_is_the_call_on_one_machine(self):
+        import spectral_skin.distributed as sd
+        grid = {"melanin": np.linspace(0, 0.5, 7)[:, None], "C_h": [0.002, 0.02, 0.05], "solver": "multipole",
+                "lambda_step": 20}
+        many = sd.sweep(self.client, "color", chunk_size=4, **grid)  # 21 sets in 6 tasks, rows split
+        assert_equal(self, many, ss.color(**grid))
+        self.assertEqual(many["color"]["lab"].shape, (7, 3, 3))
+        profiles = {"melanin": [0.1, 0.3], "hemoglobin": np.array([[0.01], [0.03], [0.05]]), "r_mm": [0.1, 1.0],
+                    "eta": np.float64(1.3), "solver": "multipole", "lambda_step": 50}
+        assert_equal(self, sd.sweep(self.client, "rgb_profile", "african", chunk_size=1, **profiles),
+                     ss.rgb_profile("african", **profiles))
+        assert_equal(self, sd.sweep(self.client, "profile", chunk_size=5, **profiles), ss.profile(**profiles))
+        layers = {"epidermis_thickness": [0.15, 0.25, 0.35], "lambda_step": 50, "solver": "multipole"}
+        assert_equal(self, sd.sweep(self.client, "spectrum", chunk_size=2, **layers), ss.spectrum(**layers))
+        one = {"melanin": 0.2, "solver": "multipole"}  # no arrays: one task
+        assert_equal(self, sd.sweep(self.client, "spectrum", **one), ss.spectrum(**one))
+
+    def test_texture_fits_are_the_calls_on_one_machine(self):
+        import pathlib
+        import spectral_skin.distributed as sd
+        rng = np.random.default_rng(5)
+        arrays = list(rng.uniform(0.02, 0.7, (3, 4, 5, 3)))
+        with tempfile.TemporaryDirectory() as d:
+            png = pathlib.Path(d) / "albedo.png"
+            write_png(png, rng.integers(40, 230, (6, 4, 3), dtype=np.uint8))
+            images = arrays + [png, str(png)]
+            maps = sd.fit_textures(self.client, images, solver="multipole")
+            self.assertEqual(len(maps), len(images))
+            for got, image in zip(maps, images):
+                assert_equal(self, got, ss.fit_texture(image, solver="multipole"))
+        self.assertEqual(maps[-1]["melanin"].shape, (6, 4))
+
+    def test_a_scheduler_address_instead_of_a_client(self):
+        import spectral_skin.distributed as sd
+        grid = {"melanin": [0.05, 0.1, 0.2], "solver": "multipole", "lambda_step": 50}
+        assert_equal(self, sd.sweep(self.cluster.scheduler_address, "spectrum", chunk_size=2, **grid),
+                     ss.spectrum(**grid))
+
+    def test_bad_input_is_the_calls_value_error(self):
+        import spectral_skin.distributed as sd
+        with self.assertRaisesRegex(ValueError, r"^melanin \(C_m\) = 2 is out of range"):
+            sd.sweep(self.client, "color", melanin=[0.1, 0.2, 2.0], chunk_size=1)
+        with self.assertRaisesRegex(ValueError, r"^image\[0, 0, 0\] = 3 is out of range"):
+            sd.fit_textures(self.client, [np.full((2, 2, 3), 0.5), np.full((2, 2, 3), 3.0)])
+        with self.assertRaisesRegex(ValueError, "^the parameter arrays do not broadcast together"):
+            sd.sweep(self.client, "color", melanin=[0.1, 0.2], hemoglobin=[0.01, 0.02, 0.03])
+        with self.assertRaisesRegex(ValueError, "^function = 'fit_color' is not a sweep: one of spectrum, color"):
+            sd.sweep(self.client, "fit_color", melanin=[0.1])
+        with self.assertRaisesRegex(ValueError, "^chunk_size = 0 is out of range: must be a whole number >= 1$"):
+            sd.sweep(self.client, "color", melanin=[0.1], chunk_size=0)
+        with self.assertRaisesRegex(ValueError, "^images is empty"):
+            sd.fit_textures(self.client, [])
+        with self.assertRaisesRegex(ValueError, "^client = None must be a dask.distributed.Client or a scheduler address"):
+            sd.fit_textures(None, [np.full((1, 1, 3), 0.5)])
+
+
+class EveryArrayHasAxes(unittest.TestCase):
+    def test_every_array_of_a_call_on_sets_has_its_axes_named(self):
+        # result["axes"] names the axes of every array of a result (spectral_skin.distributed
+        # relies on it to join the sets of its tasks): the validity of each set too.
+        def arrays(d, prefix=""):
+            for k, v in d.items():
+                p = f"{prefix}.{k}" if prefix else k
+                if isinstance(v, dict) and k != "axes":
+                    yield from arrays(v, p)
+                elif isinstance(v, np.ndarray):
+                    yield p, v
+        every = {p["key"]: [value_in_range(p), p["default"]] for p in ss.parameters()}
+        for f, kw in ((ss.spectrum, {}), (ss.color, {}), (ss.rgb_profile, {"r_mm": [0.5]}),
+                      (ss.profile, {"r_mm": [0.5]})):
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", RuntimeWarning)
+                r = f(lambda_step=100, solver="multipole", **kw, **every)
+            for path, a in arrays(r):
+                self.assertIn(path, r["axes"], f.__name__)
+                self.assertEqual(len(r["axes"][path]), a.ndim, f"{f.__name__} {path}")
 
 
 @unittest.skipUnless(os.environ.get("SKIN_EXPECT_INSTALLED"), "set by scripts/test.sh in its venv")
