@@ -267,8 +267,17 @@ function urlFragment() {
   return '#' + q.toString();
 }
 function writeUrl() {
+  clearTimeout(urlTimer);
   const hash = urlFragment();
   if (location.hash !== hash) history.replaceState(null, '', hash);
+}
+// After an update the URL is written once the page has been still for URL_DELAY ms: replacing
+// the history entry costs ~3 ms of the main thread, too much for every frame of a slider drag.
+const URL_DELAY = 200;
+let urlTimer = 0;
+function scheduleUrl() {
+  clearTimeout(urlTimer);
+  urlTimer = setTimeout(writeUrl, URL_DELAY);
 }
 
 // The state a URL holds (its fragment, or its query), applied to the page. A value that is not
@@ -361,7 +370,7 @@ function update() {
   drawSpectrum();
   drawProfile();
   if ($('coefficients-details').open) drawCoefficients();
-  writeUrl();
+  scheduleUrl();
   const ms = performance.now() - t0;
   state.timings.push(ms);
   state.modelTimings.push(tModel);

@@ -15,8 +15,10 @@
 //   - accessibility: axe-core (pinned in web/package.json) finds no violation;
 //   - frame time: a Chrome trace over 40 slider updates; the median main-thread time of the
 //     frame that computes and draws an update (rAF callback, style, layout, paint, commit) is
-//     printed and written to build-web/screenshots/frame-time.json; with SKIN_FRAME_BUDGET_MS
-//     set, a median above it fails.
+//     printed and written to build-web/screenshots/frame-time.json. The page's own part (the
+//     frame less the model's computation) must stay within PAGE_BUDGET_MS; the whole frame is
+//     held to SKIN_FRAME_BUDGET_MS when that is set (16 for the 16 ms target: on a shared,
+//     loaded machine the model alone can take longer, so it is not held by default).
 // Run: node web/test/page.test.js (after scripts/web.sh and npm ci in web/).
 'use strict';
 const fs = require('fs');
@@ -25,6 +27,10 @@ const path = require('path');
 const { ROOT, TMP, fail, openPage } = require('./common');
 
 const SHOTS = path.join(ROOT, 'build-web', 'screenshots');
+// The page's own part of a slider update's frame (the drawing, style, layout and paint: the
+// frame less the model's computation) may take this much at most. With the coefficient table
+// filled on every update it was ~17 ms at load 9 on the 2-core reference machine; now ~6 ms.
+const PAGE_BUDGET_MS = 12;
 let checks = 0;
 function check(failures, what) {
   fail(failures, what);
@@ -115,6 +121,28 @@ async function main() {
     await ready(page);
     await updated(page, 0);
 
+    // --- Frame time, first: the page as it opens (the coefficient table collapsed) ---
+    {
+      await new Promise((r) => setTimeout(r, 200));  // the melanin strip computed
+      await page.evaluate(() => { window.skinState.modelTimings = []; });
+      const t = await frameTimes(page, '#s-melanin', 40);
+      // The page's own part of a frame: the frame less the module's computation (the page's
+      // measurement of the same updates), which is the model's cost, not the page's.
+      const model = (await page.evaluate(() => window.skinState.modelTimings)).sort((a, b) => a - b);
+      t.model_ms = model[Math.floor(model.length / 2)];
+      t.page_ms = t.median_ms - t.model_ms;
+      const budget = Number(process.env.SKIN_FRAME_BUDGET_MS || 0);
+      const result = { ...t, loadavg: os.loadavg(), budget_ms: budget || null };
+      fs.writeFileSync(path.join(SHOTS, 'frame-time.json'), JSON.stringify(result, null, 2) + '\n');
+      console.log(`frame time over ${t.frames} slider updates (Chrome trace): median ${t.median_ms.toFixed(1)} ms ` +
+                  `(model ${t.model_ms.toFixed(1)}, the page's own ${t.page_ms.toFixed(1)}; update ${t.update_ms.toFixed(1)}, style+layout ${t.style_layout_ms.toFixed(1)}, paint+commit ${t.paint_ms.toFixed(1)} ms; ` +
+                  `load average ${os.loadavg()[0].toFixed(1)})`);
+      const f = [];
+      if (t.frames < 30) f.push(`only ${t.frames} frames found in the trace`);
+      if (!(t.page_ms <= PAGE_BUDGET_MS)) f.push(`the page's own part of the frame, median ${t.page_ms.toFixed(1)} ms, is above ${PAGE_BUDGET_MS} ms`);
+      if (budget && !(t.median_ms <= budget)) f.push(`median ${t.median_ms.toFixed(1)} ms above SKIN_FRAME_BUDGET_MS=${budget}`);
+      check(f, `frame time measured from the trace; the page's own part <= ${PAGE_BUDGET_MS} ms`);
+    }
     // --- Sliders ---
     {
       const failures = [];
@@ -167,6 +195,8 @@ async function main() {
       await page.click('#wide');
       await page.click('#coefficients-details summary');
       await page.waitForFunction(() => window.skinState.spectrum.wavelength_nm[0] === 380 && window.skinState.color && !window.skinPending, { polling: 20 });
+      // The URL is written once the page has been still for 200 ms.
+      await page.waitForFunction(() => location.hash.includes('range=380-780') && location.hash.includes('table=open') && location.hash.includes('hemoglobin=0.0234567'), { polling: 50, timeout: 5000 });
       const before = await page.evaluate(() => ({ hash: location.hash, hex: document.getElementById('hex').textContent, values: window.skinState.values }));
       await page.reload();
       await ready(page);
@@ -281,8 +311,10 @@ async function main() {
       check(pf, `plots: legends [${plots.spectrumLegend.join(' | ')}] [${plots.profileLegend.join(' | ')}]; fit dashed over the model; text >= 11 px`);
     }
 
-    // --- Layout and accessibility (the measured spectrum and its fit shown) ---
+    // --- Layout and accessibility (the measured spectrum, its fit and the coefficient table shown) ---
     fs.mkdirSync(SHOTS, { recursive: true });
+    await page.evaluate(() => { document.getElementById('coefficients-details').open = true; });
+    await page.waitForFunction(() => document.querySelectorAll('#coefficients tr').length > 1);
     const axeSource = fs.readFileSync(require.resolve('axe-core/axe.min.js'), 'utf8');
     for (const width of [1280, 390]) {
       await page.setViewport({ width, height: width === 390 ? 844 : 1000 });
@@ -298,25 +330,6 @@ async function main() {
     }
     await page.setViewport({ width: 1280, height: 1000 });
 
-    // --- Frame time (the table collapsed, as the page opens) ---
-    {
-      let n = await updates(page);
-      await page.click('button[data-preset="caucasian"]');
-      await updated(page, n);
-      await page.evaluate(() => { document.getElementById('coefficients-details').open = false; });
-      await new Promise((r) => setTimeout(r, 200));
-      const t = await frameTimes(page, '#s-melanin', 40);
-      const budget = Number(process.env.SKIN_FRAME_BUDGET_MS || 0);
-      const result = { ...t, loadavg: os.loadavg(), budget_ms: budget || null };
-      fs.writeFileSync(path.join(SHOTS, 'frame-time.json'), JSON.stringify(result, null, 2) + '\n');
-      console.log(`frame time over ${t.frames} slider updates (Chrome trace): median ${t.median_ms.toFixed(1)} ms ` +
-                  `(update ${t.update_ms.toFixed(1)}, style+layout ${t.style_layout_ms.toFixed(1)}, paint+commit ${t.paint_ms.toFixed(1)} ms; ` +
-                  `load average ${os.loadavg()[0].toFixed(1)})`);
-      const f = [];
-      if (t.frames < 30) f.push(`only ${t.frames} frames found in the trace`);
-      if (budget && !(t.median_ms <= budget)) f.push(`median ${t.median_ms.toFixed(1)} ms above SKIN_FRAME_BUDGET_MS=${budget}`);
-      check(f, 'frame time measured from the trace');
-    }
     console.log(`page test: ${checks} checks in ${((Date.now() - t0) / 1000).toFixed(1)} s; screenshots in ${SHOTS}`);
   } finally {
     await close();
