@@ -276,7 +276,7 @@ async function main() {
         fit: window.skinState.fit, limit: window.skinState.module.run('fit_limits', '{}'),
         text: document.getElementById('fit-result').textContent, warning: document.getElementById('fit-warning').textContent,
         marked: [...document.querySelectorAll('.param.at-bound')].map((r) => r.dataset.key),
-        after: [...document.querySelectorAll('.param.at-bound label')].map((l) => getComputedStyle(l, '::after').content),
+        after: [...document.querySelectorAll('.param.at-bound')].map((r) => getComputedStyle(r, '::after').content),
       }));
       const limit = JSON.parse(f.limit).good_fit_rms;
       const atBound = f.fit.free.filter((k) => f.fit.at_bound[k]);
