@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The web page's tests (called by scripts/test.sh after CTest; needs build/bin/skin): installs
-# the pinned npm packages (`npm ci` in web/: puppeteer-core, gltf-validator, three), then
+# the pinned npm packages (`npm ci` in web/: puppeteer-core, gltf-validator, three, axe-core), then
 #   web/test/gltf.test.js     `skin export --target gltf` through Khronos' glTF-Validator (0
 #                             errors) and three.js's GLTFLoader (the material's values)
 # and builds the page (scripts/web.sh), then
@@ -9,6 +9,11 @@
 #                             browser), screenshots and update time in build-web/screenshots.
 #   web/test/inputs.test.js   bad text typed into every parameter field of the page (the same
 #                             browser): flagged, results dimmed, nothing computed; restored.
+#   web/test/page.test.js     the page's usability: log sliders, file picker, state in the URL,
+#                             legends and plot text, fit bound markers and poor-fit warning,
+#                             layout at 390 and 1280 px, axe-core (0 violations), and the median
+#                             frame time of 40 slider updates from a Chrome trace (printed;
+#                             SKIN_FRAME_BUDGET_MS=16 makes it a limit).
 # Skips with a message only where Emscripten or the browser cannot be installed. Each step's wall
 # time is printed after it.
 set -euo pipefail
@@ -32,3 +37,4 @@ if [ ! -x /usr/bin/chromium ]; then
 fi
 timed node web/test/browser.test.js
 timed node web/test/inputs.test.js
+timed node web/test/page.test.js

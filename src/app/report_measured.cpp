@@ -95,16 +95,16 @@ void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& e
        << fmt(e.extended.rms) << " | " << describe(e.paper) << " | " << describe(e.extended) << " |\n";
   }
   md << "\nWorst extended-model RMS over the paper's four spectra: " << fmt(worst_flagged) << ".\n\n";
-  // Summary over all spectra: medians and how many reach RMS < 0.02.
+  // Summary over all spectra: medians and how many reach RMS < fit::kGoodFitRms (0.02).
   auto summary = [&](const char* name, auto member) {
     std::vector<double> v;
     for (const auto& e : entries) v.push_back((e.*member).rms);
     std::sort(v.begin(), v.end());
-    const auto below = std::count_if(v.begin(), v.end(), [](double x) { return x < 0.02; });
+    const auto below = std::count_if(v.begin(), v.end(), [](double x) { return x < fit::kGoodFitRms; });
     md << "| " << name << " | " << fmt(v[v.size() / 2]) << " | " << fmt(v.back()) << " | " << below << " / "
        << v.size() << " |\n";
   };
-  md << "| model | median RMS | worst RMS | RMS < 0.02 |\n|---|---:|---:|---:|\n";
+  md << "| model | median RMS | worst RMS | RMS < " << fmt(fit::kGoodFitRms, "%g") << " |\n|---|---:|---:|---:|\n";
   summary("paper (C_m, beta_m, C_h)", &MeasuredEntry::paper);
   summary("+rho_s (specular)", &MeasuredEntry::paper_specular);
   summary("extended", &MeasuredEntry::extended);

@@ -297,6 +297,8 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
   EXPECT_LE(entries[0].extended.rms, entries[0].paper.rms + 1e-9);
   EXPECT_NE(md.str().find("synth_a*"), std::string::npos);
   EXPECT_NE(md.str().find("with the multipole R_d"), std::string::npos);
+  // The good-fit limit (fit::kGoodFitRms, which the web page warns at) as the report writes it.
+  EXPECT_NE(md.str().find("| model | median RMS | worst RMS | RMS < 0.02 |"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "synth_a.png"));
   EXPECT_THROW(fit_measured_spectra((dir / "missing").string()), skin::util::InputError);
   EXPECT_THROW(fit_measured_spectra(out.string()), skin::util::InputError);  // a directory, no *.csv

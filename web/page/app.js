@@ -11,6 +11,7 @@ const state = {
   values: {},       // current parameter values by key (the last valid number of each field)
   fieldErrors: {},  // by key: the message of a field whose text is not a number (nothing is computed)
   modelError: null, // the last update's refusal: {message, parameters: [key]}
+  scales: {},       // each parameter's slider scale (sliderScale), by key
   solver: 'accurate',
   solveProfile: false,  // the next update solves a profile that needs solving (the button)
   profilePending: null, // the update's "profile_pending": the profile was not solved
@@ -28,6 +29,9 @@ const state = {
   timings: [],      // ms of each full update (spectrum, colour, RGB profile, drawing)
   modelTimings: [], // ms of its model part (the module's update, JSON included)
   updates: 0,
+  urlErrors: [],    // messages about the URL's values that are no parameter's (unknown names, solver, ...)
+  fitLimits: null,  // the fit's thresholds ({good_fit_rms}), from the module
+  atBound: [],      // keys of the fitted parameters that ended on a bound of the last fit
 };
 window.skinState = state;
 
@@ -61,6 +65,35 @@ function sliderRange(p) {
   return { min: p.min_exclusive ? Math.max(min, max / 1000) : min, max };
 }
 
+// Slider scales. A slider has STEPS positions; the chromophore concentrations (and the overall
+// scattering scale) span decades, so their sliders are logarithmic above a knee and linear
+// below it, v = min + knee (exp(t ln(1 + (max - min) / knee)) - 1) for t from 0 to 1: the left
+// end is the minimum itself (0: no such chromophore), and the presets' melanin (0.0005 to 0.5)
+// spreads over the slider instead of its first 3 px. Each knee is about the smallest amount
+// that changes the colour visibly. The other parameters are linear. A slider's value is
+// rounded to 4 significant digits (log) and written to the number field, which holds the value
+// exactly; a number typed into the field moves the slider to its nearest position.
+const STEPS = 1000;
+const LOG_KNEE = { melanin: 3e-4, hemoglobin: 1e-3, epidermal_hemoglobin: 1e-3, beta_carotene: 0.1, bilirubin: 1, scattering_scale: 0.01 };
+function sliderScale(p) {
+  const { min, max } = sliderRange(p);
+  const knee = LOG_KNEE[p.key];
+  const clamp = (v) => Math.min(max, Math.max(min, v));
+  if (knee === undefined) {
+    return {
+      log: false,
+      value: (t) => (t >= STEPS ? max : clamp(+(min + (max - min) * t / STEPS).toPrecision(12))),
+      position: (v) => Math.round(STEPS * (clamp(v) - min) / (max - min)),
+    };
+  }
+  const span = Math.log1p((max - min) / knee);
+  return {
+    log: true,
+    value: (t) => (t <= 0 ? min : t >= STEPS ? max : clamp(+(min + knee * Math.expm1(span * t / STEPS)).toPrecision(4))),
+    position: (v) => Math.round(STEPS * Math.log1p((clamp(v) - min) / knee) / span),
+  };
+}
+
 // The parameter's range as the model's messages write it ("[0, 1]", "(0, inf)").
 const rangeText = (p) => `${p.min_exclusive ? '(' : '['}${p.min === null ? '-inf' : p.min}, ${p.max === null ? 'inf' : p.max}${p.max_exclusive ? ')' : ']'}`;
 // The parameter as the model's messages name it: "melanin-blend (beta_m)".
@@ -84,7 +117,7 @@ function parseField(p, text) {
 function buildControls() {
   const box = $('parameters');
   for (const p of state.table) {
-    const { min, max } = sliderRange(p);
+    const scale = state.scales[p.key] = sliderScale(p);
     const row = document.createElement('div');
     row.className = 'param';
     row.dataset.key = p.key;
@@ -92,12 +125,18 @@ function buildControls() {
     const tip = `${p.help}${unit}; range ${rangeText(p)}; default ${p.default}; CLI ${p.flag}${p.symbol ? ' (--' + p.symbol + ')' : ''}`;
     // The field is text (inputmode decimal), not type=number: the page sees what was typed and
     // names it, where a number field hands over "" for "abc" or "1e999" alike.
-    row.innerHTML = `<label title="${tip}" for="n-${p.key}">${p.key}${p.symbol ? ' <span class="muted">' + p.symbol + '</span>' : ''}${unit}</label>` +
-      `<input type="range" id="s-${p.key}" min="${min}" max="${max}" step="${(max - min) / 1000}" title="${tip}">` +
-      `<input type="text" inputmode="decimal" autocomplete="off" spellcheck="false" class="value" id="n-${p.key}" title="${tip}">`;
+    // Ids: the field is param-<key> (the page's testing contract, README), its slider s-<key>.
+    row.innerHTML = `<label title="${tip}" for="param-${p.key}" id="l-${p.key}">${p.key}${p.symbol ? ' <span class="muted">' + p.symbol + '</span>' : ''}${unit}</label>` +
+      `<input type="range" id="s-${p.key}" min="0" max="${STEPS}" step="1" title="${tip}" aria-labelledby="l-${p.key}"` +
+      ` data-scale="${scale.log ? 'log' : 'linear'}">` +
+      `<input type="text" inputmode="decimal" autocomplete="off" spellcheck="false" class="value" id="param-${p.key}" title="${tip}">`;
     box.appendChild(row);
     const slider = row.querySelector('input[type=range]'), field = row.querySelector('input.value');
-    slider.addEventListener('input', () => { field.value = slider.value; setField(p, slider.value); });
+    slider.addEventListener('input', () => {
+      const v = String(scale.value(Number(slider.value)));
+      field.value = v;
+      setField(p, v, true);
+    });
     field.addEventListener('change', () => setField(p, field.value));
   }
   for (const pr of state.presets) {
@@ -118,21 +157,29 @@ function buildControls() {
       o.title = item.description;
       $(key).appendChild(o);
     }
-    $(key).addEventListener('change', () => { state[key] = $(key).value; scheduleUpdate(); });
+    $(key).addEventListener('change', () => { clearUserErrors(); state[key] = $(key).value; scheduleUpdate(); });
   }
-  $('wide').addEventListener('change', () => { state.wide = $('wide').checked; scheduleUpdate(); });
+  $('wide').addEventListener('change', () => { clearUserErrors(); state.wide = $('wide').checked; scheduleUpdate(); });
+}
+
+// The slider of `p` at the position nearest `value`, its value read out as the number.
+function placeSlider(p, value) {
+  const slider = $('s-' + p.key);
+  slider.value = state.scales[p.key].position(value);
+  slider.setAttribute('aria-valuetext', String(value));
 }
 
 function showValues() {
   for (const p of state.table) {
-    $('s-' + p.key).value = state.values[p.key];
-    $('n-' + p.key).value = state.values[p.key];
+    placeSlider(p, state.values[p.key]);
+    $('param-' + p.key).value = state.values[p.key];
   }
   state.fieldErrors = {};
   for (const b of $('presets').children) b.classList.toggle('active', b.dataset.preset === state.preset);
 }
 
 function applyPreset(name) {
+  clearUserErrors();
   state.preset = name;
   state.values = { ...state.presets.find((p) => p.name === name).parameters };
   showValues();
@@ -142,21 +189,34 @@ function applyPreset(name) {
 // A field's text: a number becomes the parameter's value (the slider follows when it holds
 // it); anything else is the field's error, the value stays the last valid one, and the update
 // shows the error instead of computing.
-function setField(p, text) {
+function setField(p, text, fromSlider = false) {
   const { value, error } = parseField(p, text);
+  clearUserErrors();
   if (error) {
     state.fieldErrors[p.key] = error;
   } else {
     delete state.fieldErrors[p.key];
     state.values[p.key] = value;
-    if (String(value) !== $('s-' + p.key).value) $('s-' + p.key).value = value;
+    if (fromSlider) $('s-' + p.key).setAttribute('aria-valuetext', String(value));
+    else placeSlider(p, value);
   }
   scheduleUpdate();
+}
+
+// A change by the user: the URL's errors (they were about the state it set) and the last fit's
+// bound markers (they were about the fitted values) no longer hold.
+function clearUserErrors() {
+  state.urlErrors = [];
+  if (state.atBound.length) {
+    state.atBound = [];
+    for (const row of document.querySelectorAll('.param.at-bound')) row.classList.remove('at-bound');
+  }
 }
 
 // The first field error in the table's order: {message, parameters: [every field in error]}.
 function fieldError() {
   const keys = state.table.map((p) => p.key).filter((k) => k in state.fieldErrors);
+  if (state.urlErrors.length) return { message: state.urlErrors[0], parameters: keys };
   if (keys.length === 0) return null;
   const more = keys.length > 1 ? ` (and ${keys.length - 1} more field${keys.length > 2 ? 's' : ''})` : '';
   return { message: state.fieldErrors[keys[0]] + more, parameters: keys };
@@ -187,6 +247,82 @@ function showError(err) {
     $('status').textContent = err.message;
     $('status').className = 'error';
   }
+}
+
+// --- The state in the URL ---------------------------------------------------------------------
+
+// The page's state in the URL's fragment, so that a reload restores it and a link shares it:
+// preset=NAME, solver=NAME, illuminant=NAME, range=380-780 (the wide grid), table=open (the
+// coefficient table shown), and KEY=VALUE for each parameter whose value differs from the
+// preset's (the number exactly as the field holds it). Written after each computed update.
+function urlFragment() {
+  const q = new URLSearchParams();
+  q.set('preset', state.preset);
+  q.set('solver', state.solver);
+  q.set('illuminant', state.illuminant);
+  if (state.wide) q.set('range', '380-780');
+  if ($('coefficients-details').open) q.set('table', 'open');
+  const preset = state.presets.find((p) => p.name === state.preset).parameters;
+  for (const p of state.table) if (state.values[p.key] !== preset[p.key]) q.set(p.key, String(state.values[p.key]));
+  return '#' + q.toString();
+}
+function writeUrl() {
+  clearTimeout(urlTimer);
+  const hash = urlFragment();
+  if (location.hash !== hash) history.replaceState(null, '', hash);
+}
+// After an update the URL is written once the page has been still for URL_DELAY ms: replacing
+// the history entry costs ~3 ms of the main thread, too much for every frame of a slider drag.
+const URL_DELAY = 200;
+let urlTimer = 0;
+function scheduleUrl() {
+  clearTimeout(urlTimer);
+  urlTimer = setTimeout(writeUrl, URL_DELAY);
+}
+
+// The state a URL holds (its fragment, or its query), applied to the page. A value that is not
+// one of those allowed is never replaced by a default in silence: a parameter's text goes into
+// its field and is refused as typed text is (the same one-line error, the field flagged); any
+// other (an unknown name, solver, illuminant, preset, range or table) gets a line of the same
+// form in the status, and nothing is computed until the user changes something.
+function restoreFromUrl() {
+  const text = location.hash.length > 1 ? location.hash.slice(1) : location.search.slice(1);
+  const q = new URLSearchParams(text);
+  const errors = [];
+  const choice = (name, allowed, fallback) => {
+    if (!q.has(name)) return fallback;
+    const v = q.get(name);
+    if (allowed.includes(v)) return v;
+    errors.push(`URL: ${name} = '${v}' is not known: allowed values are ${allowed.join(', ')}`);
+    return fallback;
+  };
+  const options = (id) => [...$(id).options].map((o) => o.value);
+  state.preset = choice('preset', state.presets.map((p) => p.name), 'caucasian');
+  state.solver = choice('solver', options('solver'), state.solver);
+  state.illuminant = choice('illuminant', options('illuminant'), state.illuminant);
+  state.wide = choice('range', ['400-700', '380-780'], '400-700') === '380-780';
+  $('coefficients-details').open = choice('table', ['open', 'closed'], 'closed') === 'open';
+  $('solver').value = state.solver;
+  $('illuminant').value = state.illuminant;
+  $('wide').checked = state.wide;
+  state.values = { ...state.presets.find((p) => p.name === state.preset).parameters };
+  const texts = {};
+  for (const [name, v] of q) {
+    if (['preset', 'solver', 'illuminant', 'range', 'table'].includes(name)) continue;
+    const p = state.table.find((t) => t.key === name);
+    if (!p) errors.push(`URL: '${name}' is not a parameter key: allowed names are preset, solver, illuminant, range, table and the parameters' keys (${state.table.map((t) => t.key).join(', ')})`);
+    else texts[name] = v;
+  }
+  showValues();
+  state.urlErrors = errors;
+  for (const [key, text] of Object.entries(texts)) {
+    const p = state.table.find((t) => t.key === key);
+    const { value, error } = parseField(p, text);
+    $('param-' + key).value = text;
+    if (error) state.fieldErrors[key] = error;
+    else { state.values[key] = value; placeSlider(p, value); }
+  }
+  scheduleUpdate();
 }
 
 // --- Updates ----------------------------------------------------------------------------------
@@ -233,7 +369,8 @@ function update() {
   drawColour();
   drawSpectrum();
   drawProfile();
-  drawCoefficients();
+  if ($('coefficients-details').open) drawCoefficients();
+  scheduleUrl();
   const ms = performance.now() - t0;
   state.timings.push(ms);
   state.modelTimings.push(tModel);
@@ -287,9 +424,46 @@ function drawCoefficients() {
 
 // --- Plots (SVG) ------------------------------------------------------------------------------
 
-const W = 640, H = 300, M = { l: 56, r: 12, t: 10, b: 34 };
+// Each plot is drawn at the width it has on the page (viewBox = its CSS pixels), so that its text
+// is the 12 px the style sheet gives it at any window width; a ResizeObserver keeps the width
+// (no layout is read during an update) and redraws a plot whose width changed.
+const H = 300, M = { l: 60, r: 12, t: 10, b: 38 };
+let W = 640;
+const plotWidths = {};
+function plotWidth(svg) {
+  if (!(svg.id in plotWidths)) plotWidths[svg.id] = Math.round(svg.getBoundingClientRect().width) || 640;
+  return Math.max(240, plotWidths[svg.id]);
+}
+function watchPlotWidths() {
+  const observer = new ResizeObserver((entries) => {
+    let changed = false;
+    for (const e of entries) {
+      const w = Math.round(e.contentRect.width);
+      if (w > 0 && plotWidths[e.target.id] !== w) { plotWidths[e.target.id] = w; changed = true; }
+    }
+    if (changed && state.spectrum) { drawSpectrum(); drawProfile(); }
+  });
+  for (const id of ['spectrum-plot', 'profile-plot']) observer.observe($(id));
+}
+
+// A legend in the plot's top right corner: [{label, colour, dash, dots, width}].
+function legend(items) {
+  const rowH = 17, w = 12 + Math.max(...items.map((i) => i.label.length)) * 6.6 + 34;
+  const x = W - M.r - w - 6, y = M.t + 6;
+  let g = `<g class="legend"><rect x="${x}" y="${y}" width="${w}" height="${items.length * rowH + 8}" fill="#fff" fill-opacity="0.85" stroke="#ccc"/>`;
+  items.forEach((it, i) => {
+    const cy = y + 12 + i * rowH;
+    g += it.dots
+      ? `<circle cx="${x + 20}" cy="${cy}" r="2.5" fill="${it.colour}"/>`
+      : `<line x1="${x + 8}" x2="${x + 32}" y1="${cy}" y2="${cy}" stroke="${it.colour}" stroke-width="${it.width || 2}"${it.dash ? ` stroke-dasharray="${it.dash}"` : ''}/>`;
+    g += `<text x="${x + 38}" y="${cy + 4}">${it.label}</text>`;
+  });
+  return g + '</g>';
+}
 
 function axes(svg, x0, x1, y0, y1, logX, logY, xLabel, yLabel) {
+  W = plotWidth(svg);
+  svg.setAttribute('viewBox', `0 0 ${W} ${H}`);
   const tx = (x) => M.l + (W - M.l - M.r) * (logX ? Math.log10(x / x0) / Math.log10(x1 / x0) : (x - x0) / (x1 - x0));
   const ty = (y) => H - M.b - (H - M.t - M.b) * (logY ? Math.log10(y / y0) / Math.log10(y1 / y0) : (y - y0) / (y1 - y0));
   let g = `<rect x="${M.l}" y="${M.t}" width="${W - M.l - M.r}" height="${H - M.t - M.b}" fill="none" stroke="#999"/>`;
@@ -315,10 +489,10 @@ function axes(svg, x0, x1, y0, y1, logX, logY, xLabel, yLabel) {
   return { tx, ty };
 }
 
-function path(xs, ys, tx, ty, colour, extra = '') {
+function path(xs, ys, tx, ty, colour, extra = '', width = 1.8) {
   let d = '';
   xs.forEach((x, i) => { if (Number.isFinite(ys[i])) d += `${d ? 'L' : 'M'}${tx(x).toFixed(1)},${ty(ys[i]).toFixed(1)}`; });
-  return `<path d="${d}" fill="none" stroke="${colour}" stroke-width="1.8" ${extra}/>`;
+  return `<path d="${d}" fill="none" stroke="${colour}" stroke-width="${width}" ${extra}/>`;
 }
 
 function drawSpectrum() {
@@ -329,14 +503,20 @@ function drawSpectrum() {
   if (m) yMax = Math.max(yMax, ...m.R);
   yMax = Math.max(0.1, Math.ceil(yMax * 10 + 0.5) / 10);
   const { tx, ty } = axes(svg, x0, x1, 0, yMax, false, false, 'wavelength [nm]', 'R_d');
-  let g = path(s.wavelength_nm, s.R_d, tx, ty, '#b33');
+  // The model's line (wide, solid) under the fit's (narrow, dashed): after a fit the two
+  // coincide, and the model shows between the dashes.
+  let g = path(s.wavelength_nm, s.R_d, tx, ty, '#b33', 'class="model"', 3);
+  const items = [{ label: 'model R_d (current parameters)', colour: '#b33', width: 3 }];
   if (m) {
     const inside = m.wavelength_nm.map((l, i) => [l, m.R[i]]).filter(([l, r]) => l >= x0 && l <= x1 && Number.isFinite(r));
-    g += inside.map(([l, r]) => `<circle cx="${tx(l).toFixed(1)}" cy="${ty(r).toFixed(1)}" r="1.8" fill="#222"/>`).join('');
-    if (state.fit) g += path(state.fit.fitted.wavelength_nm, state.fit.fitted.R, tx, ty, '#36c', 'stroke-dasharray="5 3"');
+    g += inside.map(([l, r]) => `<circle cx="${tx(l).toFixed(1)}" cy="${ty(r).toFixed(1)}" r="2" fill="#222"/>`).join('');
+    items.push({ label: `measured (${m.name})`, colour: '#222', dots: true });
+    if (state.fit) {
+      g += path(state.fit.fitted.wavelength_nm, state.fit.fitted.R, tx, ty, '#1f4fbf', 'class="fit" stroke-dasharray="6 4"', 1.6);
+      items.push({ label: 'fit', colour: '#1f4fbf', dash: '6 4', width: 1.6 });
+    }
   }
-  g += `<text x="${W - M.r - 4}" y="${M.t + 14}" text-anchor="end">— model${m ? ' · measured' + (state.fit ? ' - - fit' : '') : ''}</text>`;
-  svg.insertAdjacentHTML('beforeend', g);
+  svg.insertAdjacentHTML('beforeend', g + legend(items));
 }
 
 function drawProfile() {
@@ -360,7 +540,11 @@ function drawProfile() {
   const r = p.r_mm;
   const { tx, ty } = axes(svg, r[0], r[r.length - 1], yMin, yMax, true, true, 'r [mm]', 'R(r) [1/mm²]');
   const pos = (ys) => ys.map((v) => (v > yMin ? v : NaN));
-  svg.insertAdjacentHTML('beforeend', path(r, pos(p.R.r), tx, ty, '#c22') + path(r, pos(p.R.g), tx, ty, '#2a2') + path(r, pos(p.R.b), tx, ty, '#23c'));
+  // Blue dashed and green dotted as well as coloured: the channels stay apart in grey.
+  svg.insertAdjacentHTML('beforeend', path(r, pos(p.R.r), tx, ty, '#c22') + path(r, pos(p.R.g), tx, ty, '#1a801a', 'stroke-dasharray="2 3"') +
+    path(r, pos(p.R.b), tx, ty, '#23c', 'stroke-dasharray="7 4"') +
+    legend([{ label: 'R: linear sRGB red', colour: '#c22' }, { label: 'G: linear sRGB green', colour: '#1a801a', dash: '2 3' },
+            { label: 'B: linear sRGB blue', colour: '#23c', dash: '7 4' }]));
 }
 
 // --- Melanin strip ----------------------------------------------------------------------------
@@ -384,12 +568,23 @@ function scheduleStrip() {
   }, 60);
 }
 
+let shownStrip = null;  // the strip document drawn: an update only moves the marker
 function drawStrip() {
   if (!state.strip) return;
+  const box = $('strip');
+  if (shownStrip !== state.strip) {
+    // Black or white text, whichever reads better on the swatch (its sRGB luminance).
+    const ink = (hex) => {
+      const l = [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16) / 255).map((c) => (c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4));
+      return 0.2126 * l[0] + 0.7152 * l[1] + 0.0722 * l[2] > 0.18 ? '#000' : '#fff';
+    };
+    box.innerHTML = state.strip.map((s) =>
+      `<div style="background:${s.color.hex};color:${ink(s.color.hex)}" title="melanin ${s.melanin}: ${s.color.hex}">${s.melanin}</div>`).join('');
+    shownStrip = state.strip;
+  }
   const m = state.values.melanin;
   const nearest = STRIP_MELANIN.reduce((a, b) => (Math.abs(b - m) < Math.abs(a - m) ? b : a));
-  $('strip').innerHTML = state.strip.map((s) =>
-    `<div style="background:${s.color.hex}" title="melanin ${s.melanin}: ${s.color.hex}" class="${s.melanin === nearest ? 'current' : ''}">${s.melanin}</div>`).join('');
+  [...box.children].forEach((d, i) => { const on = state.strip[i].melanin === nearest; if (d.classList.contains('current') !== on) d.classList.toggle('current', on); });
 }
 
 // --- Measured spectrum: drop, overlay, fit ----------------------------------------------------
@@ -401,15 +596,21 @@ function measuredSeries() {
   return { wavelength_nm: m.wavelength_nm, R: col.R, name: col.name };
 }
 
+// A measured spectrum, from the file picker or dropped: read and checked by the module as
+// `skin fit --spectrum` reads it, so that a file the fit would refuse (reflectance in percent,
+// too few samples, ...) is refused now, with the fit's message, and nothing of it is kept.
 function loadMeasured(file, text) {
   try {
     const s = runJson('spectra', { csv: text, file });
     state.measured = { file: s.file, csv: text, wavelength_nm: s.wavelength_nm, columns: s.columns };
   } catch (e) {
-    $('status').textContent = e.message;
-    $('status').className = 'error';
+    $('load-result').textContent = `${file} not loaded: ${e.message}`;
+    $('load-result').className = 'error';
     return;
   }
+  $('load-result').textContent = `Loaded ${state.measured.file}: ${state.measured.columns.length} spectr${state.measured.columns.length === 1 ? 'um' : 'a'}.`;
+  $('load-result').className = 'muted';
+  $('fit-warning').textContent = '';
   state.fit = null;
   $('measured').hidden = false;
   $('measured-file').textContent = state.measured.file;
@@ -429,10 +630,21 @@ function fitMeasured() {
     return;
   }
   const f = state.fit;
+  // As `skin fit` writes it: a parameter that ended on its bound is marked "(at bound)" (its
+  // uncertainty is then local), here also on its row; an RMS at or above the library's limit of
+  // a good fit (fit::kGoodFitRms, the measured-spectra report's) gets a warning.
   $('fit-result').className = '';
-  $('fit-result').textContent = f.free.map((k) => `${k} ${num(f.parameters[k])} ± ${num(f.uncertainty[k])}`).join(', ') + `; RMS ${num(f.rms)}`;
+  $('fit-result').textContent = f.free.map((k) => `${k} ${num(f.parameters[k])} ± ${num(f.uncertainty[k])}${f.at_bound[k] ? ' (at bound)' : ''}`).join(', ') + `; RMS ${num(f.rms)}`;
+  const limit = state.fitLimits.good_fit_rms;
+  $('fit-warning').textContent = f.rms >= limit
+    ? `Poor fit: the RMS residual ${f.rms.toPrecision(3)} is at or above ${limit} (a good fit's limit, as in skin fit --measured-report); ` +
+      `these parameters do not reproduce the spectrum${f.free.some((k) => f.at_bound[k]) ? ', and some ended on a bound' : ''}.`
+    : '';
   state.values = { ...f.parameters };
   showValues();
+  clearUserErrors();
+  state.atBound = f.free.filter((k) => f.at_bound[k]);
+  for (const k of state.atBound) document.querySelector(`.param[data-key="${k}"]`).classList.add('at-bound');
   scheduleUpdate();
 }
 
@@ -446,7 +658,12 @@ function setUpDrop() {
     const file = e.dataTransfer.files[0];
     if (file) loadMeasured(file.name, await file.text());
   });
-  $('measured-column').addEventListener('change', () => { state.fit = null; $('fit-result').textContent = ''; drawSpectrum(); });
+  $('spectrum-file').addEventListener('change', async () => {
+    const file = $('spectrum-file').files[0];
+    if (file) loadMeasured(file.name, await file.text());
+    $('spectrum-file').value = '';  // the same file chosen again loads again
+  });
+  $('measured-column').addEventListener('change', () => { state.fit = null; $('fit-result').textContent = ''; $('fit-warning').textContent = ''; drawSpectrum(); });
   $('fit').addEventListener('click', fitMeasured);
   $('solve-profile').addEventListener('click', () => {
     state.solveProfile = true;
@@ -547,10 +764,17 @@ createSkinModule().then((module) => {
   state.module = module;
   state.table = runJson('parameters', {});
   state.presets = runJson('presets', {});
+  state.fitLimits = runJson('fit_limits', {});
   buildControls();
   setUpDrop();
   setUpDownloads();
   setUpExport();
-  applyPreset('caucasian');
+  // The coefficient table (151 rows x 6) is filled only while it is open.
+  $('coefficients-details').addEventListener('toggle', () => {
+    if (state.spectrum) drawCoefficients();
+    if (state.spectrum && !fieldError() && !state.modelError) writeUrl();
+  });
+  watchPlotWidths();
+  restoreFromUrl();
   window.skinReady = true;
 }).catch((e) => { $('status').textContent = 'The model failed to load: ' + e; $('status').className = 'error'; });

@@ -277,9 +277,16 @@ Result fit_spectrum(const json& req) {
 
 // The reflectance columns of a CSV file (all but the first, the wavelength), for the page to
 // offer a choice as --column does; and each one's samples.
+// Each column is read and checked as `skin fit --spectrum FILE [--column NAME]` reads it (range
+// 0-1, 450-650 nm covered, ...), so that a file the fit would refuse (a spectrum in percent) is
+// refused when it is loaded, with the fit's message.
 json spectra(const json& req) {
   const std::string name = stored_file(req);
   const Table t = read_csv_file(name);
+  if (t.columns.size() < 2)
+    throw InputError(name + ": expected a wavelength column and at least one reflectance column");
+  for (std::size_t c = 1; c < t.columns.size(); ++c)
+    (void)fit::read_spectrum(name, t.columns.size() == 2 ? "" : t.columns[c]);
   json j;
   j["file"] = name;
   j["wavelength_nm"] = t.data.empty() ? std::vector<double>{} : t.data[0];
@@ -366,6 +373,8 @@ std::string run(const std::string& command, const std::string& request) {
     if (command == "spectra") return spectra(req).dump();
     if (command == "melanin_strip") return melanin_strip(req).dump();
     if (command == "export") return export_files(req).dump();
+    // The fit's thresholds the page warns at, from the library (one home for each number).
+    if (command == "fit_limits") return json{{"good_fit_rms", fit::kGoodFitRms}}.dump();
     if (command == "targets") {
       json j = json::array();
       for (const exporting::Target& t : exporting::targets())
@@ -389,7 +398,7 @@ std::string run(const std::string& command, const std::string& request) {
     }
     throw InputError("command '" + command + "' is unknown: allowed values are spectrum, color, "
                      "profile, fit, parameters, presets, update, spectra, melanin_strip, solvers, "
-                     "illuminants, export, targets");
+                     "illuminants, export, targets, fit_limits");
   });
 }
 

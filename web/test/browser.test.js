@@ -43,6 +43,10 @@ async function main() {
     await page.goto(url);
     await page.waitForFunction('window.skinReady === true', { timeout: 120000 });
     await page.waitForFunction('window.skinState.updates >= 1');
+    // The coefficient table is collapsed as the page opens (and filled only while open).
+    if (await page.evaluate(() => document.querySelectorAll('#coefficients tr').length) !== 0) fail(['the coefficient table was filled while collapsed'], 'collapsed table');
+    await page.click('#coefficients-details summary');
+    await page.waitForFunction(() => document.querySelectorAll('#coefficients tr').length > 1);
 
     const shown = () => page.evaluate(() => ({
       hex: document.getElementById('hex').textContent,
@@ -230,6 +234,9 @@ async function main() {
       const f = compare(fitted, ref, 1e-7, 'fit');  // as the module test: 1e-8 measured
       fail(f.failures, 'fit of the dropped vrhel_117');
       console.log(`dropped ${name}, column vrhel_117, fitted: ${f.failures.length === 0 ? 'matches' : 'DIFFERS FROM'} skin fit (melanin ${fitted.parameters.melanin})`);
+      // The poor-fit warning is shown exactly when the RMS reaches the library's limit (0.02).
+      const warning = await page.evaluate(() => document.getElementById('fit-warning').textContent);
+      if ((fitted.rms >= 0.02) !== warning.startsWith('Poor fit:')) fail([`RMS ${fitted.rms}, warning "${warning}"`], 'poor-fit warning of vrhel_117');
       await page.waitForFunction((m) => window.skinState.spectrum.parameters.melanin === m, {}, fitted.parameters.melanin);
       await compareWithCli('the fitted parameters');
       // The fitted skin's export links, for the screenshot.

@@ -35,6 +35,9 @@ async function main() {
     await page.waitForFunction('window.skinReady === true', { timeout: 120000 });
     // Loaded: the first update and the melanin strip (computed after it) are done.
     await page.waitForFunction('window.skinState.updates >= 1 && !window.skinPending && window.skinState.strip !== null');
+    // The coefficient table (collapsed as the page opens) shown: its first row is checked too.
+    await page.click('#coefficients-details summary');
+    await page.waitForFunction(() => document.querySelectorAll('#coefficients tr').length > 1);
     // Every call into the module, logged: the page computes through state.module.run alone (the
     // module itself is left as it is: embind's dispatch reads its own Module.run).
     await page.evaluate(() => {
@@ -55,8 +58,8 @@ async function main() {
       }
       const fields = [...document.querySelectorAll('#parameters input.value')];
       return {
-        flagged: fields.filter((f) => f.getAttribute('aria-invalid') === 'true').map((f) => f.id.slice(2)),
-        outlined: fields.filter((f) => getComputedStyle(f).outlineStyle === 'solid').map((f) => f.id.slice(2)),
+        flagged: fields.filter((f) => f.getAttribute('aria-invalid') === 'true').map((f) => f.id.replace(/^param-/, '')),
+        outlined: fields.filter((f) => getComputedStyle(f).outlineStyle === 'solid').map((f) => f.id.replace(/^param-/, '')),
         rowsInvalid: [...document.querySelectorAll('.param.invalid')].map((r) => r.dataset.key),
         status: document.getElementById('status').textContent,
         statusClass: document.getElementById('status').className,
@@ -76,7 +79,7 @@ async function main() {
     // Types `text` into the field of `key` as a user does: the old text selected and replaced,
     // Tab to leave the field (shown() then waits for the page's update).
     const type = async (key, text) => {
-      await page.evaluate((id) => { const f = document.getElementById(id); f.focus(); f.select(); }, `n-${key}`);
+      await page.evaluate((id) => { const f = document.getElementById(id); f.focus(); f.select(); }, `param-${key}`);
       if (text === '') await page.keyboard.press('Backspace');
       else await page.keyboard.type(text);
       await page.keyboard.press('Tab');
@@ -179,9 +182,9 @@ async function main() {
       await page.focus('#s-hemoglobin');
       await page.keyboard.press('ArrowRight');
       const s = await shown(before.updates + 1);
-      const field = await page.evaluate(() => [document.getElementById('n-hemoglobin').value, document.getElementById('s-hemoglobin').value, window.skinState.values.hemoglobin]);
+      const field = await page.evaluate(() => [document.getElementById('param-hemoglobin').value, document.getElementById('s-hemoglobin').getAttribute('aria-valuetext'), window.skinState.values.hemoglobin]);
       normal(s, null, 'hemoglobin slider moved after bad text');
-      if (field[0] !== field[1] || Number(field[0]) !== field[2]) fail([`field ${field[0]}, slider ${field[1]}, value ${field[2]}`], 'slider after bad text');
+      if (field[0] !== field[1] || Number(field[0]) !== field[2]) fail([`field ${field[0]}, slider's value ${field[1]}, value ${field[2]}`], 'slider after bad text');
     }
     console.log(`input test: ${checks} checks in ${((Date.now() - t0) / 1000).toFixed(1)} s (the page loaded in ${((tLoaded - t0) / 1000).toFixed(1)} s)`);
   } finally {

@@ -105,6 +105,9 @@ std::vector<MeasuredSpectrum> read_spectra(const std::string& path);
 // increasing, reflectances finite and within [0, 1], and the range covers 450-650 nm.
 void validate_spectrum(const MeasuredSpectrum& m);
 inline constexpr std::size_t kMinSamples = 8;
+// A spectrum fit whose RMS residual [reflectance] reaches this does not describe the spectrum
+// well: the measured-spectra report counts the fits below it, the web page warns at it.
+inline constexpr double kGoodFitRms = 0.02;
 
 struct SpectrumFitOptions {
   // Parameters to fit; the others keep their values in `start`.
