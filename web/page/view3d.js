@@ -33,6 +33,7 @@ const KEY = { dir: new THREE.Vector3(0.6, 0.45, 0.66).normalize(), intensity: 1.
 const FILL = { dir: new THREE.Vector3(-0.8, 0.1, 0.45).normalize(), intensity: 0.25 };
 const BACK = { dir: new THREE.Vector3(-0.25, 0.25, -1).normalize(), intensity: 1.5 };
 const MAX_GAUSSIANS = 8;
+const MAX_WIDTH = 480;
 const BACKGROUND = [0.12, 0.12, 0.13];  // display-encoded
 
 const canvas = document.getElementById('view3d');
@@ -343,8 +344,10 @@ function createView() {
 
   function render() {
     const t0 = performance.now();
-    const w = Math.max(1, Math.round(canvas.clientWidth * Math.min(window.devicePixelRatio || 1, 2)));
-    const h = Math.max(1, Math.round(canvas.clientHeight * Math.min(window.devicePixelRatio || 1, 2)));
+    // At most MAX_WIDTH pixels across (software WebGL draws every pixel on the CPU).
+    const scale = Math.min(window.devicePixelRatio || 1, 2, MAX_WIDTH / Math.max(1, canvas.clientWidth));
+    const w = Math.max(1, Math.round(canvas.clientWidth * scale));
+    const h = Math.max(1, Math.round(canvas.clientHeight * scale));
     if (canvas.width !== w || canvas.height !== h || gbuffer.width !== w || gbuffer.height !== h) {
       renderer.setSize(w, h, false);
       for (const t of [gbuffer, horizontal, sum]) t.setSize(w, h);
