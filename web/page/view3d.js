@@ -343,6 +343,7 @@ function createView() {
   }
 
   function render() {
+    if (view.paused) return;  // (page.test.js, while it traces the page's own frame time)
     const t0 = performance.now();
     // At most MAX_WIDTH pixels across (software WebGL draws every pixel on the CPU).
     const scale = Math.min(window.devicePixelRatio || 1, 2, MAX_WIDTH / Math.max(1, canvas.clientWidth));
