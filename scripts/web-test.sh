@@ -14,6 +14,10 @@
 #                             layout at 390 and 1280 px, axe-core (0 violations), and the median
 #                             frame time of 40 slider updates from a Chrome trace (printed;
 #                             SKIN_FRAME_BUDGET_MS=16 makes it a limit).
+#   web/test/head.test.js     the 3D view (#view3d, WebGL2 on SwiftShader): a lit head (a sphere
+#                             without the mesh), the realtime export's kernels, melanin changes
+#                             the pixels (input-to-frame time printed; SKIN_VIEW_LATENCY_MS=50
+#                             makes it a limit), the lit patch within 1 dE2000 of every preset.
 # Skips with a message only where Emscripten or the browser cannot be installed. Each step's wall
 # time is printed after it.
 set -euo pipefail
@@ -38,3 +42,4 @@ fi
 timed node web/test/browser.test.js
 timed node web/test/inputs.test.js
 timed node web/test/page.test.js
+timed node web/test/head.test.js

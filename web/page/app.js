@@ -32,6 +32,9 @@ const state = {
   urlErrors: [],    // messages about the URL's values that are no parameter's (unknown names, solver, ...)
   fitLimits: null,  // the fit's thresholds ({good_fit_rms}), from the module
   atBound: [],      // keys of the fitted parameters that ended on a bound of the last fit
+  lights: {},       // each illuminant's colour as a light in linear sRGB (luminance 1), by name
+  kernels: null,    // the realtime export's document the 3D view's subsurface uses
+  kernelsKey: '',   // the request it was computed for
 };
 window.skinState = state;
 
@@ -151,6 +154,7 @@ function buildControls() {
   // default}), kept in state[key].
   for (const key of ['solver', 'illuminant']) {
     for (const item of runJson(key + 's', {})) {
+      if (item.light_srgb_linear) state.lights[item.name] = item.light_srgb_linear;
       const o = document.createElement('option');
       o.value = item.name;
       o.textContent = `${item.name}${item.default ? ' (default)' : ''}`;
@@ -367,6 +371,7 @@ function update() {
   state.profile = profile;
   state.color = color || null;
   drawColour();
+  drawView3d();
   drawSpectrum();
   drawProfile();
   if ($('coefficients-details').open) drawCoefficients();
@@ -384,7 +389,50 @@ function update() {
   $('status').textContent = `Ready. ${state.solver} solver.${warn}`;
   $('status').className = warn ? 'error' : '';
   scheduleStrip();
+  scheduleKernels();
   checkExport();
+}
+
+// --- 3D view (view3d.js) ----------------------------------------------------------------------
+
+// The view drawn with the model's colour (linear sRGB under D65: the view's lights carry the
+// illuminant, as `skin render` lights an RGB scene with it) and the surface's parameters, in this
+// frame; its subsurface kernels follow once the page is still (scheduleKernels).
+function drawView3d() {
+  const view = window.skinView3d;
+  if (!view || !state.spectrum) return;
+  view.light = state.lights[state.illuminant] || [1, 1, 1];
+  view.update(state.spectrum.color.srgb_linear, { oiliness: state.values.oiliness, roughness: state.values.roughness, eta: state.values.eta });
+}
+window.skinView3dPending = () => { drawView3d(); if (state.kernels) window.skinView3d.setKernels(state.kernels); };
+
+// The sum of Gaussians of the current parameters, as `skin export --target realtime` fits it
+// (the module's export: ~0.1 s here, so not in the frame of a slider's move): computed once the
+// page has been still for KERNEL_DELAY ms. A profile the update did not solve (profile_pending:
+// seconds per wavelength) is not solved for it either: the view keeps the last kernels and says so.
+const KERNEL_DELAY = 150;
+let kernelTimer = 0;
+function kernelText() {
+  const k = state.kernels;
+  if (!k) return 'Subsurface: not yet fitted (the irradiance unblurred).';
+  const v = k.gaussians.map((g) => g.variance);
+  const current = state.kernelsKey === JSON.stringify(request());
+  return `Subsurface: ${v.length} Gaussians, variances ${Math.min(...v).toPrecision(2)}–${Math.max(...v).toPrecision(2)} mm² ` +
+    `(skin export --target realtime${current ? '' : ', of earlier parameters: these need the profile solved'}).`;
+}
+function scheduleKernels() {
+  clearTimeout(kernelTimer);
+  const key = JSON.stringify(request());
+  if (key === state.kernelsKey || state.profilePending) { $('view3d-status').textContent = kernelText(); return; }
+  kernelTimer = setTimeout(() => {
+    try {
+      const e = runJson('export', request({ target: 'realtime' }));
+      state.kernels = JSON.parse(e.files[0].content);
+      state.kernelsKey = key;
+      if (window.skinView3d) window.skinView3d.setKernels(state.kernels);
+    } catch (err) { /* the parameters are refused: the next update shows why */ }
+    $('view3d-status').textContent = kernelText();
+  }, KERNEL_DELAY);
 }
 
 // The colour under the chosen illuminant: the spectrum's own (D65) or the update's "color"

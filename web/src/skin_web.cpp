@@ -29,6 +29,7 @@
 #include "schema.hpp"
 #include "skin/export/export.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/color/color.hpp"
 #include "skin/color/illuminant.hpp"
 #include "skin/model/skin_model.hpp"
 #include "skin/physics/skin_parameters.hpp"
@@ -38,6 +39,7 @@
 namespace skin::web {
 
 using skin::util::InputError;
+using skin::util::Rgb;
 using skin::util::Table;
 using skin::util::read_csv_file;
 
@@ -384,9 +386,14 @@ std::string run(const std::string& command, const std::string& request) {
     }
     if (command == "illuminants") {
       json j = json::array();
-      for (const auto& n : color::illuminant_names())
+      // "light_srgb_linear": the illuminant as a light in an RGB renderer whose white is D65
+      // (luminance 1), as `skin render` lights a scene with it (the page's 3D view).
+      for (const auto& n : color::illuminant_names()) {
+        const Rgb light = color::Colorimetry(WavelengthGrid(), color::find_illuminant(n)).illuminant_rgb();
         j.push_back({{"name", n}, {"description", color::find_illuminant(n).description()},
-                     {"default", n == color::kDefaultIlluminant}});
+                     {"default", n == color::kDefaultIlluminant},
+                     {"light_srgb_linear", {light.r, light.g, light.b}}});
+      }
       return j.dump();
     }
     if (command == "solvers") {

@@ -99,7 +99,9 @@ function serve() {
   });
   return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
 }
-async function openPage(what) {
+// `extraArgs`: more Chromium flags (head.test.js: --enable-unsafe-swiftshader, WebGL2 on
+// SwiftShader without a GPU).
+async function openPage(what, extraArgs = []) {
   if (!fs.existsSync(CHROMIUM)) {
     console.log(`SKIP ${what}: no browser at ${CHROMIUM} (install Debian's chromium: scripts/install-deps.sh)`);
     return null;
@@ -113,7 +115,7 @@ async function openPage(what) {
     headless: true,
     userDataDir: profileDir,
     args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-           '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+           '--disable-background-networking', '--disable-component-update', '--disable-sync', ...extraArgs],
   });
   const close = async () => {
     await browser.close();

@@ -86,7 +86,10 @@ function smallPlotText(page, minPx) {
 // that ran its animation frame (the page's update in requestAnimationFrame, then style, layout,
 // pre-paint, paint, layerize and commit), found as the task holding a FireAnimationFrame and a
 // Layout. Returns the medians of the task and of its parts, in ms.
+// The 3D view is paused meanwhile (skinView3d.paused: it draws nothing): its frames are
+// head.test.js's; on software WebGL they would be most of the paint and commit here.
 async function frameTimes(page, slider, count) {
+  await page.evaluate(() => { if (window.skinView3d) window.skinView3d.paused = true; });
   await page.focus(slider);
   await page.tracing.start({ categories: ['devtools.timeline', 'disabled-by-default-devtools.timeline', 'toplevel'] });
   for (let i = 0; i < count; i++) {

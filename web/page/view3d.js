@@ -1,0 +1,485 @@
+// The page's 3D view (#view3d): the skin of the current parameters on a head (the Lee Perry-Smith
+// scan when the site holds it, a sphere otherwise), lit by a key, a fill and a back light of the
+// page's illuminant, drawn with three.js in WebGL2. Physics comes from the module, as the page's
+// other results do; this file only shades with it:
+//   - the albedo is the model's colour, R_d in linear sRGB (the swatch's, `skin color`);
+//   - the subsurface is the real-time export's sum of Gaussians (`skin export --target realtime`,
+//     the module's "export" command): the diffuse irradiance blurred in screen space by each
+//     Gaussian as two separable passes, weighted per channel by its share of R_d (d'Eon, Luebke &
+//     Enderton 2007; Jimenez et al. 2009), and the light through thin parts (the ears) from the
+//     same Gaussians at the thickness a depth map from the back light gives (Jimenez, Whelan,
+//     Sundstedt & Gutierrez 2010): T(s) = sum_k w_k exp(-s^2 / (2 v_k));
+//   - the surface is DJ06's Torrance-Sparrow lobe: Beckmann of RMS slope `roughness`, dielectric
+//     Fresnel at `eta`, Cook-Torrance shadowing, scaled by `oiliness` (rho_s).
+// Not modelled: the transmission factor 1 - rho_dr at entry and exit (about 1 % at normal
+// incidence for the presets), parameter maps, shadows other than the back light's thickness.
+// Frames are drawn on demand: after an update of the page, a change of the camera, or new kernels.
+//
+// window.skinView3d (the page and its tests): update(parameters), setKernels(export document),
+// setLight(rgb), setMode('head' | 'patch'), pixels() (a frame drawn and read back, RGBA bytes,
+// bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end).
+import * as THREE from 'three';
+import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
+import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+
+const HEAD_URL = 'mesh/LeePerrySmith.glb';
+// The scan (a bust) is taken as 400 mm wide, shoulder to shoulder, which makes its head about
+// 230 mm from chin to crown, an adult's; the sphere's radius is 80 mm.
+const BUST_WIDTH_MM = 400;
+const SPHERE_RADIUS_MM = 80;
+// The lights (directions towards the light in world space; y up, the face looks along +z), their
+// intensity times the illuminant's colour of luminance 1: a key light, a fill, a back light.
+const KEY = { dir: new THREE.Vector3(0.6, 0.45, 0.66).normalize(), intensity: 1.0 };
+const FILL = { dir: new THREE.Vector3(-0.8, 0.1, 0.45).normalize(), intensity: 0.25 };
+const BACK = { dir: new THREE.Vector3(-0.25, 0.25, -1).normalize(), intensity: 1.5 };
+const MAX_GAUSSIANS = 8;
+const MAX_WIDTH = 480;
+const BACKGROUND = [0.12, 0.12, 0.13];  // display-encoded
+
+const canvas = document.getElementById('view3d');
+const caption = document.getElementById('view3d-caption');
+
+const fullscreenVertex = /* glsl */`
+out vec2 vUv;
+void main() { vUv = uv; gl_Position = vec4(position.xy, 0.0, 1.0); }`;
+
+// The surface pass: to attachment 0 the diffuse irradiance (no albedo) and the view depth (alpha,
+// in mesh units; 0 is the background), to attachment 1 the specular radiance.
+const surfaceVertex = /* glsl */`
+out vec3 vNormal;
+out vec3 vWorld;
+out float vDepth;
+void main() {
+  vec4 world = modelMatrix * vec4(position, 1.0);
+  vWorld = world.xyz;
+  vNormal = normalize(mat3(modelMatrix) * normal);
+  vec4 view = viewMatrix * world;
+  vDepth = -view.z;
+  gl_Position = projectionMatrix * view;
+}`;
+const surfaceFragment = /* glsl */`
+precision highp float;
+in vec3 vNormal;
+in vec3 vWorld;
+in float vDepth;
+layout(location = 0) out vec4 outIrradiance;
+layout(location = 1) out vec4 outSpecular;
+uniform vec3 lightDir[3];
+uniform vec3 lightColor[3];   // illuminant x intensity
+uniform float rhoS, roughness, eta;
+uniform float mmPerUnit;
+uniform int gaussians;
+uniform float variance[${MAX_GAUSSIANS}];   // mm^2
+uniform vec3 share[${MAX_GAUSSIANS}];       // w_k / R_d per channel
+uniform bool translucency;
+uniform sampler2D backDepth;  // depth from the back light (orthographic, 0-1)
+uniform mat4 backMatrix;      // world -> the back light's clip space
+uniform float backNear, backFar;
+uniform vec3 cameraPos;
+const float PI = 3.141592653589793;
+
+float fresnelDielectric(float cosi, float etaT) {
+  // Unpolarised Fresnel reflectance from air into a medium of index etaT.
+  float c = clamp(cosi, 0.0, 1.0);
+  float s2 = max(0.0, 1.0 - c * c) / (etaT * etaT);
+  if (s2 >= 1.0) return 1.0;
+  float ct = sqrt(1.0 - s2);
+  float rs = (c - etaT * ct) / (c + etaT * ct);
+  float rp = (etaT * c - ct) / (etaT * c + ct);
+  return 0.5 * (rs * rs + rp * rp);
+}
+// rho_s D(h) G F(wi.h) / (4 cos_i cos_o), times cos_i: the reflected radiance per unit light.
+float torranceSparrow(vec3 n, vec3 wo, vec3 wi) {
+  float no = dot(n, wo), ni = dot(n, wi);
+  if (no <= 0.0 || ni <= 0.0 || rhoS <= 0.0) return 0.0;
+  vec3 h = normalize(wo + wi);
+  float c = dot(n, h);
+  if (c <= 0.0) return 0.0;
+  float c2 = c * c, s2 = roughness * roughness;
+  float D = exp(-(1.0 - c2) / (c2 * s2)) / (PI * s2 * c2 * c2);
+  float oh = max(dot(wo, h), 1e-6);
+  float G = min(1.0, min(2.0 * c * no / oh, 2.0 * c * ni / oh));
+  float F = fresnelDielectric(dot(wi, h), eta);
+  return rhoS * D * G * F / (4.0 * no);
+}
+vec3 transmittance(float s_mm) {
+  vec3 t = vec3(0.0);
+  for (int k = 0; k < ${MAX_GAUSSIANS}; ++k) {
+    if (k >= gaussians) break;
+    t += share[k] * exp(-s_mm * s_mm / (2.0 * variance[k]));
+  }
+  return t;
+}
+void main() {
+  vec3 n = normalize(vNormal);
+  vec3 wo = normalize(cameraPos - vWorld);
+  if (dot(n, wo) < 0.0) n = -n;  // open meshes seen from inside
+  vec3 E = vec3(0.0), S = vec3(0.0);
+  for (int i = 0; i < 3; ++i) {
+    float ni = dot(n, lightDir[i]);
+    E += lightColor[i] * max(ni, 0.0);
+    S += lightColor[i] * torranceSparrow(n, wo, lightDir[i]);
+  }
+  if (translucency) {
+    // The back light through the skin: the thickness between this point and where the light
+    // enters, from the back light's depth map, through the profile's Gaussians.
+    vec4 p = backMatrix * vec4(vWorld, 1.0);
+    vec3 q = p.xyz / p.w * 0.5 + 0.5;
+    float entry = backNear + texture(backDepth, q.xy).r * (backFar - backNear);
+    float here = backNear + q.z * (backFar - backNear);
+    float s = max(here - entry, 0.0) * mmPerUnit;
+    float facing = clamp(0.3 + dot(-n, lightDir[2]), 0.0, 1.0);
+    E += lightColor[2] * transmittance(s) * facing;
+  }
+  outIrradiance = vec4(E, vDepth);
+  outSpecular = vec4(S, 1.0);
+}`;
+
+// One separable pass of one Gaussian (standard deviation sigma mm) along `direction`, over the
+// surface pass's irradiance: 13 taps out to 3 sigma, samples of the background or off the surface
+// (a depth step larger than the kernel) left out and the rest renormalised, so that uniform light
+// stays uniform. The pixels per mm at the centre's depth from the camera's field of view.
+const blurFragment = /* glsl */`
+precision highp float;
+in vec2 vUv;
+out vec4 outColor;
+uniform sampler2D source;
+uniform vec2 direction;     // (1, 0) or (0, 1)
+uniform vec2 texel;         // 1 / size
+uniform float sigmaMm;
+uniform float pixelsPerUnitAtUnitDepth;  // height / (2 tan(fov / 2))
+uniform float mmPerUnit;
+uniform vec3 weight;        // the Gaussian's share per channel (vertical pass), 1 (horizontal)
+void main() {
+  vec4 c = texture(source, vUv);
+  if (c.a <= 0.0) { outColor = vec4(0.0); return; }
+  float sigmaPx = sigmaMm / mmPerUnit * pixelsPerUnitAtUnitDepth / c.a;
+  float maxStep = max(3.0 * sigmaMm, 0.5) / mmPerUnit;
+  vec3 sum = vec3(0.0);
+  float wsum = 0.0;
+  for (int i = -6; i <= 6; ++i) {
+    float t = float(i) * 0.5;           // in sigmas
+    vec4 s = texture(source, vUv + direction * texel * t * sigmaPx);
+    float w = exp(-0.5 * t * t);
+    if (s.a <= 0.0 || abs(s.a - c.a) > maxStep) continue;
+    sum += w * s.rgb;
+    wsum += w;
+  }
+  outColor = vec4(weight * sum / wsum, c.a);
+}`;
+
+// The unblurred part (the Gaussians narrower than a pixel) into the sum.
+const shareFragment = /* glsl */`
+precision highp float;
+in vec2 vUv;
+out vec4 outColor;
+uniform sampler2D source;
+uniform vec3 weight;
+void main() { vec4 c = texture(source, vUv); outColor = vec4(weight * c.rgb, c.a); }`;
+
+// The frame: albedo x scattered irradiance + specular, encoded as sRGB (IEC 61966-2-1).
+const compositeFragment = /* glsl */`
+precision highp float;
+in vec2 vUv;
+out vec4 outColor;
+uniform sampler2D diffuse, irradiance, specular;
+uniform vec3 albedo;
+uniform vec3 background;
+float encode(float x) { x = clamp(x, 0.0, 1.0); return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055; }
+void main() {
+  if (texture(irradiance, vUv).a <= 0.0) { outColor = vec4(background, 1.0); return; }
+  vec3 L = albedo * texture(diffuse, vUv).rgb + texture(specular, vUv).rgb;
+  outColor = vec4(encode(L.r), encode(L.g), encode(L.b), 1.0);
+}`;
+
+function pass(fragmentShader, uniforms, blending = THREE.NoBlending) {
+  const material = new THREE.ShaderMaterial({
+    glslVersion: THREE.GLSL3, vertexShader: fullscreenVertex, fragmentShader, uniforms,
+    depthTest: false, depthWrite: false, blending,
+  });
+  if (blending === THREE.CustomBlending) {
+    Object.assign(material, { blendSrc: THREE.OneFactor, blendDst: THREE.OneFactor, blendEquation: THREE.AddEquation,
+      blendSrcAlpha: THREE.ZeroFactor, blendDstAlpha: THREE.OneFactor });
+  }
+  const mesh = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), material);
+  mesh.frustumCulled = false;
+  const scene = new THREE.Scene();
+  scene.add(mesh);
+  return { scene, uniforms: material.uniforms };
+}
+
+function createView() {
+  let renderer;
+  try {
+    renderer = new THREE.WebGLRenderer({ canvas, antialias: false, alpha: false, powerPreference: 'high-performance' });
+  } catch (e) {
+    caption.textContent = `No 3D view: WebGL2 is not available in this browser (${e.message}).`;
+    return null;
+  }
+  renderer.autoClear = false;
+  const gl = renderer.getContext();
+  const camera = new THREE.PerspectiveCamera(30, 1, 0.1, 1000);
+  const ortho = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
+  const controls = new OrbitControls(camera, canvas);
+  controls.enableDamping = false;
+
+  const surfaceUniforms = {
+    lightDir: { value: [KEY.dir, FILL.dir, BACK.dir].map((d) => d.clone()) },
+    lightColor: { value: [new THREE.Vector3(), new THREE.Vector3(), new THREE.Vector3()] },
+    rhoS: { value: 0.3 }, roughness: { value: 0.35 }, eta: { value: 1.4 },
+    mmPerUnit: { value: 1 },
+    gaussians: { value: 0 },
+    variance: { value: new Array(MAX_GAUSSIANS).fill(1) },
+    share: { value: Array.from({ length: MAX_GAUSSIANS }, () => new THREE.Vector3()) },
+    translucency: { value: true },
+    backDepth: { value: null }, backMatrix: { value: new THREE.Matrix4() },
+    backNear: { value: 0 }, backFar: { value: 1 },
+    cameraPos: { value: new THREE.Vector3() },
+  };
+  const surface = new THREE.ShaderMaterial({
+    glslVersion: THREE.GLSL3, vertexShader: surfaceVertex, fragmentShader: surfaceFragment,
+    uniforms: surfaceUniforms, side: THREE.DoubleSide,
+  });
+  const depthMaterial = new THREE.MeshDepthMaterial({ side: THREE.DoubleSide });
+
+  const scene = new THREE.Scene();
+  const holder = new THREE.Group();
+  scene.add(holder);
+  const backCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0.1, 100);
+  const backTarget = new THREE.WebGLRenderTarget(512, 512, {
+    depthTexture: new THREE.DepthTexture(512, 512, THREE.UnsignedIntType), depthBuffer: true,
+  });
+  surfaceUniforms.backDepth.value = backTarget.depthTexture;
+
+  const rt = (count = 1) => new THREE.WebGLRenderTarget(1, 1, {
+    type: THREE.HalfFloatType, format: THREE.RGBAFormat, count, depthBuffer: count > 1,
+    minFilter: THREE.LinearFilter, magFilter: THREE.LinearFilter,
+  });
+  const gbuffer = rt(2), horizontal = rt(), sum = rt();
+  const blur = pass(blurFragment, {
+    source: { value: null }, direction: { value: new THREE.Vector2() }, texel: { value: new THREE.Vector2() },
+    sigmaMm: { value: 1 }, pixelsPerUnitAtUnitDepth: { value: 1 }, mmPerUnit: { value: 1 }, weight: { value: new THREE.Vector3(1, 1, 1) },
+  });
+  const blurAdd = pass(blurFragment, blur.uniforms, THREE.CustomBlending);
+  const share = pass(shareFragment, { source: { value: null }, weight: { value: new THREE.Vector3() } });
+  const composite = pass(compositeFragment, {
+    diffuse: { value: sum.texture }, irradiance: { value: gbuffer.textures[0] }, specular: { value: gbuffer.textures[1] },
+    albedo: { value: new THREE.Vector3(0.5, 0.4, 0.35) }, background: { value: new THREE.Vector3(...BACKGROUND) },
+  });
+
+  const view = {
+    frames: 0, lastFrame: 0, frameTimes: [], mode: 'head', mesh: null, meshName: '',
+    parameters: { oiliness: 0.3, roughness: 0.35, eta: 1.4 }, albedo: [0.5, 0.4, 0.35], light: [1, 1, 1],
+    kernels: null,  // {variance: [mm^2], share: [[r, g, b]]}
+  };
+  let headObject = null, headMmPerUnit = 1, patchObject = null;
+
+  function frameObject(object, mmPerUnit, isBust) {
+    // The camera on the object (on a bust, its head: the top 60 %), the back light's depth map
+    // around all of it.
+    const box = new THREE.Box3().setFromObject(object);
+    const centre = box.getCenter(new THREE.Vector3()), size = box.getSize(new THREE.Vector3());
+    const radius = size.length() / 2;
+    const aim = isBust ? new THREE.Vector3(centre.x, box.max.y - 0.3 * size.y, centre.z) : centre;
+    const fit = isBust ? 0.5 * size.y : radius;
+    controls.target.copy(aim);
+    camera.near = radius / 50;
+    camera.far = radius * 20;
+    camera.position.copy(aim).add(new THREE.Vector3(0.45, 0.08, 1).normalize().multiplyScalar(fit / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 1.05));
+    camera.updateProjectionMatrix();
+    controls.update();
+    backCamera.left = backCamera.bottom = -radius;
+    backCamera.right = backCamera.top = radius;
+    backCamera.near = 0.01 * radius;
+    backCamera.far = 4 * radius;
+    backCamera.position.copy(centre).addScaledVector(BACK.dir, 2 * radius);
+    backCamera.lookAt(centre);
+    backCamera.updateProjectionMatrix();
+    backCamera.updateMatrixWorld();
+    surfaceUniforms.backMatrix.value.multiplyMatrices(backCamera.projectionMatrix, backCamera.matrixWorldInverse);
+    surfaceUniforms.backNear.value = backCamera.near;
+    surfaceUniforms.backFar.value = backCamera.far;
+    surfaceUniforms.mmPerUnit.value = mmPerUnit;
+    // The depth map: drawn once per object (the lights stay with the object).
+    scene.overrideMaterial = depthMaterial;
+    renderer.setRenderTarget(backTarget);
+    renderer.setClearColor(0x000000, 1);
+    renderer.clear();
+    renderer.render(scene, backCamera);
+    scene.overrideMaterial = null;
+  }
+
+  function showObject(object, mmPerUnit, name) {
+    holder.clear();
+    holder.add(object);
+    object.traverse((o) => { if (o.isMesh) o.material = surface; });
+    view.meshName = name;
+    frameObject(object, mmPerUnit, name === 'head');
+  }
+
+  // The patch: a square facing the camera, lit head-on by the key light alone, no specular: its
+  // pixels are the model's colour under the illuminant (the page's test of the view).
+  function patch() {
+    if (!patchObject) patchObject = new THREE.Mesh(new THREE.PlaneGeometry(100, 100));
+    return patchObject;
+  }
+
+  function setUniforms() {
+    const patchMode = view.mode === 'patch';
+    const light = new THREE.Vector3(...view.light);
+    surfaceUniforms.lightColor.value[0].copy(light).multiplyScalar(KEY.intensity);
+    surfaceUniforms.lightColor.value[1].copy(light).multiplyScalar(patchMode ? 0 : FILL.intensity);
+    surfaceUniforms.lightColor.value[2].copy(light).multiplyScalar(patchMode ? 0 : BACK.intensity);
+    surfaceUniforms.lightDir.value[0].copy(patchMode ? new THREE.Vector3(0, 0, 1) : KEY.dir);
+    surfaceUniforms.translucency.value = !patchMode && !!view.kernels;
+    surfaceUniforms.rhoS.value = patchMode ? 0 : view.parameters.oiliness;
+    surfaceUniforms.roughness.value = Math.max(view.parameters.roughness, 1e-3);
+    surfaceUniforms.eta.value = view.parameters.eta;
+    surfaceUniforms.cameraPos.value.copy(camera.position);
+    const k = view.kernels;
+    surfaceUniforms.gaussians.value = k ? k.variance.length : 0;
+    if (k) k.variance.forEach((v, i) => { surfaceUniforms.variance.value[i] = v; surfaceUniforms.share.value[i].set(...k.share[i]); });
+    composite.uniforms.albedo.value.set(...view.albedo);
+  }
+
+  function render() {
+    if (view.paused) return;  // (page.test.js, while it traces the page's own frame time)
+    const t0 = performance.now();
+    // At most MAX_WIDTH pixels across (software WebGL draws every pixel on the CPU).
+    const scale = Math.min(window.devicePixelRatio || 1, 2, MAX_WIDTH / Math.max(1, canvas.clientWidth));
+    const w = Math.max(1, Math.round(canvas.clientWidth * scale));
+    const h = Math.max(1, Math.round(canvas.clientHeight * scale));
+    if (canvas.width !== w || canvas.height !== h || gbuffer.width !== w || gbuffer.height !== h) {
+      renderer.setSize(w, h, false);
+      for (const t of [gbuffer, horizontal, sum]) t.setSize(w, h);
+      camera.aspect = w / h;
+      camera.updateProjectionMatrix();
+    }
+    const patchMode = view.mode === 'patch';
+    if (patchMode) {
+      // Head-on, filling the view, whatever the orbit.
+      const d = 200;
+      camera.position.set(0, 0, d);
+      camera.lookAt(0, 0, 0);
+      patch().position.set(0, 0, 0);
+    }
+    setUniforms();
+    // The surface pass.
+    renderer.setRenderTarget(gbuffer);
+    renderer.setClearColor(0x000000, 0);
+    renderer.clear();
+    renderer.render(scene, camera);
+    // The subsurface: each Gaussian wider than a fraction of a pixel blurred (two passes), the rest as is.
+    const mm = surfaceUniforms.mmPerUnit.value;
+    const ppu = h / (2 * Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)));
+    const depth = camera.position.distanceTo(controls.target) || 1;
+    const k = view.kernels || { variance: [1], share: [[1, 1, 1]] };
+    const narrow = [0, 0, 0];
+    const wide = [];
+    k.variance.forEach((v, i) => {
+      const sigmaPx = Math.sqrt(v) / mm * ppu / depth;
+      if (!view.kernels || sigmaPx < 0.3) { for (let c = 0; c < 3; c++) narrow[c] += k.share[i][c]; } else wide.push(i);
+    });
+    renderer.setRenderTarget(sum);
+    renderer.setClearColor(0x000000, 0);
+    renderer.clear();
+    share.uniforms.source.value = gbuffer.textures[0];
+    share.uniforms.weight.value.set(...narrow);
+    renderer.render(share.scene, ortho);
+    blur.uniforms.texel.value.set(1 / w, 1 / h);
+    blur.uniforms.pixelsPerUnitAtUnitDepth.value = ppu;
+    blur.uniforms.mmPerUnit.value = mm;
+    for (const i of wide) {
+      blur.uniforms.sigmaMm.value = Math.sqrt(k.variance[i]);
+      blur.uniforms.source.value = gbuffer.textures[0];
+      blur.uniforms.direction.value.set(1, 0);
+      blur.uniforms.weight.value.set(1, 1, 1);
+      renderer.setRenderTarget(horizontal);
+      renderer.render(blur.scene, ortho);
+      blur.uniforms.source.value = horizontal.texture;
+      blur.uniforms.direction.value.set(0, 1);
+      blur.uniforms.weight.value.set(...k.share[i]);
+      renderer.setRenderTarget(sum);
+      renderer.render(blurAdd.scene, ortho);
+    }
+    renderer.setRenderTarget(null);
+    renderer.render(composite.scene, ortho);
+    view.frames += 1;
+    view.lastFrame = performance.now();
+    view.frameTimes.push(view.lastFrame - t0);
+    if (view.frameTimes.length > 100) view.frameTimes.shift();
+    view.blurred = wide.length;
+  }
+
+  let scheduled = false;
+  function requestRender() {
+    if (scheduled) return;
+    scheduled = true;
+    requestAnimationFrame(() => { scheduled = false; render(); });
+  }
+  controls.addEventListener('change', requestRender);
+  new ResizeObserver(requestRender).observe(canvas);
+
+  Object.assign(view, {
+    // The page's update (app.js, inside its animation frame): drawn at once, in the same frame.
+    update(albedo, parameters) {
+      view.albedo = albedo;
+      Object.assign(view.parameters, parameters);
+      render();
+    },
+    setLight(rgb) { view.light = rgb; requestRender(); },
+    // The realtime export's document (its "gaussians": variance in mm^2 and weight per channel):
+    // each Gaussian's share of the channel's total.
+    setKernels(doc) {
+      if (!doc) { view.kernels = null; requestRender(); return; }
+      const total = [0, 1, 2].map((c) => doc.gaussians.reduce((s, g) => s + g.weight[c], 0));
+      view.kernels = {
+        variance: doc.gaussians.map((g) => g.variance),
+        share: doc.gaussians.map((g) => g.weight.map((w, c) => (total[c] > 0 ? w / total[c] : 0))),
+      };
+      requestRender();
+    },
+    setMode(mode) {
+      view.mode = mode;
+      if (mode === 'patch') showObject(patch(), 1, 'patch');
+      else if (headObject) showObject(headObject, headMmPerUnit, view.meshName0);
+      controls.enabled = mode !== 'patch';
+      render();
+    },
+    // A frame drawn and read back at once (RGBA bytes, bottom row first), for tests.
+    pixels() {
+      render();
+      const out = new Uint8Array(canvas.width * canvas.height * 4);
+      gl.readPixels(0, 0, canvas.width, canvas.height, gl.RGBA, gl.UNSIGNED_BYTE, out);
+      return { width: canvas.width, height: canvas.height, data: Array.from(out) };
+    },
+    requestRender,
+  });
+
+  // The head, or the sphere without it.
+  headObject = new THREE.Mesh(new THREE.SphereGeometry(1, 96, 64));
+  headMmPerUnit = SPHERE_RADIUS_MM;
+  view.meshName0 = 'sphere';
+  showObject(headObject, headMmPerUnit, 'sphere');
+  new GLTFLoader().load(HEAD_URL, (gltf) => {
+    const head = gltf.scene;
+    const size = new THREE.Box3().setFromObject(head).getSize(new THREE.Vector3());
+    headObject = head;
+    headMmPerUnit = BUST_WIDTH_MM / size.x;
+    view.meshName0 = 'head';
+    if (view.mode === 'head') showObject(head, headMmPerUnit, 'head');
+    caption.dataset.mesh = 'head';
+    document.getElementById('view3d-credit').hidden = false;
+    view.ready = true;
+    requestRender();
+  }, undefined, () => {
+    caption.dataset.mesh = 'sphere';
+    view.ready = true;
+    requestRender();
+  });
+  return view;
+}
+
+const view = createView();
+window.skinView3d = view;
+if (view && window.skinView3dPending) window.skinView3dPending(view);

@@ -1,0 +1,191 @@
+// The page's 3D view (#view3d, web/page/view3d.js) in headless Chromium on SwiftShader (WebGL2
+// in software; puppeteer-core, as browser.test.js):
+//   - a lit head: the Lee Perry-Smith scan when the site holds it (scripts/web.sh copies it),
+//     enough pixels off the background, of a sensible brightness; with the mesh's request
+//     refused, a lit sphere instead;
+//   - the subsurface kernels are the realtime export's for the current parameters;
+//   - moving #param-melanin's slider changes the skin's pixels, and the time from the slider's
+//     input event to the next frame after the view's is measured (median of 15 moves) and
+//     printed with the view's draw times; SKIN_VIEW_LATENCY_MS (e.g. 50, the issue's target)
+//     makes it a limit (not held by default: the machine is shared and loaded);
+//   - the patch (the view's test mode: a square head-on, lit by the key light alone, no
+//     specular) reads within 1 CIEDE2000 of the module's colour (`skin color`) for every preset.
+// Run: node web/test/head.test.js (after scripts/web.sh and npm ci in web/).
+'use strict';
+const fs = require('fs');
+const path = require('path');
+const { ROOT, SITE, fail, openPage } = require('./common');
+
+let checks = 0;
+function check(failures, what) {
+  fail(failures, what);
+  checks += 1;
+  console.log(`${failures.length === 0 ? 'ok' : 'FAILED'}: ${what}`);
+}
+
+// CIELAB (D65 white) of linear sRGB, and CIEDE2000 (Sharma, Wu & Dalal 2005).
+function lab(rgb) {
+  const [r, g, b] = rgb;
+  const X = 0.4124564 * r + 0.3575761 * g + 0.1804375 * b;
+  const Y = 0.2126729 * r + 0.7151522 * g + 0.0721750 * b;
+  const Z = 0.0193339 * r + 0.1191920 * g + 0.9503041 * b;
+  const w = [0.95047, 1, 1.08883];
+  const f = (t) => (t > (6 / 29) ** 3 ? Math.cbrt(t) : t / (3 * (6 / 29) ** 2) + 4 / 29);
+  const [fx, fy, fz] = [X / w[0], Y / w[1], Z / w[2]].map(f);
+  return [116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)];
+}
+function deltaE2000([L1, a1, b1], [L2, a2, b2]) {
+  const rad = Math.PI / 180;
+  const C1 = Math.hypot(a1, b1), C2 = Math.hypot(a2, b2), Cm = (C1 + C2) / 2;
+  const G = 0.5 * (1 - Math.sqrt(Cm ** 7 / (Cm ** 7 + 25 ** 7)));
+  const a1p = (1 + G) * a1, a2p = (1 + G) * a2;
+  const C1p = Math.hypot(a1p, b1), C2p = Math.hypot(a2p, b2);
+  const h = (b, a) => (b === 0 && a === 0 ? 0 : (Math.atan2(b, a) / rad + 360) % 360);
+  const h1 = h(b1, a1p), h2 = h(b2, a2p);
+  const dL = L2 - L1, dC = C2p - C1p;
+  let dh = 0;
+  if (C1p * C2p !== 0) dh = Math.abs(h2 - h1) <= 180 ? h2 - h1 : h2 - h1 > 180 ? h2 - h1 - 360 : h2 - h1 + 360;
+  const dH = 2 * Math.sqrt(C1p * C2p) * Math.sin(dh * rad / 2);
+  const Lm = (L1 + L2) / 2, Cmp = (C1p + C2p) / 2;
+  let hm = h1 + h2;
+  if (C1p * C2p !== 0) hm = Math.abs(h1 - h2) <= 180 ? (h1 + h2) / 2 : h1 + h2 < 360 ? (h1 + h2 + 360) / 2 : (h1 + h2 - 360) / 2;
+  const T = 1 - 0.17 * Math.cos((hm - 30) * rad) + 0.24 * Math.cos(2 * hm * rad) + 0.32 * Math.cos((3 * hm + 6) * rad) - 0.2 * Math.cos((4 * hm - 63) * rad);
+  const dTheta = 30 * Math.exp(-(((hm - 275) / 25) ** 2));
+  const RC = 2 * Math.sqrt(Cmp ** 7 / (Cmp ** 7 + 25 ** 7));
+  const SL = 1 + (0.015 * (Lm - 50) ** 2) / Math.sqrt(20 + (Lm - 50) ** 2), SC = 1 + 0.045 * Cmp, SH = 1 + 0.015 * Cmp * T;
+  const RT = -Math.sin(2 * dTheta * rad) * RC;
+  return Math.sqrt((dL / SL) ** 2 + (dC / SC) ** 2 + (dH / SH) ** 2 + RT * (dC / SC) * (dH / SH));
+}
+const decode = (v) => { const c = v / 255; return c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4; };
+
+// The view's pixels ({width, height, data}) split into skin (off the background) and the rest.
+function skinPixels(p) {
+  const bg = p.data.slice(0, 3);  // a corner: the background
+  const skin = [];
+  for (let i = 0; i < p.data.length; i += 4) {
+    if (Math.abs(p.data[i] - bg[0]) + Math.abs(p.data[i + 1] - bg[1]) + Math.abs(p.data[i + 2] - bg[2]) > 6) skin.push(i);
+  }
+  return skin;
+}
+const luma = (d, i) => 0.2126 * d[i] + 0.7152 * d[i + 1] + 0.0722 * d[i + 2];
+
+async function ready(page) {
+  await page.waitForFunction(() => window.skinReady && window.skinView3d && window.skinView3d.ready && !window.skinPending &&
+    (skinState.profilePending || window.skinState.kernelsKey === JSON.stringify({ preset: skinState.preset, params: { ...skinState.values }, solver: skinState.solver })),
+  { timeout: 60000 });
+}
+
+async function main() {
+  const opened = await openPage('3D view test', ['--enable-unsafe-swiftshader']);
+  if (!opened) return;
+  const { page, url, close } = opened;
+  try {
+    const hasMesh = fs.existsSync(path.join(SITE, 'mesh', 'LeePerrySmith.glb'));
+    await page.goto(url);
+    await ready(page);
+    const renderer = await page.evaluate(() => {
+      const gl = document.getElementById('view3d').getContext('webgl2');
+      const d = gl && gl.getExtension('WEBGL_debug_renderer_info');
+      return gl ? gl.getParameter(d ? d.UNMASKED_RENDERER_WEBGL : gl.RENDERER) : null;
+    });
+    console.log(`WebGL2: ${renderer}`);
+
+    // A lit head.
+    const head = await page.evaluate(() => ({ mesh: skinView3d.meshName, pixels: skinView3d.pixels(), credit: !document.getElementById('view3d-credit').hidden }));
+    const skin = skinPixels(head.pixels);
+    const share = skin.length / (head.pixels.width * head.pixels.height);
+    const mean = skin.reduce((s, i) => s + luma(head.pixels.data, i), 0) / Math.max(1, skin.length);
+    check([
+      ...(head.mesh !== (hasMesh ? 'head' : 'sphere') ? [`mesh ${head.mesh}, expected ${hasMesh ? 'head' : 'sphere'}`] : []),
+      ...(hasMesh && !head.credit ? ['the head is shown without its credit'] : []),
+      ...(share < 0.15 ? [`only ${(100 * share).toFixed(1)} % of the view off the background`] : []),
+      ...(!(mean > 60 && mean < 230) ? [`mean skin luma ${mean.toFixed(1)} (8-bit) is not of a lit skin`] : []),
+    ], `#view3d shows a lit ${head.mesh}: ${(100 * share).toFixed(0)} % of the view, mean luma ${mean.toFixed(0)}/255`);
+
+    const shots = path.join(ROOT, 'build-web', 'screenshots');
+    fs.mkdirSync(shots, { recursive: true });
+    await (await page.$('#view3d')).screenshot({ path: path.join(shots, 'view3d.png') });
+
+    // The kernels are the realtime export's of these parameters.
+    const kernels = await page.evaluate(() => {
+      const e = JSON.parse(JSON.parse(skinState.module.run('export', JSON.stringify({ preset: skinState.preset, params: skinState.values, solver: skinState.solver, target: 'realtime' }))).files[0].content);
+      return { page: skinState.kernels.gaussians, exported: e.gaussians, used: skinView3d.kernels.variance };
+    });
+    check(JSON.stringify(kernels.page) === JSON.stringify(kernels.exported) &&
+      JSON.stringify(kernels.used) === JSON.stringify(kernels.exported.map((g) => g.variance)) ? [] : ['kernels differ from the realtime export'],
+    `the view's subsurface is the realtime export's ${kernels.exported.length} Gaussians`);
+
+    // Melanin moves the skin's pixels, and the time from the input event to the next frame.
+    const latencies = await page.evaluate(async () => {
+      const slider = document.getElementById('s-melanin');
+      const nextFrame = () => new Promise((r) => requestAnimationFrame(r));
+      const out = [];
+      for (let k = 0; k < 15; k++) {
+        await nextFrame();
+        const frames = skinView3d.frames;
+        const t0 = performance.now();
+        slider.value = String(200 + 40 * k);
+        slider.dispatchEvent(new Event('input', { bubbles: true }));
+        while (skinView3d.frames === frames) await nextFrame();
+        const drawn = skinView3d.lastFrame;
+        await nextFrame();  // the frame after the one the view drew into: that one was presented
+        out.push({ total: performance.now() - t0, drawn: drawn - t0, draw: skinView3d.frameTimes[skinView3d.frameTimes.length - 1] });
+      }
+      return out;
+    });
+    const median = (a) => { const s = [...a].sort((x, y) => x - y); return s[s.length >> 1]; };
+    const latency = median(latencies.map((l) => l.total));
+    console.log(`input event -> next frame: median ${latency.toFixed(1)} ms (min ${Math.min(...latencies.map((l) => l.total)).toFixed(1)}, max ` +
+      `${Math.max(...latencies.map((l) => l.total)).toFixed(1)}); input -> view drawn (model, page, view) median ${median(latencies.map((l) => l.drawn)).toFixed(1)} ms; ` +
+      `the view's draw calls ${median(latencies.map((l) => l.draw)).toFixed(1)} ms median on the main thread`);
+    const limit = Number(process.env.SKIN_VIEW_LATENCY_MS || 0);
+    if (limit > 0) check(latency <= limit ? [] : [`median ${latency.toFixed(1)} ms > ${limit} ms`], `slider to frame within ${limit} ms`);
+    const moved = await page.evaluate(() => ({ pixels: skinView3d.pixels(), melanin: skinState.values.melanin }));
+    let diff = 0;
+    for (const i of skin) diff += Math.abs(moved.pixels.data[i] - head.pixels.data[i]) + Math.abs(moved.pixels.data[i + 1] - head.pixels.data[i + 1]) + Math.abs(moved.pixels.data[i + 2] - head.pixels.data[i + 2]);
+    diff /= 3 * Math.max(1, skin.length);
+    const darker = skinPixels(moved.pixels).reduce((s, i) => s + luma(moved.pixels.data, i), 0) / Math.max(1, skinPixels(moved.pixels).length);
+    check(diff > 5 && darker < mean ? [] : [`mean change ${diff.toFixed(2)}/255, luma ${mean.toFixed(1)} -> ${darker.toFixed(1)}`],
+      `melanin ${moved.melanin} changes the skin's pixels (mean ${diff.toFixed(1)}/255 per channel, luma ${mean.toFixed(0)} -> ${darker.toFixed(0)})`);
+
+    // The patch against the module's colour, for every preset.
+    const presets = await page.evaluate(() => skinState.presets.map((p) => p.name));
+    const worst = { de: 0, preset: '' };
+    const failures = [];
+    for (const name of presets) {
+      await page.click(`#presets button[data-preset="${name}"]`);
+      await ready(page);
+      const r = await page.evaluate(() => {
+        skinView3d.setMode('patch');
+        const p = skinView3d.pixels();
+        skinView3d.setMode('head');
+        // The mean of the central 16 x 16 pixels.
+        const sum = [0, 0, 0];
+        for (let y = (p.height >> 1) - 8; y < (p.height >> 1) + 8; y++)
+          for (let x = (p.width >> 1) - 8; x < (p.width >> 1) + 8; x++)
+            for (let c = 0; c < 3; c++) sum[c] += p.data[(y * p.width + x) * 4 + c];
+        return { rgb8: sum.map((v) => v / 256), color: skinState.spectrum.color.srgb_linear };
+      });
+      const de = deltaE2000(lab(r.color), lab(r.rgb8.map(decode)));
+      if (de > worst.de) Object.assign(worst, { de, preset: name });
+      if (!(de <= 1)) failures.push(`${name}: dE2000 ${de.toFixed(3)} (patch ${r.rgb8.map((v) => v.toFixed(1)).join(' ')})`);
+    }
+    check(failures, `the lit patch reads the module's colour for all ${presets.length} presets: worst dE2000 ${worst.de.toFixed(3)} (${worst.preset})`);
+
+    // Without the mesh: a sphere.
+    await page.setRequestInterception(true);
+    page.on('request', (req) => (req.url().endsWith('.glb') ? req.respond({ status: 404, body: '' }) : req.continue()));
+    await page.goto(url + '?no-mesh#preset=african');  // a new document (a fragment alone is no reload)
+    await ready(page);
+    const sphere = await page.evaluate(() => ({ mesh: skinView3d.meshName, pixels: skinView3d.pixels(), credit: !document.getElementById('view3d-credit').hidden }));
+    const sphereSkin = skinPixels(sphere.pixels);
+    check(sphere.mesh === 'sphere' && !sphere.credit && sphereSkin.length > 0.1 * sphere.pixels.width * sphere.pixels.height ? []
+      : [`mesh ${sphere.mesh}, credit ${sphere.credit}, ${sphereSkin.length} skin pixels`], 'without the head mesh, a lit sphere (no credit)');
+
+  } finally {
+    await close();
+  }
+  console.log(`${checks} checks${process.exitCode ? ', FAILED' : ''}`);
+}
+
+main().catch((e) => { console.error(e); process.exitCode = 1; });
