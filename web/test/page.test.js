@@ -29,8 +29,10 @@ const { ROOT, TMP, fail, openPage } = require('./common');
 const SHOTS = path.join(ROOT, 'build-web', 'screenshots');
 // The page's own part of a slider update's frame (the drawing, style, layout and paint: the
 // frame less the model's computation) may take this much at most. With the coefficient table
-// filled on every update it was ~17 ms at load 9 on the 2-core reference machine; now ~6 ms.
-const PAGE_BUDGET_MS = 12;
+// filled on every update it was ~17 ms at load 9 on the 2-core reference machine (18.3 ms in
+// one run); now ~6 ms, 11.6 ms measured once at load 7-8 with the 3D view paused. 15 ms keeps
+// the old page failing and leaves room for a loaded machine.
+const PAGE_BUDGET_MS = 15;
 let checks = 0;
 function check(failures, what) {
   fail(failures, what);
