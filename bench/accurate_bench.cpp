@@ -2,7 +2,9 @@
 //   build/bin/accurate_bench
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
 #include <memory>
+#include <string>
 
 #include "skin/transport/accurate.hpp"
 #include "skin/model/skin_model.hpp"
@@ -180,3 +182,49 @@ static void BM_FrequencyRgbProfile(benchmark::State& state) {
   state.SetLabel(label(static_cast<int>(state.range(0))));
 }
 BENCHMARK(BM_FrequencyRgbProfile)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();
+
+// Issue 31's cases: parameter sets drawn from the whole skin domain (sample_skin_domain(8, 31):
+// its edges and corners included), not only the presets. Arg: the draw. The label gives the
+// draw's epidermis thickness, g, index and dermis scattering scale, and how many of its 151
+// wavelengths the default model solves (off its skin table) rather than reads.
+namespace {
+const SkinParameters& domain_draw(int i) {
+  static const std::vector<SkinParameters> draws = physics::sample_skin_domain(8, 31);
+  return draws.at(static_cast<std::size_t>(i));
+}
+std::string domain_label(int i, const WavelengthGrid& grid) {
+  const SkinParameters& p = domain_draw(i);
+  char text[160];
+  std::snprintf(text, sizeof text, "d %.3g mm, g %.3g, eta %.3g, dermis %.3g, %zu/%zu solved", p.epidermis_thickness,
+                p.g, p.eta, p.dermis_scattering_scale,
+                model::skin_profile_solves(p, grid, transport::find_model("accurate")), grid.size());
+  return text;
+}
+}  // namespace
+
+// R_d(lambda) at 151 wavelengths of a domain draw (the accurate model's totals, warm tables).
+static void BM_DomainRdSpectrum(benchmark::State& state) {
+  const WavelengthGrid grid;
+  const auto& p = domain_draw(static_cast<int>(state.range(0)));
+  const transport::accurate::Cache cache;
+  for (auto _ : state) {
+    double sum = 0;
+    for (std::size_t i = 0; i < grid.size(); ++i)
+      sum += transport::accurate::adding_doubling(skin_layer_stack(p, grid[i]), {}, cache).R_d;
+    benchmark::DoNotOptimize(sum);
+  }
+  state.SetLabel(domain_label(static_cast<int>(state.range(0)), grid));
+}
+BENCHMARK(BM_DomainRdSpectrum)->DenseRange(0, 7)->Unit(benchmark::kMillisecond);
+
+// The RGB profile of a domain draw, as BM_AccurateRgbProfile (151 wavelengths, 512 radii), once
+// (off the skin table each wavelength is a frequency-domain solve).
+static void BM_DomainRgbProfile(benchmark::State& state) {
+  const WavelengthGrid grid;
+  const auto& p = domain_draw(static_cast<int>(state.range(0)));
+  ProfileSolver solver(RadialGrid::logarithmic(1e-3, 16.0, 512));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(model::skin_rgb_profile(p, grid, solver, transport::find_model("accurate")));
+  state.SetLabel(domain_label(static_cast<int>(state.range(0)), grid));
+}
+BENCHMARK(BM_DomainRgbProfile)->DenseRange(0, 7)->Unit(benchmark::kMillisecond)->Iterations(1)->UseRealTime();

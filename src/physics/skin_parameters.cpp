@@ -57,8 +57,11 @@ const ParameterInfo kParameters[] = {
      "Henyey-Greenstein anisotropy (transport models; the paper gives sigma_s_prime only)",
      &SkinParameters::g, /*domain*/ 0.7, 0.97},
     {"epidermal_hemoglobin", "", "1", 0, 1, false, false,
-     "extended model: blood volume fraction of the epidermis", &SkinParameters::epidermal_hemoglobin, /*domain*/ 0, 1,
-     0.0, 0.1},
+     "extended model: blood volume fraction of the epidermis", &SkinParameters::epidermal_hemoglobin,
+     // domain: as its fit range (the epidermis has no vessels of its own; this stands for the
+     // papillary capillaries next to it); the whole [0, 1] drew sets with melanin + epidermal blood
+     // above 1 (29 % of them), which are not skin and which validate() refuses
+     /*domain*/ 0, 0.1, 0.0, 0.1},
     {"beta_carotene", "", "umol/L", 0, 1000, false, false,
      "extended model: beta-carotene in the epidermis", &SkinParameters::beta_carotene, /*domain*/ 0, 1000, 0.0, 200.0},
     {"bilirubin", "", "umol/L", 0, 1000, false, false, "extended model: bilirubin in the dermis",
