@@ -92,6 +92,7 @@ std::vector<ValidationCase> domain_cases(std::size_t n, std::uint64_t seed) {
                                          : 380 + 400 * u;
     const double l = std::round(lambda);
     const SkinParameters& p = sets[i];
+    p.validate();  // a draw the model would refuse is not skin (skin_layer_stack does not check)
     ValidationCase c;
     c.id = "domain-" + std::to_string(i + 1) + "-" + fmt("%.0f", l) + "nm";
     c.group = "Skin domain (seed " + std::to_string(seed) + ")";
