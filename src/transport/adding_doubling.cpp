@@ -434,21 +434,8 @@ LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulat
   }
   const double tau = sigma_t * layer.thickness;
   if (tabulate) {
-    // Beyond the table (tau > ~59) the layer is read at tau / 2^k inside it and doubled k times
-    // (each doubling a few products of m x m matrices): a thick epidermis (0.4 mm of strongly
-    // forward-scattering skin reaches tau ~ 100-400) no longer costs ~10 doublings from the
-    // diamond start at every wavelength.
-    double t = tau;
-    int k = 0;
-    while (t > SlabTable::kTauMin * std::exp2((SlabTable::kTau - 1.0) / SlabTable::kPerOctave) && k < 40) {
-      t *= 0.5;
-      ++k;
-    }
     LayerRT rt;
-    if (slab_table_at(geo, omega, t, rt)) {
-      for (int i = 0; i < k; ++i) double_once(rt);
-      return rt;
-    }
+    if (slab_table_at(geo, omega, tau, rt)) return rt;
   }
   return finite_direct(geo, omega, tau);
 }
