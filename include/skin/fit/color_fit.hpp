@@ -36,7 +36,13 @@ struct ColorFitOptions {
   physics::WavelengthGrid grid;                // colour integration grid, as `skin color`
   std::vector<std::pair<Parameter, Bounds>> bounds;  // overriding default_bounds
   ForwardModel model;                 // empty: forward_model(transport::default_model())
+  // extended: any parameter with a fit interval may be free; bounds default to prior_bounds; the
+  // residuals are CIEDE2000's three components (delta_e_2000_components) and the Gaussian prior
+  // terms (weight kColorPriorWeight); melanin_blend_prior/weight are not used. docs/fit.md.
+  FitModel fit_model = FitModel::paper;
 };
+// Sets options.fit_model and options.free (the paper's three or extended_model_free(false)).
+void use_fit_model(ColorFitOptions& options, FitModel model);
 
 struct ColorFitResult {
   physics::SkinParameters parameters;
@@ -44,6 +50,15 @@ struct ColorFitResult {
   color::Rgb fitted_srgb_linear;
   double delta_e = 0;            // CIEDE2000 between target and fitted
   int iterations = 0;
+  FitModel fit_model = FitModel::paper;
+  bool outside_gamut = false;    // delta_e > kGamutDeltaE: the model does not reach the target
+  std::vector<Parameter> free;   // fitted, in the order of the next two
+  // One standard deviation per free parameter for a target known to one unit per residual (Lab
+  // units for the paper model, CIEDE2000 for the extended one): sqrt of the diagonal of
+  // (J^T J)^-1, J the Jacobian of the residuals (prior terms included) at the solution; infinity
+  // where the colour and the prior leave a direction free. Empty for the texture path.
+  std::vector<double> uncertainty;
+  std::vector<bool> at_bound;    // ended on its search bound
 };
 std::ostream& operator<<(std::ostream& os, const ColorFitResult& r);
 
