@@ -512,7 +512,12 @@ struct TextureFitter::Impl {
   }
 };
 
-TextureFitter::TextureFitter(ColorFitOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+TextureFitter::TextureFitter(ColorFitOptions options) {
+  if (options.fit_model == FitModel::extended)
+    throw InputError("model = 'extended' is not available for textures yet: the texture fit tables "
+                     "C_m, beta_m, C_h only (use --model paper, or fit single colours with --hex)");
+  impl_ = std::make_unique<Impl>(std::move(options));
+}
 TextureFitter::~TextureFitter() = default;
 TextureFitter::TextureFitter(TextureFitter&&) noexcept = default;
 TextureFitter& TextureFitter::operator=(TextureFitter&&) noexcept = default;
@@ -570,6 +575,7 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   uniq.erase(std::unique(uniq.begin(), uniq.end()), uniq.end());
   struct Out {
     float m, b, h, e;
+    unsigned char bound;  // bit k: parameter k (melanin, melanin_blend, hemoglobin) on its bound
   };
   std::vector<Out> solved(uniq.size());
   const Impl& m = *impl_;
@@ -590,8 +596,11 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
         const auto s = m.solve({t.L, t.a, t.b});
         const SkinParameters p = m.params(s.u);
         const double e = color::delta_e_2000(t, {s.lab[0], s.lab[1], s.lab[2]});
+        unsigned char bound = 0;
+        for (int k = 0; k < 3; ++k)
+          if (m.axis[k].n > 1 && (s.u[k] <= 1e-9 || s.u[k] >= m.axis[k].n - 1 - 1e-9)) bound |= static_cast<unsigned char>(1u << k);
         solved[q] = {static_cast<float>(p.melanin), static_cast<float>(p.melanin_blend),
-                     static_cast<float>(p.hemoglobin), static_cast<float>(e)};
+                     static_cast<float>(p.hemoglobin), static_cast<float>(e), bound};
       }
       done += chunk;
     });
@@ -606,14 +615,20 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   maps.melanin_blend.resize(npix);
   maps.hemoglobin.resize(npix);
   maps.error.resize(npix);
+  std::vector<unsigned char> bound(npix);
   tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
     const auto q = static_cast<std::size_t>(std::lower_bound(uniq.begin(), uniq.end(), key[i]) - uniq.begin());
+    bound[i] = solved[q].bound;
     maps.melanin[i] = solved[q].m;
     maps.melanin_blend[i] = solved[q].b;
     maps.hemoglobin[i] = solved[q].h;
     maps.error[i] = solved[q].e;
   });
   maps.update_error_statistics();
+  for (unsigned char b : bound) {
+    for (int k = 0; k < 3; ++k) maps.at_bound[static_cast<std::size_t>(k)] += (b >> k) & 1u;
+    maps.any_at_bound += b != 0;
+  }
   return maps;
 }
 
@@ -627,6 +642,11 @@ void ParameterMaps::update_error_statistics() {
   }
   const auto n = static_cast<double>(error.size());
   mean_error = error.empty() ? 0 : sum / n;
+  double sum_out = 0;
+  std::size_t out = 0;
+  for (float e : error)
+    if (e > kGamutDeltaE) sum_out += e, ++out;
+  mean_error_outside = out ? sum_out / static_cast<double>(out) : 0.0;
   max_error = mx;
   fraction_below_1 = error.empty() ? 0 : static_cast<double>(below) / n;
 }

@@ -11,6 +11,7 @@
 
 #include "lm.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/fit/color_fit.hpp"
 #include "skin/color/color.hpp"
 #include "skin/physics/spectrum.hpp"
 #include "skin/transport/diffusion.hpp"
@@ -92,37 +93,10 @@ std::vector<double> nodes(Parameter p, Bounds b) {
 
 constexpr double kTableStep = 10.0;  // [nm] coarse table sampling, 400-700 nm
 
-// CIEDE2000 between two spectra sampled at `lambda`, each interpolated linearly to the colour
-// grid (400-700 nm every 2 nm, held flat beyond the samples) and seen under D65 as `skin color`.
+// CIEDE2000 between two spectra sampled at `lambda` (reflectance_lab of each).
 double spectrum_delta_e(const std::vector<double>& lambda, const std::vector<double>& a,
                         const std::vector<double>& b) {
-  static const color::Colorimetry cm{physics::WavelengthGrid{}};
-  const std::vector<double> grid = physics::WavelengthGrid{}.values();
-  auto resample = [&](const std::vector<double>& v) {
-    std::vector<double> out(grid.size());
-    for (std::size_t i = 0; i < grid.size(); ++i) {
-      const double l = grid[i];
-      if (l <= lambda.front()) out[i] = v.front();
-      else if (l >= lambda.back()) out[i] = v.back();
-      else {
-        const auto k = static_cast<std::size_t>(std::lower_bound(lambda.begin(), lambda.end(), l) - lambda.begin());
-        const double t = (l - lambda[k - 1]) / (lambda[k] - lambda[k - 1]);
-        out[i] = v[k - 1] + t * (v[k] - v[k - 1]);
-      }
-    }
-    return out;
-  };
-  auto lab = [&](const std::vector<double>& R) {
-    const auto& w = cm.srgb_weights();
-    color::Rgb c;
-    for (std::size_t i = 0; i < R.size(); ++i) {
-      c.r += w[i][0] * R[i];
-      c.g += w[i][1] * R[i];
-      c.b += w[i][2] * R[i];
-    }
-    return color::summarize_rgb(cm, c).lab;
-  };
-  return color::delta_e_2000(lab(resample(a)), lab(resample(b)));
+  return color::delta_e_2000(reflectance_lab(lambda, a), reflectance_lab(lambda, b));
 }
 
 }  // namespace
@@ -462,6 +436,28 @@ FitResult SpectrumFitter::fit(const MeasuredSpectrum& meas) const {
     r.at_bound.push_back(v <= b.lo + 1e-9 * (b.hi - b.lo) || v >= b.hi - 1e-9 * (b.hi - b.lo));
   }
   return r;
+}
+
+color::Lab reflectance_lab(const std::vector<double>& lambda, const std::vector<double>& R) {
+  static const color::Colorimetry cm{physics::WavelengthGrid{}};
+  static const std::vector<double> grid = physics::WavelengthGrid{}.values();
+  const auto& w = cm.srgb_weights();
+  color::Rgb c;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const double l = grid[i];
+    double v;
+    if (l <= lambda.front()) v = R.front();
+    else if (l >= lambda.back()) v = R.back();
+    else {
+      const auto k = static_cast<std::size_t>(std::lower_bound(lambda.begin(), lambda.end(), l) - lambda.begin());
+      const double t = (l - lambda[k - 1]) / (lambda[k] - lambda[k - 1]);
+      v = R[k - 1] + t * (R[k] - R[k - 1]);
+    }
+    c.r += w[i][0] * v;
+    c.g += w[i][1] * v;
+    c.b += w[i][2] * v;
+  }
+  return color::summarize_rgb(cm, c).lab;
 }
 
 FitResult fit_spectrum(const MeasuredSpectrum& m, const SpectrumFitOptions& options) {

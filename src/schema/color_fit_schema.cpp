@@ -67,6 +67,10 @@ json texture_fit_document(const fit::ParameterMaps& maps) {
   j["height"] = maps.height;
   j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
   j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
+  // Outside the model's gamut: texels farther than fit::kGamutDeltaE; parameters on their bounds.
+  j["outside_gamut"] = {{"fraction", 1.0 - maps.fraction_below_1}, {"mean_delta_e_2000", maps.mean_error_outside}};
+  j["at_bound"] = {{"melanin", maps.at_bound[0]}, {"melanin_blend", maps.at_bound[1]},
+                   {"hemoglobin", maps.at_bound[2]}, {"any", maps.any_at_bound}};
   return j;
 }
 
@@ -90,6 +94,13 @@ Result texture_fit_result(const fit::ParameterMaps& maps, const std::string& tex
                 output.c_str(), maps.width, maps.height, maps.mean_error, maps.max_error,
                 maps.fraction_below_1);
   result.table = buf;
+  std::snprintf(buf, sizeof buf,
+                "outside the gamut (> 1): %.3g of pixels, mean %.3g; at a bound: %.3g of pixels "
+                "(melanin %zu, melanin_blend %zu, hemoglobin %zu)\n",
+                1.0 - maps.fraction_below_1, maps.mean_error_outside,
+                maps.width > 0 ? static_cast<double>(maps.any_at_bound) / (static_cast<double>(maps.width) * maps.height) : 0.0,
+                maps.at_bound[0], maps.at_bound[1], maps.at_bound[2]);
+  result.table += buf;
   return result;
 }
 
