@@ -30,6 +30,7 @@ struct FitOpts {
   OutputOptions out;
   std::string spectrum, column, srgb, hex, texture, report_dir, spectra_dir;
   std::string free, plot, fitted;
+  std::string model = "paper";
   SolverOption solver;
   std::vector<std::string> bounds;
   bool includes_specular = false;
@@ -86,6 +87,7 @@ void run_spectrum(const FitOpts& o) {
     throw InputError("fitted = '" + o.fitted + "': the extension must be .csv or .json");
   fit::SpectrumFitOptions opt;
   opt.start = o.params.resolve();
+  fit::use_fit_model(opt, fit::parse_fit_model(o.model));
   if (!o.free.empty()) opt.free = fit::parse_parameter_list(o.free);
   opt.includes_specular = o.includes_specular;
   opt.lambda_min = o.lambda_min;
@@ -119,6 +121,7 @@ void run_spectrum(const FitOpts& o) {
 fit::ColorFitOptions color_fit_options(const FitOpts& o) {
   fit::ColorFitOptions opt;
   opt.start = o.params.resolve();
+  fit::use_fit_model(opt, fit::parse_fit_model(o.model));
   if (!o.free.empty()) opt.free = fit::parse_parameter_list(o.free);
   opt.melanin_blend_prior = o.blend_prior;
   opt.melanin_blend_weight = o.blend_weight;
@@ -200,6 +203,11 @@ void register_fit(CLI::App& app) {
   auto* o_col = sub->add_option("--column", o->column, "Reflectance column of a multi-column CSV")->group(g_in);
 
   auto* g_fit = "Fit";
+  auto* o_model = sub->add_option("--model", o->model,
+                  "Parameter set: paper (C_m, beta_m, C_h; the default) or extended (+ epidermis thickness, "
+                  "oxygenation, scattering scale; spectra also beta-carotene, epidermal blood), each kept in "
+                  "its measured range with a weak prior (docs/fit.md)")
+      ->capture_default_str()->group(g_fit);
   sub->add_option("--free", o->free,
                   "Parameters to fit, comma-separated names or the paper's symbols (default "
                   "melanin,melanin-blend,hemoglobin); "
@@ -229,7 +237,13 @@ void register_fit(CLI::App& app) {
 
   // Options that only make sense for one kind of input are rejected elsewhere, before any work.
   for (auto* opt : {o_col, o_specular, o_lmin, o_lmax, o_plot, o_fitted}) opt->needs(o_spec);
-  sub->callback([o, o_spec, o_srgb, o_hex, o_tex, o_rep, o_prior, o_weight] {
+  sub->callback([o, o_spec, o_srgb, o_hex, o_tex, o_rep, o_prior, o_weight, o_model] {
+    if (o_model->count() && o_rep->count())
+      throw InputError("--model applies to --spectrum, --srgb, --hex and --texture; the measured report "
+                       "fits both models");
+    if ((o_prior->count() || o_weight->count()) && fit::parse_fit_model(o->model) == fit::FitModel::extended)
+      throw InputError("--melanin-blend-prior and --melanin-blend-weight apply to --model paper; the "
+                       "extended model's priors are the parameter table's (docs/fit.md)");
     if ((o_prior->count() || o_weight->count()) && !(o_srgb->count() || o_hex->count() || o_tex->count()))
       throw InputError("--melanin-blend-prior and --melanin-blend-weight apply to colour fits only "
                        "(--srgb, --hex, --texture)");

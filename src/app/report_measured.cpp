@@ -8,6 +8,7 @@
 #include <ostream>
 #include <sstream>
 
+#include "skin/fit/color_fit.hpp"
 #include "skin/plot/plot.hpp"
 #include "skin/util/atomic_file.hpp"
 #include "skin/util/error.hpp"
@@ -38,6 +39,89 @@ std::string describe(const FitResult& r) {
     s += std::string(key(r.free[i])) + " " + fmt(get(r.parameters, r.free[i]), "%.4g");
   }
   return s;
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Fits grouped by skin-tone bin (ITA of the measured colour), for the paper's parameters and for
+// `--model extended`: count, median and worst RMS, median dE2000, parameters at bounds, spread.
+void write_tone_bins(std::ostream& md, const std::vector<MeasuredEntry>& entries) {
+  md << "\n## By skin tone (ITA)\n\n"
+     << "Each measured spectrum's colour (D65, `skin color`'s grid) gives its Individual Typology "
+        "Angle ITA = atan((L* - 50) / b*); bins: very light > 55, light 41-55, intermediate 28-41, "
+        "tan 10-28, brown -30-10, dark < -30 degrees. **paper**: C_m, beta_m, C_h; **extended**: "
+        "`skin fit --model extended` (docs/fit.md: eight parameters, measured ranges and priors). "
+        "At bound: free parameters that ended on a bound, summed over the bin's fits.\n\n"
+     << "| bin | n | model | median RMS | worst RMS | median dE2000 | at bound | parameter range (min-max) |\n"
+     << "|---|---:|---|---:|---:|---:|---:|---|\n";
+  struct BinStat {
+    std::string bin;
+    double median_rms[2];
+  };
+  std::vector<BinStat> stats;
+  for (std::string_view bin : fit::ita_bins()) {
+    std::vector<const MeasuredEntry*> in;
+    for (const auto& e : entries)
+      if (fit::ita_bin(e.ita) == bin) in.push_back(&e);
+    if (in.empty()) {
+      md << "| " << bin << " | 0 | | | | | | |\n";
+      continue;
+    }
+    BinStat st{std::string(bin), {0, 0}};
+    for (int model = 0; model < 2; ++model) {
+      std::vector<double> rms, de;
+      std::size_t bound = 0;
+      const FitResult& first = model ? in.front()->extended_model : in.front()->paper;
+      std::string spread;
+      for (std::size_t k = 0; k < first.free.size(); ++k) {
+        double lo = 1e300, hi = -1e300;
+        for (const MeasuredEntry* e : in) {
+          const double v = get((model ? e->extended_model : e->paper).parameters, first.free[k]);
+          lo = std::min(lo, v), hi = std::max(hi, v);
+        }
+        spread += (k ? ", " : "") + std::string(key(first.free[k])) + " " + fmt(lo, "%.3g") + "-" + fmt(hi, "%.3g");
+      }
+      for (const MeasuredEntry* e : in) {
+        const FitResult& r = model ? e->extended_model : e->paper;
+        rms.push_back(r.rms);
+        de.push_back(r.delta_e);
+        bound += static_cast<std::size_t>(std::count(r.at_bound.begin(), r.at_bound.end(), true));
+      }
+      st.median_rms[model] = median(rms);
+      md << "| " << (model ? "" : std::string(bin)) << " | " << (model ? "" : std::to_string(in.size())) << " | "
+         << (model ? "extended" : "paper") << " | " << fmt(median(rms)) << " | "
+         << fmt(*std::max_element(rms.begin(), rms.end())) << " | " << fmt(median(de), "%.2f") << " | " << bound
+         << " | " << spread << " |\n";
+    }
+    stats.push_back(st);
+  }
+  md << "\nSpectra per bin:";
+  for (std::string_view bin : fit::ita_bins()) {
+    std::string names;
+    for (const auto& e : entries)
+      if (fit::ita_bin(e.ita) == bin) names += (names.empty() ? "" : ", ") + e.spectrum.name + " (" + fmt(e.ita, "%.0f") + ")";
+    if (!names.empty()) md << "\n- " << bin << ": " << names;
+  }
+  md << "\n\nChecks (issue 32), as measured:\n\n";
+  for (int model = 0; model < 2; ++model) {
+    double best = 1e300, worst = 0;
+    std::string best_bin, worst_bin;
+    bool all_below = true;
+    for (const auto& st : stats) {
+      if (st.median_rms[model] < best) best = st.median_rms[model], best_bin = st.bin;
+      if (st.median_rms[model] > worst) worst = st.median_rms[model], worst_bin = st.bin;
+      all_below = all_below && st.median_rms[model] <= 0.005;
+    }
+    md << "- " << (model ? "extended" : "paper") << ": worst bin's median RMS " << fmt(worst) << " (" << worst_bin
+       << ") is " << fmt(worst / best, "%.2f") << "x the best's " << fmt(best) << " (" << best_bin << "): "
+       << (worst <= 1.5 * best ? "within" : "NOT within") << " 1.5x; median RMS <= 0.005 in every bin: "
+       << (all_below ? "yes" : "no") << ".\n";
+  }
 }
 
 }  // namespace
@@ -122,6 +206,7 @@ void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& e
     for (const auto& [p, rms] : e.single_term_rms) md << " | " << fmt(rms);
     md << " | " << fmt(e.extended.rms) << " |\n";
   }
+  write_tone_bins(md, entries);
   md << "\n## Plots of the paper's four spectra\n\n";
   for (const auto& e : entries)
     if (e.used_in_paper) md << "![" << e.spectrum.name << "](" << e.spectrum.name << ".png)\n\n";

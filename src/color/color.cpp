@@ -208,7 +208,12 @@ Lab xyz_to_lab(const Xyz& c, const Xyz& w) {
   return {116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz)};
 }
 
-double delta_e_2000(const Lab& p, const Lab& q) {
+namespace {
+// CIEDE2000's weighted differences dL'/S_L, dC'/S_C, dH'/S_H and its rotation term R_T.
+struct De2000Terms {
+  double L, C, H, RT;
+};
+De2000Terms delta_e_2000_terms(const Lab& p, const Lab& q) {
   using std::atan2, std::cos, std::sin, std::sqrt, std::pow, std::exp, std::abs;
   constexpr double pi = std::numbers::pi;
   auto deg = [](double r) { return r * 180.0 / pi; };
@@ -245,8 +250,23 @@ double delta_e_2000(const Lab& p, const Lab& q) {
   const double SL = 1 + 0.015 * pow(Lbar - 50, 2) / sqrt(20 + pow(Lbar - 50, 2));
   const double SC = 1 + 0.045 * Cbarp, SH = 1 + 0.015 * Cbarp * T;
   const double RT = -sin(rad(2 * dtheta)) * RC;
-  return sqrt(pow(dL / SL, 2) + pow(dC / SC, 2) + pow(dH / SH, 2) + RT * (dC / SC) * (dH / SH));
+  return {dL / SL, dC / SC, dH / SH, RT};
 }
+}  // namespace
+
+double delta_e_2000(const Lab& p, const Lab& q) {
+  using std::pow, std::sqrt;
+  const De2000Terms t = delta_e_2000_terms(p, q);
+  return sqrt(pow(t.L, 2) + pow(t.C, 2) + pow(t.H, 2) + t.RT * t.C * t.H);
+}
+
+std::array<double, 3> delta_e_2000_components(const Lab& p, const Lab& q) {
+  // dC^2 + dH^2 + R_T dC dH = (dC + R_T/2 dH)^2 + (1 - R_T^2/4) dH^2 (|R_T| <= 2).
+  const De2000Terms t = delta_e_2000_terms(p, q);
+  return {t.L, t.C + 0.5 * t.RT * t.H, std::sqrt(std::max(0.0, 1.0 - 0.25 * t.RT * t.RT)) * t.H};
+}
+
+
 
 ColorSummary summarize_rgb(const Colorimetry& cm, const Rgb& rgb) {
   ColorSummary s;

@@ -101,8 +101,9 @@ struct ColorFitter::Impl {
   Bounds bounds_of(Parameter p) const {
     for (const auto& [q, b] : opt.bounds)
       if (q == p) return b;
-    return default_bounds(p);
+    return opt.fit_model == FitModel::extended ? prior_bounds(p) : default_bounds(p);
   }
+  bool extended() const { return opt.fit_model == FitModel::extended; }
 
   // Lab of linear (white-balanced) sRGB, the way `skin color` reports it.
   color::Lab lab_of(const color::Rgb& rgb) const { return color::summarize_rgb(cm, rgb).lab; }
@@ -164,10 +165,18 @@ ColorFitter::ColorFitter(ColorFitOptions options) {
   require_in_range("melanin-blend-prior", options.melanin_blend_prior, 0.0, 1.0);
   if (options.free.empty()) throw InputError("free parameters: the list is empty");
   check_bounds(options.bounds);
+  for (std::size_t i = 0; i < options.free.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (options.free[i] == options.free[j])
+        throw InputError("free parameter '" + flag(options.free[i]) + "' is listed twice");
   for (Parameter p : options.free)
-    if (p != Parameter::melanin && p != Parameter::melanin_blend && p != Parameter::hemoglobin)
+    if (options.fit_model != FitModel::extended && p != Parameter::melanin && p != Parameter::melanin_blend &&
+        p != Parameter::hemoglobin)
       throw InputError("free parameter '" + flag(p) +
-                       "' cannot be fitted from a colour: choose among melanin, melanin-blend, hemoglobin");
+                       "' cannot be fitted from a colour by the paper model: choose among melanin, "
+                       "melanin-blend, hemoglobin, or use --model extended");
+    else if (p == Parameter::oiliness)
+      throw InputError("free parameter 'oiliness' (rho_s) does not enter R_d: it cannot be fitted from a colour");
   impl_ = std::make_unique<Impl>(std::move(options));
   impl_->model = impl_->opt.model ? impl_->opt.model : forward_model(transport::default_model());
   impl_->fit_blend = std::find(impl_->opt.free.begin(), impl_->opt.free.end(), Parameter::melanin_blend) !=
@@ -175,7 +184,14 @@ ColorFitter::ColorFitter(ColorFitOptions options) {
   for (Parameter p : impl_->opt.free) {
     const Bounds b = impl_->bounds_of(p);
     if (!(b.lo < b.hi)) throw InputError("bounds of " + flag(p) + " are invalid: need lo < hi");
+    if (impl_->extended() && has_prior_centre(p)) set(impl_->opt.start, p, p.info().prior_centre);
     set(impl_->opt.start, p, std::clamp(get(impl_->opt.start, p), b.lo, b.hi));
+  }
+  {
+    SkinParameters lo = impl_->opt.start, hi = impl_->opt.start;
+    for (Parameter p : impl_->opt.free) set(lo, p, impl_->bounds_of(p).lo), set(hi, p, impl_->bounds_of(p).hi);
+    lo.validate();
+    hi.validate();
   }
 }
 ColorFitter::~ColorFitter() = default;
@@ -193,7 +209,7 @@ ColorFitResult ColorFitter::fit(const color::Rgb& target_rgb) const {
   const double w = m.opt.melanin_blend_weight, prior = m.opt.melanin_blend_prior;
   auto objective = [&](const color::Lab& l, double blend) {
     const double dL = l.L - target.L, da = l.a - target.a, db = l.b - target.b;
-    const double reg = m.fit_blend ? w * (blend - prior) : 0.0;
+    const double reg = m.fit_blend && !m.extended() ? w * (blend - prior) : 0.0;
     return dL * dL + da * da + db * db + reg * reg;
   };
   std::size_t best = 0;
@@ -204,30 +220,64 @@ ColorFitResult ColorFitter::fit(const color::Rgb& target_rgb) const {
   }
   const std::vector<Parameter>& which = m.opt.free;
   const auto n = static_cast<Eigen::Index>(which.size());
+  // Extended: the Gaussian prior terms of the free parameters that have a prior centre.
+  std::vector<Parameter> priors;
+  if (m.extended())
+    for (Parameter q : which)
+      if (has_prior_centre(q)) priors.push_back(q);
   detail::LmProblem prob;
-  prob.m = m.fit_blend ? 4 : 3;
+  prob.m = m.extended() ? 3 + static_cast<Eigen::Index>(priors.size()) : (m.fit_blend ? 4 : 3);
   prob.lo.resize(n);
   prob.hi.resize(n);
   prob.h.resize(n);
-  Eigen::VectorXd x0(n);
   for (Eigen::Index j = 0; j < n; ++j) {
     const Bounds b = m.bounds_of(which[j]);
     prob.lo[j] = b.lo;
     prob.hi[j] = b.hi;
     prob.h[j] = 1e-6 * (b.hi - b.lo);
-    x0[j] = get(m.table_p[best], which[j]);
   }
   SkinParameters p = m.opt.start;
   prob.residual = [&](const Eigen::VectorXd& x, Eigen::VectorXd& r) {
     SkinParameters q = m.opt.start;
     for (Eigen::Index j = 0; j < n; ++j) set(q, which[j], x[j]);
     const color::Lab l = m.lab(q);
+    if (m.extended()) {
+      const auto d = color::delta_e_2000_components(target, l);
+      r[0] = d[0], r[1] = d[1], r[2] = d[2];
+      for (std::size_t k = 0; k < priors.size(); ++k) {
+        const Parameter pk = priors[k];
+        r[3 + static_cast<Eigen::Index>(k)] =
+            kColorPriorWeight * (prior_coordinate(pk, get(q, pk)) - prior_coordinate(pk, pk.info().prior_centre));
+      }
+      return;
+    }
     r[0] = l.L - target.L;
     r[1] = l.a - target.a;
     r[2] = l.b - target.b;
     if (m.fit_blend) r[3] = w * (q.melanin_blend - prior);
   };
-  const detail::LmResult res = detail::levenberg_marquardt(prob, x0, 50, false);
+  // Starts: the best table entry; the extended model also the next two best with another melanin
+  // (six unknowns: the valley of equal colours has several basins).
+  std::vector<std::size_t> starts = {best};
+  if (m.extended()) {
+    std::vector<std::pair<double, std::size_t>> ranked;
+    for (std::size_t i = 0; i < m.table_p.size(); ++i)
+      ranked.emplace_back(objective(m.table_lab[i], m.table_p[i].melanin_blend), i);
+    std::sort(ranked.begin(), ranked.end());
+    for (const auto& [c, i] : ranked) {
+      if (starts.size() >= 3) break;
+      bool other = std::isfinite(c);
+      for (std::size_t s : starts) other = other && m.table_p[s].melanin != m.table_p[i].melanin;
+      if (other) starts.push_back(i);
+    }
+  }
+  detail::LmResult res;
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    Eigen::VectorXd x0(n);
+    for (Eigen::Index j = 0; j < n; ++j) x0[j] = std::clamp(get(m.table_p[starts[k]], which[j]), prob.lo[j], prob.hi[j]);
+    detail::LmResult rk = detail::levenberg_marquardt(prob, x0, 50, true);
+    if (k == 0 || rk.cost < res.cost) res = std::move(rk);
+  }
   for (Eigen::Index j = 0; j < n; ++j) set(p, which[j], res.x[j]);
   ColorFitResult out;
   out.parameters = p;
@@ -236,7 +286,25 @@ ColorFitResult ColorFitter::fit(const color::Rgb& target_rgb) const {
   out.fitted = m.lab_of(out.fitted_srgb_linear);
   out.delta_e = color::delta_e_2000(target, out.fitted);
   out.iterations = res.iterations;
+  out.fit_model = m.opt.fit_model;
+  out.outside_gamut = out.delta_e > kGamutDeltaE;
+  out.free = which;
+  // Covariance (J^T J)^-1 for residuals of unit variance (a target known to one Lab or CIEDE2000
+  // unit per component); the prior rows are part of J.
+  const Eigen::VectorXd se = detail::standard_errors_scaled(res.J, 1.0);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    out.uncertainty.push_back(se[j]);
+    const double span = prob.hi[j] - prob.lo[j];
+    out.at_bound.push_back(res.x[j] <= prob.lo[j] + 1e-9 * span || res.x[j] >= prob.hi[j] - 1e-9 * span);
+  }
   return out;
+}
+
+void use_fit_model(ColorFitOptions& o, FitModel model) {
+  o.fit_model = model;
+  o.free = model == FitModel::extended
+               ? extended_model_free(false)
+               : std::vector<Parameter>{Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin};
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -444,7 +512,12 @@ struct TextureFitter::Impl {
   }
 };
 
-TextureFitter::TextureFitter(ColorFitOptions options) : impl_(std::make_unique<Impl>(std::move(options))) {}
+TextureFitter::TextureFitter(ColorFitOptions options) {
+  if (options.fit_model == FitModel::extended)
+    throw InputError("model = 'extended' is not available for textures yet: the texture fit tables "
+                     "C_m, beta_m, C_h only (use --model paper, or fit single colours with --hex)");
+  impl_ = std::make_unique<Impl>(std::move(options));
+}
 TextureFitter::~TextureFitter() = default;
 TextureFitter::TextureFitter(TextureFitter&&) noexcept = default;
 TextureFitter& TextureFitter::operator=(TextureFitter&&) noexcept = default;
@@ -502,6 +575,7 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   uniq.erase(std::unique(uniq.begin(), uniq.end()), uniq.end());
   struct Out {
     float m, b, h, e;
+    unsigned char bound;  // bit k: parameter k (melanin, melanin_blend, hemoglobin) on its bound
   };
   std::vector<Out> solved(uniq.size());
   const Impl& m = *impl_;
@@ -522,8 +596,11 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
         const auto s = m.solve({t.L, t.a, t.b});
         const SkinParameters p = m.params(s.u);
         const double e = color::delta_e_2000(t, {s.lab[0], s.lab[1], s.lab[2]});
+        unsigned char bound = 0;
+        for (int k = 0; k < 3; ++k)
+          if (m.axis[k].n > 1 && (s.u[k] <= 1e-9 || s.u[k] >= m.axis[k].n - 1 - 1e-9)) bound |= static_cast<unsigned char>(1u << k);
         solved[q] = {static_cast<float>(p.melanin), static_cast<float>(p.melanin_blend),
-                     static_cast<float>(p.hemoglobin), static_cast<float>(e)};
+                     static_cast<float>(p.hemoglobin), static_cast<float>(e), bound};
       }
       done += chunk;
     });
@@ -538,14 +615,20 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   maps.melanin_blend.resize(npix);
   maps.hemoglobin.resize(npix);
   maps.error.resize(npix);
+  std::vector<unsigned char> bound(npix);
   tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
     const auto q = static_cast<std::size_t>(std::lower_bound(uniq.begin(), uniq.end(), key[i]) - uniq.begin());
+    bound[i] = solved[q].bound;
     maps.melanin[i] = solved[q].m;
     maps.melanin_blend[i] = solved[q].b;
     maps.hemoglobin[i] = solved[q].h;
     maps.error[i] = solved[q].e;
   });
   maps.update_error_statistics();
+  for (unsigned char b : bound) {
+    for (int k = 0; k < 3; ++k) maps.at_bound[static_cast<std::size_t>(k)] += (b >> k) & 1u;
+    maps.any_at_bound += b != 0;
+  }
   return maps;
 }
 
@@ -559,6 +642,11 @@ void ParameterMaps::update_error_statistics() {
   }
   const auto n = static_cast<double>(error.size());
   mean_error = error.empty() ? 0 : sum / n;
+  double sum_out = 0;
+  std::size_t out = 0;
+  for (float e : error)
+    if (e > kGamutDeltaE) sum_out += e, ++out;
+  mean_error_outside = out ? sum_out / static_cast<double>(out) : 0.0;
   max_error = mx;
   fraction_below_1 = error.empty() ? 0 : static_cast<double>(below) / n;
 }

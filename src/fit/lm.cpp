@@ -148,9 +148,14 @@ LmResult levenberg_marquardt(const LmProblem& p, Eigen::VectorXd x0, int max_ite
 
 Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double cost) {
   const Eigen::Index m = J.rows(), n = J.cols();
+  if (m <= n) return Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
+  return standard_errors_scaled(J, cost / static_cast<double>(m - n));
+}
+
+Eigen::VectorXd standard_errors_scaled(const Eigen::MatrixXd& J, double s2) {
+  const Eigen::Index n = J.cols();
   Eigen::VectorXd se = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
-  if (m <= n) return se;
-  const double s2 = cost / static_cast<double>(m - n);
+  if (J.rows() == 0) return se;
   const Eigen::MatrixXd A = J.transpose() * J;
   Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
   cod.setThreshold(1e-12);

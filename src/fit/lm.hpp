@@ -36,5 +36,8 @@ Eigen::MatrixXd jacobian(const LmProblem& p, const Eigen::VectorXd& x, const Eig
 // One standard deviation per coordinate from covariance s^2 (J^T J)^-1, s^2 = |r|^2 / (m - n)
 // (the unbiased residual variance); coordinates with no information get +infinity.
 Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double cost);
+// The same with the residual variance s^2 given (covariance s^2 (J^T J)^-1): for problems whose
+// rows include prior terms, or whose residuals have a known scale.
+Eigen::VectorXd standard_errors_scaled(const Eigen::MatrixXd& J, double s2);
 
 }  // namespace skin::fit::detail

@@ -1,12 +1,15 @@
 // Fits of measured skin spectra (measured.hpp); the report (docs/validation/measured/) is the
 // application's (src/app/report_measured.cpp).
 #include "skin/fit/measured.hpp"
+#include "skin/fit/color_fit.hpp"
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <cmath>
 #include <map>
+#include <numbers>
 
 #include <tbb/parallel_for.h>
 
@@ -21,6 +24,24 @@ const std::vector<Parameter>& extended_parameters() {
   static const std::vector<Parameter> v = {
       Parameter::epidermal_hemoglobin, Parameter::beta_carotene, Parameter::bilirubin,
       Parameter::epidermis_thickness,  Parameter::oxygenation,   Parameter::scattering_scale};
+  return v;
+}
+
+double ita_degrees(const color::Lab& lab) {
+  return std::atan2(lab.L - 50.0, lab.b) * 180.0 / std::numbers::pi;
+}
+
+std::string_view ita_bin(double ita) {
+  if (ita > 55) return "very light";
+  if (ita > 41) return "light";
+  if (ita > 28) return "intermediate";
+  if (ita > 10) return "tan";
+  if (ita > -30) return "brown";
+  return "dark";
+}
+
+const std::vector<std::string_view>& ita_bins() {
+  static const std::vector<std::string_view> v = {"very light", "light", "intermediate", "tan", "brown", "dark"};
   return v;
 }
 
@@ -112,7 +133,9 @@ std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir, 
   spec.includes_specular = true;
   SpectrumFitOptions ext = spec;
   for (Parameter p : extended_parameters()) ext.free.push_back(p);
-  const SpectrumFitter f_paper(paper), f_spec(spec), f_ext(ext);
+  SpectrumFitOptions prior = paper;
+  use_fit_model(prior, FitModel::extended);
+  const SpectrumFitter f_paper(paper), f_spec(spec), f_ext(ext), f_prior(prior);
   std::vector<SpectrumFitter> f_single;
   for (Parameter p : extended_parameters()) {
     SpectrumFitOptions o = spec;
@@ -125,6 +148,9 @@ std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir, 
     e.paper = f_paper.fit(e.spectrum);
     e.paper_specular = f_spec.fit(e.spectrum);
     e.extended = f_ext.fit(e.spectrum);
+    e.extended_model = f_prior.fit(e.spectrum);
+    e.lab = reflectance_lab(e.spectrum.wavelength_nm, e.spectrum.R);
+    e.ita = ita_degrees(e.lab);
     for (std::size_t k = 0; k < f_single.size(); ++k)
       e.single_term_rms.emplace_back(extended_parameters()[k], f_single[k].fit(e.spectrum).rms);
   });

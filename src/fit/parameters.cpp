@@ -2,6 +2,7 @@
 // access; reading and checking measured spectra.
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <ostream>
 #include <sstream>
 
@@ -85,6 +86,46 @@ std::vector<Parameter> parse_parameter_list(std::string_view list) {
 double get(const SkinParameters& s, Parameter p) { return s.*(p.member()); }
 void set(SkinParameters& s, Parameter p, double value) { s.*(p.member()) = value; }
 Bounds default_bounds(Parameter p) { return {p.info().fit_min, p.info().fit_max}; }
+
+std::string_view name(FitModel m) { return m == FitModel::extended ? "extended" : "paper"; }
+
+FitModel parse_fit_model(std::string_view n) {
+  if (n == "paper") return FitModel::paper;
+  if (n == "extended") return FitModel::extended;
+  throw InputError("model = '" + std::string(n) + "' is unknown: choose paper or extended");
+}
+
+std::vector<Parameter> extended_model_free(bool spectrum) {
+  std::vector<Parameter> v = {Parameter::melanin,           Parameter::melanin_blend,
+                              Parameter::hemoglobin,        Parameter::epidermis_thickness,
+                              Parameter::oxygenation,       Parameter::scattering_scale};
+  if (spectrum) {
+    v.push_back(Parameter::beta_carotene);
+    v.push_back(Parameter::epidermal_hemoglobin);
+  }
+  return v;
+}
+
+Bounds prior_bounds(Parameter p) {
+  const ParameterInfo& row = p.info();
+  return row.has_prior_range() ? Bounds{row.prior_min, row.prior_max} : default_bounds(p);
+}
+
+bool has_prior_centre(Parameter p) { return p.info().has_prior_range() && !std::isnan(p.info().prior_centre); }
+
+double prior_coordinate(Parameter p, double v) {
+  const ParameterInfo& row = p.info();
+  if (!has_prior_centre(p)) return std::numeric_limits<double>::quiet_NaN();
+  if (row.prior_log) return std::log(v / row.prior_min) / std::log(row.prior_max / row.prior_min);
+  return (v - row.prior_min) / (row.prior_max - row.prior_min);
+}
+
+void use_fit_model(SpectrumFitOptions& o, FitModel m) {
+  o.fit_model = m;
+  o.free = m == FitModel::extended
+               ? extended_model_free(true)
+               : std::vector<Parameter>{Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin};
+}
 
 void check_bounds(const std::vector<std::pair<Parameter, Bounds>>& bounds) {
   for (std::size_t i = 0; i < bounds.size(); ++i)

@@ -11,6 +11,9 @@
 
 #include "lm.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/fit/color_fit.hpp"
+#include "skin/color/color.hpp"
+#include "skin/physics/spectrum.hpp"
 #include "skin/transport/diffusion.hpp"
 #include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
@@ -90,6 +93,12 @@ std::vector<double> nodes(Parameter p, Bounds b) {
 
 constexpr double kTableStep = 10.0;  // [nm] coarse table sampling, 400-700 nm
 
+// CIEDE2000 between two spectra sampled at `lambda` (reflectance_lab of each).
+double spectrum_delta_e(const std::vector<double>& lambda, const std::vector<double>& a,
+                        const std::vector<double>& b) {
+  return color::delta_e_2000(reflectance_lab(lambda, a), reflectance_lab(lambda, b));
+}
+
 }  // namespace
 
 struct SpectrumFitter::Impl {
@@ -111,7 +120,15 @@ struct SpectrumFitter::Impl {
   Bounds bounds_of(Parameter p) const {
     for (const auto& [q, b] : opt.bounds)
       if (q == p) return b;
-    return default_bounds(p);
+    return opt.fit_model == FitModel::extended ? prior_bounds(p) : default_bounds(p);
+  }
+  // The free parameters with a Gaussian prior term (extended model only), in opt.free's order.
+  std::vector<Parameter> prior_terms(const std::vector<Parameter>& which) const {
+    std::vector<Parameter> v;
+    if (opt.fit_model != FitModel::extended) return v;
+    for (Parameter p : which)
+      if (has_prior_centre(p)) v.push_back(p);
+    return v;
   }
 
   void build_table() const {
@@ -150,8 +167,10 @@ struct SpectrumFitter::Impl {
                           SkinParameters& out, int max_iterations = -1,
                           bool final_jacobian = true) const {
     const auto n = static_cast<Eigen::Index>(which.size());
+    const std::vector<Parameter> priors = prior_terms(which);
+    const auto m_data = static_cast<Eigen::Index>(lambda.size());
     detail::LmProblem prob;
-    prob.m = static_cast<Eigen::Index>(lambda.size());
+    prob.m = m_data + static_cast<Eigen::Index>(priors.size());
     prob.lo.resize(n);
     prob.hi.resize(n);
     prob.h.resize(n);
@@ -167,7 +186,13 @@ struct SpectrumFitter::Impl {
       SkinParameters p = start;
       for (Eigen::Index j = 0; j < n; ++j) set(p, which[j], x[j]);
       evaluate(p, lambda, r.data());
-      for (Eigen::Index i = 0; i < prob.m; ++i) r[i] -= R[static_cast<std::size_t>(i)];
+      for (Eigen::Index i = 0; i < m_data; ++i) r[i] -= R[static_cast<std::size_t>(i)];
+      // Gaussian prior terms: weight x (u - u_centre) in the prior range's coordinate.
+      for (std::size_t k = 0; k < priors.size(); ++k) {
+        const Parameter q = priors[k];
+        r[m_data + static_cast<Eigen::Index>(k)] =
+            kSpectrumPriorWeight * (prior_coordinate(q, get(p, q)) - prior_coordinate(q, q.info().prior_centre));
+      }
     };
     detail::LmResult res = detail::levenberg_marquardt(
         prob, x0, max_iterations < 0 ? opt.max_iterations : max_iterations, final_jacobian);
@@ -211,8 +236,10 @@ SpectrumFitter::SpectrumFitter(SpectrumFitOptions options) : impl_(std::make_uni
     else if (is_core(p)) m.core.push_back(p);
     else m.extended.push_back(p);
   }
-  // Start values of free parameters are clamped into their bounds.
+  // Start values of free parameters: the prior centre under the extended model, clamped into
+  // their bounds.
   for (Parameter p : m.opt.free) {
+    if (m.opt.fit_model == FitModel::extended && has_prior_centre(p)) set(m.opt.start, p, p.info().prior_centre);
     const Bounds b = m.bounds_of(p);
     set(m.opt.start, p, std::clamp(get(m.opt.start, p), b.lo, b.hi));
   }
@@ -390,9 +417,18 @@ FitResult SpectrumFitter::fit(const MeasuredSpectrum& meas) const {
   for (std::size_t i = 0; i < R.size(); ++i) sse += (r.fitted[i] - R[i]) * (r.fitted[i] - R[i]);
   r.rms = std::sqrt(sse / static_cast<double>(R.size()));
   r.specular = m.opt.includes_specular ? best.p.oiliness * m.F : 0.0;
+  r.fit_model = m.opt.fit_model;
+  r.delta_e = spectrum_delta_e(lambda, R, r.fitted);
+  r.outside_gamut = r.rms >= kGoodFitRms;
   // Uncertainty from the Jacobian of the final LM run, whose columns follow its `which`: the
   // extended stage ran over opt.free; stage 1 alone ran over stage1 == opt.free.
-  const Eigen::VectorXd se = detail::standard_errors(best.lm.J, best.lm.cost);
+  // The rows of J beyond the samples are the prior terms: the residual variance is the samples'
+  // (s^2 = SSR / (m - n)); the prior rows enter J^T J.
+  const double s2 = sse / static_cast<double>(std::max<std::ptrdiff_t>(
+                              static_cast<std::ptrdiff_t>(R.size()) - static_cast<std::ptrdiff_t>(r.free.size()), 1));
+  const Eigen::VectorXd se = m.opt.fit_model == FitModel::extended
+                                 ? detail::standard_errors_scaled(best.lm.J, s2)
+                                 : detail::standard_errors(best.lm.J, best.lm.cost);
   for (std::size_t j = 0; j < r.free.size(); ++j) {
     r.uncertainty.push_back(se[static_cast<Eigen::Index>(j)]);
     const Bounds b = m.bounds_of(r.free[j]);
@@ -400,6 +436,28 @@ FitResult SpectrumFitter::fit(const MeasuredSpectrum& meas) const {
     r.at_bound.push_back(v <= b.lo + 1e-9 * (b.hi - b.lo) || v >= b.hi - 1e-9 * (b.hi - b.lo));
   }
   return r;
+}
+
+color::Lab reflectance_lab(const std::vector<double>& lambda, const std::vector<double>& R) {
+  static const color::Colorimetry cm{physics::WavelengthGrid{}};
+  static const std::vector<double> grid = physics::WavelengthGrid{}.values();
+  const auto& w = cm.srgb_weights();
+  color::Rgb c;
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    const double l = grid[i];
+    double v;
+    if (l <= lambda.front()) v = R.front();
+    else if (l >= lambda.back()) v = R.back();
+    else {
+      const auto k = static_cast<std::size_t>(std::lower_bound(lambda.begin(), lambda.end(), l) - lambda.begin());
+      const double t = (l - lambda[k - 1]) / (lambda[k] - lambda[k - 1]);
+      v = R[k - 1] + t * (R[k] - R[k - 1]);
+    }
+    c.r += w[i][0] * v;
+    c.g += w[i][1] * v;
+    c.b += w[i][2] * v;
+  }
+  return color::summarize_rgb(cm, c).lab;
 }
 
 FitResult fit_spectrum(const MeasuredSpectrum& m, const SpectrumFitOptions& options) {

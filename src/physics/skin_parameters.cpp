@@ -19,6 +19,8 @@ using skin::util::splitmix64;
 
 namespace {
 constexpr double kInf = kInfinity;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+double geometric_middle(double lo, double hi) { return std::sqrt(lo * hi); }
 // Ranges: the physical domain of each quantity (a fraction within [0, 1]; a length or a scale
 // above 0), except beta-carotene and bilirubin, bounded at 1000 umol/L (far beyond physiology)
 // to catch unit mistakes, and eta, bounded by the media the Fresnel terms are meant for.
@@ -34,20 +36,33 @@ constexpr double kInf = kInfinity;
 // Epidermis: 0.02-0.5 mm covers thin eyelid to palm (Sandby-Moller et al. 2003 measure
 // 0.03-0.1 mm on most sites; the paper assumes 0.25). Scattering: a factor 4 either way around
 // the paper's eq 8.
+// Priors of the extended fit (/*prior*/: measured range, centre, log scale), the ranges the tone
+// presets were fitted in (scripts/fit_tone_presets.py; docs/fit.md "Priors" gives each source):
+// C_h 0.2-7 % and epidermis up to 0.15 mm as in Jolivot, Benezeth & Marzani 2013 (Int J Biomed
+// Imaging 2013:978289, Table 1, ranges taken from the literature; also oxygenation up to 90 %);
+// epidermis centre 0.078 mm (geometric middle) between Sandby-Moller et al. 2003's site means of
+// the cellular epidermis, 57-82 um (Acta Derm Venereol 83:410); beta_m centre 0.74, the eumelanin
+// share Del Bino et al. 2015 measured in epidermis of every pigmentation (Pigment Cell Melanoma
+// Res 28:707). No measured source was found for beta_m's lower end 0.3, oxygenation's 0.6 and
+// centre 0.75 (the paper's), or the scattering factor 0.5-2 (the presets' choices).
 const ParameterInfo kParameters[] = {
     {"melanin", "C_m", "1", 0, 1, false, false,
-     "melanin volume fraction of the epidermis", &SkinParameters::melanin, /*domain*/ 0, 0.5, 0.0, 0.5},
+     "melanin volume fraction of the epidermis", &SkinParameters::melanin, /*domain*/ 0, 0.5, 0.0, 0.5,
+     /*prior*/ 0.0005, 0.5, kNaN, true},
     {"melanin_blend", "beta_m", "1", 0, 1, false, false,
      "eumelanin share of the melanin (the rest is pheomelanin)", &SkinParameters::melanin_blend, /*domain*/ 0, 1,
-     0.0, 1.0},
+     0.0, 1.0, /*prior*/ 0.3, 1.0, 0.74, false},
     {"hemoglobin", "C_h", "1", 0, 1, false, false, "blood volume fraction of the dermis",
-     &SkinParameters::hemoglobin, /*domain*/ 0, 0.3, 0.0, 0.2},
+     &SkinParameters::hemoglobin, /*domain*/ 0, 0.3, 0.0, 0.2,
+     /*prior*/ 0.002, 0.07, geometric_middle(0.002, 0.07), true},
     {"oiliness", "rho_s", "1", 0, 1, false, false, "scale of the specular (oily) surface lobe",
      &SkinParameters::oiliness, /*domain*/ 0, 1, 0.0, 1.0},
     {"oxygenation", "gamma", "1", 0, 1, false, false, "oxygenated share of the hemoglobin",
-     &SkinParameters::oxygenation, /*domain*/ 0, 1, 0.0, 1.0},
+     &SkinParameters::oxygenation, /*domain*/ 0, 1, 0.0, 1.0,
+     /*prior*/ 0.6, 0.9, 0.75, false},
     {"epidermis_thickness", "", "mm", 0, kInf, true, true, "thickness of the epidermis",
-     &SkinParameters::epidermis_thickness, /*domain*/ 0.02, 0.5, 0.02, 0.5},
+     &SkinParameters::epidermis_thickness, /*domain*/ 0.02, 0.5, 0.02, 0.5,
+     /*prior*/ 0.04, 0.15, geometric_middle(0.04, 0.15), true},
     {"dermis_scattering_scale", "", "1", 0, kInf, true, true,
      "dermis sigma_s_prime relative to the epidermis'", &SkinParameters::dermis_scattering_scale, /*domain*/ 0.2, 2},
     {"eta", "", "1", 1, 3, false, false, "refractive index of both layers", &SkinParameters::eta, /*domain*/ 1.33, 1.55},
@@ -68,7 +83,7 @@ const ParameterInfo kParameters[] = {
      &SkinParameters::bilirubin, /*domain*/ 0, 1000, 0.0, 200.0},
     {"scattering_scale", "", "1", 1e-6, 10, false, false,
      "extended model: factor on sigma_s_prime of both layers", &SkinParameters::scattering_scale, /*domain*/ 0.25, 4,
-     0.25, 4.0},
+     0.25, 4.0, /*prior*/ 0.5, 2.0, 1.0, true},
 };
 
 std::string unit_suffix(std::string_view unit) {
@@ -142,6 +157,7 @@ std::vector<SkinParameters> sample_skin_domain(std::size_t n, std::uint64_t seed
 
 
 bool ParameterInfo::fittable() const { return !std::isnan(fit_min); }
+bool ParameterInfo::has_prior_range() const { return !std::isnan(prior_min) && !std::isnan(prior_max); }
 
 bool ParameterInfo::in_range(double v) const {
   if (std::isnan(v)) return false;

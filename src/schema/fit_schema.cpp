@@ -1,6 +1,7 @@
 // The schema of skin fit --spectrum (fit_schema.hpp).
 #include "fit_schema.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -34,7 +35,13 @@ Result spectrum_fit_result(const fit::MeasuredSpectrum& m, const fit::FitResult&
     json at_bound = json::object();
     for (std::size_t i = 0; i < r.free.size(); ++i) at_bound[std::string(fit::key(r.free[i]))] = bool(r.at_bound[i]);
     j["at_bound"] = at_bound;
+    j["model"] = std::string(fit::name(r.fit_model));
     j["rms"] = r.rms;
+    // How far the spectrum lies outside the model's gamut: the RMS (outside at or above
+    // fit::kGoodFitRms) and the colour difference of measured and fitted samples.
+    j["delta_e_2000"] = r.delta_e;
+    j["outside_gamut"] = r.outside_gamut;
+    j["outside_gamut_rms"] = fit::kGoodFitRms;
     j["specular"] = r.specular;
     j["iterations"] = r.iterations;
     j["starts"] = r.starts;
@@ -66,6 +73,14 @@ Result spectrum_fit_result(const fit::MeasuredSpectrum& m, const fit::FitResult&
     }
     if (includes_specular) os << "  specular term rho_s F    " << r.specular << "\n";
     os << "  RMS residual             " << r.rms << "\n";
+    if (r.fit_model == fit::FitModel::extended || r.outside_gamut) {
+      const auto bound = std::count(r.at_bound.begin(), r.at_bound.end(), true);
+      char buf[200];
+      std::snprintf(buf, sizeof buf, "  model %s: colour dE2000 %.3g, %d parameter(s) at a bound%s\n",
+                    std::string(fit::name(r.fit_model)).c_str(), r.delta_e, static_cast<int>(bound),
+                    r.outside_gamut ? ", outside the model's gamut (RMS >= 0.02)" : "");
+      os << buf;
+    }
     result.table = os.str();
   }
   return result;

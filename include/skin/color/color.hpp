@@ -94,6 +94,10 @@ std::string hex(const std::array<int, 3>& rgb8);  // "#rrggbb"
 Lab xyz_to_lab(const Xyz& c, const Xyz& white);
 // CIEDE2000 colour difference (Sharma, Wu & Dalal 2005).
 double delta_e_2000(const Lab& a, const Lab& b);
+// Three signed components whose squares add up to delta_e_2000(a, b)^2 (its lightness, chroma and
+// hue differences, the rotation term folded into the last two): residuals for a least-squares fit
+// of CIEDE2000.
+std::array<double, 3> delta_e_2000_components(const Lab& a, const Lab& b);
 
 // The colour block the command line prints for a reflectance spectrum.
 struct ColorSummary {

@@ -16,6 +16,7 @@
 #include <iosfwd>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "skin/color/color.hpp"
@@ -36,7 +37,13 @@ struct ColorFitOptions {
   physics::WavelengthGrid grid;                // colour integration grid, as `skin color`
   std::vector<std::pair<Parameter, Bounds>> bounds;  // overriding default_bounds
   ForwardModel model;                 // empty: forward_model(transport::default_model())
+  // extended: any parameter with a fit interval may be free; bounds default to prior_bounds; the
+  // residuals are CIEDE2000's three components (delta_e_2000_components) and the Gaussian prior
+  // terms (weight kColorPriorWeight); melanin_blend_prior/weight are not used. docs/fit.md.
+  FitModel fit_model = FitModel::paper;
 };
+// Sets options.fit_model and options.free (the paper's three or extended_model_free(false)).
+void use_fit_model(ColorFitOptions& options, FitModel model);
 
 struct ColorFitResult {
   physics::SkinParameters parameters;
@@ -44,8 +51,29 @@ struct ColorFitResult {
   color::Rgb fitted_srgb_linear;
   double delta_e = 0;            // CIEDE2000 between target and fitted
   int iterations = 0;
+  FitModel fit_model = FitModel::paper;
+  bool outside_gamut = false;    // delta_e > kGamutDeltaE: the model does not reach the target
+  std::vector<Parameter> free;   // fitted, in the order of the next two
+  // One standard deviation per free parameter for a target known to one unit per residual (Lab
+  // units for the paper model, CIEDE2000 for the extended one): sqrt of the diagonal of
+  // (J^T J)^-1, J the Jacobian of the residuals (prior terms included) at the solution; infinity
+  // where the colour and the prior leave a direction free. Empty for the texture path.
+  std::vector<double> uncertainty;
+  std::vector<bool> at_bound;    // ended on its search bound
 };
 std::ostream& operator<<(std::ostream& os, const ColorFitResult& r);
+
+// The colour (CIELAB under D65, as `skin color`: 400-700 nm every 2 nm, white-balanced) of a
+// reflectance sampled at increasing wavelengths `lambda`, linearly interpolated to the grid and
+// held flat beyond the samples.
+color::Lab reflectance_lab(const std::vector<double>& lambda, const std::vector<double>& R);
+// The Individual Typology Angle of a colour, atan((L* - 50) / b*) in degrees (atan2, so b* <= 0
+// gives +-90), and its skin-tone bin: "very light" > 55, "light" > 41, "intermediate" > 28,
+// "tan" > 10, "brown" > -30, else "dark" (docs/fit.md, "Validation by skin tone").
+double ita_degrees(const color::Lab& lab);
+std::string_view ita_bin(double ita_degrees);
+// The bins in that order, lightest first.
+const std::vector<std::string_view>& ita_bins();
 
 // Parses "R,G,B" (8-bit sRGB-encoded values 0-255, decimals allowed) or "RRGGBB" / "#RRGGBB";
 // returns linear sRGB. Throws InputError naming the option and value.
@@ -85,6 +113,12 @@ struct ParameterMaps {
   // Statistics of the error channel.
   double mean_error = 0, max_error = 0;
   double fraction_below_1 = 0;  // share of pixels with error < 1
+  // Gamut: the pixels with error > kGamutDeltaE lie outside the model's gamut; their mean error.
+  double mean_error_outside = 0;
+  // Texels whose melanin, melanin_blend, hemoglobin ended on its search bound (by the fit; 0 for
+  // maps read from a file), and texels with any of them on a bound.
+  std::array<std::size_t, 3> at_bound{};
+  std::size_t any_at_bound = 0;
   // Recomputes the three statistics from the error channel.
   void update_error_statistics();
 };

@@ -75,6 +75,37 @@ Bounds default_bounds(Parameter p);
 // and its symbol name one parameter: one of the two would be dropped). The fitters check it.
 void check_bounds(const std::vector<std::pair<Parameter, Bounds>>& bounds);
 
+// The parameter set of a fit (`skin fit --model`, JSON "model"):
+// - paper: the paper's C_m, beta_m, C_h within the fit intervals (default_bounds), no prior on a
+//   spectrum; a colour fit pulls beta_m weakly toward ColorFitOptions::melanin_blend_prior;
+// - extended: the free parameters of extended_model_free(), each kept in the range measured on
+//   human skin (the parameter table's prior_min, prior_max: prior_bounds) and pulled weakly toward
+//   its prior_centre by a Gaussian term (width: the range; in log(value) where prior_log). Free
+//   parameters without a prior keep their fit interval. Sources: docs/fit.md "Priors".
+enum class FitModel { paper, extended };
+std::string_view name(FitModel m);  // "paper", "extended"
+// Throws InputError "model = '<name>' is unknown: choose paper or extended".
+FitModel parse_fit_model(std::string_view name);
+// The extended model's free parameters. Colour (three numbers): melanin, melanin_blend,
+// hemoglobin, epidermis_thickness, oxygenation, scattering_scale (the tone presets' set,
+// scripts/fit_tone_presets.py); spectrum: those and beta_carotene, epidermal_hemoglobin.
+std::vector<Parameter> extended_model_free(bool spectrum);
+// Search interval under the extended model: the prior range where the table has one, else
+// default_bounds.
+Bounds prior_bounds(Parameter p);
+// Position of v in p's prior range, 0 at prior_min and 1 at prior_max (in log(value) where
+// prior_log); NaN if p has no prior centre. The Gaussian term of a fit is weight x (u(v) - u(centre)).
+double prior_coordinate(Parameter p, double v);
+bool has_prior_centre(Parameter p);
+// Weights of the Gaussian prior terms, in the residuals' units per whole prior range: spectra
+// [reflectance] (weak against ~150 samples: it only settles directions the spectrum does not
+// determine), colours [CIEDE2000 units] (the tone presets' weight).
+inline constexpr double kSpectrumPriorWeight = 0.002;
+inline constexpr double kColorPriorWeight = 0.3;
+// A colour or spectrum whose best fit is farther than this [CIEDE2000] lies outside the model's
+// gamut (reported as outside_gamut).
+inline constexpr double kGamutDeltaE = 1.0;
+
 // The forward model: total diffuse reflectance R_d at one wavelength [nm]. Swappable so that
 // another model (Monte Carlo tables, ...) can replace the transport models. Must be thread-safe
 // (it is called from several threads by the texture fit and the report).
@@ -125,7 +156,12 @@ struct SpectrumFitOptions {
   std::vector<std::pair<Parameter, Bounds>> bounds;
   int max_iterations = 60;
   ForwardModel model;  // empty: forward_model(transport::default_model())
+  // extended: bounds default to prior_bounds and the Gaussian prior terms are added (weight
+  // kSpectrumPriorWeight); `free` is not changed (use_fit_model sets it).
+  FitModel fit_model = FitModel::paper;
 };
+// Sets options.fit_model and options.free (the paper's three or extended_model_free(true)).
+void use_fit_model(SpectrumFitOptions& options, FitModel model);
 
 struct FitResult {
   physics::SkinParameters parameters;     // fitted values (others as in the options' start)
@@ -137,6 +173,12 @@ struct FitResult {
   std::vector<double> wavelength_nm, measured, fitted;  // fitted samples
   int iterations = 0;                // LM iterations of the winning start
   int starts = 0;                    // LM runs (global stage)
+  FitModel fit_model = FitModel::paper;
+  // CIEDE2000 between the colours (D65, as `skin color`) of the measured and the fitted samples,
+  // each linearly interpolated to 400-700 nm every 2 nm (held flat beyond the fitted range).
+  double delta_e = 0;
+  // The spectrum lies outside what the model reaches: rms >= kGoodFitRms.
+  bool outside_gamut = false;
   double uncertainty_of(Parameter p) const;  // throws if p is not free
 };
 std::ostream& operator<<(std::ostream& os, const FitResult& r);

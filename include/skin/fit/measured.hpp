@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "skin/color/color.hpp"
 #include "skin/fit/fit.hpp"
 
 namespace skin::fit {
@@ -19,6 +20,9 @@ struct MeasuredEntry {
   FitResult paper_specular;     // + rho_s through the specular term (the four parameters)
   FitResult extended;           // + all extended terms (extended_parameters())
   std::vector<std::pair<Parameter, double>> single_term_rms;  // four parameters + one term
+  FitResult extended_model;     // `--model extended`: extended_model_free(true) with the priors
+  color::Lab lab;               // the measured spectrum's colour (reflectance_lab)
+  double ita = 0;               // its ITA [degrees] (ita_degrees; bin: ita_bin)
 };
 
 // The extended model's free terms, added to the four parameters in extended fits.

@@ -64,6 +64,15 @@ struct ParameterInfo {
   // free.
   double fit_min = std::numeric_limits<double>::quiet_NaN();
   double fit_max = std::numeric_limits<double>::quiet_NaN();
+  // The prior of the extended fit (`skin fit --model extended`, fit::FitModel::extended): the
+  // range measured on human skin that the fit keeps the parameter in [prior_min, prior_max], and
+  // the centre of a weak Gaussian pull toward it (its width is the range; prior_log: in
+  // log(value)). NaN where there is none; prior_centre NaN: the range only. Sources in
+  // src/physics/skin_parameters.cpp and docs/fit.md.
+  double prior_min = std::numeric_limits<double>::quiet_NaN();
+  double prior_max = std::numeric_limits<double>::quiet_NaN();
+  double prior_centre = std::numeric_limits<double>::quiet_NaN();
+  bool prior_log = false;
 
   std::string flag() const;        // the CLI spelling: key with dashes ("melanin-blend")
   std::string label() const;       // for messages: "melanin-blend (beta_m)"
@@ -71,6 +80,7 @@ struct ParameterInfo {
   double default_value() const;    // the value in a default-constructed SkinParameters
   bool in_range(double v) const;   // false for NaN
   bool fittable() const;           // whether the fit can free it (it has a fit interval)
+  bool has_prior_range() const;    // whether prior_min, prior_max are set
   // Throws InputError "<label> = <v> [unit] is out of range: ..." unless in_range(v).
   void check(double v) const;
   bool in_domain(double v) const { return v >= domain_min && v <= domain_max; }

@@ -1,0 +1,186 @@
+// The extended model (`skin fit --model extended`): priors from the parameter table, recovery of
+// known parameters, the reported uncertainty, bounds, and the skin-tone bins (docs/fit.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "skin/color/color.hpp"
+#include "skin/fit/color_fit.hpp"
+#include "skin/fit/fit.hpp"
+#include "skin/util/error.hpp"
+
+using namespace skin::fit;
+using skin::physics::SkinParameters;
+
+namespace {
+// Away from every prior centre, inside the measured ranges.
+SkinParameters truth() {
+  SkinParameters p;
+  p.melanin = 0.06;
+  p.melanin_blend = 0.55;
+  p.hemoglobin = 0.025;
+  p.epidermis_thickness = 0.11;
+  p.oxygenation = 0.68;
+  p.scattering_scale = 1.4;
+  p.beta_carotene = 20;
+  p.epidermal_hemoglobin = 0.01;
+  return p;
+}
+MeasuredSpectrum synthetic(const SkinParameters& p, double noise, unsigned seed) {
+  MeasuredSpectrum m;
+  m.name = "synthetic";
+  SpectrumFitOptions o;
+  for (double l = 400; l <= 700; l += 5) m.wavelength_nm.push_back(l);
+  m.R = model_reflectance(p, m.wavelength_nm, o);
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> n(0.0, noise);
+  for (double& r : m.R) r += noise > 0 ? n(rng) : 0.0;
+  return m;
+}
+}  // namespace
+
+TEST(ExtendedModel, PriorsLiveInTheParameterTable) {
+  for (Parameter p : extended_model_free(true)) {
+    const Bounds b = prior_bounds(p);
+    EXPECT_LT(b.lo, b.hi) << key(p);
+    if (has_prior_centre(p)) {
+      EXPECT_GE(p.info().prior_centre, b.lo);
+      EXPECT_LE(p.info().prior_centre, b.hi);
+    }
+  }
+  EXPECT_DOUBLE_EQ(prior_bounds(Parameter::epidermis_thickness).hi, 0.15);
+  EXPECT_DOUBLE_EQ(prior_coordinate(Parameter::hemoglobin, 0.07), 1.0);
+  EXPECT_THROW(parse_fit_model("extendd"), skin::util::InputError);
+}
+
+TEST(ExtendedModel, SpectrumRecoversKnownParameters) {
+  SpectrumFitOptions o;
+  use_fit_model(o, FitModel::extended);
+  const FitResult r = fit_spectrum(synthetic(truth(), 0, 0), o);
+  EXPECT_LT(r.rms, 2e-4);
+  EXPECT_LT(r.delta_e, 0.05);
+  EXPECT_FALSE(r.outside_gamut);
+  const SkinParameters t = truth();
+  for (Parameter p : r.free) {
+    const double want = get(t, p), got = get(r.parameters, p);
+    // 3 % of the value, or 0.3 umol/L of beta-carotene.
+    EXPECT_NEAR(got, want, p == Parameter::beta_carotene ? 0.3 * 10 : 0.03 * want) << key(p);
+  }
+}
+
+TEST(ExtendedModel, UncertaintyMatchesTheLinearisedEstimate) {
+  // The reported standard deviations against an independent linearisation at the solution:
+  // central differences of the model, the prior rows, s^2 = SSR / (m - n).
+  SpectrumFitOptions o;
+  use_fit_model(o, FitModel::extended);
+  const MeasuredSpectrum m = synthetic(truth(), 0.004, 7);
+  const FitResult r = fit_spectrum(m, o);
+  const std::size_t n = r.free.size(), ms = m.R.size();
+  std::vector<std::vector<double>> J(ms + n, std::vector<double>(n, 0.0));
+  for (std::size_t j = 0; j < n; ++j) {
+    const Parameter p = r.free[j];
+    const Bounds b = prior_bounds(p);
+    const double h = 1e-4 * (b.hi - b.lo);
+    SkinParameters a = r.parameters, c = r.parameters;
+    set(a, p, get(r.parameters, p) + h);
+    set(c, p, get(r.parameters, p) - h);
+    const auto Ra = model_reflectance(a, m.wavelength_nm, o), Rc = model_reflectance(c, m.wavelength_nm, o);
+    for (std::size_t i = 0; i < ms; ++i) J[i][j] = (Ra[i] - Rc[i]) / (2 * h);
+    if (has_prior_centre(p))
+      J[ms + j][j] = kSpectrumPriorWeight * (prior_coordinate(p, get(r.parameters, p) + h) -
+                                             prior_coordinate(p, get(r.parameters, p) - h)) / (2 * h);
+  }
+  double sse = 0;
+  for (std::size_t i = 0; i < ms; ++i) sse += std::pow(r.fitted[i] - m.R[i], 2);
+  const double s2 = sse / double(ms - n);
+  // Normal matrix and its inverse (Gauss-Jordan; n = 8).
+  std::vector<std::vector<double>> A(n, std::vector<double>(2 * n, 0.0));
+  for (std::size_t a = 0; a < n; ++a) {
+    for (std::size_t b = 0; b < n; ++b)
+      for (std::size_t i = 0; i < J.size(); ++i) A[a][b] += J[i][a] * J[i][b];
+    A[a][n + a] = 1;
+  }
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t piv = c;
+    for (std::size_t rr = c; rr < n; ++rr) if (std::abs(A[rr][c]) > std::abs(A[piv][c])) piv = rr;
+    std::swap(A[c], A[piv]);
+    const double d = A[c][c];
+    for (double& v : A[c]) v /= d;
+    for (std::size_t rr = 0; rr < n; ++rr)
+      if (rr != c) {
+        const double f = A[rr][c];
+        for (std::size_t k = 0; k < 2 * n; ++k) A[rr][k] -= f * A[c][k];
+      }
+  }
+  for (std::size_t j = 0; j < n; ++j) {
+    if (r.at_bound[j]) continue;  // one-sided there
+    const double expect = std::sqrt(s2 * A[j][n + j]);
+    EXPECT_NEAR(r.uncertainty[j], expect, 0.1 * expect) << key(r.free[j]);
+  }
+}
+
+TEST(ExtendedModel, PriorsPullAnUnderdeterminedColourFitToTheirCentres) {
+  // Six unknowns, three colour coordinates: a target made at the prior centres is met there
+  // exactly and the prior cost is zero there, so the fit must return the centres.
+  SkinParameters c;
+  for (Parameter p : extended_model_free(false))
+    if (has_prior_centre(p)) set(c, p, p.info().prior_centre);
+  c.melanin = 0.03;
+  ColorFitOptions o;
+  use_fit_model(o, FitModel::extended);
+  const ColorFitter f(o);
+  const skin::color::Lab lab = f.lab(c);
+  ColorFitResult r;
+  {
+    // Linear sRGB of c's colour: the fitted colour of a fit with everything fixed.
+    ColorFitOptions fixed = o;
+    fixed.free = {Parameter::melanin};
+    fixed.start = c;
+    fixed.bounds = {{Parameter::melanin, {0.0299999, 0.0300001}}};
+    const ColorFitResult at = ColorFitter(fixed).fit({0.3, 0.2, 0.15});
+    r = f.fit(at.fitted_srgb_linear);
+  }
+  EXPECT_LT(r.delta_e, 0.05);
+  EXPECT_NEAR(r.target.L, lab.L, 1e-3);
+  for (Parameter p : extended_model_free(false)) {
+    if (!has_prior_centre(p)) continue;
+    EXPECT_NEAR(prior_coordinate(p, get(r.parameters, p)), prior_coordinate(p, get(c, p)), 0.03) << key(p);
+  }
+  EXPECT_NEAR(r.parameters.melanin, 0.03, 0.003);
+  for (std::size_t j = 0; j < r.free.size(); ++j) EXPECT_FALSE(r.at_bound[j]) << key(r.free[j]);
+}
+
+TEST(ExtendedModel, OutOfGamutColourReportsDistanceAndBounds) {
+  ColorFitOptions o;
+  use_fit_model(o, FitModel::extended);
+  const ColorFitResult r = ColorFitter(o).fit(parse_hex("c89682"));
+  EXPECT_TRUE(r.outside_gamut);
+  EXPECT_GT(r.delta_e, 1.0);
+  ASSERT_EQ(r.at_bound.size(), r.free.size());
+  int bound = 0;
+  for (std::size_t j = 0; j < r.free.size(); ++j) {
+    const Bounds b = prior_bounds(r.free[j]);
+    const double v = get(r.parameters, r.free[j]);
+    const bool on = std::abs(v - b.lo) < 1e-9 * (b.hi - b.lo) || std::abs(v - b.hi) < 1e-9 * (b.hi - b.lo);
+    EXPECT_EQ(bool(r.at_bound[j]), on) << key(r.free[j]);
+    bound += on;
+  }
+  EXPECT_GE(bound, 1);
+  // The paper model is not allowed the extended parameters from a colour.
+  ColorFitOptions paper;
+  paper.free = {Parameter::melanin, Parameter::oxygenation};
+  EXPECT_THROW(ColorFitter{paper}, skin::util::InputError);
+}
+
+TEST(ExtendedModel, ItaBins) {
+  EXPECT_NEAR(ita_degrees({60, 5, 10}), 45.0, 1e-12);
+  EXPECT_EQ(ita_bin(ita_degrees({70, 8, 12})), "very light");  // 59 degrees
+  EXPECT_EQ(ita_bin(45), "light");
+  EXPECT_EQ(ita_bin(41), "intermediate");  // bins are open at the top: > 41 is light
+  EXPECT_EQ(ita_bin(30), "intermediate");
+  EXPECT_EQ(ita_bin(20), "tan");
+  EXPECT_EQ(ita_bin(0), "brown");
+  EXPECT_EQ(ita_bin(ita_degrees({20, 5, 10})), "dark");  // -71.6 degrees
+  EXPECT_EQ(ita_bins().size(), 6u);
+}
