@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer harnesses of fuzz/ (clang, -fsanitize=fuzzer,address,undefined, in
-# build-asan/: scripts/configure-asan.sh) and runs each for SECONDS (default 60), starting from
+# build-fuzz/: scripts/configure-asan.sh --fuzz) and runs each for SECONDS (default 60), starting from
 # its seed corpus fuzz/corpus/<target>/ (never modified: new inputs go to
-# build-asan/fuzz-corpus/<target>/).
+# build-fuzz/fuzz-corpus/<target>/).
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]
 # A crash, hang (> 10 s on one input), out-of-memory (> 2 GB) or sanitizer report stops that
-# target and leaves its input in build-asan/fuzz-findings/; the script then exits 1. At the end it
+# target and leaves its input in build-fuzz/fuzz-findings/; the script then exits 1. At the end it
 # prints one line per target: executions, and the corpus size.
 #   SKIN_FUZZ_MERGE=1 bash scripts/fuzz.sh ...   then minimises each target's seeds together with
 #       what the run found (libFuzzer -merge=1) into fuzz/corpus/<target>/, the corpus kept in the
@@ -14,9 +14,9 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
-dir=build-asan
+dir=build-fuzz
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR=1  # (scripts/test.sh)
-[ -f "$dir/CMakeCache.txt" ] || bash scripts/configure-asan.sh
+[ -f "$dir/CMakeCache.txt" ] || bash scripts/configure-asan.sh --fuzz
 cmake --build "$dir" --target fuzz_all
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then

@@ -4,8 +4,8 @@
 # it and the web page's tests.
 #   bash scripts/test.sh --sanitize   the same suite under AddressSanitizer +
 #       UndefinedBehaviorSanitizer (clang, build-asan/, scripts/configure-asan.sh), then a short
-#       run of every fuzz harness from the same build (scripts/fuzz.sh, SKIN_FUZZ_SECONDS per
-#       target, default 5).
+#       run of every fuzz harness (build-fuzz/, scripts/fuzz.sh, SKIN_FUZZ_SECONDS per target,
+#       default 5).
 # CI (.ci/run) runs both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
