@@ -873,12 +873,12 @@ PYBIND11_MODULE(_core, m) {
             },
             [](std::string_view path) {
               return path == "input" || path == "solver" || path == "includes_specular" || path == "free" ||
-                     path == "fitted.wavelength_nm";
+                     path == "model" || path == "outside_gamut_rms" || path == "fitted.wavelength_nm";
             });
         const py::tuple one = py::make_tuple("spectrum");
         for (const char* group : {"parameters", "uncertainty", "at_bound"})
           for (auto item : py::cast<py::dict>(d[group])) axes[py::str(std::string(group) + "." + py::cast<std::string>(item.first))] = one;
-        for (const char* k : {"rms", "specular", "iterations", "starts"}) axes[k] = one;
+        for (const char* k : {"rms", "delta_e_2000", "outside_gamut", "specular", "iterations", "starts"}) axes[k] = one;
         axes["fitted.wavelength_nm"] = py::make_tuple("wavelength_nm");
         axes["fitted.measured"] = py::make_tuple("spectrum", "wavelength_nm");
         axes["fitted.R"] = py::make_tuple("spectrum", "wavelength_nm");
@@ -900,7 +900,7 @@ PYBIND11_MODULE(_core, m) {
        "bit for bit the one of fit_spectrum(wavelength_nm, R[i], ...), and returned as one dict "
        "shaped like a single result whose values are arrays with a leading axis of length N "
        "(result['axes'] names it 'spectrum'; fitted.R is (N, samples)); input, solver, "
-       "includes_specular, free and fitted.wavelength_nm stay single, and an uncertainty that a "
+       "includes_specular, free, model, outside_gamut_rms and fitted.wavelength_nm stay single, and an uncertainty that a "
        "single result gives as None is NaN. " + solver_doc() + params).c_str());
 
   auto color_fit_options = [](const Sets& sets, const std::optional<std::vector<std::string>>& free,
@@ -933,17 +933,29 @@ PYBIND11_MODULE(_core, m) {
         const auto document = [&](std::size_t i) {
           return schema::color_fit_result(fits[i], targets.rgb[i], melanin_blend_prior, melanin_blend_weight).document;
         };
+        // (In a batch an uncertainty the single document gives as null, not finite, is NaN.)
+        const auto batch_document = [&](std::size_t i) {
+          schema::json j = document(i);
+          if (j.contains("uncertainty"))
+            for (auto& u : j["uncertainty"]) if (u.is_null()) u = std::numeric_limits<double>::quiet_NaN();
+          return j;
+        };
         // One colour: the command's document with its arrays as lists (as fit_color has always
         // returned it).
         if (!targets.several) return to_python(document(0), Arrays::lists);
         // N colours: each one's document, its values arrays with the axis "target" first.
-        py::dict d = stack_to_python(Shape{static_cast<py::ssize_t>(fits.size())}, document, [](std::string_view path) {
-          return path == "melanin_blend_prior" || path == "melanin_blend_weight";
+        py::dict d = stack_to_python(Shape{static_cast<py::ssize_t>(fits.size())}, batch_document, [](std::string_view path) {
+          return path == "melanin_blend_prior" || path == "melanin_blend_weight" || path == "model" ||
+                 path == "free";
         });
         py::dict axes;
         const py::tuple one = py::make_tuple("target");
         for (const ParameterInfo& info : parameter_table()) axes[py::str("parameters." + std::string(info.key))] = one;
-        for (const char* k : {"target.hex", "fitted.hex", "delta_e_2000"}) axes[k] = one;
+        for (const char* group : {"uncertainty", "at_bound"})
+          if (d.contains(group))
+            for (auto item : py::cast<py::dict>(d[group]))
+              axes[py::str(std::string(group) + "." + py::cast<std::string>(item.first))] = one;
+        for (const char* k : {"target.hex", "fitted.hex", "delta_e_2000", "outside_gamut"}) axes[k] = one;
         axes["target.lab"] = py::make_tuple("target", "Lab");
         axes["fitted.lab"] = py::make_tuple("target", "Lab");
         axes["fitted.srgb_linear"] = py::make_tuple("target", "channel");
@@ -963,7 +975,8 @@ PYBIND11_MODULE(_core, m) {
        "the one of fit_color(srgb=srgb[i], ...); returned as one dict shaped like a single result "
        "whose values are numpy arrays with a leading axis of length N (result['axes'] names it "
        "'target'; target.lab is (N, 3), parameters.melanin (N,), fitted.hex an array of str); "
-       "melanin_blend_prior and melanin_blend_weight stay single. " + solver_doc() + params).c_str());
+       "melanin_blend_prior, melanin_blend_weight, model and free stay single; an uncertainty a single "
+       "result gives as None is NaN. " + solver_doc() + params).c_str());
 
   m.def(
       "fit_texture",
