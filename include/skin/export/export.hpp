@@ -127,7 +127,7 @@ struct ParameterMapsInput {
 struct Prepared;
 // progress(wavelengths done, wavelengths) while its profile is computed; prepare_solves() is
 // how many of those wavelengths the model solves numerically (off the accurate model's skin
-// table, or sfd), each a good part of a second (docs/benchmarks.md), known before it starts.
+// table, or sfd; their cost: docs/benchmarks.md), known before it starts.
 std::shared_ptr<const Prepared> prepare(const physics::SkinParameters& parameters,
                                         const transport::Model& model,
                                         const util::ProgressCallback& progress = {});

@@ -67,7 +67,7 @@ class Scene;
 // The profiles a build computes: `profiles` in all (a skin's wavelengths, a layered material's
 // three channels; each distinct one once), of which `solved` are solved numerically by their
 // transport model (transport::Model::response_is_solved: off the accurate model's skin table, or
-// sfd) rather than read from a table, each a good part of a second (docs/benchmarks.md).
+// sfd) rather than read from a table (their cost: docs/benchmarks.md).
 struct BuildWork {
   std::size_t profiles = 0;
   std::size_t solved = 0;
