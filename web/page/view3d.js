@@ -10,9 +10,13 @@
 //     same Gaussians at the thickness a depth map from the back light gives (Jimenez, Whelan,
 //     Sundstedt & Gutierrez 2010): T(s) = sum_k w_k exp(-s^2 / (2 v_k));
 //   - the surface is DJ06's Torrance-Sparrow lobe: Beckmann of RMS slope `roughness`, dielectric
-//     Fresnel at `eta`, Cook-Torrance shadowing, scaled by `oiliness` (rho_s).
+//     Fresnel at `eta`, Cook-Torrance shadowing, scaled by `oiliness` (rho_s);
+//   - each light casts shadows (its orthographic depth map, 3 x 3 samples), before the blur, so
+//     that light bleeds across a shadow's edge as it does in the skin.
+// A light's value is its irradiance / pi: under the key light head-on, a patch reads R_d (the
+// swatch), as `skin render` draws it under irradiance pi (renderScene gives that scene).
 // Not modelled: the transmission factor 1 - rho_dr at entry and exit (about 1 % at normal
-// incidence for the presets), parameter maps, shadows other than the back light's thickness.
+// incidence for the presets), parameter maps.
 // Frames are drawn on demand: after an update of the page, a change of the camera, or new kernels.
 //
 // window.skinView3d (the page and its tests): update(parameters), setKernels(export document),
@@ -72,9 +76,13 @@ uniform int gaussians;
 uniform float variance[${MAX_GAUSSIANS}];   // mm^2
 uniform vec3 share[${MAX_GAUSSIANS}];       // w_k / R_d per channel
 uniform bool translucency;
-uniform sampler2D backDepth;  // depth from the back light (orthographic, 0-1)
-uniform mat4 backMatrix;      // world -> the back light's clip space
-uniform float backNear, backFar;
+// Each light's depth map (orthographic, 0-1 between its near and far planes), for its shadow and
+// (the back light's) the thickness the light crosses.
+uniform sampler2D keyDepth, fillDepth, backDepth;
+uniform mat4 lightMatrix[3];  // world -> the light's clip space
+uniform float lightNear[3], lightFar[3];
+uniform float shadowOffset;   // a depth map's texel (mesh units): the normal offset and the bias
+uniform bool shadows;
 uniform vec3 cameraPos;
 const float PI = 3.141592653589793;
 
@@ -110,23 +118,44 @@ vec3 transmittance(float s_mm) {
   }
   return t;
 }
+// The share of light i reaching the point world (normal n): 3 x 3 depth-map samples
+// (percentage closer filtering), the point moved along its normal by a texel and a half.
+float lit(sampler2D depth, int i, vec3 world, vec3 n) {
+  if (!shadows) return 1.0;
+  vec4 p = lightMatrix[i] * vec4(world + n * (1.5 * shadowOffset), 1.0);
+  vec3 q = p.xyz / p.w * 0.5 + 0.5;
+  float here = lightNear[i] + q.z * (lightFar[i] - lightNear[i]);
+  vec2 texel = 1.0 / vec2(textureSize(depth, 0));
+  float sum = 0.0;
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x) {
+      float entry = lightNear[i] + texture(depth, q.xy + vec2(x, y) * texel).r * (lightFar[i] - lightNear[i]);
+      sum += here <= entry + shadowOffset ? 1.0 : 0.0;
+    }
+  return sum / 9.0;
+}
 void main() {
   vec3 n = normalize(vNormal);
   vec3 wo = normalize(cameraPos - vWorld);
   if (dot(n, wo) < 0.0) n = -n;  // open meshes seen from inside
   vec3 E = vec3(0.0), S = vec3(0.0);
+  float visible[3];
+  visible[0] = dot(n, lightDir[0]) > 0.0 ? lit(keyDepth, 0, vWorld, n) : 0.0;
+  visible[1] = dot(n, lightDir[1]) > 0.0 ? lit(fillDepth, 1, vWorld, n) : 0.0;
+  visible[2] = dot(n, lightDir[2]) > 0.0 ? lit(backDepth, 2, vWorld, n) : 0.0;
   for (int i = 0; i < 3; ++i) {
     float ni = dot(n, lightDir[i]);
-    E += lightColor[i] * max(ni, 0.0);
-    S += lightColor[i] * torranceSparrow(n, wo, lightDir[i]);
+    E += lightColor[i] * max(ni, 0.0) * visible[i];
+    // The lobe's radiance per unit irradiance; a light's value is irradiance / pi (see the composite).
+    S += lightColor[i] * PI * torranceSparrow(n, wo, lightDir[i]) * visible[i];
   }
   if (translucency) {
     // The back light through the skin: the thickness between this point and where the light
     // enters, from the back light's depth map, through the profile's Gaussians.
-    vec4 p = backMatrix * vec4(vWorld, 1.0);
+    vec4 p = lightMatrix[2] * vec4(vWorld, 1.0);
     vec3 q = p.xyz / p.w * 0.5 + 0.5;
-    float entry = backNear + texture(backDepth, q.xy).r * (backFar - backNear);
-    float here = backNear + q.z * (backFar - backNear);
+    float entry = lightNear[2] + texture(backDepth, q.xy).r * (lightFar[2] - lightNear[2]);
+    float here = lightNear[2] + q.z * (lightFar[2] - lightNear[2]);
     float s = max(here - entry, 0.0) * mmPerUnit;
     float facing = clamp(0.3 + dot(-n, lightDir[2]), 0.0, 1.0);
     E += lightColor[2] * transmittance(s) * facing;
@@ -232,8 +261,10 @@ function createView() {
     variance: { value: new Array(MAX_GAUSSIANS).fill(1) },
     share: { value: Array.from({ length: MAX_GAUSSIANS }, () => new THREE.Vector3()) },
     translucency: { value: true },
-    backDepth: { value: null }, backMatrix: { value: new THREE.Matrix4() },
-    backNear: { value: 0 }, backFar: { value: 1 },
+    keyDepth: { value: null }, fillDepth: { value: null }, backDepth: { value: null },
+    lightMatrix: { value: [new THREE.Matrix4(), new THREE.Matrix4(), new THREE.Matrix4()] },
+    lightNear: { value: [0, 0, 0] }, lightFar: { value: [1, 1, 1] },
+    shadowOffset: { value: 0 }, shadows: { value: true },
     cameraPos: { value: new THREE.Vector3() },
   };
   const surface = new THREE.ShaderMaterial({
@@ -245,11 +276,14 @@ function createView() {
   const scene = new THREE.Scene();
   const holder = new THREE.Group();
   scene.add(holder);
-  const backCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0.1, 100);
-  const backTarget = new THREE.WebGLRenderTarget(512, 512, {
-    depthTexture: new THREE.DepthTexture(512, 512, THREE.UnsignedIntType), depthBuffer: true,
+  // Each light's orthographic depth map (the key's finest: its shadows are the ones on the face).
+  const lightViews = [[KEY, 2048, 'keyDepth'], [FILL, 1024, 'fillDepth'], [BACK, 1024, 'backDepth']].map(([light, size, name]) => {
+    const target = new THREE.WebGLRenderTarget(size, size, {
+      depthTexture: new THREE.DepthTexture(size, size, THREE.UnsignedIntType), depthBuffer: true,
+    });
+    surfaceUniforms[name].value = target.depthTexture;
+    return { light, size, target, camera: new THREE.OrthographicCamera(-1, 1, 1, -1, 0.1, 100) };
   });
-  surfaceUniforms.backDepth.value = backTarget.depthTexture;
 
   const rt = (count = 1) => new THREE.WebGLRenderTarget(1, 1, {
     type: THREE.HalfFloatType, format: THREE.RGBAFormat, count, depthBuffer: count > 1,
@@ -288,24 +322,27 @@ function createView() {
     camera.position.copy(aim).add(new THREE.Vector3(0.45, 0.08, 1).normalize().multiplyScalar(fit / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 1.05));
     camera.updateProjectionMatrix();
     controls.update();
-    backCamera.left = backCamera.bottom = -radius;
-    backCamera.right = backCamera.top = radius;
-    backCamera.near = 0.01 * radius;
-    backCamera.far = 4 * radius;
-    backCamera.position.copy(centre).addScaledVector(BACK.dir, 2 * radius);
-    backCamera.lookAt(centre);
-    backCamera.updateProjectionMatrix();
-    backCamera.updateMatrixWorld();
-    surfaceUniforms.backMatrix.value.multiplyMatrices(backCamera.projectionMatrix, backCamera.matrixWorldInverse);
-    surfaceUniforms.backNear.value = backCamera.near;
-    surfaceUniforms.backFar.value = backCamera.far;
     surfaceUniforms.mmPerUnit.value = mmPerUnit;
-    // The depth map: drawn once per object (the lights stay with the object).
+    surfaceUniforms.shadowOffset.value = 2 * radius / lightViews[0].size;
+    // The depth maps: drawn once per object (the lights stay with the object).
     scene.overrideMaterial = depthMaterial;
-    renderer.setRenderTarget(backTarget);
-    renderer.setClearColor(0x000000, 1);
-    renderer.clear();
-    renderer.render(scene, backCamera);
+    lightViews.forEach(({ light, target, camera: c }, i) => {
+      c.left = c.bottom = -radius;
+      c.right = c.top = radius;
+      c.near = 0.01 * radius;
+      c.far = 4 * radius;
+      c.position.copy(centre).addScaledVector(light.dir, 2 * radius);
+      c.lookAt(centre);
+      c.updateProjectionMatrix();
+      c.updateMatrixWorld();
+      surfaceUniforms.lightMatrix.value[i].multiplyMatrices(c.projectionMatrix, c.matrixWorldInverse);
+      surfaceUniforms.lightNear.value[i] = c.near;
+      surfaceUniforms.lightFar.value[i] = c.far;
+      renderer.setRenderTarget(target);
+      renderer.setClearColor(0x000000, 1);
+      renderer.clear();
+      renderer.render(scene, c);
+    });
     scene.overrideMaterial = null;
   }
 
@@ -332,6 +369,7 @@ function createView() {
     surfaceUniforms.lightColor.value[2].copy(light).multiplyScalar(patchMode ? 0 : BACK.intensity);
     surfaceUniforms.lightDir.value[0].copy(patchMode ? new THREE.Vector3(0, 0, 1) : KEY.dir);
     surfaceUniforms.translucency.value = !patchMode && !!view.kernels;
+    surfaceUniforms.shadows.value = !patchMode;
     surfaceUniforms.rhoS.value = patchMode ? 0 : view.parameters.oiliness;
     surfaceUniforms.roughness.value = Math.max(view.parameters.roughness, 1e-3);
     surfaceUniforms.eta.value = view.parameters.eta;
@@ -454,6 +492,41 @@ function createView() {
       return { width: canvas.width, height: canvas.height, data: Array.from(out) };
     },
     requestRender,
+    // The camera (mesh units; fov vertical, degrees), as the orbit leaves it or set (tests).
+    getCamera() {
+      const v = (x) => [x.x, x.y, x.z];
+      return { eye: v(camera.position), target: v(controls.target), fov: camera.fov };
+    },
+    setCamera({ eye, target, fov }) {
+      camera.position.set(...eye);
+      controls.target.set(...target);
+      camera.fov = fov;
+      camera.updateProjectionMatrix();
+      controls.update();
+      render();
+    },
+    // The view as a scene for `skin render` (docs/scene-format.md): the same camera (eye, target,
+    // vertical field of view, the canvas's size), the mesh at the view's scale (unit_mm), and the
+    // three lights as directional lights. A light of the view is the irradiance pi x its value:
+    // the view's diffuse radiance is albedo x (value x cos), a Lambertian R_d / pi x irradiance x
+    // cos. `material` is the scene's skin material; `mesh` the path to the mesh file.
+    renderScene(mesh, material) {
+      render();
+      const v = (x) => [x.x, x.y, x.z];
+      const lights = [KEY, FILL, BACK].map((l) => ({
+        type: 'directional', direction: v(l.dir.clone().negate()),
+        irradiance: view.light.map((c) => Math.PI * c * l.intensity),
+      }));
+      return {
+        description: 'the 3D view of the page (web/page/view3d.js), for skin render',
+        unit_mm: surfaceUniforms.mmPerUnit.value,
+        camera: { eye: v(camera.position), look_at: v(controls.target), up: v(camera.up), fov: camera.fov, resolution: [canvas.width, canvas.height] },
+        render: { max_depth: 4, tone_map: 'clip', exposure: 0 },
+        materials: { skin: material },
+        objects: [{ mesh, material: 'skin' }],
+        lights,
+      };
+    },
   });
 
   // The head, or the sphere without it.
