@@ -704,7 +704,9 @@ function setUpDrop() {
     e.preventDefault();
     body.classList.remove('dragging');
     const file = e.dataTransfer.files[0];
-    if (file) loadMeasured(file.name, await file.text());
+    // A mesh goes to the 3D view (view3d.js), anything else is a measured spectrum.
+    if (file && /\.(glb|gltf|obj)$/i.test(file.name) && window.skinView3d) window.skinView3d.loadFile(file);
+    else if (file) loadMeasured(file.name, await file.text());
   });
   $('spectrum-file').addEventListener('change', async () => {
     const file = $('spectrum-file').files[0];

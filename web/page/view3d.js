@@ -25,12 +25,17 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
 
 const HEAD_URL = 'mesh/LeePerrySmith.glb';
 // The scan (a bust) is taken as 400 mm wide, shoulder to shoulder, which makes its head about
 // 230 mm from chin to crown, an adult's; the sphere's radius is 80 mm.
 const BUST_WIDTH_MM = 400;
 const SPHERE_RADIUS_MM = 80;
+// A mesh of one's own (loadFile) is taken as 250 mm across its largest side, a head's size (glTF
+// says metres, but scans seldom keep to it, and OBJ has no unit).
+const FILE_SIZE_MM = 250;
+const MAX_FILE_BYTES = 64 * 1024 * 1024;
 // The lights (directions towards the light in world space; y up, the face looks along +z), their
 // intensity times the illuminant's colour of luminance 1: a key light, a fill, a back light.
 const KEY = { dir: new THREE.Vector3(0.6, 0.45, 0.66).normalize(), intensity: 1.0 };
@@ -42,6 +47,7 @@ const BACKGROUND = [0.12, 0.12, 0.13];  // display-encoded
 
 const canvas = document.getElementById('view3d');
 const caption = document.getElementById('view3d-caption');
+const fileStatus = document.getElementById('view3d-file-status');
 
 const fullscreenVertex = /* glsl */`
 out vec2 vUv;
@@ -235,6 +241,46 @@ function pass(fragmentShader, uniforms, blending = THREE.NoBlending) {
   const scene = new THREE.Scene();
   scene.add(mesh);
   return { scene, uniforms: material.uniforms };
+}
+
+// A File as a three.js object of triangle meshes with normals, or an Error saying why not.
+async function parseMesh(file) {
+  const name = file.name.toLowerCase();
+  const kind = name.endsWith('.glb') || name.endsWith('.gltf') ? 'gltf' : name.endsWith('.obj') ? 'obj' : '';
+  if (!kind) throw new Error('not a .glb, .gltf or .obj file');
+  if (file.size === 0) throw new Error('the file is empty');
+  if (file.size > MAX_FILE_BYTES) throw new Error(`the file is larger than ${MAX_FILE_BYTES >> 20} MB`);
+  let object;
+  if (kind === 'gltf') {
+    const data = await file.arrayBuffer();
+    const gltf = await new Promise((resolve, reject) => {
+      try {
+        new GLTFLoader().parse(data, '', resolve, (e) => reject(new Error(`not a readable glTF file (${e && e.message ? e.message : e})`)));
+      } catch (e) { reject(new Error(`not a readable glTF file (${e.message})`)); }
+    });
+    object = gltf.scene;
+  } else {
+    try {
+      object = new OBJLoader().parse(await file.text());
+    } catch (e) { throw new Error(`not a readable OBJ file (${e.message})`); }
+  }
+  // Only triangle meshes with finite positions; normals made where the file has none.
+  const keep = [];
+  object.traverse((o) => {
+    if (!o.isMesh || !o.geometry || !o.geometry.attributes.position) return;
+    const g = o.geometry;
+    const count = g.index ? g.index.count : g.attributes.position.count;
+    if (count < 3 || (o.drawMode !== undefined && o.drawMode !== THREE.TrianglesDrawMode)) return;
+    const p = g.attributes.position.array;
+    for (let i = 0; i < p.length; i++) if (!Number.isFinite(p[i])) throw new Error('a vertex position is not a finite number');
+    if (!g.attributes.normal) g.computeVertexNormals();
+    keep.push(o);
+  });
+  if (keep.length === 0) throw new Error('no triangles in the file');
+  object.traverse((o) => { if ((o.isLine || o.isPoints) && o.parent) o.visible = false; });
+  const size = new THREE.Box3().setFromObject(object).getSize(new THREE.Vector3());
+  if (!(Math.max(size.x, size.y, size.z) > 0) || !Number.isFinite(size.length())) throw new Error('the mesh has no extent');
+  return object;
 }
 
 function createView() {
@@ -456,6 +502,23 @@ function createView() {
     requestAnimationFrame(() => { scheduled = false; render(); });
   }
   controls.addEventListener('change', requestRender);
+  // A mesh dropped on the view, or chosen with the file picker under it.
+  canvas.addEventListener('dragover', (e) => { e.preventDefault(); e.stopPropagation(); });
+  canvas.addEventListener('drop', (e) => {
+    e.preventDefault();
+    e.stopPropagation();
+    document.body.classList.remove('dragging');
+    const file = e.dataTransfer && e.dataTransfer.files[0];
+    if (file) view.loadFile(file);
+  });
+  const picker = document.getElementById('view3d-file');
+  if (picker) {
+    picker.addEventListener('change', async () => {
+      const file = picker.files[0];
+      if (file) await view.loadFile(file);
+      picker.value = '';  // the same file chosen again loads again
+    });
+  }
   new ResizeObserver(requestRender).observe(canvas);
 
   Object.assign(view, {
@@ -492,6 +555,32 @@ function createView() {
       return { width: canvas.width, height: canvas.height, data: Array.from(out) };
     },
     requestRender,
+    // A mesh of one's own (a File: .glb, .gltf with its buffers embedded, or .obj) in place of the
+    // head, in this skin. A file that is not one gives one line in #view3d-file-status and
+    // leaves the view as it was. Resolves to true when the mesh is shown.
+    async loadFile(file) {
+      const say = (text, error) => {
+        if (fileStatus) { fileStatus.textContent = text; fileStatus.className = error ? 'note error' : 'note muted'; }
+      };
+      try {
+        const object = await parseMesh(file);
+        const size = new THREE.Box3().setFromObject(object).getSize(new THREE.Vector3());
+        const largest = Math.max(size.x, size.y, size.z);
+        headObject = object;
+        headMmPerUnit = FILE_SIZE_MM / largest;
+        view.meshName0 = 'file';
+        if (view.mode === 'head') showObject(object, headMmPerUnit, 'file');
+        document.getElementById('view3d-credit').hidden = true;
+        let triangles = 0;
+        object.traverse((o) => { if (o.isMesh) triangles += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3; });
+        say(`Showing ${file.name}: ${triangles} triangles, taken as ${FILE_SIZE_MM} mm across.`, false);
+        render();
+        return true;
+      } catch (e) {
+        say(`Not loaded: ${file.name}: ${e.message}. The view takes a .glb, a .gltf with its data embedded, or an .obj.`, true);
+        return false;
+      }
+    },
     // The camera (mesh units; fov vertical, degrees), as the orbit leaves it or set (tests).
     getCamera() {
       const v = (x) => [x.x, x.y, x.z];

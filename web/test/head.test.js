@@ -9,12 +9,16 @@
 //     printed with the view's draw times; SKIN_VIEW_LATENCY_MS (e.g. 50, the issue's target)
 //     makes it a limit (not held by default: the machine is shared and loaded);
 //   - the patch (the view's test mode: a square head-on, lit by the key light alone, no
-//     specular) reads within 1 CIEDE2000 of the module's colour (`skin color`) for every preset.
+//     specular) reads within 1 CIEDE2000 of the module's colour (`skin color`) for every preset;
+//   - a mesh of one's own: a tetrahedron (OBJ, no normals) through the file picker
+//     (#view3d-file) and dropped on the view is shown, lit; an OBJ with no faces, a .glb of
+//     garbage and a file of another kind each give one line naming the file (the mesh shown
+//     stays, the spectrum loader is not called, no page error).
 // Run: node web/test/head.test.js (after scripts/web.sh and npm ci in web/).
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { ROOT, SITE, fail, openPage, lab, deltaE2000, decode } = require('./common');
+const { ROOT, SITE, TMP, fail, openPage, lab, deltaE2000, decode } = require('./common');
 
 let checks = 0;
 function check(failures, what) {
@@ -137,6 +141,44 @@ async function main() {
       if (!(de <= 1)) failures.push(`${name}: dE2000 ${de.toFixed(3)} (patch ${r.rgb8.map((v) => v.toFixed(1)).join(' ')})`);
     }
     check(failures, `the lit patch reads the module's colour for all ${presets.length} presets: worst dE2000 ${worst.de.toFixed(3)} (${worst.preset})`);
+
+    // A mesh of one's own, through the file picker and dropped; bad files.
+    const tetra = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n';
+    const dir = fs.mkdtempSync(path.join(TMP, 'mesh-'));
+    const files = { 'tetra.obj': tetra, 'empty-faces.obj': 'v 0 0 0\nv 1 0 0\n# no faces\n', 'garbage.glb': 'not a glb at all', 'notes.txt': 'hello' };
+    for (const [name, text] of Object.entries(files)) fs.writeFileSync(path.join(dir, name), text);
+    const picker = await page.$('#view3d-file');
+    const label = await page.evaluate(() => document.querySelector('label[for="view3d-file"]')?.textContent || '');
+    await picker.uploadFile(path.join(dir, 'tetra.obj'));
+    await page.waitForFunction(() => /tetra\.obj/.test(document.getElementById('view3d-file-status').textContent), { timeout: 20000 });
+    const own = await page.evaluate(() => ({ mesh: skinView3d.meshName, pixels: skinView3d.pixels(), status: document.getElementById('view3d-file-status').textContent }));
+    const ownSkin = skinPixels(own.pixels);
+    const ownLuma = ownSkin.reduce((s, i) => s + luma(own.pixels.data, i), 0) / Math.max(1, ownSkin.length);
+    check(own.mesh === 'file' && ownSkin.length > 0.05 * own.pixels.width * own.pixels.height && ownLuma > 30 && /4 triangles/.test(own.status) && /mesh/i.test(label) ? []
+      : [`mesh ${own.mesh}, ${ownSkin.length} pixels of luma ${ownLuma.toFixed(0)}, status "${own.status}", label "${label}"`],
+    `a tetrahedron OBJ through the labelled file picker is shown, lit (${(100 * ownSkin.length / (own.pixels.width * own.pixels.height)).toFixed(0)} % of the view): "${own.status}"`);
+    const bad = [];
+    for (const name of ['empty-faces.obj', 'garbage.glb', 'notes.txt']) {
+      const r = await page.evaluate(async (name, text) => {
+        const before = document.getElementById('load-result').textContent;
+        const ok = await skinView3d.loadFile(new File([text], name));
+        const s = document.getElementById('view3d-file-status');
+        return { ok, text: s.textContent, error: s.classList.contains('error'), mesh: skinView3d.meshName, spectrum: document.getElementById('load-result').textContent !== before };
+      }, name, files[name]);
+      console.log(`  ${name}: ${r.text}`);
+      if (r.ok || !r.error || !r.text.startsWith(`Not loaded: ${name}: `) || r.text.includes('\n') || r.mesh !== 'file' || r.spectrum) bad.push(`${name}: ${JSON.stringify(r)}`);
+    }
+    // Dropped on the view (after a bad file: the view still works).
+    const dropped = await page.evaluate(async (text) => {
+      const dt = new DataTransfer();
+      dt.items.add(new File([text], 'dropped.obj'));
+      document.getElementById('view3d').dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+      const s = document.getElementById('view3d-file-status');
+      for (let i = 0; i < 100 && !/dropped\.obj/.test(s.textContent); i++) await new Promise((r) => setTimeout(r, 50));
+      return { text: s.textContent, error: s.classList.contains('error'), loaded: document.getElementById('load-result').textContent };
+    }, tetra);
+    if (!dropped.text.startsWith('Showing dropped.obj') || dropped.error || /dropped/.test(dropped.loaded)) bad.push(`drop: ${JSON.stringify(dropped)}`);
+    check(bad, 'bad mesh files give one line each and keep the view; a mesh dropped on the view is shown');
 
     // Without the mesh: a sphere.
     await page.setRequestInterception(true);
