@@ -17,7 +17,8 @@
 #   web/test/head.test.js     the 3D view (#view3d, WebGL2 on SwiftShader): a lit head (a sphere
 #                             without the mesh), the realtime export's kernels, melanin changes
 #                             the pixels (input-to-frame time printed; SKIN_VIEW_LATENCY_MS=50
-#                             makes it a limit), the lit patch within 1 dE2000 of every preset.
+#                             makes it a limit), the lit patch within 1 dE2000 of every preset,
+#                             the blush/pallor brush, a mesh of one's own (picker, drop, bad files).
 #   web/test/head-render.test.js  the 3D view against `skin render` of its own scene (camera,
 #                             lights, scale): mean dE2000 <= 3 over the skin pixels (caucasian,
 #                             african), the shadow edge's 10-90 % width per channel within 20 %;

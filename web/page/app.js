@@ -406,6 +406,25 @@ function drawView3d() {
 }
 window.skinView3dPending = () => { drawView3d(); if (state.kernels) window.skinView3d.setKernels(state.kernels); };
 
+// The colours the view's blush and pallor brush paints between (view3d.js, setBloodLevels): the
+// model's colour with the blood (hemoglobin) times 2^k for each k of BLOOD_STOPS, the other
+// parameters as they are (as `skin color --hemoglobin H x 2^k`, capped at 1). Computed when
+// the view has paint: at the first stroke, and with the kernels after a change.
+const BLOOD_STOPS = [-2, -1.5, -1, -0.5, 0, 0.5, 1, 1.5, 2];
+function bloodLevels() {
+  const view = window.skinView3d;
+  if (!view || !view.painted) return;
+  const key = JSON.stringify(request());
+  if (key === state.bloodKey) return;
+  try {
+    const h = state.values.hemoglobin;
+    const colours = BLOOD_STOPS.map((k) => runJson('color', request({ params: { ...state.values, hemoglobin: Math.min(1, h * 2 ** k) } })).color.srgb_linear);
+    state.bloodKey = key;
+    view.setBloodLevels(BLOOD_STOPS, colours);
+  } catch (err) { /* the parameters are refused: the next update shows why */ }
+}
+window.skinBloodLevels = bloodLevels;
+
 // The sum of Gaussians of the current parameters, as `skin export --target realtime` fits it
 // (the module's export: ~0.1 s here, so not in the frame of a slider's move): computed once the
 // page has been still for KERNEL_DELAY ms. A profile the update did not solve (profile_pending:
@@ -431,6 +450,7 @@ function scheduleKernels() {
       state.kernelsKey = key;
       if (window.skinView3d) window.skinView3d.setKernels(state.kernels);
     } catch (err) { /* the parameters are refused: the next update shows why */ }
+    bloodLevels();
     $('view3d-status').textContent = kernelText();
   }, KERNEL_DELAY);
 }

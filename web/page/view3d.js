@@ -15,13 +15,19 @@
 //     that light bleeds across a shadow's edge as it does in the skin.
 // A light's value is its irradiance / pi: under the key light head-on, a patch reads R_d (the
 // swatch), as `skin render` draws it under irradiance pi (renderScene gives that scene).
+//   - a blush or pallor brush paints k (the blood times 2^k) over the texture coordinates; the
+//     albedo is multiplied, after the blur, by the model's colour at k over that at k = 0
+//     (setBloodLevels, from the module via app.js).
 // Not modelled: the transmission factor 1 - rho_dr at entry and exit (about 1 % at normal
-// incidence for the presets), parameter maps.
+// incidence for the presets), interreflections, parameter maps from a fitted texture.
 // Frames are drawn on demand: after an update of the page, a change of the camera, or new kernels.
 //
 // window.skinView3d (the page and its tests): update(parameters), setKernels(export document),
 // setLight(rgb), setMode('head' | 'patch'), pixels() (a frame drawn and read back, RGBA bytes,
-// bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end).
+// bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end),
+// renderScene(mesh, material) (the view as a `skin render` scene), getCamera()/setCamera(),
+// loadFile(File), setBrush('turn' | 'blush' | 'pallor'), setBloodLevels(stops, colours),
+// clearPaint().
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -42,6 +48,14 @@ const KEY = { dir: new THREE.Vector3(0.6, 0.45, 0.66).normalize(), intensity: 1.
 const FILL = { dir: new THREE.Vector3(-0.8, 0.1, 0.45).normalize(), intensity: 0.25 };
 const BACK = { dir: new THREE.Vector3(-0.25, 0.25, -1).normalize(), intensity: 1.5 };
 const MAX_GAUSSIANS = 8;
+// The blush and pallor brush: a map of k over the mesh's texture coordinates (the blood times
+// 2^k; 0 unpainted), BLOOD_MAP texels square; a stroke's dab adds DAB_STOPS x a Gaussian of
+// standard deviation DAB_RADIUS (in texture coordinates) to k, within [-2, 2].
+const BLOOD_MAP = 256;
+const MAX_STOPS = 2;
+const DAB_STOPS = 0.5;
+const DAB_RADIUS = 0.012;
+const MAX_LEVELS = 16;
 const MAX_WIDTH = 480;
 const BACKGROUND = [0.12, 0.12, 0.13];  // display-encoded
 
@@ -59,7 +73,9 @@ const surfaceVertex = /* glsl */`
 out vec3 vNormal;
 out vec3 vWorld;
 out float vDepth;
+out vec2 vUv;
 void main() {
+  vUv = uv;
   vec4 world = modelMatrix * vec4(position, 1.0);
   vWorld = world.xyz;
   vNormal = normalize(mat3(modelMatrix) * normal);
@@ -72,8 +88,15 @@ precision highp float;
 in vec3 vNormal;
 in vec3 vWorld;
 in float vDepth;
+in vec2 vUv;
 layout(location = 0) out vec4 outIrradiance;
 layout(location = 1) out vec4 outSpecular;
+layout(location = 2) out vec4 outTint;  // the painted colour over the unpainted, per channel
+uniform bool painted;
+uniform sampler2D bloodMap;   // k: the blood times 2^k
+uniform int levels;
+uniform float stops[${MAX_LEVELS}];
+uniform vec3 tint[${MAX_LEVELS}];   // the colour at each k over the colour at k = 0
 uniform vec3 lightDir[3];
 uniform vec3 lightColor[3];   // illuminant x intensity
 uniform float rhoS, roughness, eta;
@@ -168,6 +191,20 @@ void main() {
   }
   outIrradiance = vec4(E, vDepth);
   outSpecular = vec4(S, 1.0);
+  outTint = vec4(1.0);
+  if (painted) {
+    float k = texture(bloodMap, vUv).r;
+    if (k != 0.0) {
+      for (int i = 0; i + 1 < ${MAX_LEVELS}; ++i) {
+        if (i + 1 >= levels) break;
+        if (k <= stops[i + 1] || i + 2 >= levels) {
+          float t = clamp((k - stops[i]) / (stops[i + 1] - stops[i]), 0.0, 1.0);
+          outTint = vec4(mix(tint[i], tint[i + 1], t), 1.0);
+          break;
+        }
+      }
+    }
+  }
 }`;
 
 // One separable pass of one Gaussian (standard deviation sigma mm) along `direction`, over the
@@ -217,13 +254,13 @@ const compositeFragment = /* glsl */`
 precision highp float;
 in vec2 vUv;
 out vec4 outColor;
-uniform sampler2D diffuse, irradiance, specular;
+uniform sampler2D diffuse, irradiance, specular, tint;
 uniform vec3 albedo;
 uniform vec3 background;
 float encode(float x) { x = clamp(x, 0.0, 1.0); return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055; }
 void main() {
   if (texture(irradiance, vUv).a <= 0.0) { outColor = vec4(background, 1.0); return; }
-  vec3 L = albedo * texture(diffuse, vUv).rgb + texture(specular, vUv).rgb;
+  vec3 L = albedo * texture(tint, vUv).rgb * texture(diffuse, vUv).rgb + texture(specular, vUv).rgb;
   outColor = vec4(encode(L.r), encode(L.g), encode(L.b), 1.0);
 }`;
 
@@ -311,6 +348,9 @@ function createView() {
     lightMatrix: { value: [new THREE.Matrix4(), new THREE.Matrix4(), new THREE.Matrix4()] },
     lightNear: { value: [0, 0, 0] }, lightFar: { value: [1, 1, 1] },
     shadowOffset: { value: 0 }, shadows: { value: true },
+    painted: { value: false }, bloodMap: { value: null }, levels: { value: 0 },
+    stops: { value: new Array(MAX_LEVELS).fill(0) },
+    tint: { value: Array.from({ length: MAX_LEVELS }, () => new THREE.Vector3(1, 1, 1)) },
     cameraPos: { value: new THREE.Vector3() },
   };
   const surface = new THREE.ShaderMaterial({
@@ -335,7 +375,14 @@ function createView() {
     type: THREE.HalfFloatType, format: THREE.RGBAFormat, count, depthBuffer: count > 1,
     minFilter: THREE.LinearFilter, magFilter: THREE.LinearFilter,
   });
-  const gbuffer = rt(2), horizontal = rt(), sum = rt();
+  const gbuffer = rt(3), horizontal = rt(), sum = rt();
+  // The brush's map (k per texel; half floats, filtered).
+  const bloodK = new Float32Array(BLOOD_MAP * BLOOD_MAP);
+  const bloodTexture = new THREE.DataTexture(new Uint16Array(BLOOD_MAP * BLOOD_MAP), BLOOD_MAP, BLOOD_MAP, THREE.RedFormat, THREE.HalfFloatType);
+  bloodTexture.minFilter = bloodTexture.magFilter = THREE.LinearFilter;
+  bloodTexture.wrapS = bloodTexture.wrapT = THREE.ClampToEdgeWrapping;
+  bloodTexture.needsUpdate = true;
+  surfaceUniforms.bloodMap.value = bloodTexture;
   const blur = pass(blurFragment, {
     source: { value: null }, direction: { value: new THREE.Vector2() }, texel: { value: new THREE.Vector2() },
     sigmaMm: { value: 1 }, pixelsPerUnitAtUnitDepth: { value: 1 }, mmPerUnit: { value: 1 }, weight: { value: new THREE.Vector3(1, 1, 1) },
@@ -343,7 +390,7 @@ function createView() {
   const blurAdd = pass(blurFragment, blur.uniforms, THREE.CustomBlending);
   const share = pass(shareFragment, { source: { value: null }, weight: { value: new THREE.Vector3() } });
   const composite = pass(compositeFragment, {
-    diffuse: { value: sum.texture }, irradiance: { value: gbuffer.textures[0] }, specular: { value: gbuffer.textures[1] },
+    diffuse: { value: sum.texture }, irradiance: { value: gbuffer.textures[0] }, specular: { value: gbuffer.textures[1] }, tint: { value: gbuffer.textures[2] },
     albedo: { value: new THREE.Vector3(0.5, 0.4, 0.35) }, background: { value: new THREE.Vector3(...BACKGROUND) },
   });
 
@@ -351,6 +398,7 @@ function createView() {
     frames: 0, lastFrame: 0, frameTimes: [], mode: 'head', mesh: null, meshName: '',
     parameters: { oiliness: 0.3, roughness: 0.35, eta: 1.4 }, albedo: [0.5, 0.4, 0.35], light: [1, 1, 1],
     kernels: null,  // {variance: [mm^2], share: [[r, g, b]]}
+    brush: 'turn', painted: false,
   };
   let headObject = null, headMmPerUnit = 1, patchObject = null;
 
@@ -416,6 +464,7 @@ function createView() {
     surfaceUniforms.lightDir.value[0].copy(patchMode ? new THREE.Vector3(0, 0, 1) : KEY.dir);
     surfaceUniforms.translucency.value = !patchMode && !!view.kernels;
     surfaceUniforms.shadows.value = !patchMode;
+    surfaceUniforms.painted.value = !patchMode && view.painted && surfaceUniforms.levels.value > 1;
     surfaceUniforms.rhoS.value = patchMode ? 0 : view.parameters.oiliness;
     surfaceUniforms.roughness.value = Math.max(view.parameters.roughness, 1e-3);
     surfaceUniforms.eta.value = view.parameters.eta;
@@ -502,6 +551,55 @@ function createView() {
     requestAnimationFrame(() => { scheduled = false; render(); });
   }
   controls.addEventListener('change', requestRender);
+  // The brush: a stroke on the mesh (pointer down and moved) paints k at the texture
+  // coordinates under the pointer, + for blush, - for pallor.
+  const raycaster = new THREE.Raycaster();
+  function dab(u, v, sign) {
+    const r = DAB_RADIUS * BLOOD_MAP, reach = Math.ceil(3 * r);
+    const cx = u * BLOOD_MAP - 0.5, cy = v * BLOOD_MAP - 0.5;
+    const data = bloodTexture.image.data;
+    for (let y = Math.max(0, Math.floor(cy - reach)); y <= Math.min(BLOOD_MAP - 1, Math.ceil(cy + reach)); y++) {
+      for (let x = Math.max(0, Math.floor(cx - reach)); x <= Math.min(BLOOD_MAP - 1, Math.ceil(cx + reach)); x++) {
+        const w = Math.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * r * r));
+        if (w < 1e-3) continue;
+        const i = y * BLOOD_MAP + x;
+        bloodK[i] = Math.max(-MAX_STOPS, Math.min(MAX_STOPS, bloodK[i] + sign * DAB_STOPS * w));
+        data[i] = THREE.DataUtils.toHalfFloat(bloodK[i]);
+      }
+    }
+    bloodTexture.needsUpdate = true;
+  }
+  function strokeAt(event) {
+    const rect = canvas.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, 1 - ((event.clientY - rect.top) / rect.height) * 2);
+    raycaster.setFromCamera(ndc, camera);
+    const hit = raycaster.intersectObject(holder, true).find((h) => h.uv);
+    if (!hit) return false;
+    if (!view.painted) {
+      view.painted = true;
+      if (window.skinBloodLevels) window.skinBloodLevels();
+    }
+    dab(hit.uv.x, hit.uv.y, view.brush === 'blush' ? 1 : -1);
+    requestRender();
+    return true;
+  }
+  let stroking = false;
+  canvas.addEventListener('pointerdown', (e) => {
+    if (view.brush === 'turn' || view.mode !== 'head') return;
+    stroking = true;
+    canvas.setPointerCapture(e.pointerId);
+    strokeAt(e);
+  });
+  canvas.addEventListener('pointermove', (e) => { if (stroking) strokeAt(e); });
+  const endStroke = () => { stroking = false; };
+  canvas.addEventListener('pointerup', endStroke);
+  canvas.addEventListener('pointercancel', endStroke);
+  for (const radio of document.querySelectorAll('input[name="view3d-brush"]')) {
+    radio.addEventListener('change', () => { if (radio.checked) view.setBrush(radio.value); });
+  }
+  const clearButton = document.getElementById('view3d-clear');
+  if (clearButton) clearButton.addEventListener('click', () => view.clearPaint());
+
   // A mesh dropped on the view, or chosen with the file picker under it.
   canvas.addEventListener('dragover', (e) => { e.preventDefault(); e.stopPropagation(); });
   canvas.addEventListener('drop', (e) => {
@@ -544,7 +642,7 @@ function createView() {
       view.mode = mode;
       if (mode === 'patch') showObject(patch(), 1, 'patch');
       else if (headObject) showObject(headObject, headMmPerUnit, view.meshName0);
-      controls.enabled = mode !== 'patch';
+      controls.enabled = mode !== 'patch' && view.brush === 'turn';
       render();
     },
     // A frame drawn and read back at once (RGBA bytes, bottom row first), for tests.
@@ -555,6 +653,34 @@ function createView() {
       return { width: canvas.width, height: canvas.height, data: Array.from(out) };
     },
     requestRender,
+    // The brush: 'turn' (the orbit), 'blush' (more blood) or 'pallor' (less).
+    setBrush(brush) {
+      if (!['turn', 'blush', 'pallor'].includes(brush)) throw new Error(`brush '${brush}': allowed are turn, blush, pallor`);
+      view.brush = brush;
+      controls.enabled = brush === 'turn' && view.mode !== 'patch';
+      const radio = document.querySelector(`input[name="view3d-brush"][value="${brush}"]`);
+      if (radio) radio.checked = true;
+    },
+    // The colours at each k (the blood times 2^k; `stops` ascending, one of them 0), linear sRGB
+    // (app.js's bloodLevels, from the module): the map's tint is each over the colour at k = 0.
+    setBloodLevels(stops, colours) {
+      const zero = stops.indexOf(0);
+      if (zero < 0 || stops.length !== colours.length || stops.length > MAX_LEVELS) throw new Error('setBloodLevels: stops must include 0, one colour each');
+      stops.forEach((k, i) => {
+        surfaceUniforms.stops.value[i] = k;
+        surfaceUniforms.tint.value[i].set(...[0, 1, 2].map((c) => (colours[zero][c] > 0 ? colours[i][c] / colours[zero][c] : 1)));
+      });
+      surfaceUniforms.levels.value = stops.length;
+      view.bloodLevels = stops.length;
+      requestRender();
+    },
+    clearPaint() {
+      bloodK.fill(0);
+      bloodTexture.image.data.fill(0);
+      bloodTexture.needsUpdate = true;
+      view.painted = false;
+      requestRender();
+    },
     // A mesh of one's own (a File: .glb, .gltf with its buffers embedded, or .obj) in place of the
     // head, in this skin. A file that is not one gives one line in #view3d-file-status and
     // leaves the view as it was. Resolves to true when the mesh is shown.
@@ -568,6 +694,7 @@ function createView() {
         const largest = Math.max(size.x, size.y, size.z);
         headObject = object;
         headMmPerUnit = FILE_SIZE_MM / largest;
+        view.clearPaint();
         view.meshName0 = 'file';
         if (view.mode === 'head') showObject(object, headMmPerUnit, 'file');
         document.getElementById('view3d-credit').hidden = true;

@@ -10,6 +10,9 @@
 //     makes it a limit (not held by default: the machine is shared and loaded);
 //   - the patch (the view's test mode: a square head-on, lit by the key light alone, no
 //     specular) reads within 1 CIEDE2000 of the module's colour (`skin color`) for every preset;
+//   - the brush: a blush stroke with the mouse on the cheek reddens the skin under it, pallor
+//     (two strokes) leaves it paler than before, no pixel more than 80 px from the stroke
+//     changes, and cleared the frame is as before;
 //   - a mesh of one's own: a tetrahedron (OBJ, no normals) through the file picker
 //     (#view3d-file) and dropped on the view is shown, lit; an OBJ with no faces, a .glb of
 //     garbage and a file of another kind each give one line naming the file (the mesh shown
@@ -141,6 +144,53 @@ async function main() {
       if (!(de <= 1)) failures.push(`${name}: dE2000 ${de.toFixed(3)} (patch ${r.rgb8.map((v) => v.toFixed(1)).join(' ')})`);
     }
     check(failures, `the lit patch reads the module's colour for all ${presets.length} presets: worst dE2000 ${worst.de.toFixed(3)} (${worst.preset})`);
+
+    // The blush and pallor brush, a stroke on the cheek with the mouse: the skin around it redder
+    // (blush) or paler (pallor), every pixel away from it unchanged; cleared, the frame as before.
+    await page.click('#presets button[data-preset="caucasian"]');
+    await ready(page);
+    await page.evaluate(() => document.getElementById('view3d').scrollIntoView({ block: 'center' }));
+    const box = await (await page.$('#view3d')).boundingBox();
+    const before = await page.evaluate(() => skinView3d.pixels());
+    const scale = before.width / box.width;
+    const at = [box.x + 0.5 * box.width, box.y + 0.55 * box.height];  // the cheek
+    const atPx = [(at[0] - box.x) * scale, (at[1] - box.y) * scale];
+    async function stroke(brush) {
+      await page.click(`input[name="view3d-brush"][value="${brush}"]`);
+      await page.mouse.move(at[0] - 4, at[1]);
+      await page.mouse.down();
+      for (let i = -3; i <= 4; i++) await page.mouse.move(at[0] + i, at[1]);
+      await page.mouse.up();
+      await page.waitForFunction(() => skinView3d.painted && skinView3d.bloodLevels > 1, { timeout: 20000 });
+      return page.evaluate(() => skinView3d.pixels());
+    }
+    // Per pixel (top row first): its distance from the stroke, and the change of red over green.
+    function changes(a, b) {
+      let near = 0, nearCount = 0, far = 0, farthest = 0;
+      for (let i = 0; i < a.data.length; i += 4) {
+        const k = i / 4, x = k % a.width, y = a.height - 1 - Math.floor(k / a.width);
+        const d = Math.hypot(x - atPx[0], y - atPx[1]);
+        const changed = Math.abs(a.data[i] - b.data[i]) + Math.abs(a.data[i + 1] - b.data[i + 1]) + Math.abs(a.data[i + 2] - b.data[i + 2]);
+        if (changed > 0) farthest = Math.max(farthest, d);
+        if (d <= 6) { near += b.data[i] / Math.max(1, b.data[i + 1]) - a.data[i] / Math.max(1, a.data[i + 1]); nearCount += 1; }
+        else if (d > 80 && changed > 0) far += 1;
+      }
+      return { redder: near / Math.max(1, nearCount), far, farthest };
+    }
+    const blush = changes(before, await stroke('blush'));
+    await (await page.$('#view3d')).screenshot({ path: path.join(shots, 'view3d-blush.png') });
+    const pallor = changes(before, await stroke('pallor') && await stroke('pallor'));
+    await page.evaluate(() => { skinView3d.clearPaint(); skinView3d.setBrush('turn'); });
+    const cleared = await page.evaluate(() => skinView3d.pixels());
+    const same = cleared.data.every((v, i) => v === before.data[i]);
+    console.log(`  blush: red/green ${blush.redder >= 0 ? '+' : ''}${blush.redder.toFixed(3)} at the stroke, changed pixels out to ${blush.farthest.toFixed(0)} px; ` +
+      `pallor (two strokes after it): ${pallor.redder.toFixed(3)}, out to ${pallor.farthest.toFixed(0)} px`);
+    check([
+      ...(blush.redder > 0.02 ? [] : [`blush: red/green changed by ${blush.redder.toFixed(3)}`]),
+      ...(pallor.redder < -0.02 ? [] : [`pallor: red/green changed by ${pallor.redder.toFixed(3)}`]),
+      ...(blush.far === 0 && pallor.far === 0 ? [] : [`pixels changed more than 80 px from the stroke: ${blush.far}, ${pallor.far}`]),
+      ...(same ? [] : ['cleared, the frame differs from the one before']),
+    ], 'a blush stroke reddens the cheek, pallor pales it, nothing else changes; cleared, as before');
 
     // A mesh of one's own, through the file picker and dropped; bad files.
     const tetra = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n';
