@@ -431,6 +431,10 @@ window.skinBloodLevels = bloodLevels;
 // seconds per wavelength) is not solved for it either: the view keeps the last kernels and says so.
 const KERNEL_DELAY = 150;
 let kernelTimer = 0;
+// The background jobs armed (kernels, strip): window.skinBackgroundPending() for tests, which
+// wait for the page to be still before they count its module calls.
+const background = new Set();
+window.skinBackgroundPending = () => background.size > 0;
 function kernelText() {
   const k = state.kernels;
   if (!k) return 'Subsurface: not yet fitted (the irradiance unblurred).';
@@ -441,9 +445,12 @@ function kernelText() {
 }
 function scheduleKernels() {
   clearTimeout(kernelTimer);
+  background.delete('kernels');
   const key = JSON.stringify(request());
   if (key === state.kernelsKey || state.profilePending) { $('view3d-status').textContent = kernelText(); return; }
+  background.add('kernels');
   kernelTimer = setTimeout(() => {
+    background.delete('kernels');
     try {
       const e = runJson('export', request({ target: 'realtime' }));
       state.kernels = JSON.parse(e.files[0].content);
@@ -627,7 +634,9 @@ function scheduleStrip() {
   drawStrip();
   if (key === state.stripKey) return;
   clearTimeout(stripTimer);
+  background.add('strip');
   stripTimer = setTimeout(() => {
+    background.delete('strip');
     try {
       state.strip = runJson('melanin_strip', request({ melanin: STRIP_MELANIN }));
       state.stripKey = key;
