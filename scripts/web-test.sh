@@ -17,7 +17,13 @@
 #   web/test/head.test.js     the 3D view (#view3d, WebGL2 on SwiftShader): a lit head (a sphere
 #                             without the mesh), the realtime export's kernels, melanin changes
 #                             the pixels (input-to-frame time printed; SKIN_VIEW_LATENCY_MS=50
-#                             makes it a limit), the lit patch within 1 dE2000 of every preset.
+#                             makes it a limit), the lit patch within 1 dE2000 of every preset,
+#                             the blush/pallor brush, a mesh of one's own (picker, drop, bad files).
+#   web/test/head-render.test.js  the 3D view against `skin render` of its own scene (camera,
+#                             lights, scale): mean dE2000 <= 3 over the skin pixels (caucasian,
+#                             african), the shadow edge's 10-90 % width per channel within 20 %;
+#                             skipped without the head mesh. Writes head-vs-render.png (the
+#                             README's figure) to build-web/screenshots.
 # Skips with a message only where Emscripten or the browser cannot be installed. Each step's wall
 # time is printed after it.
 set -euo pipefail
@@ -43,3 +49,4 @@ timed node web/test/browser.test.js
 timed node web/test/inputs.test.js
 timed node web/test/page.test.js
 timed node web/test/head.test.js
+timed node web/test/head-render.test.js

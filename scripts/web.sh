@@ -37,7 +37,7 @@ if [ -f "$three/build/three.module.js" ]; then
     build-web/site/three/addons/utils
   cp "$three/build/three.module.js" "$three/build/three.core.js" "$three/LICENSE" build-web/site/three/build/
   cp "$three/examples/jsm/controls/OrbitControls.js" build-web/site/three/addons/controls/
-  cp "$three/examples/jsm/loaders/GLTFLoader.js" build-web/site/three/addons/loaders/
+  cp "$three/examples/jsm/loaders/GLTFLoader.js" "$three/examples/jsm/loaders/OBJLoader.js" build-web/site/three/addons/loaders/
   cp "$three/examples/jsm/utils/BufferGeometryUtils.js" "$three/examples/jsm/utils/SkeletonUtils.js" \
     build-web/site/three/addons/utils/
 else

@@ -406,12 +406,35 @@ function drawView3d() {
 }
 window.skinView3dPending = () => { drawView3d(); if (state.kernels) window.skinView3d.setKernels(state.kernels); };
 
+// The colours the view's blush and pallor brush paints between (view3d.js, setBloodLevels): the
+// model's colour with the blood (hemoglobin) times 2^k for each k of BLOOD_STOPS, the other
+// parameters as they are (as `skin color --hemoglobin H x 2^k`, capped at 1). Computed when
+// the view has paint: at the first stroke, and with the kernels after a change.
+const BLOOD_STOPS = [-2, -1.5, -1, -0.5, 0, 0.5, 1, 1.5, 2];
+function bloodLevels() {
+  const view = window.skinView3d;
+  if (!view || !view.painted) return;
+  const key = JSON.stringify(request());
+  if (key === state.bloodKey) return;
+  try {
+    const h = state.values.hemoglobin;
+    const colours = BLOOD_STOPS.map((k) => runJson('color', request({ params: { ...state.values, hemoglobin: Math.min(1, h * 2 ** k) } })).color.srgb_linear);
+    state.bloodKey = key;
+    view.setBloodLevels(BLOOD_STOPS, colours);
+  } catch (err) { /* the parameters are refused: the next update shows why */ }
+}
+window.skinBloodLevels = bloodLevels;
+
 // The sum of Gaussians of the current parameters, as `skin export --target realtime` fits it
 // (the module's export: ~0.1 s here, so not in the frame of a slider's move): computed once the
 // page has been still for KERNEL_DELAY ms. A profile the update did not solve (profile_pending:
 // seconds per wavelength) is not solved for it either: the view keeps the last kernels and says so.
 const KERNEL_DELAY = 150;
 let kernelTimer = 0;
+// The background jobs armed (kernels, strip): window.skinBackgroundPending() for tests, which
+// wait for the page to be still before they count its module calls.
+const background = new Set();
+window.skinBackgroundPending = () => background.size > 0;
 function kernelText() {
   const k = state.kernels;
   if (!k) return 'Subsurface: not yet fitted (the irradiance unblurred).';
@@ -422,15 +445,19 @@ function kernelText() {
 }
 function scheduleKernels() {
   clearTimeout(kernelTimer);
+  background.delete('kernels');
   const key = JSON.stringify(request());
   if (key === state.kernelsKey || state.profilePending) { $('view3d-status').textContent = kernelText(); return; }
+  background.add('kernels');
   kernelTimer = setTimeout(() => {
+    background.delete('kernels');
     try {
       const e = runJson('export', request({ target: 'realtime' }));
       state.kernels = JSON.parse(e.files[0].content);
       state.kernelsKey = key;
       if (window.skinView3d) window.skinView3d.setKernels(state.kernels);
     } catch (err) { /* the parameters are refused: the next update shows why */ }
+    bloodLevels();
     $('view3d-status').textContent = kernelText();
   }, KERNEL_DELAY);
 }
@@ -607,7 +634,9 @@ function scheduleStrip() {
   drawStrip();
   if (key === state.stripKey) return;
   clearTimeout(stripTimer);
+  background.add('strip');
   stripTimer = setTimeout(() => {
+    background.delete('strip');
     try {
       state.strip = runJson('melanin_strip', request({ melanin: STRIP_MELANIN }));
       state.stripKey = key;
@@ -704,7 +733,9 @@ function setUpDrop() {
     e.preventDefault();
     body.classList.remove('dragging');
     const file = e.dataTransfer.files[0];
-    if (file) loadMeasured(file.name, await file.text());
+    // A mesh goes to the 3D view (view3d.js), anything else is a measured spectrum.
+    if (file && /\.(glb|gltf|obj)$/i.test(file.name) && window.skinView3d) window.skinView3d.loadFile(file);
+    else if (file) loadMeasured(file.name, await file.text());
   });
   $('spectrum-file').addEventListener('change', async () => {
     const file = $('spectrum-file').files[0];

@@ -10,34 +10,58 @@
 //     same Gaussians at the thickness a depth map from the back light gives (Jimenez, Whelan,
 //     Sundstedt & Gutierrez 2010): T(s) = sum_k w_k exp(-s^2 / (2 v_k));
 //   - the surface is DJ06's Torrance-Sparrow lobe: Beckmann of RMS slope `roughness`, dielectric
-//     Fresnel at `eta`, Cook-Torrance shadowing, scaled by `oiliness` (rho_s).
+//     Fresnel at `eta`, Cook-Torrance shadowing, scaled by `oiliness` (rho_s);
+//   - each light casts shadows (its orthographic depth map, 3 x 3 samples), before the blur, so
+//     that light bleeds across a shadow's edge as it does in the skin.
+// A light's value is its irradiance / pi: under the key light head-on, a patch reads R_d (the
+// swatch), as `skin render` draws it under irradiance pi (renderScene gives that scene).
+//   - a blush or pallor brush paints k (the blood times 2^k) over the texture coordinates; the
+//     albedo is multiplied, after the blur, by the model's colour at k over that at k = 0
+//     (setBloodLevels, from the module via app.js).
 // Not modelled: the transmission factor 1 - rho_dr at entry and exit (about 1 % at normal
-// incidence for the presets), parameter maps, shadows other than the back light's thickness.
+// incidence for the presets), interreflections, parameter maps from a fitted texture.
 // Frames are drawn on demand: after an update of the page, a change of the camera, or new kernels.
 //
 // window.skinView3d (the page and its tests): update(parameters), setKernels(export document),
 // setLight(rgb), setMode('head' | 'patch'), pixels() (a frame drawn and read back, RGBA bytes,
-// bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end).
+// bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end),
+// renderScene(mesh, material) (the view as a `skin render` scene), getCamera()/setCamera(),
+// loadFile(File), setBrush('turn' | 'blush' | 'pallor'), setBloodLevels(stops, colours),
+// clearPaint().
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
+import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
 
 const HEAD_URL = 'mesh/LeePerrySmith.glb';
 // The scan (a bust) is taken as 400 mm wide, shoulder to shoulder, which makes its head about
 // 230 mm from chin to crown, an adult's; the sphere's radius is 80 mm.
 const BUST_WIDTH_MM = 400;
 const SPHERE_RADIUS_MM = 80;
+// A mesh of one's own (loadFile) is taken as 250 mm across its largest side, a head's size (glTF
+// says metres, but scans seldom keep to it, and OBJ has no unit).
+const FILE_SIZE_MM = 250;
+const MAX_FILE_BYTES = 64 * 1024 * 1024;
 // The lights (directions towards the light in world space; y up, the face looks along +z), their
 // intensity times the illuminant's colour of luminance 1: a key light, a fill, a back light.
 const KEY = { dir: new THREE.Vector3(0.6, 0.45, 0.66).normalize(), intensity: 1.0 };
 const FILL = { dir: new THREE.Vector3(-0.8, 0.1, 0.45).normalize(), intensity: 0.25 };
 const BACK = { dir: new THREE.Vector3(-0.25, 0.25, -1).normalize(), intensity: 1.5 };
 const MAX_GAUSSIANS = 8;
+// The blush and pallor brush: a map of k over the mesh's texture coordinates (the blood times
+// 2^k; 0 unpainted), BLOOD_MAP texels square; a stroke's dab adds DAB_STOPS x a Gaussian of
+// standard deviation DAB_RADIUS (in texture coordinates) to k, within [-2, 2].
+const BLOOD_MAP = 256;
+const MAX_STOPS = 2;
+const DAB_STOPS = 0.5;
+const DAB_RADIUS = 0.012;
+const MAX_LEVELS = 16;
 const MAX_WIDTH = 480;
 const BACKGROUND = [0.12, 0.12, 0.13];  // display-encoded
 
 const canvas = document.getElementById('view3d');
 const caption = document.getElementById('view3d-caption');
+const fileStatus = document.getElementById('view3d-file-status');
 
 const fullscreenVertex = /* glsl */`
 out vec2 vUv;
@@ -49,7 +73,9 @@ const surfaceVertex = /* glsl */`
 out vec3 vNormal;
 out vec3 vWorld;
 out float vDepth;
+out vec2 vUv;
 void main() {
+  vUv = uv;
   vec4 world = modelMatrix * vec4(position, 1.0);
   vWorld = world.xyz;
   vNormal = normalize(mat3(modelMatrix) * normal);
@@ -62,8 +88,15 @@ precision highp float;
 in vec3 vNormal;
 in vec3 vWorld;
 in float vDepth;
+in vec2 vUv;
 layout(location = 0) out vec4 outIrradiance;
 layout(location = 1) out vec4 outSpecular;
+layout(location = 2) out vec4 outTint;  // the painted colour over the unpainted, per channel
+uniform bool painted;
+uniform sampler2D bloodMap;   // k: the blood times 2^k
+uniform int levels;
+uniform float stops[${MAX_LEVELS}];
+uniform vec3 tint[${MAX_LEVELS}];   // the colour at each k over the colour at k = 0
 uniform vec3 lightDir[3];
 uniform vec3 lightColor[3];   // illuminant x intensity
 uniform float rhoS, roughness, eta;
@@ -72,9 +105,13 @@ uniform int gaussians;
 uniform float variance[${MAX_GAUSSIANS}];   // mm^2
 uniform vec3 share[${MAX_GAUSSIANS}];       // w_k / R_d per channel
 uniform bool translucency;
-uniform sampler2D backDepth;  // depth from the back light (orthographic, 0-1)
-uniform mat4 backMatrix;      // world -> the back light's clip space
-uniform float backNear, backFar;
+// Each light's depth map (orthographic, 0-1 between its near and far planes), for its shadow and
+// (the back light's) the thickness the light crosses.
+uniform sampler2D keyDepth, fillDepth, backDepth;
+uniform mat4 lightMatrix[3];  // world -> the light's clip space
+uniform float lightNear[3], lightFar[3];
+uniform float shadowOffset;   // a depth map's texel (mesh units): the normal offset and the bias
+uniform bool shadows;
 uniform vec3 cameraPos;
 const float PI = 3.141592653589793;
 
@@ -110,29 +147,64 @@ vec3 transmittance(float s_mm) {
   }
   return t;
 }
+// The share of light i reaching the point world (normal n): 3 x 3 depth-map samples
+// (percentage closer filtering), the point moved along its normal by a texel and a half.
+float lit(sampler2D depth, int i, vec3 world, vec3 n) {
+  if (!shadows) return 1.0;
+  vec4 p = lightMatrix[i] * vec4(world + n * (1.5 * shadowOffset), 1.0);
+  vec3 q = p.xyz / p.w * 0.5 + 0.5;
+  float here = lightNear[i] + q.z * (lightFar[i] - lightNear[i]);
+  vec2 texel = 1.0 / vec2(textureSize(depth, 0));
+  float sum = 0.0;
+  for (int y = -1; y <= 1; ++y)
+    for (int x = -1; x <= 1; ++x) {
+      float entry = lightNear[i] + texture(depth, q.xy + vec2(x, y) * texel).r * (lightFar[i] - lightNear[i]);
+      sum += here <= entry + shadowOffset ? 1.0 : 0.0;
+    }
+  return sum / 9.0;
+}
 void main() {
   vec3 n = normalize(vNormal);
   vec3 wo = normalize(cameraPos - vWorld);
   if (dot(n, wo) < 0.0) n = -n;  // open meshes seen from inside
   vec3 E = vec3(0.0), S = vec3(0.0);
+  float visible[3];
+  visible[0] = dot(n, lightDir[0]) > 0.0 ? lit(keyDepth, 0, vWorld, n) : 0.0;
+  visible[1] = dot(n, lightDir[1]) > 0.0 ? lit(fillDepth, 1, vWorld, n) : 0.0;
+  visible[2] = dot(n, lightDir[2]) > 0.0 ? lit(backDepth, 2, vWorld, n) : 0.0;
   for (int i = 0; i < 3; ++i) {
     float ni = dot(n, lightDir[i]);
-    E += lightColor[i] * max(ni, 0.0);
-    S += lightColor[i] * torranceSparrow(n, wo, lightDir[i]);
+    E += lightColor[i] * max(ni, 0.0) * visible[i];
+    // The lobe's radiance per unit irradiance; a light's value is irradiance / pi (see the composite).
+    S += lightColor[i] * PI * torranceSparrow(n, wo, lightDir[i]) * visible[i];
   }
   if (translucency) {
     // The back light through the skin: the thickness between this point and where the light
     // enters, from the back light's depth map, through the profile's Gaussians.
-    vec4 p = backMatrix * vec4(vWorld, 1.0);
+    vec4 p = lightMatrix[2] * vec4(vWorld, 1.0);
     vec3 q = p.xyz / p.w * 0.5 + 0.5;
-    float entry = backNear + texture(backDepth, q.xy).r * (backFar - backNear);
-    float here = backNear + q.z * (backFar - backNear);
+    float entry = lightNear[2] + texture(backDepth, q.xy).r * (lightFar[2] - lightNear[2]);
+    float here = lightNear[2] + q.z * (lightFar[2] - lightNear[2]);
     float s = max(here - entry, 0.0) * mmPerUnit;
     float facing = clamp(0.3 + dot(-n, lightDir[2]), 0.0, 1.0);
     E += lightColor[2] * transmittance(s) * facing;
   }
   outIrradiance = vec4(E, vDepth);
   outSpecular = vec4(S, 1.0);
+  outTint = vec4(1.0);
+  if (painted) {
+    float k = texture(bloodMap, vUv).r;
+    if (k != 0.0) {
+      for (int i = 0; i + 1 < ${MAX_LEVELS}; ++i) {
+        if (i + 1 >= levels) break;
+        if (k <= stops[i + 1] || i + 2 >= levels) {
+          float t = clamp((k - stops[i]) / (stops[i + 1] - stops[i]), 0.0, 1.0);
+          outTint = vec4(mix(tint[i], tint[i + 1], t), 1.0);
+          break;
+        }
+      }
+    }
+  }
 }`;
 
 // One separable pass of one Gaussian (standard deviation sigma mm) along `direction`, over the
@@ -182,13 +254,13 @@ const compositeFragment = /* glsl */`
 precision highp float;
 in vec2 vUv;
 out vec4 outColor;
-uniform sampler2D diffuse, irradiance, specular;
+uniform sampler2D diffuse, irradiance, specular, tint;
 uniform vec3 albedo;
 uniform vec3 background;
 float encode(float x) { x = clamp(x, 0.0, 1.0); return x <= 0.0031308 ? 12.92 * x : 1.055 * pow(x, 1.0 / 2.4) - 0.055; }
 void main() {
   if (texture(irradiance, vUv).a <= 0.0) { outColor = vec4(background, 1.0); return; }
-  vec3 L = albedo * texture(diffuse, vUv).rgb + texture(specular, vUv).rgb;
+  vec3 L = albedo * texture(tint, vUv).rgb * texture(diffuse, vUv).rgb + texture(specular, vUv).rgb;
   outColor = vec4(encode(L.r), encode(L.g), encode(L.b), 1.0);
 }`;
 
@@ -206,6 +278,46 @@ function pass(fragmentShader, uniforms, blending = THREE.NoBlending) {
   const scene = new THREE.Scene();
   scene.add(mesh);
   return { scene, uniforms: material.uniforms };
+}
+
+// A File as a three.js object of triangle meshes with normals, or an Error saying why not.
+async function parseMesh(file) {
+  const name = file.name.toLowerCase();
+  const kind = name.endsWith('.glb') || name.endsWith('.gltf') ? 'gltf' : name.endsWith('.obj') ? 'obj' : '';
+  if (!kind) throw new Error('not a .glb, .gltf or .obj file');
+  if (file.size === 0) throw new Error('the file is empty');
+  if (file.size > MAX_FILE_BYTES) throw new Error(`the file is larger than ${MAX_FILE_BYTES >> 20} MB`);
+  let object;
+  if (kind === 'gltf') {
+    const data = await file.arrayBuffer();
+    const gltf = await new Promise((resolve, reject) => {
+      try {
+        new GLTFLoader().parse(data, '', resolve, (e) => reject(new Error(`not a readable glTF file (${e && e.message ? e.message : e})`)));
+      } catch (e) { reject(new Error(`not a readable glTF file (${e.message})`)); }
+    });
+    object = gltf.scene;
+  } else {
+    try {
+      object = new OBJLoader().parse(await file.text());
+    } catch (e) { throw new Error(`not a readable OBJ file (${e.message})`); }
+  }
+  // Only triangle meshes with finite positions; normals made where the file has none.
+  const keep = [];
+  object.traverse((o) => {
+    if (!o.isMesh || !o.geometry || !o.geometry.attributes.position) return;
+    const g = o.geometry;
+    const count = g.index ? g.index.count : g.attributes.position.count;
+    if (count < 3 || (o.drawMode !== undefined && o.drawMode !== THREE.TrianglesDrawMode)) return;
+    const p = g.attributes.position.array;
+    for (let i = 0; i < p.length; i++) if (!Number.isFinite(p[i])) throw new Error('a vertex position is not a finite number');
+    if (!g.attributes.normal) g.computeVertexNormals();
+    keep.push(o);
+  });
+  if (keep.length === 0) throw new Error('no triangles in the file');
+  object.traverse((o) => { if ((o.isLine || o.isPoints) && o.parent) o.visible = false; });
+  const size = new THREE.Box3().setFromObject(object).getSize(new THREE.Vector3());
+  if (!(Math.max(size.x, size.y, size.z) > 0) || !Number.isFinite(size.length())) throw new Error('the mesh has no extent');
+  return object;
 }
 
 function createView() {
@@ -232,8 +344,13 @@ function createView() {
     variance: { value: new Array(MAX_GAUSSIANS).fill(1) },
     share: { value: Array.from({ length: MAX_GAUSSIANS }, () => new THREE.Vector3()) },
     translucency: { value: true },
-    backDepth: { value: null }, backMatrix: { value: new THREE.Matrix4() },
-    backNear: { value: 0 }, backFar: { value: 1 },
+    keyDepth: { value: null }, fillDepth: { value: null }, backDepth: { value: null },
+    lightMatrix: { value: [new THREE.Matrix4(), new THREE.Matrix4(), new THREE.Matrix4()] },
+    lightNear: { value: [0, 0, 0] }, lightFar: { value: [1, 1, 1] },
+    shadowOffset: { value: 0 }, shadows: { value: true },
+    painted: { value: false }, bloodMap: { value: null }, levels: { value: 0 },
+    stops: { value: new Array(MAX_LEVELS).fill(0) },
+    tint: { value: Array.from({ length: MAX_LEVELS }, () => new THREE.Vector3(1, 1, 1)) },
     cameraPos: { value: new THREE.Vector3() },
   };
   const surface = new THREE.ShaderMaterial({
@@ -245,17 +362,27 @@ function createView() {
   const scene = new THREE.Scene();
   const holder = new THREE.Group();
   scene.add(holder);
-  const backCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0.1, 100);
-  const backTarget = new THREE.WebGLRenderTarget(512, 512, {
-    depthTexture: new THREE.DepthTexture(512, 512, THREE.UnsignedIntType), depthBuffer: true,
+  // Each light's orthographic depth map (the key's finest: its shadows are the ones on the face).
+  const lightViews = [[KEY, 2048, 'keyDepth'], [FILL, 1024, 'fillDepth'], [BACK, 1024, 'backDepth']].map(([light, size, name]) => {
+    const target = new THREE.WebGLRenderTarget(size, size, {
+      depthTexture: new THREE.DepthTexture(size, size, THREE.UnsignedIntType), depthBuffer: true,
+    });
+    surfaceUniforms[name].value = target.depthTexture;
+    return { light, size, target, camera: new THREE.OrthographicCamera(-1, 1, 1, -1, 0.1, 100) };
   });
-  surfaceUniforms.backDepth.value = backTarget.depthTexture;
 
   const rt = (count = 1) => new THREE.WebGLRenderTarget(1, 1, {
     type: THREE.HalfFloatType, format: THREE.RGBAFormat, count, depthBuffer: count > 1,
     minFilter: THREE.LinearFilter, magFilter: THREE.LinearFilter,
   });
-  const gbuffer = rt(2), horizontal = rt(), sum = rt();
+  const gbuffer = rt(3), horizontal = rt(), sum = rt();
+  // The brush's map (k per texel; half floats, filtered).
+  const bloodK = new Float32Array(BLOOD_MAP * BLOOD_MAP);
+  const bloodTexture = new THREE.DataTexture(new Uint16Array(BLOOD_MAP * BLOOD_MAP), BLOOD_MAP, BLOOD_MAP, THREE.RedFormat, THREE.HalfFloatType);
+  bloodTexture.minFilter = bloodTexture.magFilter = THREE.LinearFilter;
+  bloodTexture.wrapS = bloodTexture.wrapT = THREE.ClampToEdgeWrapping;
+  bloodTexture.needsUpdate = true;
+  surfaceUniforms.bloodMap.value = bloodTexture;
   const blur = pass(blurFragment, {
     source: { value: null }, direction: { value: new THREE.Vector2() }, texel: { value: new THREE.Vector2() },
     sigmaMm: { value: 1 }, pixelsPerUnitAtUnitDepth: { value: 1 }, mmPerUnit: { value: 1 }, weight: { value: new THREE.Vector3(1, 1, 1) },
@@ -263,7 +390,7 @@ function createView() {
   const blurAdd = pass(blurFragment, blur.uniforms, THREE.CustomBlending);
   const share = pass(shareFragment, { source: { value: null }, weight: { value: new THREE.Vector3() } });
   const composite = pass(compositeFragment, {
-    diffuse: { value: sum.texture }, irradiance: { value: gbuffer.textures[0] }, specular: { value: gbuffer.textures[1] },
+    diffuse: { value: sum.texture }, irradiance: { value: gbuffer.textures[0] }, specular: { value: gbuffer.textures[1] }, tint: { value: gbuffer.textures[2] },
     albedo: { value: new THREE.Vector3(0.5, 0.4, 0.35) }, background: { value: new THREE.Vector3(...BACKGROUND) },
   });
 
@@ -271,6 +398,7 @@ function createView() {
     frames: 0, lastFrame: 0, frameTimes: [], mode: 'head', mesh: null, meshName: '',
     parameters: { oiliness: 0.3, roughness: 0.35, eta: 1.4 }, albedo: [0.5, 0.4, 0.35], light: [1, 1, 1],
     kernels: null,  // {variance: [mm^2], share: [[r, g, b]]}
+    brush: 'turn', painted: false,
   };
   let headObject = null, headMmPerUnit = 1, patchObject = null;
 
@@ -288,24 +416,27 @@ function createView() {
     camera.position.copy(aim).add(new THREE.Vector3(0.45, 0.08, 1).normalize().multiplyScalar(fit / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2)) * 1.05));
     camera.updateProjectionMatrix();
     controls.update();
-    backCamera.left = backCamera.bottom = -radius;
-    backCamera.right = backCamera.top = radius;
-    backCamera.near = 0.01 * radius;
-    backCamera.far = 4 * radius;
-    backCamera.position.copy(centre).addScaledVector(BACK.dir, 2 * radius);
-    backCamera.lookAt(centre);
-    backCamera.updateProjectionMatrix();
-    backCamera.updateMatrixWorld();
-    surfaceUniforms.backMatrix.value.multiplyMatrices(backCamera.projectionMatrix, backCamera.matrixWorldInverse);
-    surfaceUniforms.backNear.value = backCamera.near;
-    surfaceUniforms.backFar.value = backCamera.far;
     surfaceUniforms.mmPerUnit.value = mmPerUnit;
-    // The depth map: drawn once per object (the lights stay with the object).
+    surfaceUniforms.shadowOffset.value = 2 * radius / lightViews[0].size;
+    // The depth maps: drawn once per object (the lights stay with the object).
     scene.overrideMaterial = depthMaterial;
-    renderer.setRenderTarget(backTarget);
-    renderer.setClearColor(0x000000, 1);
-    renderer.clear();
-    renderer.render(scene, backCamera);
+    lightViews.forEach(({ light, target, camera: c }, i) => {
+      c.left = c.bottom = -radius;
+      c.right = c.top = radius;
+      c.near = 0.01 * radius;
+      c.far = 4 * radius;
+      c.position.copy(centre).addScaledVector(light.dir, 2 * radius);
+      c.lookAt(centre);
+      c.updateProjectionMatrix();
+      c.updateMatrixWorld();
+      surfaceUniforms.lightMatrix.value[i].multiplyMatrices(c.projectionMatrix, c.matrixWorldInverse);
+      surfaceUniforms.lightNear.value[i] = c.near;
+      surfaceUniforms.lightFar.value[i] = c.far;
+      renderer.setRenderTarget(target);
+      renderer.setClearColor(0x000000, 1);
+      renderer.clear();
+      renderer.render(scene, c);
+    });
     scene.overrideMaterial = null;
   }
 
@@ -332,6 +463,8 @@ function createView() {
     surfaceUniforms.lightColor.value[2].copy(light).multiplyScalar(patchMode ? 0 : BACK.intensity);
     surfaceUniforms.lightDir.value[0].copy(patchMode ? new THREE.Vector3(0, 0, 1) : KEY.dir);
     surfaceUniforms.translucency.value = !patchMode && !!view.kernels;
+    surfaceUniforms.shadows.value = !patchMode;
+    surfaceUniforms.painted.value = !patchMode && view.painted && surfaceUniforms.levels.value > 1;
     surfaceUniforms.rhoS.value = patchMode ? 0 : view.parameters.oiliness;
     surfaceUniforms.roughness.value = Math.max(view.parameters.roughness, 1e-3);
     surfaceUniforms.eta.value = view.parameters.eta;
@@ -418,6 +551,72 @@ function createView() {
     requestAnimationFrame(() => { scheduled = false; render(); });
   }
   controls.addEventListener('change', requestRender);
+  // The brush: a stroke on the mesh (pointer down and moved) paints k at the texture
+  // coordinates under the pointer, + for blush, - for pallor.
+  const raycaster = new THREE.Raycaster();
+  function dab(u, v, sign) {
+    const r = DAB_RADIUS * BLOOD_MAP, reach = Math.ceil(3 * r);
+    const cx = u * BLOOD_MAP - 0.5, cy = v * BLOOD_MAP - 0.5;
+    const data = bloodTexture.image.data;
+    for (let y = Math.max(0, Math.floor(cy - reach)); y <= Math.min(BLOOD_MAP - 1, Math.ceil(cy + reach)); y++) {
+      for (let x = Math.max(0, Math.floor(cx - reach)); x <= Math.min(BLOOD_MAP - 1, Math.ceil(cx + reach)); x++) {
+        const w = Math.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * r * r));
+        if (w < 1e-3) continue;
+        const i = y * BLOOD_MAP + x;
+        bloodK[i] = Math.max(-MAX_STOPS, Math.min(MAX_STOPS, bloodK[i] + sign * DAB_STOPS * w));
+        data[i] = THREE.DataUtils.toHalfFloat(bloodK[i]);
+      }
+    }
+    bloodTexture.needsUpdate = true;
+  }
+  function strokeAt(event) {
+    const rect = canvas.getBoundingClientRect();
+    const ndc = new THREE.Vector2(((event.clientX - rect.left) / rect.width) * 2 - 1, 1 - ((event.clientY - rect.top) / rect.height) * 2);
+    raycaster.setFromCamera(ndc, camera);
+    const hit = raycaster.intersectObject(holder, true).find((h) => h.uv);
+    if (!hit) return false;
+    if (!view.painted) {
+      view.painted = true;
+      if (window.skinBloodLevels) window.skinBloodLevels();
+    }
+    dab(hit.uv.x, hit.uv.y, view.brush === 'blush' ? 1 : -1);
+    requestRender();
+    return true;
+  }
+  let stroking = false;
+  canvas.addEventListener('pointerdown', (e) => {
+    if (view.brush === 'turn' || view.mode !== 'head') return;
+    stroking = true;
+    canvas.setPointerCapture(e.pointerId);
+    strokeAt(e);
+  });
+  canvas.addEventListener('pointermove', (e) => { if (stroking) strokeAt(e); });
+  const endStroke = () => { stroking = false; };
+  canvas.addEventListener('pointerup', endStroke);
+  canvas.addEventListener('pointercancel', endStroke);
+  for (const radio of document.querySelectorAll('input[name="view3d-brush"]')) {
+    radio.addEventListener('change', () => { if (radio.checked) view.setBrush(radio.value); });
+  }
+  const clearButton = document.getElementById('view3d-clear');
+  if (clearButton) clearButton.addEventListener('click', () => view.clearPaint());
+
+  // A mesh dropped on the view, or chosen with the file picker under it.
+  canvas.addEventListener('dragover', (e) => { e.preventDefault(); e.stopPropagation(); });
+  canvas.addEventListener('drop', (e) => {
+    e.preventDefault();
+    e.stopPropagation();
+    document.body.classList.remove('dragging');
+    const file = e.dataTransfer && e.dataTransfer.files[0];
+    if (file) view.loadFile(file);
+  });
+  const picker = document.getElementById('view3d-file');
+  if (picker) {
+    picker.addEventListener('change', async () => {
+      const file = picker.files[0];
+      if (file) await view.loadFile(file);
+      picker.value = '';  // the same file chosen again loads again
+    });
+  }
   new ResizeObserver(requestRender).observe(canvas);
 
   Object.assign(view, {
@@ -443,7 +642,7 @@ function createView() {
       view.mode = mode;
       if (mode === 'patch') showObject(patch(), 1, 'patch');
       else if (headObject) showObject(headObject, headMmPerUnit, view.meshName0);
-      controls.enabled = mode !== 'patch';
+      controls.enabled = mode !== 'patch' && view.brush === 'turn';
       render();
     },
     // A frame drawn and read back at once (RGBA bytes, bottom row first), for tests.
@@ -454,6 +653,96 @@ function createView() {
       return { width: canvas.width, height: canvas.height, data: Array.from(out) };
     },
     requestRender,
+    // The brush: 'turn' (the orbit), 'blush' (more blood) or 'pallor' (less).
+    setBrush(brush) {
+      if (!['turn', 'blush', 'pallor'].includes(brush)) throw new Error(`brush '${brush}': allowed are turn, blush, pallor`);
+      view.brush = brush;
+      controls.enabled = brush === 'turn' && view.mode !== 'patch';
+      const radio = document.querySelector(`input[name="view3d-brush"][value="${brush}"]`);
+      if (radio) radio.checked = true;
+    },
+    // The colours at each k (the blood times 2^k; `stops` ascending, one of them 0), linear sRGB
+    // (app.js's bloodLevels, from the module): the map's tint is each over the colour at k = 0.
+    setBloodLevels(stops, colours) {
+      const zero = stops.indexOf(0);
+      if (zero < 0 || stops.length !== colours.length || stops.length > MAX_LEVELS) throw new Error('setBloodLevels: stops must include 0, one colour each');
+      stops.forEach((k, i) => {
+        surfaceUniforms.stops.value[i] = k;
+        surfaceUniforms.tint.value[i].set(...[0, 1, 2].map((c) => (colours[zero][c] > 0 ? colours[i][c] / colours[zero][c] : 1)));
+      });
+      surfaceUniforms.levels.value = stops.length;
+      view.bloodLevels = stops.length;
+      requestRender();
+    },
+    clearPaint() {
+      bloodK.fill(0);
+      bloodTexture.image.data.fill(0);
+      bloodTexture.needsUpdate = true;
+      view.painted = false;
+      requestRender();
+    },
+    // A mesh of one's own (a File: .glb, .gltf with its buffers embedded, or .obj) in place of the
+    // head, in this skin. A file that is not one gives one line in #view3d-file-status and
+    // leaves the view as it was. Resolves to true when the mesh is shown.
+    async loadFile(file) {
+      const say = (text, error) => {
+        if (fileStatus) { fileStatus.textContent = text; fileStatus.className = error ? 'note error' : 'note muted'; }
+      };
+      try {
+        const object = await parseMesh(file);
+        const size = new THREE.Box3().setFromObject(object).getSize(new THREE.Vector3());
+        const largest = Math.max(size.x, size.y, size.z);
+        headObject = object;
+        headMmPerUnit = FILE_SIZE_MM / largest;
+        view.clearPaint();
+        view.meshName0 = 'file';
+        if (view.mode === 'head') showObject(object, headMmPerUnit, 'file');
+        document.getElementById('view3d-credit').hidden = true;
+        let triangles = 0;
+        object.traverse((o) => { if (o.isMesh) triangles += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3; });
+        say(`Showing ${file.name}: ${triangles} triangles, taken as ${FILE_SIZE_MM} mm across.`, false);
+        render();
+        return true;
+      } catch (e) {
+        say(`Not loaded: ${file.name}: ${e.message}. The view takes a .glb, a .gltf with its data embedded, or an .obj.`, true);
+        return false;
+      }
+    },
+    // The camera (mesh units; fov vertical, degrees), as the orbit leaves it or set (tests).
+    getCamera() {
+      const v = (x) => [x.x, x.y, x.z];
+      return { eye: v(camera.position), target: v(controls.target), fov: camera.fov };
+    },
+    setCamera({ eye, target, fov }) {
+      camera.position.set(...eye);
+      controls.target.set(...target);
+      camera.fov = fov;
+      camera.updateProjectionMatrix();
+      controls.update();
+      render();
+    },
+    // The view as a scene for `skin render` (docs/scene-format.md): the same camera (eye, target,
+    // vertical field of view, the canvas's size), the mesh at the view's scale (unit_mm), and the
+    // three lights as directional lights. A light of the view is the irradiance pi x its value:
+    // the view's diffuse radiance is albedo x (value x cos), a Lambertian R_d / pi x irradiance x
+    // cos. `material` is the scene's skin material; `mesh` the path to the mesh file.
+    renderScene(mesh, material) {
+      render();
+      const v = (x) => [x.x, x.y, x.z];
+      const lights = [KEY, FILL, BACK].map((l) => ({
+        type: 'directional', direction: v(l.dir.clone().negate()),
+        irradiance: view.light.map((c) => Math.PI * c * l.intensity),
+      }));
+      return {
+        description: 'the 3D view of the page (web/page/view3d.js), for skin render',
+        unit_mm: surfaceUniforms.mmPerUnit.value,
+        camera: { eye: v(camera.position), look_at: v(controls.target), up: v(camera.up), fov: camera.fov, resolution: [canvas.width, canvas.height] },
+        render: { max_depth: 4, tone_map: 'clip', exposure: 0 },
+        materials: { skin: material },
+        objects: [{ mesh, material: 'skin' }],
+        lights,
+      };
+    },
   });
 
   // The head, or the sphere without it.

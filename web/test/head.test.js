@@ -9,12 +9,19 @@
 //     printed with the view's draw times; SKIN_VIEW_LATENCY_MS (e.g. 50, the issue's target)
 //     makes it a limit (not held by default: the machine is shared and loaded);
 //   - the patch (the view's test mode: a square head-on, lit by the key light alone, no
-//     specular) reads within 1 CIEDE2000 of the module's colour (`skin color`) for every preset.
+//     specular) reads within 1 CIEDE2000 of the module's colour (`skin color`) for every preset;
+//   - the brush: a blush stroke with the mouse on the cheek reddens the skin under it, pallor
+//     (two strokes) leaves it paler than before, no pixel more than 80 px from the stroke
+//     changes, and cleared the frame is as before;
+//   - a mesh of one's own: a tetrahedron (OBJ, no normals) through the file picker
+//     (#view3d-file) and dropped on the view is shown, lit; an OBJ with no faces, a .glb of
+//     garbage and a file of another kind each give one line naming the file (the mesh shown
+//     stays, the spectrum loader is not called, no page error).
 // Run: node web/test/head.test.js (after scripts/web.sh and npm ci in web/).
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { ROOT, SITE, fail, openPage } = require('./common');
+const { ROOT, SITE, TMP, fail, openPage, lab, deltaE2000, decode } = require('./common');
 
 let checks = 0;
 function check(failures, what) {
@@ -23,40 +30,6 @@ function check(failures, what) {
   console.log(`${failures.length === 0 ? 'ok' : 'FAILED'}: ${what}`);
 }
 
-// CIELAB (D65 white) of linear sRGB, and CIEDE2000 (Sharma, Wu & Dalal 2005).
-function lab(rgb) {
-  const [r, g, b] = rgb;
-  const X = 0.4124564 * r + 0.3575761 * g + 0.1804375 * b;
-  const Y = 0.2126729 * r + 0.7151522 * g + 0.0721750 * b;
-  const Z = 0.0193339 * r + 0.1191920 * g + 0.9503041 * b;
-  const w = [0.95047, 1, 1.08883];
-  const f = (t) => (t > (6 / 29) ** 3 ? Math.cbrt(t) : t / (3 * (6 / 29) ** 2) + 4 / 29);
-  const [fx, fy, fz] = [X / w[0], Y / w[1], Z / w[2]].map(f);
-  return [116 * fy - 16, 500 * (fx - fy), 200 * (fy - fz)];
-}
-function deltaE2000([L1, a1, b1], [L2, a2, b2]) {
-  const rad = Math.PI / 180;
-  const C1 = Math.hypot(a1, b1), C2 = Math.hypot(a2, b2), Cm = (C1 + C2) / 2;
-  const G = 0.5 * (1 - Math.sqrt(Cm ** 7 / (Cm ** 7 + 25 ** 7)));
-  const a1p = (1 + G) * a1, a2p = (1 + G) * a2;
-  const C1p = Math.hypot(a1p, b1), C2p = Math.hypot(a2p, b2);
-  const h = (b, a) => (b === 0 && a === 0 ? 0 : (Math.atan2(b, a) / rad + 360) % 360);
-  const h1 = h(b1, a1p), h2 = h(b2, a2p);
-  const dL = L2 - L1, dC = C2p - C1p;
-  let dh = 0;
-  if (C1p * C2p !== 0) dh = Math.abs(h2 - h1) <= 180 ? h2 - h1 : h2 - h1 > 180 ? h2 - h1 - 360 : h2 - h1 + 360;
-  const dH = 2 * Math.sqrt(C1p * C2p) * Math.sin(dh * rad / 2);
-  const Lm = (L1 + L2) / 2, Cmp = (C1p + C2p) / 2;
-  let hm = h1 + h2;
-  if (C1p * C2p !== 0) hm = Math.abs(h1 - h2) <= 180 ? (h1 + h2) / 2 : h1 + h2 < 360 ? (h1 + h2 + 360) / 2 : (h1 + h2 - 360) / 2;
-  const T = 1 - 0.17 * Math.cos((hm - 30) * rad) + 0.24 * Math.cos(2 * hm * rad) + 0.32 * Math.cos((3 * hm + 6) * rad) - 0.2 * Math.cos((4 * hm - 63) * rad);
-  const dTheta = 30 * Math.exp(-(((hm - 275) / 25) ** 2));
-  const RC = 2 * Math.sqrt(Cmp ** 7 / (Cmp ** 7 + 25 ** 7));
-  const SL = 1 + (0.015 * (Lm - 50) ** 2) / Math.sqrt(20 + (Lm - 50) ** 2), SC = 1 + 0.045 * Cmp, SH = 1 + 0.015 * Cmp * T;
-  const RT = -Math.sin(2 * dTheta * rad) * RC;
-  return Math.sqrt((dL / SL) ** 2 + (dC / SC) ** 2 + (dH / SH) ** 2 + RT * (dC / SC) * (dH / SH));
-}
-const decode = (v) => { const c = v / 255; return c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055) ** 2.4; };
 
 // The view's pixels ({width, height, data}) split into skin (off the background) and the rest.
 function skinPixels(p) {
@@ -171,6 +144,91 @@ async function main() {
       if (!(de <= 1)) failures.push(`${name}: dE2000 ${de.toFixed(3)} (patch ${r.rgb8.map((v) => v.toFixed(1)).join(' ')})`);
     }
     check(failures, `the lit patch reads the module's colour for all ${presets.length} presets: worst dE2000 ${worst.de.toFixed(3)} (${worst.preset})`);
+
+    // The blush and pallor brush, a stroke on the cheek with the mouse: the skin around it redder
+    // (blush) or paler (pallor), every pixel away from it unchanged; cleared, the frame as before.
+    await page.click('#presets button[data-preset="caucasian"]');
+    await ready(page);
+    await page.evaluate(() => document.getElementById('view3d').scrollIntoView({ block: 'center' }));
+    const box = await (await page.$('#view3d')).boundingBox();
+    const before = await page.evaluate(() => skinView3d.pixels());
+    const scale = before.width / box.width;
+    const at = [box.x + 0.5 * box.width, box.y + 0.55 * box.height];  // the cheek
+    const atPx = [(at[0] - box.x) * scale, (at[1] - box.y) * scale];
+    async function stroke(brush) {
+      await page.click(`input[name="view3d-brush"][value="${brush}"]`);
+      await page.mouse.move(at[0] - 4, at[1]);
+      await page.mouse.down();
+      for (let i = -3; i <= 4; i++) await page.mouse.move(at[0] + i, at[1]);
+      await page.mouse.up();
+      await page.waitForFunction(() => skinView3d.painted && skinView3d.bloodLevels > 1, { timeout: 20000 });
+      return page.evaluate(() => skinView3d.pixels());
+    }
+    // Per pixel (top row first): its distance from the stroke, and the change of red over green.
+    function changes(a, b) {
+      let near = 0, nearCount = 0, far = 0, farthest = 0;
+      for (let i = 0; i < a.data.length; i += 4) {
+        const k = i / 4, x = k % a.width, y = a.height - 1 - Math.floor(k / a.width);
+        const d = Math.hypot(x - atPx[0], y - atPx[1]);
+        const changed = Math.abs(a.data[i] - b.data[i]) + Math.abs(a.data[i + 1] - b.data[i + 1]) + Math.abs(a.data[i + 2] - b.data[i + 2]);
+        if (changed > 0) farthest = Math.max(farthest, d);
+        if (d <= 6) { near += b.data[i] / Math.max(1, b.data[i + 1]) - a.data[i] / Math.max(1, a.data[i + 1]); nearCount += 1; }
+        else if (d > 80 && changed > 0) far += 1;
+      }
+      return { redder: near / Math.max(1, nearCount), far, farthest };
+    }
+    const blush = changes(before, await stroke('blush'));
+    await (await page.$('#view3d')).screenshot({ path: path.join(shots, 'view3d-blush.png') });
+    const pallor = changes(before, await stroke('pallor') && await stroke('pallor'));
+    await page.evaluate(() => { skinView3d.clearPaint(); skinView3d.setBrush('turn'); });
+    const cleared = await page.evaluate(() => skinView3d.pixels());
+    const same = cleared.data.every((v, i) => v === before.data[i]);
+    console.log(`  blush: red/green ${blush.redder >= 0 ? '+' : ''}${blush.redder.toFixed(3)} at the stroke, changed pixels out to ${blush.farthest.toFixed(0)} px; ` +
+      `pallor (two strokes after it): ${pallor.redder.toFixed(3)}, out to ${pallor.farthest.toFixed(0)} px`);
+    check([
+      ...(blush.redder > 0.02 ? [] : [`blush: red/green changed by ${blush.redder.toFixed(3)}`]),
+      ...(pallor.redder < -0.02 ? [] : [`pallor: red/green changed by ${pallor.redder.toFixed(3)}`]),
+      ...(blush.far === 0 && pallor.far === 0 ? [] : [`pixels changed more than 80 px from the stroke: ${blush.far}, ${pallor.far}`]),
+      ...(same ? [] : ['cleared, the frame differs from the one before']),
+    ], 'a blush stroke reddens the cheek, pallor pales it, nothing else changes; cleared, as before');
+
+    // A mesh of one's own, through the file picker and dropped; bad files.
+    const tetra = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n';
+    const dir = fs.mkdtempSync(path.join(TMP, 'mesh-'));
+    const files = { 'tetra.obj': tetra, 'empty-faces.obj': 'v 0 0 0\nv 1 0 0\n# no faces\n', 'garbage.glb': 'not a glb at all', 'notes.txt': 'hello' };
+    for (const [name, text] of Object.entries(files)) fs.writeFileSync(path.join(dir, name), text);
+    const picker = await page.$('#view3d-file');
+    const label = await page.evaluate(() => document.querySelector('label[for="view3d-file"]')?.textContent || '');
+    await picker.uploadFile(path.join(dir, 'tetra.obj'));
+    await page.waitForFunction(() => /tetra\.obj/.test(document.getElementById('view3d-file-status').textContent), { timeout: 20000 });
+    const own = await page.evaluate(() => ({ mesh: skinView3d.meshName, pixels: skinView3d.pixels(), status: document.getElementById('view3d-file-status').textContent }));
+    const ownSkin = skinPixels(own.pixels);
+    const ownLuma = ownSkin.reduce((s, i) => s + luma(own.pixels.data, i), 0) / Math.max(1, ownSkin.length);
+    check(own.mesh === 'file' && ownSkin.length > 0.05 * own.pixels.width * own.pixels.height && ownLuma > 30 && /4 triangles/.test(own.status) && /mesh/i.test(label) ? []
+      : [`mesh ${own.mesh}, ${ownSkin.length} pixels of luma ${ownLuma.toFixed(0)}, status "${own.status}", label "${label}"`],
+    `a tetrahedron OBJ through the labelled file picker is shown, lit (${(100 * ownSkin.length / (own.pixels.width * own.pixels.height)).toFixed(0)} % of the view): "${own.status}"`);
+    const bad = [];
+    for (const name of ['empty-faces.obj', 'garbage.glb', 'notes.txt']) {
+      const r = await page.evaluate(async (name, text) => {
+        const before = document.getElementById('load-result').textContent;
+        const ok = await skinView3d.loadFile(new File([text], name));
+        const s = document.getElementById('view3d-file-status');
+        return { ok, text: s.textContent, error: s.classList.contains('error'), mesh: skinView3d.meshName, spectrum: document.getElementById('load-result').textContent !== before };
+      }, name, files[name]);
+      console.log(`  ${name}: ${r.text}`);
+      if (r.ok || !r.error || !r.text.startsWith(`Not loaded: ${name}: `) || r.text.includes('\n') || r.mesh !== 'file' || r.spectrum) bad.push(`${name}: ${JSON.stringify(r)}`);
+    }
+    // Dropped on the view (after a bad file: the view still works).
+    const dropped = await page.evaluate(async (text) => {
+      const dt = new DataTransfer();
+      dt.items.add(new File([text], 'dropped.obj'));
+      document.getElementById('view3d').dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+      const s = document.getElementById('view3d-file-status');
+      for (let i = 0; i < 100 && !/dropped\.obj/.test(s.textContent); i++) await new Promise((r) => setTimeout(r, 50));
+      return { text: s.textContent, error: s.classList.contains('error'), loaded: document.getElementById('load-result').textContent };
+    }, tetra);
+    if (!dropped.text.startsWith('Showing dropped.obj') || dropped.error || /dropped/.test(dropped.loaded)) bad.push(`drop: ${JSON.stringify(dropped)}`);
+    check(bad, 'bad mesh files give one line each and keep the view; a mesh dropped on the view is shown');
 
     // Without the mesh: a sphere.
     await page.setRequestInterception(true);
