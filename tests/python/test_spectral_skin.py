@@ -443,6 +443,9 @@ class EveryDoorHolds(unittest.TestCase):
         import threading
         import time
         sent = []
+        # Python turns SIGINT into KeyboardInterrupt only if SIGINT was not ignored when it started
+        # (a process started in the background by a non-interactive shell inherits it ignored).
+        previous = signal.signal(signal.SIGINT, signal.default_int_handler)
         timer = threading.Timer(seconds, lambda: (sent.append(time.monotonic()), os.kill(os.getpid(), signal.SIGINT)))
         timer.start()
         try:
@@ -451,6 +454,7 @@ class EveryDoorHolds(unittest.TestCase):
             return time.monotonic() - sent[0]
         finally:
             timer.cancel()
+            signal.signal(signal.SIGINT, previous)
 
     def test_long_calls_stop_on_ctrl_c(self):
         with warnings.catch_warnings():
