@@ -123,5 +123,5 @@ static void BM_Texture(benchmark::State& state) {
   state.SetLabel("mean dE2000 " + std::to_string(mean));
   state.SetItemsProcessed(state.iterations() * n * n);
 }
-BENCHMARK(BM_Texture)->Args({256, 0})->Args({1024, 0})->Args({1024, 1})->Unit(benchmark::kMillisecond)
+BENCHMARK(BM_Texture)->Args({256, 0})->Args({1024, 0})->Args({1024, 1})->Args({4096, 1})->Unit(benchmark::kMillisecond)
     ->UseRealTime()->Iterations(1);

@@ -437,6 +437,13 @@ struct TextureFitter::Impl {
         }
     return v;
   }
+  // Bit k: parameter k (melanin, melanin_blend, hemoglobin) ended on its search bound.
+  unsigned char bound_bits(const Eigen::Vector3d& u) const {
+    unsigned char bits = 0;
+    for (int k = 0; k < 3; ++k)
+      if (axis[k].n > 1 && (u[k] <= 1e-9 || u[k] >= axis[k].n - 1 - 1e-9)) bits |= static_cast<unsigned char>(1u << k);
+    return bits;
+  }
   SkinParameters params(const Eigen::Vector3d& u) const {
     SkinParameters p = exact.options().start;
     p.melanin = axis[0].value(u[0]);
@@ -541,6 +548,9 @@ ColorFitResult TextureFitter::fit_color(const color::Rgb& rgb) const {
   r.fitted = {s.lab[0], s.lab[1], s.lab[2]};
   r.delta_e = color::delta_e_2000(r.target, r.fitted);
   r.iterations = s.iterations;
+  r.free = {Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin};
+  const unsigned char bits = impl_->bound_bits(s.u);
+  for (int k = 0; k < 3; ++k) r.at_bound.push_back(((bits >> k) & 1u) != 0);
   return r;
 }
 
@@ -560,19 +570,58 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   prepare();
   const std::size_t npix = static_cast<std::size_t>(img.width) * static_cast<std::size_t>(img.height);
   // Distinct colours (16 bits per linear channel: distinct 8- and 16-bit sRGB inputs stay
-  // distinct), each solved once.
-  std::vector<std::uint64_t> key(npix);
-  tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
+  // distinct), each solved once. An open-addressing hash of the 48-bit keys gives every texel the
+  // index of its colour, in the order colours first appear (each colour's result does not depend
+  // on that order); no sort of the texels, and 4 bytes per texel.
+  auto key_of = [&img](std::size_t i) {
     std::uint64_t k = 0;
     for (int c = 0; c < 3; ++c) {
       const double v = std::clamp(static_cast<double>(img.rgb[i * 3 + static_cast<std::size_t>(c)]), 0.0, 1.0);
       k = (k << 16) | static_cast<std::uint64_t>(std::lround(v * 65535.0));
     }
-    key[i] = k;
-  });
-  std::vector<std::uint64_t> uniq = key;
-  std::sort(uniq.begin(), uniq.end());
-  uniq.erase(std::unique(uniq.begin(), uniq.end()), uniq.end());
+    return k;
+  };
+  std::vector<std::uint32_t> slot(npix);
+  std::vector<std::uint64_t> uniq;   // the distinct keys
+  std::vector<std::uint32_t> count;  // texels per distinct key
+  {
+    constexpr std::uint64_t kEmpty = ~std::uint64_t(0);  // (keys use 48 bits)
+    int bits = 12;
+    std::vector<std::uint64_t> table_key(std::size_t(1) << bits, kEmpty);
+    std::vector<std::uint32_t> table_slot(table_key.size());
+    auto find_or_insert = [&](std::uint64_t k) -> std::uint32_t {
+      std::size_t mask = table_key.size() - 1;
+      std::size_t h = static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+      while (table_key[h] != kEmpty && table_key[h] != k) h = (h + 1) & mask;
+      if (table_key[h] == k) return table_slot[h];
+      const auto q = static_cast<std::uint32_t>(uniq.size());
+      uniq.push_back(k);
+      count.push_back(0);
+      table_key[h] = k;
+      table_slot[h] = q;
+      if (2 * uniq.size() > table_key.size()) {  // grow to keep the load at most 1/2
+        ++bits;
+        table_key.assign(std::size_t(1) << bits, kEmpty);
+        table_slot.assign(table_key.size(), 0);
+        mask = table_key.size() - 1;
+        for (std::uint32_t r = 0; r < uniq.size(); ++r) {
+          std::size_t g = static_cast<std::size_t>((uniq[r] * 0x9E3779B97F4A7C15ull) >> (64 - bits));
+          while (table_key[g] != kEmpty) g = (g + 1) & mask;
+          table_key[g] = uniq[r];
+          table_slot[g] = r;
+        }
+      }
+      return q;
+    };
+    std::uint64_t last_key = kEmpty;
+    std::uint32_t last_slot = 0;
+    for (std::size_t i = 0; i < npix; ++i) {
+      const std::uint64_t k = key_of(i);
+      if (k != last_key) last_key = k, last_slot = find_or_insert(k);
+      slot[i] = last_slot;
+      ++count[last_slot];
+    }
+  }
   struct Out {
     float m, b, h, e;
     unsigned char bound;  // bit k: parameter k (melanin, melanin_blend, hemoglobin) on its bound
@@ -596,9 +645,7 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
         const auto s = m.solve({t.L, t.a, t.b});
         const SkinParameters p = m.params(s.u);
         const double e = color::delta_e_2000(t, {s.lab[0], s.lab[1], s.lab[2]});
-        unsigned char bound = 0;
-        for (int k = 0; k < 3; ++k)
-          if (m.axis[k].n > 1 && (s.u[k] <= 1e-9 || s.u[k] >= m.axis[k].n - 1 - 1e-9)) bound |= static_cast<unsigned char>(1u << k);
+        const unsigned char bound = m.bound_bits(s.u);
         solved[q] = {static_cast<float>(p.melanin), static_cast<float>(p.melanin_blend),
                      static_cast<float>(p.hemoglobin), static_cast<float>(e), bound};
       }
@@ -615,19 +662,19 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   maps.melanin_blend.resize(npix);
   maps.hemoglobin.resize(npix);
   maps.error.resize(npix);
-  std::vector<unsigned char> bound(npix);
   tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
-    const auto q = static_cast<std::size_t>(std::lower_bound(uniq.begin(), uniq.end(), key[i]) - uniq.begin());
-    bound[i] = solved[q].bound;
-    maps.melanin[i] = solved[q].m;
-    maps.melanin_blend[i] = solved[q].b;
-    maps.hemoglobin[i] = solved[q].h;
-    maps.error[i] = solved[q].e;
+    const Out& r = solved[slot[i]];
+    maps.melanin[i] = r.m;
+    maps.melanin_blend[i] = r.b;
+    maps.hemoglobin[i] = r.h;
+    maps.error[i] = r.e;
   });
   maps.update_error_statistics();
-  for (unsigned char b : bound) {
-    for (int k = 0; k < 3; ++k) maps.at_bound[static_cast<std::size_t>(k)] += (b >> k) & 1u;
-    maps.any_at_bound += b != 0;
+  for (std::size_t q = 0; q < uniq.size(); ++q) {
+    const unsigned char b = solved[q].bound;
+    for (int k = 0; k < 3; ++k)
+      if ((b >> k) & 1u) maps.at_bound[static_cast<std::size_t>(k)] += count[q];
+    if (b != 0) maps.any_at_bound += count[q];
   }
   return maps;
 }

@@ -10,9 +10,11 @@ const std::vector<std::string> kChannels = {"melanin", "melanin_blend", "hemoglo
 }
 
 void write_parameter_maps(const ParameterMaps& maps, const std::string& path) {
-  const image::Planes planes{maps.width, maps.height, kChannels,
-                             {maps.melanin, maps.melanin_blend, maps.hemoglobin, maps.error}};
-  image::write_exr_planes(path, planes,
+  const std::vector<image::PlaneView> planes = {{kChannels[0], &maps.melanin},
+                                                {kChannels[1], &maps.melanin_blend},
+                                                {kChannels[2], &maps.hemoglobin},
+                                                {kChannels[3], &maps.error}};
+  image::write_exr_planes(path, maps.width, maps.height, planes,
                           {{"skin_layout",
                             "Spectral Skin parameter maps v1: melanin (C_m), melanin_blend "
                             "(beta_m), hemoglobin (C_h), error (CIEDE2000); docs/parameter-maps.md"}},

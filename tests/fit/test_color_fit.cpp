@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <filesystem>
@@ -140,6 +141,55 @@ TEST(TextureFit, TexelsOutsideAnAlbedoAreRefusedByName) {
       EXPECT_NE(std::string(e.what()).find("allowed: a linear albedo within [0, 1]"), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(TextureFit, EveryTexelGetsTheFitOfItsOwnColour) {
+  // The texture path solves each distinct colour once and hands its result to every texel of
+  // that colour (a hash of the colours, which grows past its first 4096 slots here). 80 x 80
+  // texels of 3000 colours in random order, each colour repeated 2-3 times: every texel's maps
+  // equal the single-colour fit of its own colour, bit for bit, and the bound counts add up
+  // texel by texel.
+  const int w = 80, h = 80;
+  std::mt19937 rng(20261204);
+  std::uniform_int_distribution<int> channel(0, 65535);
+  std::vector<std::array<int, 3>> colours(3000);
+  for (auto& c : colours) c = {channel(rng), channel(rng), channel(rng)};
+  Image img(w, h);
+  std::vector<std::size_t> which(static_cast<std::size_t>(w * h));
+  std::uniform_int_distribution<std::size_t> pick(0, colours.size() - 1);
+  for (std::size_t i = 0; i < which.size(); ++i) {
+    which[i] = i < colours.size() ? i : pick(rng);
+    for (int c = 0; c < 3; ++c)
+      img.rgb[i * 3 + static_cast<std::size_t>(c)] = static_cast<float>(colours[which[i]][static_cast<std::size_t>(c)] / 65535.0);
+  }
+  std::shuffle(which.begin(), which.end(), rng);  // (texel order no longer follows the colours' order)
+  for (std::size_t i = 0; i < which.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      img.rgb[i * 3 + static_cast<std::size_t>(c)] = static_cast<float>(colours[which[i]][static_cast<std::size_t>(c)] / 65535.0);
+  const TextureFitter fitter(skin_test::multipole_color_options());
+  const ParameterMaps maps = fitter.fit(img);
+  std::vector<ColorFitResult> single(colours.size());
+  for (std::size_t q = 0; q < colours.size(); ++q) {
+    const auto& c = colours[q];
+    // The texture path reads each channel as a 16-bit value k and fits k / 65535.
+    single[q] = fitter.fit_color({c[0] / 65535.0, c[1] / 65535.0, c[2] / 65535.0});
+  }
+  std::array<std::size_t, 3> at_bound{};
+  std::size_t any_bound = 0;
+  for (std::size_t i = 0; i < which.size(); ++i) {
+    const ColorFitResult& r = single[which[i]];
+    ASSERT_EQ(maps.melanin[i], static_cast<float>(r.parameters.melanin)) << i;
+    ASSERT_EQ(maps.melanin_blend[i], static_cast<float>(r.parameters.melanin_blend)) << i;
+    ASSERT_EQ(maps.hemoglobin[i], static_cast<float>(r.parameters.hemoglobin)) << i;
+    ASSERT_EQ(maps.error[i], static_cast<float>(r.delta_e)) << i;
+    ASSERT_EQ(r.at_bound.size(), 3u);
+    for (std::size_t k = 0; k < 3; ++k) at_bound[k] += r.at_bound[k] ? 1 : 0;
+    any_bound += (r.at_bound[0] || r.at_bound[1] || r.at_bound[2]) ? 1 : 0;
+  }
+  EXPECT_EQ(maps.at_bound, at_bound);
+  EXPECT_EQ(maps.any_at_bound, any_bound);
+  // Random colours are mostly far outside skin's gamut: many fits end on a bound.
+  EXPECT_GT(any_bound, 100u);
 }
 
 TEST(TextureFit, PngToExrMapsRoundTrip) {
