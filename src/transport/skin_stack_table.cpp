@@ -71,7 +71,7 @@ std::vector<double> floored_log(std::vector<double> R) {
 
 SkinStackTable SkinStackTable::default_nodes() {
   SkinStackTable t;
-  for (int k = -3; k <= 2; ++k) t.tau.push_back(2.0 * std::pow(1.5, k));
+  for (int k = -8; k <= 2; ++k) t.tau.push_back(2.0 * std::pow(1.5, k));
   // a: four per decade from 0.004 to 0.4, then evenly in sqrt(a) (0.25 apart, then 0.5).
   std::vector<double> a;
   for (int k = 0; k <= 8; ++k) a.push_back(0.004 * std::pow(10.0, k / 4.0));
@@ -131,8 +131,35 @@ std::vector<double> SkinStackTable::solve_half_space(double a_v) const {
   return floored_log(solve(*this, kInfinity, a_v, nullptr));
 }
 
-void SkinStackTable::compute(const ProgressCallback& progress) {
+namespace {
+// Index of v among nodes (equal to a relative 1e-6: a table read back holds 7 digits), or npos.
+std::size_t node_index(const std::vector<double>& nodes, double v) {
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (std::abs(nodes[i] - v) <= 1e-6 * std::abs(v)) return i;
+  return std::string::npos;
+}
+bool same_nodes(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (node_index({a[i]}, b[i]) == std::string::npos) return false;
+  return true;
+}
+}  // namespace
+
+void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTable* reuse) {
   const std::size_t n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
+  if (reuse && !(reuse->eta == eta && reuse->g == g && reuse->dermis_ratio == dermis_ratio &&
+                 same_nodes(reuse->a_d, a_d) && same_nodes(reuse->x, x)))
+    throw InputError("reuse: the table to reuse has another geometry, a_d or x nodes than the one computed");
+  const bool reuse_half = reuse && same_nodes(reuse->a_h, a_h);
+  // Per (tau, a_e): its row in `reuse`, or npos (solved).
+  std::vector<std::size_t> from(tau.size() * n_e, std::string::npos);
+  if (reuse)
+    for (std::size_t i_t = 0; i_t < tau.size(); ++i_t)
+      for (std::size_t i_e = 0; i_e < n_e; ++i_e) {
+        const std::size_t r_t = node_index(reuse->tau, tau[i_t]), r_e = node_index(reuse->a_e, a_e[i_e]);
+        if (r_t != std::string::npos && r_e != std::string::npos) from[i_t * n_e + i_e] = r_t * reuse->a_e.size() + r_e;
+      }
   const std::size_t total = tau.size() * n_e * (n_d + 1) + a_h.size();
   ln_rho.assign(tau.size() * n_e * n_d * n_x, 0.0);
   ln_rho_top.assign(tau.size() * n_e * n_x, 0.0);
@@ -148,6 +175,14 @@ void SkinStackTable::compute(const ProgressCallback& progress) {
   std::vector<std::vector<double>> top(tau.size() * n_e);
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e, [&](std::size_t k) {
     if (util::cancel::requested()) return;  // thrown below
+    if (from[k] != std::string::npos) {
+      const auto src = reuse->ln_rho_top.begin() + static_cast<std::ptrdiff_t>(from[k] * n_x);
+      std::copy(src, src + static_cast<std::ptrdiff_t>(n_x), ln_rho_top.begin() + static_cast<std::ptrdiff_t>(k * n_x));
+      const auto rows = reuse->ln_rho.begin() + static_cast<std::ptrdiff_t>(from[k] * n_d * n_x);
+      std::copy(rows, rows + static_cast<std::ptrdiff_t>(n_d * n_x), ln_rho.begin() + static_cast<std::ptrdiff_t>(k * n_d * n_x));
+      for (std::size_t i = 0; i <= n_d; ++i) tick();
+      return;
+    }
     const Layer a = absorber(*this);
     top[k] = solve(*this, tau[k / n_e], a_e[k % n_e], &a);
     const std::vector<double> ln_top = floored_log(top[k]);
@@ -157,14 +192,20 @@ void SkinStackTable::compute(const ProgressCallback& progress) {
   util::cancel::check();
   tbb::parallel_for(std::size_t{0}, a_h.size(), [&](std::size_t k) {
     if (util::cancel::requested()) return;
-    const std::vector<double> h = solve_half_space(a_h[k]);
-    std::copy(h.begin(), h.end(), ln_rho_half.begin() + static_cast<std::ptrdiff_t>(k * n_x));
+    if (reuse_half) {
+      const auto src = reuse->ln_rho_half.begin() + static_cast<std::ptrdiff_t>(k * n_x);
+      std::copy(src, src + static_cast<std::ptrdiff_t>(n_x), ln_rho_half.begin() + static_cast<std::ptrdiff_t>(k * n_x));
+    } else {
+      const std::vector<double> h = solve_half_space(a_h[k]);
+      std::copy(h.begin(), h.end(), ln_rho_half.begin() + static_cast<std::ptrdiff_t>(k * n_x));
+    }
     tick();
   });
   util::cancel::check();
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e * n_d, [&](std::size_t k) {
     if (util::cancel::requested()) return;
     const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
+    if (from[i_t * n_e + i_e] != std::string::npos) return;  // copied with its top layer
     const Layer d = dermis(*this, a_d[i_d]);
     const std::vector<double> R = solve(*this, tau[i_t], a_e[i_e], &d);
     const std::vector<double>& T = top[i_t * n_e + i_e];

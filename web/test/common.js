@@ -146,7 +146,7 @@ function rng(seed) {
 // for `solver`. The dermis scattering stays the paper's half of the epidermis': with another, the
 // accurate solver leaves its table of skin profiles and solves every wavelength in the frequency
 // domain (~1 s each in the module), minutes per comparison. For the accurate solver the epidermis
-// also keeps its default thickness, 0.25 mm: a thinner one (below 0.59 / sigma_s') or a thicker
+// also keeps its default thickness, 0.25 mm: a thinner one (below 0.078 / sigma_s') or a thicker
 // one (above 4.5 / sigma_s') leaves the table at some wavelengths too. Both are drawn all the
 // same, so that the sequence of draws does not depend on the solver.
 function randomParameters(u, solver) {

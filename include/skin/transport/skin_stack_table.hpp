@@ -53,7 +53,9 @@ struct SkinStackTable {
   static SkinStackTable default_nodes();
   // Computes every node with FrequencyStack (parallel over nodes; cancellable: throws Cancelled).
   // progress(done, total) is called after each node, from worker threads, one call at a time.
-  void compute(const util::ProgressCallback& progress = {});
+  // With `reuse` (a table of the same geometry, a_d, x and a_h), the nodes it holds (tau and a_e
+  // equal to 1e-6) are copied from it instead of solved; the others are solved.
+  void compute(const util::ProgressCallback& progress = {}, const SkinStackTable* reuse = nullptr);
   std::string to_csv() const;
   // Throws InputError naming `source` for a malformed table.
   static SkinStackTable parse(std::string_view text, std::string_view source);
