@@ -1,6 +1,9 @@
 // skin fit: the inverse model (docs/fit.md). Parameters from a measured reflectance spectrum,
 // from an sRGB colour, or per pixel from an albedo texture; and the measured-spectra report.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <filesystem>
 #include <iostream>
 #include <sstream>
@@ -29,7 +32,7 @@ struct FitOpts {
   ParameterOptions params;
   OutputOptions out;
   std::string spectrum, column, srgb, hex, texture, report_dir, spectra_dir;
-  std::string free, plot, fitted;
+  std::string free, plot, fitted, preview;
   std::string model = "paper";
   SolverOption solver;
   std::vector<std::string> bounds;
@@ -141,10 +144,50 @@ void run_color(const FitOpts& o) {
   o.out.write(schema::color_fit_result(r, target, o.blend_prior, o.blend_weight));
 }
 
+// The four maps side by side as a PNG, each on its own range: the parameters' from the 1st to
+// the 99th percentile of their texels (a few texels at a bound would otherwise flatten the rest),
+// the error from 0 to its 99th percentile; values beyond take the ends' colours.
+void write_maps_preview(const fit::ParameterMaps& maps, const std::string& texture, const std::string& path) {
+  plot::MapSheet sheet;
+  sheet.title = "skin fit --texture " + std::filesystem::path(texture).filename().string() + ": parameter maps (" +
+                std::to_string(maps.width) + " x " + std::to_string(maps.height) + "; ranges: 1st-99th percentile)";
+  auto panel = [&](const std::string& title, const std::vector<float>& v, bool from_zero) {
+    plot::MapPanel p{title, maps.width, maps.height, v, 0, 1};
+    std::vector<float> finite;
+    finite.reserve(v.size());
+    for (float x : v)
+      if (std::isfinite(x)) finite.push_back(x);
+    if (!finite.empty()) {
+      auto at = [&finite](double q) {
+        const auto k = static_cast<std::size_t>(q * double(finite.size() - 1));
+        std::nth_element(finite.begin(), finite.begin() + static_cast<std::ptrdiff_t>(k), finite.end());
+        return static_cast<double>(finite[k]);
+      };
+      p.hi = at(0.99);
+      p.lo = from_zero ? 0.0 : at(0.01);
+      if (!(p.hi > p.lo)) p.hi = p.lo + 1e-9;
+    }
+    sheet.panels.push_back(std::move(p));
+  };
+  panel("melanin (C_m)", maps.melanin, false);
+  panel("melanin_blend (beta_m)", maps.melanin_blend, false);
+  panel("hemoglobin (C_h)", maps.hemoglobin, false);
+  panel("error (CIEDE2000)", maps.error, true);
+  char note[160];
+  std::snprintf(note, sizeof note, "mean error %.2f dE2000, %.1f %% of texels below 1; docs/parameter-maps.md",
+                maps.mean_error, 100.0 * maps.fraction_below_1);
+  sheet.note = note;
+  plot::save(sheet, path);
+}
+
 void run_texture(const FitOpts& o) {
   if (o.out.output.empty()) throw InputError("texture: give the output parameter maps with -o FILE.exr");
   if (util::io::extension(o.out.output) != "exr")
     throw InputError("output = '" + o.out.output + "': parameter maps are written as .exr");
+  if (!o.preview.empty() && util::io::extension(o.preview) != "png")
+    throw InputError("preview = '" + o.preview + "': the maps' preview is written as .png");
+  if (!o.preview.empty() && o.preview == o.out.output)
+    throw InputError("preview = '" + o.preview + "' is the output file too: give the preview another name");
   const fit::ColorFitOptions opt = color_fit_options(o);
   const image::Image img = image::read_image(o.texture);
   const fit::TextureFitter fitter(opt);
@@ -153,6 +196,7 @@ void run_texture(const FitOpts& o) {
   fitter.prepare();
   const fit::ParameterMaps maps = fitter.fit(img, bar);
   fit::write_parameter_maps(maps, o.out.output);
+  if (!o.preview.empty()) write_maps_preview(maps, o.texture, o.preview);
   // -o is the EXR: the summary goes to standard output in --format (table on a terminal).
   OutputOptions summary = o.out;
   summary.output.clear();
@@ -234,6 +278,10 @@ void register_fit(CLI::App& app) {
   o->out.add_to(*sub);
   auto* o_plot = sub->add_option("--plot", o->plot, "Spectrum fit: draw measurement and model to FILE.png or FILE.svg")->group("Output");
   auto* o_fitted = sub->add_option("--fitted", o->fitted, "Spectrum fit: write the fitted spectrum to FILE.csv or FILE.json")->group("Output");
+  auto* o_preview = sub->add_option("--preview", o->preview,
+                                    "Texture fit: also draw the four maps in false colour, side by side, to FILE.png")
+                        ->group("Output");
+  o_preview->needs(o_tex);
 
   // Options that only make sense for one kind of input are rejected elsewhere, before any work.
   for (auto* opt : {o_col, o_specular, o_lmin, o_lmax, o_plot, o_fitted}) opt->needs(o_spec);

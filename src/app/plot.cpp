@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 
@@ -277,7 +278,124 @@ void draw_grid(cairo_t* cr, const SwatchGrid& g, double W, double H) {
   (void)W;
 }
 
+// Anchors of the maps' scale (sRGB-encoded), evenly spaced in t: lightness rises throughout, so
+// the order of values reads in grey too.
+constexpr std::array<std::array<double, 3>, 5> kMapAnchors{{
+    {0.20, 0.05, 0.35}, {0.17, 0.30, 0.55}, {0.10, 0.55, 0.55}, {0.45, 0.75, 0.30}, {0.98, 0.90, 0.15}}};
+
+constexpr double kMapTop = 48, kMapTitleH = 22, kMapBarH = 34, kMapGap = 16;
+
+void draw_maps(cairo_t* cr, const MapSheet& sheet, const std::vector<std::pair<int, int>>& sizes, int rows) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_font_size(cr, 16);
+  cairo_move_to(cr, 12, 28);
+  cairo_show_text(cr, sheet.title.c_str());
+  const double cell_w = sheet.panel + kMapGap;
+  double row_h = 0;
+  for (const auto& [w, h] : sizes) row_h = std::max(row_h, kMapTitleH + h + kMapBarH + kMapGap);
+  for (std::size_t k = 0; k < sheet.panels.size(); ++k) {
+    const MapPanel& m = sheet.panels[k];
+    const auto [w, h] = sizes[k];
+    const double x0 = 12 + double(k % static_cast<std::size_t>(sheet.columns)) * cell_w;
+    const double y0 = kMapTop + double(k / static_cast<std::size_t>(sheet.columns)) * row_h;
+    cairo_set_source_rgb(cr, 0, 0, 0);
+    cairo_set_font_size(cr, 13);
+    cairo_move_to(cr, x0, y0 + 15);
+    cairo_show_text(cr, m.title.c_str());
+    // The map, box-averaged to w x h pixels.
+    cairo_surface_t* img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+    cairo_surface_flush(img);
+    unsigned char* data = cairo_image_surface_get_data(img);
+    const int stride = cairo_image_surface_get_stride(img);
+    const double span = m.hi > m.lo ? m.hi - m.lo : 1.0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        const int sx0 = x * m.width / w, sx1 = std::max(sx0 + 1, (x + 1) * m.width / w);
+        const int sy0 = y * m.height / h, sy1 = std::max(sy0 + 1, (y + 1) * m.height / h);
+        double sum = 0;
+        int n = 0;
+        bool finite = true;
+        for (int yy = sy0; yy < sy1; ++yy)
+          for (int xx = sx0; xx < sx1; ++xx) {
+            const float v = m.values[static_cast<std::size_t>(yy) * static_cast<std::size_t>(m.width) + static_cast<std::size_t>(xx)];
+            if (!std::isfinite(v)) finite = false;
+            sum += v;
+            ++n;
+          }
+        const std::array<double, 3> c = finite ? map_colour((sum / n - m.lo) / span) : std::array<double, 3>{0.5, 0.5, 0.5};
+        auto* px = reinterpret_cast<std::uint32_t*>(data + static_cast<std::ptrdiff_t>(y) * stride) + x;
+        *px = (static_cast<std::uint32_t>(std::lround(c[0] * 255)) << 16) |
+              (static_cast<std::uint32_t>(std::lround(c[1] * 255)) << 8) | static_cast<std::uint32_t>(std::lround(c[2] * 255));
+      }
+    cairo_surface_mark_dirty(img);
+    cairo_set_source_surface(cr, img, x0, y0 + kMapTitleH);
+    cairo_paint(cr);
+    cairo_surface_destroy(img);
+    // The colour bar and its range.
+    const double by = y0 + kMapTitleH + h + 6;
+    const int steps = 64;
+    for (int i = 0; i < steps; ++i) {
+      const auto c = map_colour((i + 0.5) / steps);
+      cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+      cairo_rectangle(cr, x0 + w * double(i) / steps, by, w / double(steps) + 0.5, 10);
+      cairo_fill(cr);
+    }
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    cairo_set_font_size(cr, 11);
+    char lo[32], hi[32];
+    std::snprintf(lo, sizeof lo, "%.4g", m.lo);
+    std::snprintf(hi, sizeof hi, "%.4g", m.hi);
+    cairo_move_to(cr, x0, by + 23);
+    cairo_show_text(cr, lo);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, hi, &e);
+    cairo_move_to(cr, x0 + w - e.width - e.x_bearing, by + 23);
+    cairo_show_text(cr, hi);
+  }
+  cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+  cairo_set_font_size(cr, 11);
+  cairo_move_to(cr, 12, kMapTop + rows * row_h + 4);
+  cairo_show_text(cr, sheet.note.c_str());
+}
+
 }  // namespace
+
+std::array<double, 3> map_colour(double t) {
+  if (!(t > 0)) t = 0;  // (NaN too)
+  if (t > 1) t = 1;
+  const double u = t * double(kMapAnchors.size() - 1);
+  const std::size_t i = std::min(kMapAnchors.size() - 2, static_cast<std::size_t>(u));
+  const double f = u - double(i);
+  std::array<double, 3> c{};
+  for (std::size_t k = 0; k < 3; ++k) c[k] = kMapAnchors[i][k] + f * (kMapAnchors[i + 1][k] - kMapAnchors[i][k]);
+  return c;
+}
+
+void save(const MapSheet& sheet, const std::string& path) {
+  if (util::io::extension(path) != "png")
+    throw InputError("preview = '" + path + "': maps are written as .png");
+  if (sheet.panels.empty() || sheet.columns < 1 || sheet.panel < 8)
+    throw InputError("map sheet: no maps, or a panel under 8 pixels");
+  std::vector<std::pair<int, int>> sizes;
+  for (const MapPanel& m : sheet.panels) {
+    if (m.width < 1 || m.height < 1 || m.values.size() != static_cast<std::size_t>(m.width) * static_cast<std::size_t>(m.height))
+      throw InputError("map sheet: map '" + m.title + "' has " + std::to_string(m.values.size()) + " values for " +
+                       std::to_string(m.width) + " x " + std::to_string(m.height));
+    const int w = std::min(m.width, sheet.panel);
+    const int h = std::max(1, static_cast<int>(std::lround(double(m.height) * w / m.width)));
+    sizes.emplace_back(w, h);
+  }
+  const int cols = std::min(sheet.columns, static_cast<int>(sheet.panels.size()));
+  const int rows = (static_cast<int>(sheet.panels.size()) + sheet.columns - 1) / sheet.columns;
+  double row_h = 0;
+  for (const auto& [w, h] : sizes) row_h = std::max(row_h, kMapTitleH + h + kMapBarH + kMapGap);
+  const int width = static_cast<int>(12 + cols * (sheet.panel + kMapGap));
+  const int height = static_cast<int>(kMapTop + rows * row_h + 16);
+  write(path, width, height, [&](cairo_t* cr) { draw_maps(cr, sheet, sizes, rows); });
+}
 
 void save(const Figure& fig, const std::string& path) {
   write(path, fig.width, fig.height, [&](cairo_t* cr) { draw(cr, fig); });

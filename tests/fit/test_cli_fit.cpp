@@ -11,6 +11,8 @@
 
 #include "../temp_dir.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/image/image.hpp"
+#include <stb_image_write.h>
 #include "test_params.hpp"
 #include "skin_test_paths.hpp"
 
@@ -75,6 +77,43 @@ TEST(CliFit, SpectrumJson) {
   EXPECT_EQ(j["fitted"]["R"].size(), 61u);
   EXPECT_TRUE(fs::exists(png));
   EXPECT_TRUE(fs::exists(fitted));
+}
+
+// --preview draws the four maps (melanin, melanin_blend, hemoglobin, error) in false colour,
+// side by side: on a 32 x 16 texture whose colour darkens from left to right, the melanin panel
+// (drawn at the texture's own 32 pixels, top left) rises from its dark blue end to its yellow
+// end along a row. A preview that is not .png, or --preview without --texture, is refused before
+// any work (exit 2, nothing written).
+TEST(CliFit, TexturePreviewDrawsTheFourMaps) {
+  const int w = 32, h = 16;
+  std::vector<unsigned char> px(static_cast<std::size_t>(w * h * 3));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      unsigned char* c = &px[static_cast<std::size_t>((y * w + x) * 3)];
+      c[0] = static_cast<unsigned char>(225 - 4 * x), c[1] = static_cast<unsigned char>(185 - 4 * x);
+      c[2] = static_cast<unsigned char>(160 - 4 * x);
+    }
+  const std::string tex = temp("preview_albedo.png"), exr = temp("preview_maps.exr"), png = temp("preview_maps.png");
+  fs::remove(exr);
+  fs::remove(png);
+  ASSERT_NE(stbi_write_png(tex.c_str(), w, h, 3, px.data(), w * 3), 0);
+  ASSERT_EQ(run("--texture " + tex + " --solver multipole -o " + exr + " --preview " + png).code, 0);
+  ASSERT_TRUE(fs::exists(exr));
+  const skin::image::Image img = skin::image::read_image(png, false);
+  EXPECT_EQ(img.width, 12 + 2 * (360 + 16));  // two columns of 360-pixel cells
+  EXPECT_GT(img.height, 2 * (22 + h + 34));    // two rows of title, map and colour bar
+  // The melanin panel: 32 x 16 pixels from (12, 48 + 22); along its middle row the blue channel
+  // falls and the red-green sum rises (dark blue -> yellow) as the skin darkens.
+  auto at = [&img](int x, int y, int c) { return img.rgb[(static_cast<std::size_t>(y) * static_cast<std::size_t>(img.width) + static_cast<std::size_t>(x)) * 3 + static_cast<std::size_t>(c)]; };
+  const int row = 48 + 22 + h / 2;
+  EXPECT_GT(at(12 + w - 2, row, 0) + at(12 + w - 2, row, 1), at(13, row, 0) + at(13, row, 1) + 0.5f);
+  // Refused before any work: another extension, and without --texture.
+  fs::remove(exr);
+  const std::string svg = temp("preview_maps.svg");
+  EXPECT_EQ(run("--texture " + tex + " --solver multipole -o " + exr + " --preview " + svg).code, 2);
+  EXPECT_FALSE(fs::exists(exr));
+  EXPECT_FALSE(fs::exists(svg));
+  EXPECT_EQ(run("--hex c0a090 --preview " + png).code, 2);
 }
 
 TEST(CliFit, BadInputExitsTwoAndWritesNothing) {

@@ -44,9 +44,30 @@ struct SwatchGrid {
   std::string note;         // below the grid; '\n' separates lines
 };
 
+// Scalar maps side by side (e.g. the texture fit's parameter maps), each in false colour from
+// dark blue (its `lo`) through teal and green to yellow (its `hi`) with a colour bar and its range;
+// a map is shown at most `panel` pixels wide (box-averaged). Non-finite values are grey.
+struct MapPanel {
+  std::string title;
+  int width = 0, height = 0;
+  std::vector<float> values;  // row-major, row 0 at the top
+  double lo = 0, hi = 1;
+};
+struct MapSheet {
+  std::string title;
+  std::vector<MapPanel> panels;
+  int columns = 2, panel = 360;
+  std::string note;  // below the maps
+};
+
 // Writes the figure to `path`, PNG or SVG chosen by the extension, atomically. Throws InputError
 // for another extension or a write failure.
 void save(const Figure& fig, const std::string& path);
 void save(const SwatchGrid& grid, const std::string& path);
+// PNG only (the maps are raster images). Throws InputError for another extension, panels of
+// inconsistent size, or a write failure.
+void save(const MapSheet& sheet, const std::string& path);
+// The false-colour scale of MapSheet at t in [0, 1] (clamped): sRGB-encoded 0-1.
+std::array<double, 3> map_colour(double t);
 
 }  // namespace skin::plot
