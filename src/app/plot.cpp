@@ -224,14 +224,19 @@ void write(const std::string& path, int width, int height, Paint&& paint) {
 
 constexpr double kCellW = 120, kCellH = 78, kLabelW = 110, kTop = 70, kCaptionH = 18;
 
-void draw_grid(cairo_t* cr, const SwatchGrid& g, double W, double H) {
+// A white page with its title at (12, baseline), 16 px sans-serif.
+void page_with_title(cairo_t* cr, const std::string& title, double baseline) {
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_source_rgb(cr, 0, 0, 0);
   cairo_set_font_size(cr, 16);
-  cairo_move_to(cr, 12, 26);
-  cairo_show_text(cr, g.title.c_str());
+  cairo_move_to(cr, 12, baseline);
+  cairo_show_text(cr, title.c_str());
+}
+
+void draw_grid(cairo_t* cr, const SwatchGrid& g, double W, double H) {
+  page_with_title(cr, g.title, 26);
   cairo_set_font_size(cr, 13);
   cairo_text_extents_t e;
   for (std::size_t j = 0; j < g.columns.size(); ++j) {
@@ -286,13 +291,7 @@ constexpr std::array<std::array<double, 3>, 5> kMapAnchors{{
 constexpr double kMapTop = 48, kMapTitleH = 22, kMapBarH = 34, kMapGap = 16;
 
 void draw_maps(cairo_t* cr, const MapSheet& sheet, const std::vector<std::pair<int, int>>& sizes, int rows) {
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_paint(cr);
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-  cairo_set_source_rgb(cr, 0, 0, 0);
-  cairo_set_font_size(cr, 16);
-  cairo_move_to(cr, 12, 28);
-  cairo_show_text(cr, sheet.title.c_str());
+  page_with_title(cr, sheet.title, 28);
   const double cell_w = sheet.panel + kMapGap;
   double row_h = 0;
   for (const auto& [w, h] : sizes) row_h = std::max(row_h, kMapTitleH + h + kMapBarH + kMapGap);

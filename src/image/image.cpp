@@ -540,10 +540,9 @@ Image read_image(const std::string& path, bool srgb) {
 void write_exr_planes(const std::string& path, const Planes& planes,
                       const std::vector<std::pair<std::string, std::string>>& attributes,
                       const std::string& what) {
+  if (planes.names.size() != planes.values.size()) throw InputError(what + ": inconsistent sizes for " + path);
   std::vector<PlaneView> views;
-  for (std::size_t c = 0; c < planes.names.size() && c < planes.values.size(); ++c)
-    views.push_back({planes.names[c], &planes.values[c]});
-  if (planes.names.size() != planes.values.size()) views.clear();  // refused below
+  for (std::size_t c = 0; c < planes.names.size(); ++c) views.push_back({planes.names[c], &planes.values[c]});
   write_exr_planes(path, planes.width, planes.height, views, attributes, what);
 }
 

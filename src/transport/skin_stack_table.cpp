@@ -132,17 +132,16 @@ std::vector<double> SkinStackTable::solve_half_space(double a_v) const {
 }
 
 namespace {
-// Index of v among nodes (equal to a relative 1e-6: a table read back holds 7 digits), or npos.
+// Node values equal to a relative 1e-6 (a table read back holds 7 digits).
+bool same_node(double a, double b) { return std::abs(a - b) <= 1e-6 * std::abs(b); }
+// Index of v among nodes, or npos.
 std::size_t node_index(const std::vector<double>& nodes, double v) {
   for (std::size_t i = 0; i < nodes.size(); ++i)
-    if (std::abs(nodes[i] - v) <= 1e-6 * std::abs(v)) return i;
+    if (same_node(nodes[i], v)) return i;
   return std::string::npos;
 }
 bool same_nodes(const std::vector<double>& a, const std::vector<double>& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (node_index({a[i]}, b[i]) == std::string::npos) return false;
-  return true;
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), same_node);
 }
 }  // namespace
 

@@ -80,8 +80,6 @@ struct Planes {
 void write_exr_planes(const std::string& path, const Planes& planes,
                       const std::vector<std::pair<std::string, std::string>>& attributes,
                       const std::string& what);
-// Reads the channels `names` of an OpenEXR file (in that order); throws InputError naming the
-// file and the first missing channel.
 // The same from channels held elsewhere (no copy): each view names a channel and its
 // width x height values.
 struct PlaneView {
@@ -91,6 +89,8 @@ struct PlaneView {
 void write_exr_planes(const std::string& path, int width, int height, const std::vector<PlaneView>& planes,
                       const std::vector<std::pair<std::string, std::string>>& attributes,
                       const std::string& what);
+// Reads the channels `names` of an OpenEXR file (in that order); throws InputError naming the
+// file and the first missing channel.
 Planes read_exr_planes(const std::string& path, const std::vector<std::string>& names,
                        const std::string& what);
 
