@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Configures the sanitizer build: the whole project built by clang with AddressSanitizer +
 # UndefinedBehaviorSanitizer (SKIN_SANITIZE).
-#   bash scripts/configure-asan.sh          build-asan/: the tests (`scripts/test.sh --sanitize`)
+#   bash scripts/configure-asan.sh          build-asan/: the tests, and the fuzz harnesses with
+#                                           coverage of their own code only (`scripts/test.sh
+#                                           --sanitize`: the suite, then CI's short fuzz run)
 #   bash scripts/configure-asan.sh --fuzz   build-fuzz/: the fuzz harnesses of fuzz/, every library
 #                                           also with libFuzzer's coverage instrumentation
-#                                           (SKIN_FUZZ; `scripts/fuzz.sh`)
+#                                           (SKIN_FUZZ; `scripts/fuzz.sh`, the campaigns)
 # Two builds, because the coverage instrumentation makes the code it instruments ~3x slower
-# (`skin fit --hex` 47 s instead of 17 s under ASan), which the tests need not pay. No
-# benchmarks; no Python module (an instrumented module would need the sanitizer runtime preloaded
-# into the interpreter; the bindings are thin and tested in Release).
+# (`skin fit --hex` 47 s instead of 17 s under ASan), which the tests need not pay; CI builds only
+# the first. No benchmarks; no Python module (an instrumented module would need the sanitizer
+# runtime preloaded into the interpreter; the bindings are thin and tested in Release).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dir=build-asan

@@ -4,6 +4,8 @@
 # its seed corpus fuzz/corpus/<target>/ (never modified: new inputs go to
 # build-fuzz/fuzz-corpus/<target>/).
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]
+#   SKIN_FUZZ_DIR=build-asan bash scripts/fuzz.sh 5   the harnesses of the sanitizer build
+#       instead (coverage of the harnesses' own code only; CI's short run, scripts/test.sh)
 # A crash, hang (> 10 s on one input), out-of-memory (> 2 GB) or sanitizer report stops that
 # target and leaves its input in build-fuzz/fuzz-findings/; the script then exits 1. At the end it
 # prints one line per target: executions, and the corpus size.
@@ -14,9 +16,14 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 shift || true
-dir=build-fuzz
+dir=${SKIN_FUZZ_DIR:-build-fuzz}
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}" CCACHE_NOHASHDIR=1  # (scripts/test.sh)
-[ -f "$dir/CMakeCache.txt" ] || bash scripts/configure-asan.sh --fuzz
+if [ "$dir" = build-fuzz ]; then
+  [ -f "$dir/CMakeCache.txt" ] || bash scripts/configure-asan.sh --fuzz
+elif [ ! -f "$dir/CMakeCache.txt" ]; then
+  echo "fuzz.sh: SKIN_FUZZ_DIR=$dir is not a configured build (scripts/configure-asan.sh)" >&2
+  exit 2
+fi
 cmake --build "$dir" --target fuzz_all
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
