@@ -34,10 +34,11 @@ fi
 if [ -f "$three/build/three.module.js" ]; then
   rm -rf build-web/site/three
   mkdir -p build-web/site/three/build build-web/site/three/addons/controls build-web/site/three/addons/loaders \
-    build-web/site/three/addons/utils
+    build-web/site/three/addons/utils build-web/site/three/addons/libs
   cp "$three/build/three.module.js" "$three/build/three.core.js" "$three/LICENSE" build-web/site/three/build/
   cp "$three/examples/jsm/controls/OrbitControls.js" build-web/site/three/addons/controls/
   cp "$three/examples/jsm/loaders/GLTFLoader.js" "$three/examples/jsm/loaders/OBJLoader.js" build-web/site/three/addons/loaders/
+  cp "$three/examples/jsm/libs/fflate.module.js" build-web/site/three/addons/libs/  # (maps.js)
   cp "$three/examples/jsm/utils/BufferGeometryUtils.js" "$three/examples/jsm/utils/SkeletonUtils.js" \
     build-web/site/three/addons/utils/
 else

@@ -425,6 +425,44 @@ function bloodLevels() {
 }
 window.skinBloodLevels = bloodLevels;
 
+// The model's colour over the grid of the view's parameter maps (view3d.js, loadMaps, mapAxes;
+// the module's color_grid, the other parameters as they are): when maps are loaded, and with
+// the kernels after a change of a parameter the maps do not set. ~2 s in all, so computed one
+// hemoglobin slice per task (the page stays responsive; a newer request drops an older one).
+let mapJob = 0;
+function mapColours() {
+  const view = window.skinView3d;
+  if (!view || !view.maps) return;
+  const axes = view.mapAxes();
+  const { melanin, melanin_blend, hemoglobin, ...others } = state.values;
+  const key = JSON.stringify([request({ params: others }), axes]);
+  if (key === state.mapKey || key === state.mapPendingKey) return;
+  const job = ++mapJob;
+  state.mapPendingKey = key;
+  background.add('maps');
+  const colours = [];
+  const t0 = performance.now();
+  let slice = 0;
+  const step = () => {
+    if (job !== mapJob) return;
+    try {
+      colours.push(...runJson('color_grid', request({ ...axes, hemoglobin: [axes.hemoglobin[slice]] })).srgb_linear);
+    } catch (err) {  // the parameters are refused: the next update shows why
+      background.delete('maps');
+      state.mapPendingKey = null;
+      return;
+    }
+    if (++slice < axes.hemoglobin.length) { setTimeout(step, 0); return; }
+    background.delete('maps');
+    state.mapKey = key;
+    state.mapPendingKey = null;
+    state.mapMs = performance.now() - t0;
+    view.setMapColours(axes, colours);
+  };
+  setTimeout(step, 0);
+}
+window.skinMapColours = mapColours;
+
 // The sum of Gaussians of the current parameters, as `skin export --target realtime` fits it
 // (the module's export: ~0.1 s here, so not in the frame of a slider's move): computed once the
 // page has been still for KERNEL_DELAY ms. A profile the update did not solve (profile_pending:
@@ -458,6 +496,7 @@ function scheduleKernels() {
       if (window.skinView3d) window.skinView3d.setKernels(state.kernels);
     } catch (err) { /* the parameters are refused: the next update shows why */ }
     bloodLevels();
+    mapColours();
     $('view3d-status').textContent = kernelText();
   }, KERNEL_DELAY);
 }

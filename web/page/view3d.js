@@ -18,8 +18,12 @@
 //   - a blush or pallor brush paints k (the blood times 2^k) over the texture coordinates; the
 //     albedo is multiplied, after the blur, by the model's colour at k over that at k = 0
 //     (setBloodLevels, from the module via app.js).
+//   - parameter maps of `skin fit --texture` (loadMaps, .exr) set melanin, melanin_blend and
+//     hemoglobin per texel: the albedo is multiplied, after the blur, by the model's colour at
+//     the texel's values (trilinear in a grid the module computes, setMapColours) over the
+//     colour of the sliders' values; the subsurface kernels stay the sliders'.
 // Not modelled: the transmission factor 1 - rho_dr at entry and exit (about 1 % at normal
-// incidence for the presets), interreflections, parameter maps from a fitted texture.
+// incidence for the presets), interreflections, kernels that vary over the maps.
 // Frames are drawn on demand: after an update of the page, a change of the camera, or new kernels.
 //
 // window.skinView3d (the page and its tests): update(parameters), setKernels(export document),
@@ -27,11 +31,12 @@
 // bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end),
 // renderScene(mesh, material) (the view as a `skin render` scene), getCamera()/setCamera(),
 // loadFile(File), setBrush('turn' | 'blush' | 'pallor'), setBloodLevels(stops, colours),
-// clearPaint().
+// clearPaint(), loadMaps(File), mapAxes(), setMapColours(axes, colours), clearMaps(), maps.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
 import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
+import { readParameterMaps } from './maps.js';
 
 const HEAD_URL = 'mesh/LeePerrySmith.glb';
 // The scan (a bust) is taken as 400 mm wide, shoulder to shoulder, which makes its head about
@@ -57,6 +62,16 @@ const DAB_STOPS = 0.5;
 const DAB_RADIUS = 0.012;
 const MAX_LEVELS = 16;
 const MAX_WIDTH = 480;
+// Parameter maps (loadMaps): at most MAX_MAP_BYTES of file; the model's colour on MAP_NODES
+// (melanin, melanin_blend, hemoglobin) nodes over their ranges, the fractions floored at
+// MAP_FLOOR for the logarithmic axes. The grid's ln colour is interpolated trilinearly: over the
+// ranges of the Lee Perry-Smith albedo's maps (1024 x 1024) within 0.15 dE2000 of the model at
+// the median texel and 0.29 at worst (300 texels), over the whole box of those ranges 0.31 at
+// worst (200 points; the colour itself interpolated: 1.2 with 12 x 3 x 12 nodes); the grid's
+// 576 colours take ~1.5-2 s in the module (web/test/module.test.js).
+const MAX_MAP_BYTES = 512 * 1024 * 1024;
+const MAP_NODES = [12, 4, 12];
+const MAP_FLOOR = 1e-4;
 const BACKGROUND = [0.12, 0.12, 0.13];  // display-encoded
 
 const canvas = document.getElementById('view3d');
@@ -94,6 +109,27 @@ layout(location = 1) out vec4 outSpecular;
 layout(location = 2) out vec4 outTint;  // the painted colour over the unpainted, per channel
 uniform bool painted;
 uniform sampler2D bloodMap;   // k: the blood times 2^k
+// Fitted parameter maps (loadMaps): melanin, melanin_blend, hemoglobin per texel, shaded by the
+// model's colour over a grid of them (setMapColours: ln melanin, melanin_blend, ln hemoglobin
+// from lutLo over lutSpan, lutSize nodes; the grid holds ln of the colour, interpolated
+// trilinearly here in 32-bit floats), over the colour of the sliders' parameters (albedoNow).
+uniform bool mapped;
+uniform sampler2D paramMap;
+uniform highp sampler3D lut;
+uniform vec3 lutLo, lutSpan, albedoNow;
+uniform ivec3 lutSize;
+vec3 mapColour(vec3 x) {
+  vec3 f = clamp((x - lutLo) / lutSpan, 0.0, 1.0) * vec3(lutSize - 1);
+  ivec3 i0 = min(ivec3(floor(f)), max(lutSize - 2, ivec3(0)));
+  vec3 w = f - vec3(i0);
+  vec3 sum = vec3(0.0);
+  for (int c = 0; c < 8; ++c) {
+    ivec3 d = ivec3(c & 1, (c >> 1) & 1, (c >> 2) & 1);
+    vec3 wd = mix(1.0 - w, w, vec3(d));
+    sum += wd.x * wd.y * wd.z * texelFetch(lut, min(i0 + d, lutSize - 1), 0).rgb;
+  }
+  return exp(sum);
+}
 uniform int levels;
 uniform float stops[${MAX_LEVELS}];
 uniform vec3 tint[${MAX_LEVELS}];   // the colour at each k over the colour at k = 0
@@ -192,7 +228,13 @@ void main() {
   outIrradiance = vec4(E, vDepth);
   outSpecular = vec4(S, 1.0);
   outTint = vec4(1.0);
-  if (painted) {
+  if (mapped) {
+    vec3 q = texture(paramMap, vUv).rgb;
+    // The brush scales the map's blood as it scales the sliders' (times 2^k, at most 1).
+    float h = painted ? min(1.0, q.b * exp2(texture(bloodMap, vUv).r)) : q.b;
+    vec3 c = mapColour(vec3(log(max(q.r, 1e-6)), q.g, log(max(h, 1e-6))));
+    outTint = vec4(c / max(albedoNow, vec3(1e-6)), 1.0);
+  } else if (painted) {
     float k = texture(bloodMap, vUv).r;
     if (k != 0.0) {
       for (int i = 0; i + 1 < ${MAX_LEVELS}; ++i) {
@@ -352,6 +394,9 @@ function createView() {
     stops: { value: new Array(MAX_LEVELS).fill(0) },
     tint: { value: Array.from({ length: MAX_LEVELS }, () => new THREE.Vector3(1, 1, 1)) },
     cameraPos: { value: new THREE.Vector3() },
+    mapped: { value: false }, paramMap: { value: null }, lut: { value: null },
+    lutLo: { value: new THREE.Vector3() }, lutSpan: { value: new THREE.Vector3(1, 1, 1) },
+    lutSize: { value: [1, 1, 1] }, albedoNow: { value: new THREE.Vector3(1, 1, 1) },
   };
   const surface = new THREE.ShaderMaterial({
     glslVersion: THREE.GLSL3, vertexShader: surfaceVertex, fragmentShader: surfaceFragment,
@@ -376,6 +421,7 @@ function createView() {
     minFilter: THREE.LinearFilter, magFilter: THREE.LinearFilter,
   });
   const gbuffer = rt(3), horizontal = rt(), sum = rt();
+  let mapTexture = null, lutTexture = null;
   // The brush's map (k per texel; half floats, filtered).
   const bloodK = new Float32Array(BLOOD_MAP * BLOOD_MAP);
   const bloodTexture = new THREE.DataTexture(new Uint16Array(BLOOD_MAP * BLOOD_MAP), BLOOD_MAP, BLOOD_MAP, THREE.RedFormat, THREE.HalfFloatType);
@@ -464,7 +510,9 @@ function createView() {
     surfaceUniforms.lightDir.value[0].copy(patchMode ? new THREE.Vector3(0, 0, 1) : KEY.dir);
     surfaceUniforms.translucency.value = !patchMode && !!view.kernels;
     surfaceUniforms.shadows.value = !patchMode;
-    surfaceUniforms.painted.value = !patchMode && view.painted && surfaceUniforms.levels.value > 1;
+    surfaceUniforms.mapped.value = !patchMode && !!view.maps && !!surfaceUniforms.lut.value;
+    surfaceUniforms.painted.value = !patchMode && view.painted && (surfaceUniforms.levels.value > 1 || surfaceUniforms.mapped.value);
+    surfaceUniforms.albedoNow.value.set(...view.albedo);
     surfaceUniforms.rhoS.value = patchMode ? 0 : view.parameters.oiliness;
     surfaceUniforms.roughness.value = Math.max(view.parameters.roughness, 1e-3);
     surfaceUniforms.eta.value = view.parameters.eta;
@@ -599,6 +647,8 @@ function createView() {
   }
   const clearButton = document.getElementById('view3d-clear');
   if (clearButton) clearButton.addEventListener('click', () => view.clearPaint());
+  const clearMapsButton = document.getElementById('view3d-clear-maps');
+  if (clearMapsButton) clearMapsButton.addEventListener('click', () => view.clearMaps());
 
   // A mesh dropped on the view, or chosen with the file picker under it.
   canvas.addEventListener('dragover', (e) => { e.preventDefault(); e.stopPropagation(); });
@@ -685,6 +735,7 @@ function createView() {
     // head, in this skin. A file that is not one gives one line in #view3d-file-status and
     // leaves the view as it was. Resolves to true when the mesh is shown.
     async loadFile(file) {
+      if (/\.exr$/i.test(file.name)) return view.loadMaps(file);
       const say = (text, error) => {
         if (fileStatus) { fileStatus.textContent = text; fileStatus.className = error ? 'note error' : 'note muted'; }
       };
@@ -707,6 +758,102 @@ function createView() {
         say(`Not loaded: ${file.name}: ${e.message}. The view takes a .glb, a .gltf with its data embedded, or an .obj.`, true);
         return false;
       }
+    },
+    // Parameter maps of `skin fit --texture` (a File, .exr; docs/parameter-maps.md) over the
+    // mesh's texture coordinates (row 0 of the maps at v = 0, as glTF's textures): melanin,
+    // melanin_blend and hemoglobin per texel, the other parameters the sliders'. Shaded once the
+    // page has given the model's colours over the maps' ranges (window.skinMapColours, app.js,
+    // which calls setMapColours). A file that is not such maps gives one line in
+    // #view3d-file-status and leaves the view as it was. Resolves to true when loaded.
+    async loadMaps(file) {
+      const say = (text, error) => {
+        if (fileStatus) { fileStatus.textContent = text; fileStatus.className = error ? 'note error' : 'note muted'; }
+      };
+      let maps;
+      try {
+        if (file.size > MAX_MAP_BYTES) throw new Error(`${file.name}: ${(file.size / 1048576).toFixed(0)} MB: at most ${MAX_MAP_BYTES / 1048576} MB is allowed`);
+        maps = readParameterMaps(await file.arrayBuffer(), file.name);
+      } catch (e) {
+        say(`Not loaded: ${e.message}.`, true);
+        return false;
+      }
+      const { width, height } = maps;
+      const texels = new Uint16Array(4 * width * height);
+      const range = { melanin: [Infinity, -Infinity], melanin_blend: [Infinity, -Infinity], hemoglobin: [Infinity, -Infinity] };
+      const keys = Object.keys(range);
+      for (let i = 0; i < width * height; i++) {
+        keys.forEach((key, c) => {
+          const v = maps[key][i];
+          texels[4 * i + c] = THREE.DataUtils.toHalfFloat(v);
+          if (v < range[key][0]) range[key][0] = v;
+          if (v > range[key][1]) range[key][1] = v;
+        });
+        texels[4 * i + 3] = THREE.DataUtils.toHalfFloat(1);
+      }
+      if (mapTexture) mapTexture.dispose();
+      mapTexture = new THREE.DataTexture(texels, width, height, THREE.RGBAFormat, THREE.HalfFloatType);
+      mapTexture.minFilter = mapTexture.magFilter = THREE.LinearFilter;
+      mapTexture.wrapS = mapTexture.wrapT = THREE.ClampToEdgeWrapping;
+      mapTexture.needsUpdate = true;
+      surfaceUniforms.paramMap.value = mapTexture;
+      surfaceUniforms.lut.value = null;  // until setMapColours
+      view.maps = { name: file.name, width, height, range };
+      const span = (key, digits = 3) => range[key].map((v) => v.toPrecision(digits)).join('–');
+      say(`Parameter maps ${file.name}: ${width} x ${height} texels, melanin ${span('melanin')}, melanin blend ${span('melanin_blend', 2)}, ` +
+        `hemoglobin ${span('hemoglobin')}; these three come from the maps, the other parameters from the sliders.`, false);
+      if (window.skinMapColours) window.skinMapColours();
+      render();
+      return true;
+    },
+    // The grid the page computes the model's colour on for the maps (app.js, the module's
+    // color_grid): logarithmic in melanin and hemoglobin, linear in the blend, over the maps'
+    // ranges (the blood's widened by the brush's 2^-2-2^2).
+    mapAxes() {
+      if (!view.maps) return null;
+      const r = view.maps.range;
+      const axis = (lo, hi, n, log) => {
+        if (!(hi > lo)) return [lo];
+        return Array.from({ length: n }, (_, i) => (log ? lo * (hi / lo) ** (i / (n - 1)) : lo + (hi - lo) * i / (n - 1)));
+      };
+      return {
+        melanin: axis(Math.max(r.melanin[0], MAP_FLOOR), Math.max(r.melanin[1], MAP_FLOOR), MAP_NODES[0], true),
+        melanin_blend: axis(r.melanin_blend[0], r.melanin_blend[1], MAP_NODES[1], false),
+        hemoglobin: axis(Math.max(r.hemoglobin[0] / 4, MAP_FLOOR), Math.min(1, Math.max(4 * r.hemoglobin[1], MAP_FLOOR)), MAP_NODES[2], true),
+      };
+    },
+    // The model's colour (linear sRGB) at every node of mapAxes() (melanin fastest, then the
+    // blend, then hemoglobin): the maps are shaded from then on.
+    setMapColours(axes, colours) {
+      const [nm, nb, nh] = [axes.melanin.length, axes.melanin_blend.length, axes.hemoglobin.length];
+      if (colours.length !== 3 * nm * nb * nh) throw new Error('setMapColours: one colour per node');
+      // ln of the colour, 32-bit, read texel by texel (no filtering: the shader interpolates).
+      const data = new Float32Array(4 * nm * nb * nh);
+      for (let i = 0; i < nm * nb * nh; i++) {
+        for (let c = 0; c < 3; c++) data[4 * i + c] = Math.log(Math.max(colours[3 * i + c], 1e-9));
+        data[4 * i + 3] = 0;
+      }
+      if (lutTexture) lutTexture.dispose();
+      lutTexture = new THREE.Data3DTexture(data, nm, nb, nh);
+      lutTexture.format = THREE.RGBAFormat;
+      lutTexture.type = THREE.FloatType;
+      lutTexture.minFilter = lutTexture.magFilter = THREE.NearestFilter;
+      lutTexture.wrapS = lutTexture.wrapT = lutTexture.wrapR = THREE.ClampToEdgeWrapping;
+      lutTexture.unpackAlignment = 1;
+      lutTexture.needsUpdate = true;
+      const lo = [Math.log(axes.melanin[0]), axes.melanin_blend[0], Math.log(axes.hemoglobin[0])];
+      const hi = [Math.log(axes.melanin[nm - 1]), axes.melanin_blend[nb - 1], Math.log(axes.hemoglobin[nh - 1])];
+      surfaceUniforms.lut.value = lutTexture;
+      surfaceUniforms.lutLo.value.set(...lo);
+      surfaceUniforms.lutSpan.value.set(...lo.map((l, i) => (hi[i] > l ? hi[i] - l : 1)));
+      surfaceUniforms.lutSize.value = [nm, nb, nh];
+      requestRender();
+    },
+    clearMaps() {
+      view.maps = null;
+      surfaceUniforms.lut.value = null;
+      surfaceUniforms.paramMap.value = null;
+      if (fileStatus) { fileStatus.textContent = ''; fileStatus.className = 'note muted'; }
+      requestRender();
     },
     // The camera (mesh units; fov vertical, degrees), as the orbit leaves it or set (tests).
     getCamera() {

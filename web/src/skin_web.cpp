@@ -313,6 +313,46 @@ json melanin_strip(const json& req) {
   return out;
 }
 
+// The model's colour over a grid of (melanin, melanin_blend, hemoglobin), the other parameters
+// the request's: {"melanin": [...], "melanin_blend": [...], "hemoglobin": [...]} ->
+// {"srgb_linear": [r, g, b, ...]}, melanin fastest, then melanin_blend, then hemoglobin. The
+// view shades fitted parameter maps (`skin fit --texture`) by interpolating it, as the texture
+// fit interpolates its own table (docs/parameter-maps.md). At most kMaxGridNodes nodes; every
+// node is validated as the parameters are.
+constexpr std::size_t kMaxGridNodes = 4096;
+json color_grid(const json& req) {
+  const SkinParameters base = parameters_of(req);
+  const WavelengthGrid grid = grid_of(req);
+  const transport::Model& model = model_of(req);
+  const auto axis = [&](const char* key) {
+    const auto v = get_or<std::vector<double>>(req, key, {});
+    if (v.empty()) throw InputError(std::string(key) + ": expected a non-empty array of values");
+    return v;
+  };
+  const auto m = axis("melanin"), b = axis("melanin_blend"), h = axis("hemoglobin");
+  if (m.size() * b.size() * h.size() > kMaxGridNodes)
+    throw InputError("color_grid: " + std::to_string(m.size() * b.size() * h.size()) +
+                     " nodes is too many: at most " + std::to_string(kMaxGridNodes));
+  std::vector<double> out;
+  out.reserve(3 * m.size() * b.size() * h.size());
+  for (double hk : h)
+    for (double bk : b)
+      for (double mk : m) {
+        SkinParameters q = base;
+        q.melanin = mk;
+        q.melanin_blend = bk;
+        q.hemoglobin = hk;
+        try {
+          q.validate();
+        } catch (const InputError& e) {
+          throw ParameterError(e.what(), invalid_keys(q, e.what()));
+        }
+        const auto c = skin_spectrum(q, grid, model).color.srgb_linear;
+        out.insert(out.end(), {c.r, c.g, c.b});
+      }
+  return json{{"srgb_linear", out}};
+}
+
 // `skin export --target T` in a folder of its own, without -o: the files it writes (named as it
 // names them: NAME.TARGET + the target's extension, NAME.TARGET + each file's suffix) with their
 // text, and NAME.TARGET.fit.json. {"target", "files": [{"name", "content"}], "images": [name], "report"}: "report"
@@ -374,6 +414,7 @@ std::string run(const std::string& command, const std::string& request) {
     if (command == "update") return update(req).dump();
     if (command == "spectra") return spectra(req).dump();
     if (command == "melanin_strip") return melanin_strip(req).dump();
+    if (command == "color_grid") return color_grid(req).dump();
     if (command == "export") return export_files(req).dump();
     // The fit's thresholds the page warns at, from the library (one home for each number).
     if (command == "fit_limits") return json{{"good_fit_rms", fit::kGoodFitRms}}.dump();

@@ -16,12 +16,16 @@
 //   - a mesh of one's own: a tetrahedron (OBJ, no normals) through the file picker
 //     (#view3d-file) and dropped on the view is shown, lit; an OBJ with no faces, a .glb of
 //     garbage and a file of another kind each give one line naming the file (the mesh shown
-//     stays, the spectrum loader is not called, no page error).
+//     stays, the spectrum loader is not called, no page error);
+//   - parameter maps (skin fit --texture's .exr) through the picker shade the head: the maps of
+//     the preset's own colour leave it within 0.6 mean dE2000, those of the tanned preset's
+//     colour give the tanned head within 1; cleared, as before; a file that is not maps (garbage,
+//     truncated, an RGB image) gives one line.
 // Run: node web/test/head.test.js (after scripts/web.sh and npm ci in web/).
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { ROOT, SITE, TMP, fail, openPage, lab, deltaE2000, decode } = require('./common');
+const { ROOT, SITE, SKIN, TMP, fail, openPage, lab, deltaE2000, decode } = require('./common');
 
 let checks = 0;
 function check(failures, what) {
@@ -191,6 +195,77 @@ async function main() {
       ...(blush.far === 0 && pallor.far === 0 ? [] : [`pixels changed more than 80 px from the stroke: ${blush.far}, ${pallor.far}`]),
       ...(same ? [] : ['cleared, the frame differs from the one before']),
     ], 'a blush stroke reddens the cheek, pallor pales it, nothing else changes; cleared, as before');
+
+    // Parameter maps of `skin fit --texture` (.exr) on the head: fitted from a texture of the
+    // caucasian preset's own colour, the head is as without maps (the colour per texel is the
+    // fit's, through the view's grid); from a texture of the tanned preset's colour, it is darker
+    // and within 1 dE2000 of the head with the tanned preset's sliders; cleared, as before; bad
+    // files give one line.
+    {
+      const dir = fs.mkdtempSync(path.join(TMP, 'maps-'));
+      const colours = {};
+      for (const name of ['caucasian', 'tanned']) {
+        await page.click(`#presets button[data-preset="${name}"]`);
+        await ready(page);
+        colours[name] = await page.evaluate(() => ({ hex: skinState.spectrum.color.hex, pixels: skinView3d.pixels() }));
+        // A 16 x 16 PNG of that colour (the browser's encoder), fitted by the command line.
+        const png = await page.evaluate((hex) => {
+          const c = document.createElement('canvas');
+          c.width = c.height = 16;
+          const g = c.getContext('2d');
+          g.fillStyle = hex;
+          g.fillRect(0, 0, 16, 16);
+          return c.toDataURL('image/png').split(',')[1];
+        }, colours[name].hex);
+        fs.writeFileSync(path.join(dir, `${name}.png`), Buffer.from(png, 'base64'));
+        require('child_process').execFileSync(SKIN, ['fit', '--texture', path.join(dir, `${name}.png`), '-o', path.join(dir, `${name}.exr`)], { stdio: 'pipe' });
+      }
+      await page.click('#presets button[data-preset="caucasian"]');
+      await ready(page);
+      const meanDeltaE = (a, b) => {
+        const px = skinPixels(a);
+        let sum = 0;
+        for (const i of px) sum += deltaE2000(lab([0, 1, 2].map((c) => decode(a.data[i + c]))), lab([0, 1, 2].map((c) => decode(b.data[i + c]))));
+        return sum / Math.max(1, px.length);
+      };
+      const picker = await page.$('#view3d-file');
+      const load = async (name) => {
+        await picker.uploadFile(path.join(dir, name));
+        await page.waitForFunction((n) => window.skinView3d.maps && window.skinView3d.maps.name === n && !window.skinBackgroundPending(), { timeout: 60000 }, name);
+        return page.evaluate(() => ({ pixels: skinView3d.pixels(), status: document.getElementById('view3d-file-status').textContent, ms: skinState.mapMs }));
+      };
+      const same = await load('caucasian.exr');
+      const deSame = meanDeltaE(same.pixels, colours.caucasian.pixels);
+      const tanned = await load('tanned.exr');
+      const deTanned = meanDeltaE(tanned.pixels, colours.tanned.pixels);
+      const lumaOf = (p) => { const px = skinPixels(p); return px.reduce((t, i) => t + luma(p.data, i), 0) / Math.max(1, px.length); };
+      await page.click('#view3d-clear-maps');
+      const cleared = await page.evaluate(() => ({ pixels: skinView3d.pixels(), maps: skinView3d.maps }));
+      console.log(`  maps: "${same.status}" (the grid's colours in ${same.ms.toFixed(0)} ms); mean dE2000 to the head without maps ${deSame.toFixed(3)}; ` +
+        `tanned maps on caucasian sliders: to the tanned head ${deTanned.toFixed(3)}, luma ${lumaOf(colours.caucasian.pixels).toFixed(1)} -> ${lumaOf(tanned.pixels).toFixed(1)}`);
+      check([
+        ...(/16 x 16 texels/.test(same.status) ? [] : [`status "${same.status}"`]),
+        ...(deSame <= 0.6 ? [] : [`caucasian maps: mean dE2000 ${deSame.toFixed(3)} to the head without them`]),
+        ...(deTanned <= 1 && lumaOf(tanned.pixels) < lumaOf(colours.caucasian.pixels) - 5 ? [] : [`tanned maps: mean dE2000 ${deTanned.toFixed(3)} to the tanned head`]),
+        ...(cleared.maps === null && cleared.pixels.data.every((v, i) => v === colours.caucasian.pixels.data[i]) ? [] : ['cleared, the frame differs from the one before']),
+      ], `fitted parameter maps (.exr, skin fit --texture) shade the head: its own colour's maps change it by ${deSame.toFixed(2)} dE2000, the tanned colour's give the tanned head within ${deTanned.toFixed(2)}; cleared, as before`);
+      const badMaps = [];
+      // An image of RGB channels (skin render's), not maps.
+      require('child_process').execFileSync(SKIN, ['render', '--resolution', '8x8', '--spp', '1', '-o', path.join(dir, 'render.exr')], { stdio: 'pipe' });
+      const cases = { 'garbage.exr': Buffer.from('not an exr at all'), 'truncated.exr': fs.readFileSync(path.join(dir, 'tanned.exr')).subarray(0, 400),
+        'render.exr': fs.readFileSync(path.join(dir, 'render.exr')) };
+      for (const [name, bytes] of Object.entries(cases)) {
+        const r = await page.evaluate(async (name, b64) => {
+          const bytes = Uint8Array.from(atob(b64), (ch) => ch.charCodeAt(0));
+          const ok = await skinView3d.loadFile(new File([bytes], name));
+          const s = document.getElementById('view3d-file-status');
+          return { ok, text: s.textContent, error: s.classList.contains('error'), maps: skinView3d.maps };
+        }, name, bytes.toString('base64'));
+        console.log(`  ${name}: ${r.text}`);
+        if (r.ok || !r.error || !r.text.startsWith(`Not loaded: ${name}: `) || r.text.includes('\n') || r.maps !== null) badMaps.push(`${name}: ${JSON.stringify(r)}`);
+      }
+      check(badMaps, 'bad parameter-map files give one line each and load nothing');
+    }
 
     // A mesh of one's own, through the file picker and dropped; bad files.
     const tetra = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n';

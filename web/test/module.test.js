@@ -10,7 +10,7 @@
 'use strict';
 const fs = require('fs');
 const path = require('path');
-const { SITE, SKIN, SPECTRA, TMP, cli, cliExport, compareExport, compare, rng, randomParameters, fail } = require('./common');
+const { ROOT, SITE, SKIN, SPECTRA, TMP, cli, cliExport, compareExport, compare, rng, randomParameters, fail, lab, deltaE2000 } = require('./common');
 
 const TOL = 1e-9;
 // Profile values below 1e-6 of the profile's peak are compared absolutely at that level: the
@@ -22,7 +22,7 @@ const TOL = 1e-9;
 const PROFILE_FLOOR = 1e-6;
 const PROFILE_TOL = 1e-8;
 
-require(path.join(SITE, 'skin.js'))().then((m) => {
+require(path.join(SITE, 'skin.js'))().then(async (m) => {
   const run = (command, request) => {
     const text = m.run(command, JSON.stringify(request));
     const doc = JSON.parse(text);
@@ -175,6 +175,83 @@ require(path.join(SITE, 'skin.js'))().then((m) => {
     }
   }
   if ('parameters' in badIlluminant) fail([JSON.stringify(badIlluminant)], 'illuminant error: parameters');
+
+  // color_grid (the 3D view's colours for parameter maps): every node is `color` of its
+  // parameters exactly, and the view's trilinear interpolation of ln colour (12 x 4 x 12 nodes,
+  // logarithmic in melanin and hemoglobin, over the ranges of the Lee Perry-Smith albedo's maps;
+  // view3d.js, mapColour) is within 0.5 dE2000 of the model at 60 points drawn across the box.
+  {
+    const axis = (lo, hi, n, log) => Array.from({ length: n }, (_, i) => (log ? lo * (hi / lo) ** (i / (n - 1)) : lo + (hi - lo) * i / (n - 1)));
+    const axes = { melanin: axis(0.0016, 0.5, 12, true), melanin_blend: axis(0, 1, 4, false), hemoglobin: axis(1e-4, 0.72, 12, true) };
+    const grid = run('color_grid', { preset: 'caucasian', ...axes }).srgb_linear;
+    const lnGrid = grid.map(Math.log);
+    const colour = (p) => run('color', { preset: 'caucasian', params: p }).color.srgb_linear;
+    const node = colour({ melanin: axes.melanin[7], melanin_blend: axes.melanin_blend[1], hemoglobin: axes.hemoglobin[4] });
+    const at = 3 * ((4 * 4 + 1) * 12 + 7);
+    if (node.some((v, c) => v !== grid[at + c])) fail([`${node} != ${grid.slice(at, at + 3)}`], 'color_grid node = color');
+    const n = [12, 4, 12];
+    const lo = [Math.log(axes.melanin[0]), 0, Math.log(axes.hemoglobin[0])];
+    const hi = [Math.log(axes.melanin[11]), 1, Math.log(axes.hemoglobin[11])];
+    const interp = (x) => {
+      const f = x.map((v, i) => Math.min(1, Math.max(0, (v - lo[i]) / (hi[i] - lo[i]))) * (n[i] - 1));
+      const i0 = f.map((v, i) => Math.min(Math.floor(v), n[i] - 2));
+      const out = [0, 0, 0];
+      for (let corner = 0; corner < 8; corner++) {
+        const d = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
+        const w = d.reduce((t, di, i) => t * (di ? f[i] - i0[i] : 1 - (f[i] - i0[i])), 1);
+        const k = 3 * (((i0[2] + d[2]) * n[1] + i0[1] + d[1]) * n[0] + i0[0] + d[0]);
+        for (let c = 0; c < 3; c++) out[c] += w * lnGrid[k + c];
+      }
+      return out.map(Math.exp);
+    };
+    const r = rng(31);
+    let worst = 0;
+    for (let i = 0; i < 60; i++) {
+      const x = [lo[0] + r() * (hi[0] - lo[0]), r(), lo[2] + r() * (hi[2] - lo[2])];
+      const exact = colour({ melanin: Math.exp(x[0]), melanin_blend: x[1], hemoglobin: Math.exp(x[2]) });
+      worst = Math.max(worst, deltaE2000(lab(exact), lab(interp(x))));
+    }
+    fail(worst <= 0.5 ? [] : [`worst dE2000 ${worst.toFixed(3)}`], 'color_grid interpolated within 0.5 dE2000');
+    const big = JSON.parse(m.run('color_grid', JSON.stringify({ melanin: axis(0.01, 0.5, 20, true), melanin_blend: [0.7], hemoglobin: axis(0.01, 0.5, 300, true) })));
+    const badNode = JSON.parse(m.run('color_grid', JSON.stringify({ melanin: [0.01, 2], melanin_blend: [0.7], hemoglobin: [0.01] })));
+    if (!big.error || !/6000 nodes is too many: at most 4096/.test(big.error)) fail([JSON.stringify(big)], 'color_grid: too many nodes');
+    if (!badNode.error || !badNode.error.includes('melanin (C_m) = 2 is out of range') || JSON.stringify(badNode.parameters) !== '["melanin"]') fail([JSON.stringify(badNode)], 'color_grid: a node out of range');
+    console.log(`color_grid: nodes are color's; 12 x 4 x 12 trilinear in ln colour within ${worst.toFixed(3)} dE2000 (60 points); too many nodes and a node out of range refused ${lap()}`);
+  }
+
+  // The view's reader of parameter maps (web/page/maps.js) against the Python module's fit of
+  // the same texture (37 x 23 texels of distinct colours: the last ZIP chunk is 7 lines): the
+  // file `skin fit --texture` writes reads back as the same float32 values.
+  {
+    const py = '/usr/bin/python3';
+    const pyPath = path.join(ROOT, 'build', 'python');
+    if (!fs.existsSync(py) || !fs.existsSync(path.join(pyPath, 'spectral_skin'))) {
+      console.log(`SKIP maps reader: no Python module in ${pyPath}`);
+    } else {
+      const { readParameterMaps } = await import(path.join(ROOT, 'web', 'page', 'maps.js'));
+      const { execFileSync } = require('child_process');
+      const dir = fs.mkdtempSync(path.join(TMP, 'maps-'));
+      const png = path.join(dir, 'texture.png'), exr = path.join(dir, 'maps.exr'), raw = path.join(dir, 'maps.f32');
+      execFileSync(py, ['-c', `
+import numpy as np, spectral_skin as s
+from PIL import Image
+h, w = 23, 37
+y, x = np.mgrid[0:h, 0:w]
+rgb = np.stack([200 - 2 * y, 150 - 2 * x + y, 120 - x], -1).clip(0, 255).astype(np.uint8)
+Image.fromarray(rgb).save(${JSON.stringify(png)})
+m = s.fit_texture(${JSON.stringify(png)})
+np.concatenate([m[k].astype('<f4').ravel() for k in ('melanin', 'melanin_blend', 'hemoglobin', 'error')]).tofile(${JSON.stringify(raw)})
+`], { env: { ...process.env, PYTHONPATH: pyPath }, stdio: 'pipe' });
+      execFileSync(SKIN, ['fit', '--texture', png, '-o', exr], { stdio: 'pipe' });
+      const bytes = fs.readFileSync(exr);
+      const maps = readParameterMaps(bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.length), 'maps.exr');
+      const ref = new Float32Array(fs.readFileSync(raw).buffer.slice(0));
+      const got = ['melanin', 'melanin_blend', 'hemoglobin', 'error'].flatMap((k) => Array.from(maps[k]));
+      const differing = got.filter((v, i) => v !== ref[i]).length;
+      fail(maps.width === 37 && maps.height === 23 && differing === 0 ? [] : [`${maps.width} x ${maps.height}, ${differing} of ${ref.length} values differ`], 'maps.js reads skin fit --texture');
+      console.log(`maps.js: the ${ref.length} values of a 37 x 23 fit read as the Python module's ${lap()}`);
+    }
+  }
 
   if (!fs.existsSync(SPECTRA)) {
     console.log(`SKIP fit: ${SPECTRA} is absent`);
