@@ -204,7 +204,7 @@ function setField(p, text, fromSlider = false) {
     if (fromSlider) $('s-' + p.key).setAttribute('aria-valuetext', String(value));
     else placeSlider(p, value);
   }
-  scheduleUpdate();
+  scheduleUpdate(fromSlider);
 }
 
 // A change by the user: the URL's errors (they were about the state it set) and the last fit's
@@ -332,8 +332,17 @@ function restoreFromUrl() {
 // --- Updates ----------------------------------------------------------------------------------
 
 let pending = false;  // an update is scheduled (window.skinPending: for tests)
-function scheduleUpdate() {
+let lastUpdate = -Infinity;  // performance.now() at the end of the last update
+// A slider's move (now = true) is computed and drawn at once when the last update is at least a
+// frame old, so that it shows in the next frame (the 3D view's input-to-frame time,
+// web/test/head.test.js); otherwise, and for every other change, in the next animation frame,
+// which takes the changes in between together.
+function scheduleUpdate(now = false) {
   if (pending) return;
+  if (now && performance.now() - lastUpdate >= 16) {
+    update();
+    return;
+  }
   pending = true;
   window.skinPending = true;
   requestAnimationFrame(() => { pending = false; window.skinPending = false; update(); });
@@ -391,6 +400,7 @@ function update() {
   scheduleStrip();
   scheduleKernels();
   checkExport();
+  lastUpdate = performance.now();
 }
 
 // --- 3D view (view3d.js) ----------------------------------------------------------------------

@@ -101,16 +101,29 @@ async function frameTimes(page, slider, count) {
     await new Promise((r) => setTimeout(r, 40));  // the frame painted; no frame of the test's own
   }
   const events = JSON.parse(Buffer.from(await page.tracing.stop()).toString('utf8')).traceEvents;
-  const fired = events.filter((e) => e.name === 'FireAnimationFrame' && e.ph === 'X');
-  const main = fired.length ? fired[0].tid : -1;
+  // The renderer's main thread: where the page's input events and layouts run.
+  const marker = events.find((e) => (e.name === 'EventDispatch' || e.name === 'Layout') && e.ph === 'X');
+  const main = marker ? marker.tid : -1;
   const onMain = events.filter((e) => e.tid === main && e.ph === 'X');
+  // A frame: the task that updates the rendering (animation frame callbacks, style, layout,
+  // paint), plus the slider's input event task before it when the page's update ran there (a
+  // slider's move is computed at once when the last update is a frame old: app.js,
+  // scheduleUpdate). Frames with neither an update nor a layout are not the slider's.
   const frames = [];
-  for (const task of onMain.filter((e) => e.name === 'ThreadControllerImpl::RunTask')) {
+  let inputUpdate = 0;
+  for (const task of onMain.filter((e) => e.name === 'ThreadControllerImpl::RunTask').sort((x, y) => x.ts - y.ts)) {
     const within = onMain.filter((e) => e.ts >= task.ts && e.ts + (e.dur || 0) <= task.ts + task.dur);
-    if (!within.some((e) => e.name === 'FireAnimationFrame') || !within.some((e) => e.name === 'Layout')) continue;
     const sum = (names) => within.filter((e) => names.includes(e.name)).reduce((a, e) => a + e.dur, 0) / 1000;
-    frames.push({ frame: task.dur / 1000, update: sum(['FireAnimationFrame']), style_layout: sum(['UpdateLayoutTree', 'Layout']),
+    const input = within.filter((e) => e.name === 'EventDispatch' && e.args && e.args.data && e.args.data.type === 'input');
+    if (input.length && !within.some((e) => e.name === 'Layout')) {
+      inputUpdate += task.dur / 1000;
+      continue;
+    }
+    const animation = within.some((e) => e.name === 'FireAnimationFrame');
+    if (!within.some((e) => e.name === 'Layout') || (!animation && inputUpdate === 0)) continue;
+    frames.push({ frame: task.dur / 1000 + inputUpdate, update: sum(['FireAnimationFrame']) + inputUpdate, style_layout: sum(['UpdateLayoutTree', 'Layout']),
                   paint: sum(['PrePaint', 'Paint', 'Layerize', 'Commit']) });
+    inputUpdate = 0;
   }
   const median = (k) => { const v = frames.map((f) => f[k]).sort((a, b) => a - b); return v[Math.floor(v.length / 2)]; };
   return { frames: frames.length, median_ms: median('frame'), update_ms: median('update'), style_layout_ms: median('style_layout'), paint_ms: median('paint') };
