@@ -416,36 +416,22 @@ function drawView3d() {
 }
 window.skinView3dPending = () => { drawView3d(); if (state.kernels) window.skinView3d.setKernels(state.kernels); };
 
-// The colours the view's blush and pallor brush paints between (view3d.js, setBloodLevels): the
-// model's colour with the blood (hemoglobin) times 2^k for each k of BLOOD_STOPS, the other
-// parameters as they are (as `skin color --hemoglobin H x 2^k`, capped at 1). Computed when
-// the view has paint: at the first stroke, and with the kernels after a change.
-const BLOOD_STOPS = [-2, -1.5, -1, -0.5, 0, 0.5, 1, 1.5, 2];
-function bloodLevels() {
-  const view = window.skinView3d;
-  if (!view || !view.painted) return;
-  const key = JSON.stringify(request());
-  if (key === state.bloodKey) return;
-  try {
-    const h = state.values.hemoglobin;
-    const colours = BLOOD_STOPS.map((k) => runJson('color', request({ params: { ...state.values, hemoglobin: Math.min(1, h * 2 ** k) } })).color.srgb_linear);
-    state.bloodKey = key;
-    view.setBloodLevels(BLOOD_STOPS, colours);
-  } catch (err) { /* the parameters are refused: the next update shows why */ }
-}
-window.skinBloodLevels = bloodLevels;
 
-// The model's colour over the grid of the view's parameter maps (view3d.js, loadMaps, mapAxes;
-// the module's color_grid, the other parameters as they are): when maps are loaded, and with
-// the kernels after a change of a parameter the maps do not set. ~2 s in all, so computed one
-// hemoglobin slice per task (the page stays responsive; a newer request drops an older one).
+
+// The model's colour over the grid of the view's parameter maps or paint (view3d.js, mapAxes;
+// the module's color_grid, the other parameters as they are): when maps are loaded, at the first
+// stroke of a brush, and with the kernels after a change (with maps, of a parameter they do not
+// set). Maps take ~2 s, paint alone ~0.3 s, so it is computed one hemoglobin slice per task (the
+// page stays responsive; a newer request drops an older one).
 let mapJob = 0;
 function mapColours() {
   const view = window.skinView3d;
-  if (!view || !view.maps) return;
-  const axes = view.mapAxes();
+  if (!view) return;
   const { melanin, melanin_blend, hemoglobin, ...others } = state.values;
-  const key = JSON.stringify([request({ params: others }), axes]);
+  const centre = { melanin, melanin_blend, hemoglobin };
+  const axes = view.mapAxes(centre, 1 - (state.values.epidermal_hemoglobin || 0));
+  if (!axes) return;
+  const key = JSON.stringify([request(view.maps ? { params: others } : {}), axes, !!view.maps]);
   if (key === state.mapKey || key === state.mapPendingKey) return;
   const job = ++mapJob;
   state.mapPendingKey = key;
@@ -467,7 +453,7 @@ function mapColours() {
     state.mapKey = key;
     state.mapPendingKey = null;
     state.mapMs = performance.now() - t0;
-    view.setMapColours(axes, colours);
+    view.setMapColours(axes, colours, centre);
   };
   setTimeout(step, 0);
 }
@@ -505,7 +491,6 @@ function scheduleKernels() {
       state.kernelsKey = key;
       if (window.skinView3d) window.skinView3d.setKernels(state.kernels);
     } catch (err) { /* the parameters are refused: the next update shows why */ }
-    bloodLevels();
     mapColours();
     $('view3d-status').textContent = kernelText();
   }, KERNEL_DELAY);

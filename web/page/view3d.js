@@ -15,9 +15,10 @@
 //     that light bleeds across a shadow's edge as it does in the skin.
 // A light's value is its irradiance / pi: under the key light head-on, a patch reads R_d (the
 // swatch), as `skin render` draws it under irradiance pi (renderScene gives that scene).
-//   - a blush or pallor brush paints k (the blood times 2^k) over the texture coordinates; the
-//     albedo is multiplied, after the blur, by the model's colour at k over that at k = 0
-//     (setBloodLevels, from the module via app.js).
+//   - a blush or pallor brush paints k_h (the blood times 2^k_h), a tan or lighten brush k_m (the
+//     melanin times 2^k_m) over the texture coordinates; the albedo is multiplied, after the
+//     blur, by the model's colour at the painted values over that at the sliders' (a grid of
+//     colours around them from the module via app.js, setMapColours);
 //   - parameter maps of `skin fit --texture` (loadMaps, .exr) set melanin, melanin_blend and
 //     hemoglobin per texel: the albedo is multiplied, after the blur, by the model's colour at
 //     the texel's values (trilinear in a grid the module computes, setMapColours) over the
@@ -30,8 +31,9 @@
 // setLight(rgb), setMode('head' | 'patch'), pixels() (a frame drawn and read back, RGBA bytes,
 // bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end),
 // litFrames (of them, those that redrew the light before the composite), renderScene(mesh, material) (the view as a `skin render` scene), getCamera()/setCamera(),
-// loadFile(File), setBrush('turn' | 'blush' | 'pallor'), setBloodLevels(stops, colours),
-// clearPaint(), loadMaps(File), mapAxes(), setMapColours(axes, colours), clearMaps(), maps.
+// loadFile(File), setBrush('turn' | 'blush' | 'pallor' | 'tan' | 'lighten'), clearPaint(),
+// loadMaps(File), mapAxes(centre, most), setMapColours(axes, colours, centre), clearMaps(), maps,
+// painted, paintReady (the grid for the maps or paint is in).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
@@ -53,24 +55,27 @@ const KEY = { dir: new THREE.Vector3(0.6, 0.45, 0.66).normalize(), intensity: 1.
 const FILL = { dir: new THREE.Vector3(-0.8, 0.1, 0.45).normalize(), intensity: 0.25 };
 const BACK = { dir: new THREE.Vector3(-0.25, 0.25, -1).normalize(), intensity: 1.5 };
 const MAX_GAUSSIANS = 8;
-// The blush and pallor brush: a map of k over the mesh's texture coordinates (the blood times
-// 2^k; 0 unpainted), BLOOD_MAP texels square; a stroke's dab adds DAB_STOPS x a Gaussian of
-// standard deviation DAB_RADIUS (in texture coordinates) to k, within [-2, 2].
-const BLOOD_MAP = 256;
+// The brushes: a map of (k_h, k_m) over the mesh's texture coordinates (the blood times 2^k_h and
+// the melanin times 2^k_m; 0 unpainted), PAINT_MAP texels square; a stroke's dab adds DAB_STOPS x
+// a Gaussian of standard deviation DAB_RADIUS (in texture coordinates) to k_h (blush +, pallor
+// -) or k_m (tan +, lighten -), within [-MAX_STOPS, MAX_STOPS].
+const PAINT_MAP = 256;
+const BRUSHES = { turn: null, blush: [0, 1], pallor: [0, -1], tan: [1, 1], lighten: [1, -1] };
 const MAX_STOPS = 2;
 const DAB_STOPS = 0.5;
 const DAB_RADIUS = 0.012;
-const MAX_LEVELS = 16;
 const MAX_WIDTH = 480;
 // Parameter maps (loadMaps): at most MAX_MAP_BYTES of file; the model's colour on MAP_NODES
-// (melanin, melanin_blend, hemoglobin) nodes over their ranges, the fractions floored at
-// MAP_FLOOR for the logarithmic axes. The grid's ln colour is interpolated trilinearly: over the
-// ranges of the Lee Perry-Smith albedo's maps (1024 x 1024) within 0.15 dE2000 of the model at
-// the median texel and 0.29 at worst (300 texels), over the whole box of those ranges 0.31 at
-// worst (200 points; the colour itself interpolated: 1.2 with 12 x 3 x 12 nodes); the grid's
-// 576 colours take ~1.5-2 s in the module (web/test/module.test.js).
+// (melanin, melanin_blend, hemoglobin) nodes over their ranges (widened by the brushes' 2^+-2),
+// the fractions floored at MAP_FLOOR for the logarithmic axes. The grid's ln colour is
+// interpolated trilinearly: with 12 x 4 x 12 nodes over the ranges of the Lee Perry-Smith
+// albedo's maps (1024 x 1024), within 0.15 dE2000 of the model at the median texel and 0.29 at
+// worst (300 texels); over the whole box of those ranges 0.31 at worst (200 points; the colour
+// itself interpolated: 1.2 with 12 x 3 x 12); tested within 0.5 (web/test/module.test.js). Melanin
+// gets 14 nodes for its range widened by the tan and lighten brushes. The grid's 672 colours
+// take ~2 s in the module.
 const MAX_MAP_BYTES = 512 * 1024 * 1024;
-const MAP_NODES = [12, 4, 12];
+const MAP_NODES = [14, 4, 12];
 const MAP_FLOOR = 1e-4;
 const BACKGROUND = [0.12, 0.12, 0.13];  // display-encoded
 
@@ -110,15 +115,17 @@ layout(location = 1) out vec4 outNormal;
 layout(location = 2) out vec4 outTint;  // the painted colour over the unpainted, per channel (alpha 1), or the maps' colour (alpha 0)
 layout(location = 3) out vec4 outVisible;  // the key, fill and back light's visibility
 uniform bool painted;
-uniform sampler2D bloodMap;   // k: the blood times 2^k
+uniform sampler2D paintMap;   // (k_h, k_m): the blood times 2^k_h, the melanin times 2^k_m
 // Fitted parameter maps (loadMaps): melanin, melanin_blend, hemoglobin per texel, shaded by the
 // model's colour over a grid of them (setMapColours: ln melanin, melanin_blend, ln hemoglobin
 // from lutLo over lutSpan, lutSize nodes; the grid holds ln of the colour, interpolated
-// trilinearly here in 32-bit floats), in place of the sliders' colour.
+// trilinearly here in 32-bit floats), in place of the sliders' colour. Without maps, paint is
+// the grid's colour at the painted values over its colour at the unpainted ones (lutCentre, the
+// sliders' values the grid was made for), a factor on the sliders' colour.
 uniform bool mapped;
 uniform sampler2D paramMap;
 uniform highp sampler3D lut;
-uniform vec3 lutLo, lutSpan;
+uniform vec3 lutLo, lutSpan, lutCentre;
 uniform ivec3 lutSize;
 vec3 mapColour(vec3 x) {
   vec3 f = clamp((x - lutLo) / lutSpan, 0.0, 1.0) * vec3(lutSize - 1);
@@ -132,9 +139,6 @@ vec3 mapColour(vec3 x) {
   }
   return exp(sum);
 }
-uniform int levels;
-uniform float stops[${MAX_LEVELS}];
-uniform vec3 tint[${MAX_LEVELS}];   // the colour at each k over the colour at k = 0
 uniform vec3 lightDir[3];
 uniform vec3 lightColor[3];   // each light's intensity (the illuminant's colour is the composite's)
 uniform float mmPerUnit;
@@ -204,24 +208,17 @@ void main() {
   outNormal = vec4(n, 1.0);
   outVisible = vec4(visible[0], visible[1], visible[2], 1.0);
   outTint = vec4(1.0);
+  // The brushes scale the blood and the melanin (times 2^k, at most 1) of the maps or the sliders.
+  vec2 k = painted ? texture(paintMap, vUv).rg : vec2(0.0);
   if (mapped) {
     vec3 q = texture(paramMap, vUv).rgb;
-    // The brush scales the map's blood as it scales the sliders' (times 2^k, at most 1).
-    float h = painted ? min(1.0, q.b * exp2(texture(bloodMap, vUv).r)) : q.b;
-    vec3 c = mapColour(vec3(log(max(q.r, 1e-6)), q.g, log(max(h, 1e-6))));
+    float h = min(1.0, q.b * exp2(k.x)), m = min(1.0, q.r * exp2(k.y));
+    vec3 c = mapColour(vec3(log(max(m, 1e-6)), q.g, log(max(h, 1e-6))));
     outTint = vec4(c, 0.0);  // (alpha 0: the colour itself, not a factor on the albedo)
-  } else if (painted) {
-    float k = texture(bloodMap, vUv).r;
-    if (k != 0.0) {
-      for (int i = 0; i + 1 < ${MAX_LEVELS}; ++i) {
-        if (i + 1 >= levels) break;
-        if (k <= stops[i + 1] || i + 2 >= levels) {
-          float t = clamp((k - stops[i]) / (stops[i + 1] - stops[i]), 0.0, 1.0);
-          outTint = vec4(mix(tint[i], tint[i + 1], t), 1.0);
-          break;
-        }
-      }
-    }
+  } else if (painted && k != vec2(0.0)) {
+    vec3 x0 = vec3(log(max(lutCentre.x, 1e-6)), lutCentre.y, log(max(lutCentre.z, 1e-6)));
+    vec3 x = vec3(log(max(min(1.0, lutCentre.x * exp2(k.y)), 1e-6)), lutCentre.y, log(max(min(1.0, lutCentre.z * exp2(k.x)), 1e-6)));
+    outTint = vec4(mapColour(x) / max(mapColour(x0), vec3(1e-9)), 1.0);
   }
 }`;
 
@@ -424,12 +421,10 @@ function createView() {
     lightMatrix: { value: [new THREE.Matrix4(), new THREE.Matrix4(), new THREE.Matrix4()] },
     lightNear: { value: [0, 0, 0] }, lightFar: { value: [1, 1, 1] },
     shadowOffset: { value: 0 }, shadows: { value: true },
-    painted: { value: false }, bloodMap: { value: null }, levels: { value: 0 },
-    stops: { value: new Array(MAX_LEVELS).fill(0) },
-    tint: { value: Array.from({ length: MAX_LEVELS }, () => new THREE.Vector3(1, 1, 1)) },
+    painted: { value: false }, paintMap: { value: null },
     cameraPos: { value: new THREE.Vector3() },
     mapped: { value: false }, paramMap: { value: null }, lut: { value: null },
-    lutLo: { value: new THREE.Vector3() }, lutSpan: { value: new THREE.Vector3(1, 1, 1) },
+    lutLo: { value: new THREE.Vector3() }, lutSpan: { value: new THREE.Vector3(1, 1, 1) }, lutCentre: { value: new THREE.Vector3() },
     lutSize: { value: [1, 1, 1] },
   };
   const surface = new THREE.ShaderMaterial({
@@ -456,13 +451,13 @@ function createView() {
   });
   const gbuffer = rt(4), horizontal = rt(), sum = rt(), specularTarget = rt();
   let mapTexture = null, lutTexture = null;
-  // The brush's map (k per texel; half floats, filtered).
-  const bloodK = new Float32Array(BLOOD_MAP * BLOOD_MAP);
-  const bloodTexture = new THREE.DataTexture(new Uint16Array(BLOOD_MAP * BLOOD_MAP), BLOOD_MAP, BLOOD_MAP, THREE.RedFormat, THREE.HalfFloatType);
-  bloodTexture.minFilter = bloodTexture.magFilter = THREE.LinearFilter;
-  bloodTexture.wrapS = bloodTexture.wrapT = THREE.ClampToEdgeWrapping;
-  bloodTexture.needsUpdate = true;
-  surfaceUniforms.bloodMap.value = bloodTexture;
+  // The brushes' map ((k_h, k_m) per texel; half floats, filtered).
+  const paintK = new Float32Array(2 * PAINT_MAP * PAINT_MAP);
+  const paintTexture = new THREE.DataTexture(new Uint16Array(2 * PAINT_MAP * PAINT_MAP), PAINT_MAP, PAINT_MAP, THREE.RGFormat, THREE.HalfFloatType);
+  paintTexture.minFilter = paintTexture.magFilter = THREE.LinearFilter;
+  paintTexture.wrapS = paintTexture.wrapT = THREE.ClampToEdgeWrapping;
+  paintTexture.needsUpdate = true;
+  surfaceUniforms.paintMap.value = paintTexture;
   const blur = pass(blurFragment, {
     source: { value: null }, direction: { value: new THREE.Vector2() }, texel: { value: new THREE.Vector2() },
     sigmaMm: { value: 1 }, pixelsPerUnitAtUnitDepth: { value: 1 }, mmPerUnit: { value: 1 }, weight: { value: new THREE.Vector3(1, 1, 1) },
@@ -551,7 +546,7 @@ function createView() {
     surfaceUniforms.translucency.value = !patchMode && !!view.kernels;
     surfaceUniforms.shadows.value = !patchMode;
     surfaceUniforms.mapped.value = !patchMode && !!view.maps && !!surfaceUniforms.lut.value;
-    surfaceUniforms.painted.value = !patchMode && view.painted && (surfaceUniforms.levels.value > 1 || surfaceUniforms.mapped.value);
+    surfaceUniforms.painted.value = !patchMode && view.painted && !!surfaceUniforms.lut.value;
     specularPass.uniforms.specular.value = !patchMode;
     specularPass.uniforms.roughness.value = Math.max(view.parameters.roughness, 1e-3);
     specularPass.uniforms.eta.value = view.parameters.eta;
@@ -677,20 +672,20 @@ function createView() {
   // The brush: a stroke on the mesh (pointer down and moved) paints k at the texture
   // coordinates under the pointer, + for blush, - for pallor.
   const raycaster = new THREE.Raycaster();
-  function dab(u, v, sign) {
-    const r = DAB_RADIUS * BLOOD_MAP, reach = Math.ceil(3 * r);
-    const cx = u * BLOOD_MAP - 0.5, cy = v * BLOOD_MAP - 0.5;
-    const data = bloodTexture.image.data;
-    for (let y = Math.max(0, Math.floor(cy - reach)); y <= Math.min(BLOOD_MAP - 1, Math.ceil(cy + reach)); y++) {
-      for (let x = Math.max(0, Math.floor(cx - reach)); x <= Math.min(BLOOD_MAP - 1, Math.ceil(cx + reach)); x++) {
+  function dab(u, v, [channel, sign]) {
+    const r = DAB_RADIUS * PAINT_MAP, reach = Math.ceil(3 * r);
+    const cx = u * PAINT_MAP - 0.5, cy = v * PAINT_MAP - 0.5;
+    const data = paintTexture.image.data;
+    for (let y = Math.max(0, Math.floor(cy - reach)); y <= Math.min(PAINT_MAP - 1, Math.ceil(cy + reach)); y++) {
+      for (let x = Math.max(0, Math.floor(cx - reach)); x <= Math.min(PAINT_MAP - 1, Math.ceil(cx + reach)); x++) {
         const w = Math.exp(-((x - cx) ** 2 + (y - cy) ** 2) / (2 * r * r));
         if (w < 1e-3) continue;
-        const i = y * BLOOD_MAP + x;
-        bloodK[i] = Math.max(-MAX_STOPS, Math.min(MAX_STOPS, bloodK[i] + sign * DAB_STOPS * w));
-        data[i] = THREE.DataUtils.toHalfFloat(bloodK[i]);
+        const i = 2 * (y * PAINT_MAP + x) + channel;
+        paintK[i] = Math.max(-MAX_STOPS, Math.min(MAX_STOPS, paintK[i] + sign * DAB_STOPS * w));
+        data[i] = THREE.DataUtils.toHalfFloat(paintK[i]);
       }
     }
-    bloodTexture.needsUpdate = true;
+    paintTexture.needsUpdate = true;
     relight();
   }
   function strokeAt(event) {
@@ -701,9 +696,9 @@ function createView() {
     if (!hit) return false;
     if (!view.painted) {
       view.painted = true;
-      if (window.skinBloodLevels) window.skinBloodLevels();
+      if (window.skinMapColours) window.skinMapColours();
     }
-    dab(hit.uv.x, hit.uv.y, view.brush === 'blush' ? 1 : -1);
+    dab(hit.uv.x, hit.uv.y, BRUSHES[view.brush]);
     requestRender();
     return true;
   }
@@ -781,33 +776,20 @@ function createView() {
       return { width: canvas.width, height: canvas.height, data: Array.from(out) };
     },
     requestRender,
-    // The brush: 'turn' (the orbit), 'blush' (more blood) or 'pallor' (less).
+    // The brush: 'turn' (the orbit), 'blush' (more blood), 'pallor' (less), 'tan' (more
+    // melanin) or 'lighten' (less).
     setBrush(brush) {
-      if (!['turn', 'blush', 'pallor'].includes(brush)) throw new Error(`brush '${brush}': allowed are turn, blush, pallor`);
+      if (!(brush in BRUSHES)) throw new Error(`brush '${brush}': allowed are ${Object.keys(BRUSHES).join(', ')}`);
       view.brush = brush;
       controls.enabled = brush === 'turn' && view.mode !== 'patch';
       const radio = document.querySelector(`input[name="view3d-brush"][value="${brush}"]`);
       if (radio) radio.checked = true;
     },
-    // The colours at each k (the blood times 2^k; `stops` ascending, one of them 0), linear sRGB
-    // (app.js's bloodLevels, from the module): the map's tint is each over the colour at k = 0.
-    setBloodLevels(stops, colours) {
-      const zero = stops.indexOf(0);
-      if (zero < 0 || stops.length !== colours.length || stops.length > MAX_LEVELS) throw new Error('setBloodLevels: stops must include 0, one colour each');
-      stops.forEach((k, i) => {
-        surfaceUniforms.stops.value[i] = k;
-        surfaceUniforms.tint.value[i].set(...[0, 1, 2].map((c) => (colours[zero][c] > 0 ? colours[i][c] / colours[zero][c] : 1)));
-      });
-      surfaceUniforms.levels.value = stops.length;
-      view.bloodLevels = stops.length;
-      relight();
-      requestRender();
-    },
     clearPaint() {
       relight();
-      bloodK.fill(0);
-      bloodTexture.image.data.fill(0);
-      bloodTexture.needsUpdate = true;
+      paintK.fill(0);
+      paintTexture.image.data.fill(0);
+      paintTexture.needsUpdate = true;
       view.painted = false;
       requestRender();
     },
@@ -877,6 +859,7 @@ function createView() {
       mapTexture.needsUpdate = true;
       surfaceUniforms.paramMap.value = mapTexture;
       surfaceUniforms.lut.value = null;  // until setMapColours
+      view.paintReady = false;
       relight();
       view.maps = { name: file.name, width, height, range };
       const span = (key, digits = 3) => range[key].map((v) => v.toPrecision(digits)).join('–');
@@ -886,25 +869,36 @@ function createView() {
       render();
       return true;
     },
-    // The grid the page computes the model's colour on for the maps (app.js, the module's
-    // color_grid): logarithmic in melanin and hemoglobin, linear in the blend, over the maps'
-    // ranges (the blood's widened by the brush's 2^-2-2^2).
-    mapAxes() {
-      if (!view.maps) return null;
-      const r = view.maps.range;
+    // The grid the page computes the model's colour on for the maps or the paint (app.js, the
+    // module's color_grid): logarithmic in melanin and hemoglobin, linear in the blend. With
+    // maps, over their ranges, melanin's and hemoglobin's widened by the brushes' 2^-2-2^2; with
+    // paint alone, around the sliders' values `centre` ({melanin, melanin_blend, hemoglobin}):
+    // 2^-2-2^2 of each in half stops. The fractions at most `most` (1 less the epidermal blood:
+    // the epidermis' volume fractions add to at most 1 for melanin). Null with neither.
+    mapAxes(centre, most = 1) {
       const axis = (lo, hi, n, log) => {
         if (!(hi > lo)) return [lo];
         return Array.from({ length: n }, (_, i) => (log ? lo * (hi / lo) ** (i / (n - 1)) : lo + (hi - lo) * i / (n - 1)));
       };
+      const around = (lo, hi, cap, n) => axis(Math.max(lo / 4, MAP_FLOOR), Math.min(cap, Math.max(4 * hi, MAP_FLOOR)), n, true);
+      if (view.maps) {
+        const r = view.maps.range;
+        return {
+          melanin: around(r.melanin[0], r.melanin[1], most, MAP_NODES[0]),
+          melanin_blend: axis(r.melanin_blend[0], r.melanin_blend[1], MAP_NODES[1], false),
+          hemoglobin: around(r.hemoglobin[0], r.hemoglobin[1], 1, MAP_NODES[2]),
+        };
+      }
+      if (!view.painted || !centre) return null;
       return {
-        melanin: axis(Math.max(r.melanin[0], MAP_FLOOR), Math.max(r.melanin[1], MAP_FLOOR), MAP_NODES[0], true),
-        melanin_blend: axis(r.melanin_blend[0], r.melanin_blend[1], MAP_NODES[1], false),
-        hemoglobin: axis(Math.max(r.hemoglobin[0] / 4, MAP_FLOOR), Math.min(1, Math.max(4 * r.hemoglobin[1], MAP_FLOOR)), MAP_NODES[2], true),
+        melanin: centre.melanin > 0 ? around(centre.melanin, centre.melanin, most, 9) : [MAP_FLOOR],
+        melanin_blend: [centre.melanin_blend],
+        hemoglobin: centre.hemoglobin > 0 ? around(centre.hemoglobin, centre.hemoglobin, 1, 9) : [MAP_FLOOR],
       };
     },
-    // The model's colour (linear sRGB) at every node of mapAxes() (melanin fastest, then the
-    // blend, then hemoglobin): the maps are shaded from then on.
-    setMapColours(axes, colours) {
+    // The model's colour (linear sRGB) at every node of mapAxes(centre) (melanin fastest, then
+    // the blend, then hemoglobin): the maps and the paint are shaded from then on.
+    setMapColours(axes, colours, centre) {
       const [nm, nb, nh] = [axes.melanin.length, axes.melanin_blend.length, axes.hemoglobin.length];
       if (colours.length !== 3 * nm * nb * nh) throw new Error('setMapColours: one colour per node');
       // ln of the colour, 32-bit, read texel by texel (no filtering: the shader interpolates).
@@ -927,6 +921,8 @@ function createView() {
       surfaceUniforms.lutLo.value.set(...lo);
       surfaceUniforms.lutSpan.value.set(...lo.map((l, i) => (hi[i] > l ? hi[i] - l : 1)));
       surfaceUniforms.lutSize.value = [nm, nb, nh];
+      surfaceUniforms.lutCentre.value.set(centre.melanin, centre.melanin_blend, centre.hemoglobin);
+      view.paintReady = true;
       relight();
       requestRender();
     },
@@ -935,6 +931,8 @@ function createView() {
       view.maps = null;
       surfaceUniforms.lut.value = null;
       surfaceUniforms.paramMap.value = null;
+      view.paintReady = false;
+      if (view.painted && window.skinMapColours) window.skinMapColours();  // the paint's own grid
       if (fileStatus) { fileStatus.textContent = ''; fileStatus.className = 'note muted'; }
       requestRender();
     },

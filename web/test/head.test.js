@@ -11,9 +11,10 @@
 //     limit (not held by default: the machine is shared and loaded);
 //   - the patch (the view's test mode: a square head-on, lit by the key light alone, no
 //     specular) reads within 1 CIEDE2000 of the module's colour (`skin color`) for every preset;
-//   - the brush: a blush stroke with the mouse on the cheek reddens the skin under it, pallor
-//     (two strokes) leaves it paler than before, no pixel more than 80 px from the stroke
-//     changes, and cleared the frame is as before;
+//   - the brushes: a blush stroke with the mouse on the cheek reddens the skin under it, pallor
+//     (two strokes) leaves it paler than before; a tan stroke darkens it, lightening (two
+//     strokes) leaves it lighter than before; no pixel more than 80 px from the stroke changes,
+//     and cleared the frame is as before;
 //   - a mesh of one's own: a tetrahedron (OBJ, no normals) through the file picker
 //     (#view3d-file) and dropped on the view is shown, lit; an OBJ with no faces, a .glb of
 //     garbage and a file of another kind each give one line naming the file (the mesh shown
@@ -185,21 +186,21 @@ async function main() {
       await page.mouse.down();
       for (let i = -3; i <= 4; i++) await page.mouse.move(at[0] + i, at[1]);
       await page.mouse.up();
-      await page.waitForFunction(() => skinView3d.painted && skinView3d.bloodLevels > 1, { timeout: 20000 });
+      await page.waitForFunction(() => skinView3d.painted && skinView3d.paintReady && !window.skinBackgroundPending(), { timeout: 20000 });
       return page.evaluate(() => skinView3d.pixels());
     }
     // Per pixel (top row first): its distance from the stroke, and the change of red over green.
     function changes(a, b) {
-      let near = 0, nearCount = 0, far = 0, farthest = 0;
+      let near = 0, nearLuma = 0, nearCount = 0, far = 0, farthest = 0;
       for (let i = 0; i < a.data.length; i += 4) {
         const k = i / 4, x = k % a.width, y = a.height - 1 - Math.floor(k / a.width);
         const d = Math.hypot(x - atPx[0], y - atPx[1]);
         const changed = Math.abs(a.data[i] - b.data[i]) + Math.abs(a.data[i + 1] - b.data[i + 1]) + Math.abs(a.data[i + 2] - b.data[i + 2]);
         if (changed > 0) farthest = Math.max(farthest, d);
-        if (d <= 6) { near += b.data[i] / Math.max(1, b.data[i + 1]) - a.data[i] / Math.max(1, a.data[i + 1]); nearCount += 1; }
+        if (d <= 6) { near += b.data[i] / Math.max(1, b.data[i + 1]) - a.data[i] / Math.max(1, a.data[i + 1]); nearLuma += luma(b.data, i) - luma(a.data, i); nearCount += 1; }
         else if (d > 80 && changed > 0) far += 1;
       }
-      return { redder: near / Math.max(1, nearCount), far, farthest };
+      return { redder: near / Math.max(1, nearCount), lighter: nearLuma / Math.max(1, nearCount), far, farthest };
     }
     const blush = changes(before, await stroke('blush'));
     await (await page.$('#view3d')).screenshot({ path: path.join(shots, 'view3d-blush.png') });
@@ -215,6 +216,19 @@ async function main() {
       ...(blush.far === 0 && pallor.far === 0 ? [] : [`pixels changed more than 80 px from the stroke: ${blush.far}, ${pallor.far}`]),
       ...(same ? [] : ['cleared, the frame differs from the one before']),
     ], 'a blush stroke reddens the cheek, pallor pales it, nothing else changes; cleared, as before');
+    // The melanin brushes: a tan stroke darkens the cheek, lightening (two strokes after it)
+    // leaves it lighter than before; nothing far from the stroke changes; cleared, as before.
+    const tan = changes(before, await stroke('tan'));
+    const lighten = changes(before, await stroke('lighten') && await stroke('lighten'));
+    await page.evaluate(() => { skinView3d.clearPaint(); skinView3d.setBrush('turn'); });
+    const clearedAgain = await page.evaluate(() => skinView3d.pixels());
+    console.log(`  tan: luma ${tan.lighter.toFixed(1)} at the stroke, out to ${tan.farthest.toFixed(0)} px; lighten (two strokes after it): ${lighten.lighter >= 0 ? '+' : ''}${lighten.lighter.toFixed(1)}, out to ${lighten.farthest.toFixed(0)} px`);
+    check([
+      ...(tan.lighter < -2 ? [] : [`tan: luma changed by ${tan.lighter.toFixed(2)}`]),
+      ...(lighten.lighter > 2 ? [] : [`lighten: luma changed by ${lighten.lighter.toFixed(2)}`]),
+      ...(tan.far === 0 && lighten.far === 0 ? [] : [`pixels changed more than 80 px from the stroke: ${tan.far}, ${lighten.far}`]),
+      ...(clearedAgain.data.every((v, i) => v === before.data[i]) ? [] : ['cleared, the frame differs from the one before']),
+    ], `a tan stroke darkens the cheek (luma ${tan.lighter.toFixed(1)}), lightening lightens it (${lighten.lighter >= 0 ? '+' : ''}${lighten.lighter.toFixed(1)}), nothing else changes; cleared, as before`);
 
     // Parameter maps of `skin fit --texture` (.exr) on the head: fitted from a texture of the
     // caucasian preset's own colour, the head is as without maps (the colour per texel is the
