@@ -822,7 +822,9 @@ function createView() {
       }
     },
     // Parameter maps of `skin fit --texture` (a File, .exr; docs/parameter-maps.md) over the
-    // mesh's texture coordinates (row 0 of the maps at v = 0, as glTF's textures): melanin,
+    // mesh's texture coordinates (row 0 of the maps, the texture's top row, at v = 1, as
+    // `skin render` and three.js's image textures read a texture; the Lee Perry-Smith head's
+    // coordinates follow it, and with row 0 at v = 0 its lips land on its chin): melanin,
     // melanin_blend and hemoglobin per texel, the other parameters the sliders'. Shaded once the
     // page has given the model's colours over the maps' ranges (window.skinMapColours, app.js,
     // which calls setMapColours). A file that is not such maps gives one line in
@@ -844,8 +846,9 @@ function createView() {
       const range = { melanin: [Infinity, -Infinity], melanin_blend: [Infinity, -Infinity], hemoglobin: [Infinity, -Infinity] };
       const keys = Object.keys(range);
       for (let i = 0; i < width * height; i++) {
+        const flipped = (height - 1 - Math.floor(i / width)) * width + (i % width);  // (v = 1 - y)
         keys.forEach((key, c) => {
-          const v = maps[key][i];
+          const v = maps[key][flipped];
           texels[4 * i + c] = THREE.DataUtils.toHalfFloat(v);
           if (v < range[key][0]) range[key][0] = v;
           if (v > range[key][1]) range[key][1] = v;

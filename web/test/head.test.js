@@ -230,6 +230,8 @@ async function main() {
       ...(clearedAgain.data.every((v, i) => v === before.data[i]) ? [] : ['cleared, the frame differs from the one before']),
     ], `a tan stroke darkens the cheek (luma ${tan.lighter.toFixed(1)}), lightening lightens it (${lighten.lighter >= 0 ? '+' : ''}${lighten.lighter.toFixed(1)}), nothing else changes; cleared, as before`);
 
+    let meanDeltaE;
+    const picker = await page.$('#view3d-file');
     // Parameter maps of `skin fit --texture` (.exr) on the head: fitted from a texture of the
     // caucasian preset's own colour, the head is as without maps (the colour per texel is the
     // fit's, through the view's grid); from a texture of the tanned preset's colour, it is darker
@@ -256,13 +258,12 @@ async function main() {
       }
       await page.click('#presets button[data-preset="caucasian"]');
       await ready(page);
-      const meanDeltaE = (a, b) => {
+      meanDeltaE = (a, b) => {
         const px = skinPixels(a);
         let sum = 0;
         for (const i of px) sum += deltaE2000(lab([0, 1, 2].map((c) => decode(a.data[i + c]))), lab([0, 1, 2].map((c) => decode(b.data[i + c]))));
         return sum / Math.max(1, px.length);
       };
-      const picker = await page.$('#view3d-file');
       const load = async (name) => {
         await picker.uploadFile(path.join(dir, name));
         await page.waitForFunction((n) => window.skinView3d.maps && window.skinView3d.maps.name === n && !window.skinBackgroundPending(), { timeout: 60000 }, name);
@@ -301,12 +302,48 @@ async function main() {
       check(badMaps, 'bad parameter-map files give one line each and load nothing');
     }
 
+    // The Lee Perry-Smith head with the maps fitted from its own albedo (../shared/data; the
+    // albedo drawn at 512 x 512 by the browser, fitted by the command line): the figure
+    // build-web/screenshots/view3d-lps-maps.png, and the maps' status.
+    {
+      const albedo = path.join(ROOT, process.env.SKIN_HEAD_MESH_DIR || '../shared/data/meshes/LeePerrySmith', 'Map-COL.jpg');
+      if (!hasMesh || !fs.existsSync(albedo)) {
+        console.log(`SKIP the head with its fitted maps: no head mesh or no ${albedo}`);
+      } else {
+        const dir = fs.mkdtempSync(path.join(TMP, 'lps-'));
+        const png = await page.evaluate(async (b64) => {
+          const img = new Image();
+          img.src = `data:image/jpeg;base64,${b64}`;
+          await img.decode();
+          const c = document.createElement('canvas');
+          c.width = c.height = 512;
+          c.getContext('2d').drawImage(img, 0, 0, 512, 512);
+          return c.toDataURL('image/png').split(',')[1];
+        }, fs.readFileSync(albedo).toString('base64'));
+        fs.writeFileSync(path.join(dir, 'lps.png'), Buffer.from(png, 'base64'));
+        const t0 = Date.now();
+        require('child_process').execFileSync(SKIN, ['fit', '--texture', path.join(dir, 'lps.png'), '-o', path.join(dir, 'lps-maps.exr')], { stdio: 'pipe' });
+        const fitS = (Date.now() - t0) / 1000;
+        await page.click('#presets button[data-preset="caucasian"]');
+        await ready(page);
+        const plain = await page.evaluate(() => skinView3d.pixels());
+        await picker.uploadFile(path.join(dir, 'lps-maps.exr'));
+        await page.waitForFunction(() => window.skinView3d.maps && window.skinView3d.maps.name === 'lps-maps.exr' && window.skinView3d.paintReady && !window.skinBackgroundPending(), { timeout: 60000 });
+        const lps = await page.evaluate(() => ({ pixels: skinView3d.pixels(), status: document.getElementById('view3d-file-status').textContent, ms: skinState.mapMs }));
+        await (await page.$('#view3d')).screenshot({ path: path.join(shots, 'view3d-lps-maps.png') });
+        const de = meanDeltaE(lps.pixels, plain);
+        console.log(`  the head with its albedo's maps (fit ${fitS.toFixed(1)} s, grid ${lps.ms.toFixed(0)} ms): "${lps.status}"; mean dE2000 to the caucasian sliders' head ${de.toFixed(2)}`);
+        check(/512 x 512 texels/.test(lps.status) && de > 1 ? [] : [`status "${lps.status}", mean dE2000 ${de.toFixed(2)}`],
+          `the head shaded by the maps fitted from its own albedo (view3d-lps-maps.png): mean dE2000 ${de.toFixed(1)} from the uniform skin`);
+        await page.click('#view3d-clear-maps');
+      }
+    }
+
     // A mesh of one's own, through the file picker and dropped; bad files.
     const tetra = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n';
     const dir = fs.mkdtempSync(path.join(TMP, 'mesh-'));
     const files = { 'tetra.obj': tetra, 'empty-faces.obj': 'v 0 0 0\nv 1 0 0\n# no faces\n', 'garbage.glb': 'not a glb at all', 'notes.txt': 'hello' };
     for (const [name, text] of Object.entries(files)) fs.writeFileSync(path.join(dir, name), text);
-    const picker = await page.$('#view3d-file');
     const label = await page.evaluate(() => document.querySelector('label[for="view3d-file"]')?.textContent || '');
     await picker.uploadFile(path.join(dir, 'tetra.obj'));
     await page.waitForFunction(() => /tetra\.obj/.test(document.getElementById('view3d-file-status').textContent), { timeout: 20000 });
