@@ -26,8 +26,16 @@ if [ "${1:-}" = "--sanitize" ]; then
   # Release only (each 70-130 s under ASan at -j2, ~500 CPU-s together; their physics is the
   # Release suite's, and the same frequency-domain code runs under the sanitizers in the other
   # accurate_test and skin_stack_table_test cases): Golden.FrequencyDomainProfilesUnchanged (over
-  # 10 min under ASan), and five accuracy sweeps of the frequency-domain solver.
-  release_only='^(Golden\.FrequencyDomainProfilesUnchanged|FrequencyStack\.ForwardScatteringGetsMoreDirectionsAndNoRipple|FrequencyStack\.TheProfileDoesNotDependOnTheScaleOfTheSolve|PresetProfilesOffTheSkinTable\.WithinFivePercentAndThreeSEOfMonteCarlo|SkinDomainAgainstMonteCarlo\.FreshCasesWithinFivePercentAndThreeSE|DomainProfiles\.StrongForwardScatteringNearTheBeam|Convergence\.IndexStepsUseMorePointsAndStayConverged|SkinStackTable\.NodesAreTheFrequencyDomainProfiles)$'
+  # 10 min under ASan), and five accuracy sweeps of the frequency-domain solver. Since 2026-12-04
+  # also (14-38 s each under ASan, ~230 CPU-s together; the code each runs is run under the
+  # sanitizers by cheaper tests): the golden numbers (Golden.NumbersUnchangedToOneInATrillion; the
+  # CLI tests run the same commands), the batch's bit-identity across thread counts
+  # (Reproducible.Batch: a question for the Release build), the renderer's white furnaces and
+  # adaptive sampling's error target (KnownAnswer.WhiteFurnace*, RenderError.AdaptiveSampling...;
+  # the other render tests draw the same paths), the colour fit's accuracy sweep
+  # (ColorFit.SrgbRoundTripWithinOneDeltaEAccurate; CliFit runs the fit), and three checks of the
+  # frequency-domain solver's numbers (its other tests run it).
+  release_only='^(Golden\.FrequencyDomainProfilesUnchanged|FrequencyStack\.ForwardScatteringGetsMoreDirectionsAndNoRipple|FrequencyStack\.TheProfileDoesNotDependOnTheScaleOfTheSolve|PresetProfilesOffTheSkinTable\.WithinFivePercentAndThreeSEOfMonteCarlo|SkinDomainAgainstMonteCarlo\.FreshCasesWithinFivePercentAndThreeSE|DomainProfiles\.StrongForwardScatteringNearTheBeam|Convergence\.IndexStepsUseMorePointsAndStayConverged|SkinStackTable\.NodesAreTheFrequencyDomainProfiles|Golden\.NumbersUnchangedToOneInATrillion|Reproducible\.Batch|KnownAnswer\.WhiteFurnaceSphere|KnownAnswer\.WhiteFurnaceFlatSlab|RenderError\.AdaptiveSamplingReachesTheTarget|ColorFit\.SrgbRoundTripWithinOneDeltaEAccurate|FrequencyStack\.ProfileIntegratesToTheAddingDoublingTotal|FrequencyStack\.TheDarkFarFieldDoesNotRing|ModelValidity\.AccurateOffTheSkinTableIsTheFrequencyDomainProfile)$'
   bash scripts/configure-asan.sh
   timed "sanitizer build" cmake --build build-asan
   # (print_suppressions=0: the fontconfig leak suppression of src/app/main.cpp stays silent, so
