@@ -20,9 +20,9 @@
 //     blur, by the model's colour at the painted values over that at the sliders' (a grid of
 //     colours around them from the module via app.js, setMapColours);
 //   - parameter maps of `skin fit --texture` (loadMaps, .exr) set melanin, melanin_blend and
-//     hemoglobin per texel: the albedo is multiplied, after the blur, by the model's colour at
-//     the texel's values (trilinear in a grid the module computes, setMapColours) over the
-//     colour of the sliders' values; the subsurface kernels stay the sliders'.
+//     hemoglobin per texel: after the blur, the model's colour at the texel's values (trilinear
+//     in a grid the module computes, setMapColours) takes the place of the sliders' colour; the
+//     subsurface kernels stay the sliders'.
 // Not modelled: the transmission factor 1 - rho_dr at entry and exit (about 1 % at normal
 // incidence for the presets), interreflections, kernels that vary over the maps.
 // Frames are drawn on demand: after an update of the page, a change of the camera, or new kernels.
@@ -30,7 +30,8 @@
 // window.skinView3d (the page and its tests): update(parameters), setKernels(export document),
 // setLight(rgb), setMode('head' | 'patch'), pixels() (a frame drawn and read back, RGBA bytes,
 // bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end),
-// litFrames (of them, those that redrew the light before the composite), renderScene(mesh, material) (the view as a `skin render` scene), getCamera()/setCamera(),
+// litFrames (of them, those that redrew the light before the composite), renderScene(mesh,
+// material) (the view as a `skin render` scene), getCamera()/setCamera(),
 // loadFile(File), setBrush('turn' | 'blush' | 'pallor' | 'tan' | 'lighten'), clearPaint(),
 // loadMaps(File), mapAxes(centre, most), setMapColours(axes, colours, centre), clearMaps(), maps,
 // painted, paintReady (the grid for the maps or paint is in).

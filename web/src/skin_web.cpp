@@ -445,7 +445,7 @@ std::string run(const std::string& command, const std::string& request) {
       return j.dump();
     }
     throw InputError("command '" + command + "' is unknown: allowed values are spectrum, color, "
-                     "profile, fit, parameters, presets, update, spectra, melanin_strip, solvers, "
+                     "profile, fit, parameters, presets, update, spectra, melanin_strip, color_grid, solvers, "
                      "illuminants, export, targets, fit_limits");
   });
 }
