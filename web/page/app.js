@@ -416,8 +416,6 @@ function drawView3d() {
 }
 window.skinView3dPending = () => { drawView3d(); if (state.kernels) window.skinView3d.setKernels(state.kernels); };
 
-
-
 // The model's colour over the grid of the view's parameter maps or paint (view3d.js, mapAxes;
 // the module's color_grid, the other parameters as they are): when maps are loaded, at the first
 // stroke of a brush, and with the kernels after a change (with maps, of a parameter they do not
