@@ -101,8 +101,10 @@ export function readParameterMaps(buffer, name) {
     const expected = rows * rowBytes;
     let data = raw;
     if (code !== 0 && size < expected) {
+      // Into a buffer one byte longer than the chunk's pixels: a stream that inflates to more
+      // (a zip bomb included) is cut there and refused below, without the memory.
       let t;
-      try { t = unzlibSync(raw); } catch (e) { fail(`chunk ${c} does not inflate (${e.message}): the file is damaged`); }
+      try { t = unzlibSync(raw, { out: new Uint8Array(expected + 1) }); } catch (e) { fail(`chunk ${c} does not inflate (${e.message}): the file is damaged`); }
       if (t.length !== expected) fail(`chunk ${c} inflates to ${t.length} bytes, not ${expected}: the file is damaged`);
       // OpenEXR's ZIP: a byte predictor, then the even and odd bytes interleaved.
       for (let i = 1; i < t.length; i++) t[i] = (t[i - 1] + t[i] - 128) & 0xff;

@@ -249,7 +249,22 @@ np.concatenate([m[k].astype('<f4').ravel() for k in ('melanin', 'melanin_blend',
       const got = ['melanin', 'melanin_blend', 'hemoglobin', 'error'].flatMap((k) => Array.from(maps[k]));
       const differing = got.filter((v, i) => v !== ref[i]).length;
       fail(maps.width === 37 && maps.height === 23 && differing === 0 ? [] : [`${maps.width} x ${maps.height}, ${differing} of ${ref.length} values differ`], 'maps.js reads skin fit --texture');
-      console.log(`maps.js: the ${ref.length} values of a 37 x 23 fit read as the Python module's ${lap()}`);
+      // The first chunk replaced by a zlib stream of 1 MB of zeros (1 KB compressed): refused in one line, the
+      // inflation stopped one byte past the chunk's 9472 bytes (16 lines x 37 x 4 channels x 4 bytes).
+      const { zlibSync } = await import(path.join(ROOT, 'web', 'node_modules', 'three', 'examples', 'jsm', 'libs', 'fflate.module.js'));
+      const dv = new DataView(bytes.buffer, bytes.byteOffset, bytes.length);
+      let table = -1;  // the offset table: two chunks, the first right after it
+      for (let i = 8; i + 16 <= bytes.length && table < 0; i++) if (Number(dv.getBigUint64(i, true)) === i + 16) table = i;
+      const first = table + 16;
+      const bomb = zlibSync(new Uint8Array(1 << 20));
+      const file = new Uint8Array(first + 8 + bomb.length);
+      file.set(bytes.subarray(0, first + 4));
+      new DataView(file.buffer).setInt32(first + 4, bomb.length, true);
+      file.set(bomb, first + 8);
+      let refused = '';
+      try { readParameterMaps(file.buffer, 'bomb.exr'); } catch (e) { refused = e.message; }
+      fail(refused === 'bomb.exr: chunk 0 inflates to 9473 bytes, not 9472: the file is damaged' ? [] : [`"${refused}"`], 'maps.js refuses a zip bomb in one line');
+      console.log(`maps.js: the ${ref.length} values of a 37 x 23 fit read as the Python module's; a chunk inflating to 1 MB refused: "${refused}" ${lap()}`);
     }
   }
 
