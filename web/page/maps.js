@@ -94,8 +94,10 @@ export function readParameterMaps(buffer, name) {
     at = offsets[c];
     if (!(at >= 0 && at + 8 <= bytes.length)) fail(`chunk ${c} lies outside the file: the file is truncated`);
     const y = view.getInt32(at, true) - y0, size = view.getInt32(at + 4, true);
-    const rows = Math.min(lines, height - y);
-    if (!(y >= 0 && y < height && y % lines === 0 && rows >= 1)) fail(`chunk ${c} starts at line ${y + y0}, outside the data window`);
+    const rows = Math.min(lines, height - c * lines);
+    // The offset table lists the blocks of lines in order: block c starts at line c x lines (so
+    // each is read once, whatever order the file holds them in).
+    if (y !== c * lines) fail(`chunk ${c} starts at line ${y + y0}, not ${c * lines + y0}: the file is damaged`);
     if (!(size >= 0 && at + 8 + size <= bytes.length)) fail(`chunk ${c} runs past the end of the file: the file is truncated`);
     const raw = bytes.subarray(at + 8, at + 8 + size);
     const expected = rows * rowBytes;
@@ -106,6 +108,15 @@ export function readParameterMaps(buffer, name) {
       let t;
       try { t = unzlibSync(raw, { out: new Uint8Array(expected + 1) }); } catch (e) { fail(`chunk ${c} does not inflate (${e.message}): the file is damaged`); }
       if (t.length !== expected) fail(`chunk ${c} inflates to ${t.length} bytes, not ${expected}: the file is damaged`);
+      // fflate does not check the stream's Adler-32 (its last 4 bytes, big-endian): a changed
+      // byte that still inflates to the right size would be read as other values.
+      let a1 = 1, a2 = 0;
+      for (let i = 0; i < t.length; i++) {
+        a1 = (a1 + t[i]) % 65521;
+        a2 = (a2 + a1) % 65521;
+      }
+      const sum = raw.length >= 4 ? new DataView(raw.buffer, raw.byteOffset + raw.length - 4, 4).getUint32(0, false) : -1;
+      if (((a2 << 16) | a1) >>> 0 !== sum) fail(`chunk ${c} fails its checksum: the file is damaged`);
       // OpenEXR's ZIP: a byte predictor, then the even and odd bytes interleaved.
       for (let i = 1; i < t.length; i++) t[i] = (t[i - 1] + t[i] - 128) & 0xff;
       data = new Uint8Array(expected);
