@@ -83,6 +83,10 @@ const BACKGROUND = [0.12, 0.12, 0.13];  // display-encoded
 const canvas = document.getElementById('view3d');
 const caption = document.getElementById('view3d-caption');
 const fileStatus = document.getElementById('view3d-file-status');
+// One line under the view about a file it was given (a mesh or parameter maps).
+function sayFile(text, error) {
+  if (fileStatus) { fileStatus.textContent = text; fileStatus.className = error ? 'note error' : 'note muted'; }
+}
 
 const fullscreenVertex = /* glsl */`
 out vec2 vUv;
@@ -799,9 +803,6 @@ function createView() {
     // leaves the view as it was. Resolves to true when the mesh is shown.
     async loadFile(file) {
       if (/\.exr$/i.test(file.name)) return view.loadMaps(file);
-      const say = (text, error) => {
-        if (fileStatus) { fileStatus.textContent = text; fileStatus.className = error ? 'note error' : 'note muted'; }
-      };
       try {
         const object = await parseMesh(file);
         const size = new THREE.Box3().setFromObject(object).getSize(new THREE.Vector3());
@@ -814,11 +815,11 @@ function createView() {
         document.getElementById('view3d-credit').hidden = true;
         let triangles = 0;
         object.traverse((o) => { if (o.isMesh) triangles += (o.geometry.index ? o.geometry.index.count : o.geometry.attributes.position.count) / 3; });
-        say(`Showing ${file.name}: ${triangles} triangles, taken as ${FILE_SIZE_MM} mm across.`, false);
+        sayFile(`Showing ${file.name}: ${triangles} triangles, taken as ${FILE_SIZE_MM} mm across.`, false);
         render();
         return true;
       } catch (e) {
-        say(`Not loaded: ${file.name}: ${e.message}. The view takes a .glb, a .gltf with its data embedded, or an .obj.`, true);
+        sayFile(`Not loaded: ${file.name}: ${e.message}. The view takes a .glb, a .gltf with its data embedded, or an .obj.`, true);
         return false;
       }
     },
@@ -831,31 +832,32 @@ function createView() {
     // which calls setMapColours). A file that is not such maps gives one line in
     // #view3d-file-status and leaves the view as it was. Resolves to true when loaded.
     async loadMaps(file) {
-      const say = (text, error) => {
-        if (fileStatus) { fileStatus.textContent = text; fileStatus.className = error ? 'note error' : 'note muted'; }
-      };
       let maps;
       try {
         if (file.size > MAX_MAP_BYTES) throw new Error(`${file.name}: ${(file.size / 1048576).toFixed(0)} MB: at most ${MAX_MAP_BYTES / 1048576} MB is allowed`);
         maps = readParameterMaps(await file.arrayBuffer(), file.name);
       } catch (e) {
-        say(`Not loaded: ${e.message}.`, true);
+        sayFile(`Not loaded: ${e.message}.`, true);
         return false;
       }
       const { width, height } = maps;
       const texels = new Uint16Array(4 * width * height);
       const range = { melanin: [Infinity, -Infinity], melanin_blend: [Infinity, -Infinity], hemoglobin: [Infinity, -Infinity] };
       const keys = Object.keys(range);
-      for (let i = 0; i < width * height; i++) {
-        const flipped = (height - 1 - Math.floor(i / width)) * width + (i % width);  // (v = 1 - y)
-        keys.forEach((key, c) => {
-          const v = maps[key][flipped];
-          texels[4 * i + c] = THREE.DataUtils.toHalfFloat(v);
-          if (v < range[key][0]) range[key][0] = v;
-          if (v > range[key][1]) range[key][1] = v;
-        });
-        texels[4 * i + 3] = THREE.DataUtils.toHalfFloat(1);
-      }
+      const one = THREE.DataUtils.toHalfFloat(1);
+      keys.forEach((key, c) => {
+        const plane = maps[key], r = range[key];
+        for (let y = 0; y < height; y++) {
+          const from = (height - 1 - y) * width;  // (v = 1 - y: the maps' row 0 at the top)
+          for (let x = 0; x < width; x++) {
+            const v = plane[from + x], i = y * width + x;
+            texels[4 * i + c] = THREE.DataUtils.toHalfFloat(v);
+            texels[4 * i + 3] = one;
+            if (v < r[0]) r[0] = v;
+            if (v > r[1]) r[1] = v;
+          }
+        }
+      });
       if (mapTexture) mapTexture.dispose();
       mapTexture = new THREE.DataTexture(texels, width, height, THREE.RGBAFormat, THREE.HalfFloatType);
       mapTexture.minFilter = mapTexture.magFilter = THREE.LinearFilter;
@@ -863,11 +865,10 @@ function createView() {
       mapTexture.needsUpdate = true;
       surfaceUniforms.paramMap.value = mapTexture;
       surfaceUniforms.lut.value = null;  // until setMapColours
-      view.paintReady = false;
       relight();
       view.maps = { name: file.name, width, height, range };
       const span = (key, digits = 3) => range[key].map((v) => v.toPrecision(digits)).join('–');
-      say(`Parameter maps ${file.name}: ${width} x ${height} texels, melanin ${span('melanin')}, melanin blend ${span('melanin_blend', 2)}, ` +
+      sayFile(`Parameter maps ${file.name}: ${width} x ${height} texels, melanin ${span('melanin')}, melanin blend ${span('melanin_blend', 2)}, ` +
         `hemoglobin ${span('hemoglobin')}; these three come from the maps, the other parameters from the sliders.`, false);
       if (window.skinMapColours) window.skinMapColours();
       render();
@@ -926,7 +927,6 @@ function createView() {
       surfaceUniforms.lutSpan.value.set(...lo.map((l, i) => (hi[i] > l ? hi[i] - l : 1)));
       surfaceUniforms.lutSize.value = [nm, nb, nh];
       surfaceUniforms.lutCentre.value.set(centre.melanin, centre.melanin_blend, centre.hemoglobin);
-      view.paintReady = true;
       relight();
       requestRender();
     },
@@ -935,9 +935,8 @@ function createView() {
       view.maps = null;
       surfaceUniforms.lut.value = null;
       surfaceUniforms.paramMap.value = null;
-      view.paintReady = false;
       if (view.painted && window.skinMapColours) window.skinMapColours();  // the paint's own grid
-      if (fileStatus) { fileStatus.textContent = ''; fileStatus.className = 'note muted'; }
+      sayFile('', false);
       requestRender();
     },
     // The camera (mesh units; fov vertical, degrees), as the orbit leaves it or set (tests).
@@ -998,6 +997,8 @@ function createView() {
     view.ready = true;
     requestRender();
   });
+  // The grid for the maps or the paint is in (setMapColours; cleared with new maps).
+  Object.defineProperty(view, 'paintReady', { get: () => !!surfaceUniforms.lut.value });
   return view;
 }
 

@@ -47,6 +47,13 @@ function skinPixels(p) {
   return skin;
 }
 const luma = (d, i) => 0.2126 * d[i] + 0.7152 * d[i + 1] + 0.0722 * d[i + 2];
+// The mean CIEDE2000 between two frames over the first one's skin pixels.
+function meanDeltaE(a, b) {
+  const px = skinPixels(a);
+  let sum = 0;
+  for (const i of px) sum += deltaE2000(lab([0, 1, 2].map((c) => decode(a.data[i + c]))), lab([0, 1, 2].map((c) => decode(b.data[i + c]))));
+  return sum / Math.max(1, px.length);
+}
 
 async function ready(page) {
   await page.waitForFunction(() => window.skinReady && window.skinView3d && window.skinView3d.ready && !window.skinPending &&
@@ -230,7 +237,6 @@ async function main() {
       ...(clearedAgain.data.every((v, i) => v === before.data[i]) ? [] : ['cleared, the frame differs from the one before']),
     ], `a tan stroke darkens the cheek (luma ${tan.lighter.toFixed(1)}), lightening lightens it (${lighten.lighter >= 0 ? '+' : ''}${lighten.lighter.toFixed(1)}), nothing else changes; cleared, as before`);
 
-    let meanDeltaE;
     const picker = await page.$('#view3d-file');
     // Parameter maps of `skin fit --texture` (.exr) on the head: fitted from a texture of the
     // caucasian preset's own colour, the head is as without maps (the colour per texel is the
@@ -258,12 +264,6 @@ async function main() {
       }
       await page.click('#presets button[data-preset="caucasian"]');
       await ready(page);
-      meanDeltaE = (a, b) => {
-        const px = skinPixels(a);
-        let sum = 0;
-        for (const i of px) sum += deltaE2000(lab([0, 1, 2].map((c) => decode(a.data[i + c]))), lab([0, 1, 2].map((c) => decode(b.data[i + c]))));
-        return sum / Math.max(1, px.length);
-      };
       const load = async (name) => {
         await picker.uploadFile(path.join(dir, name));
         await page.waitForFunction((n) => window.skinView3d.maps && window.skinView3d.maps.name === n && !window.skinBackgroundPending(), { timeout: 60000 }, name);
