@@ -18,6 +18,7 @@
 #include "skin/mc/validation.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/input_file.hpp"
+#include "skin/util/table.hpp"
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/profile.hpp"
 #ifdef SKIN_HAVE_FIT
@@ -260,6 +261,8 @@ void register_random_walk_command(CLI::App& app) {
 void register_skin_table_command(CLI::App& app) {
   struct Opts {
     std::string out, reuse;
+    bool offsets = false;
+    std::vector<std::string> axes;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand(
@@ -271,7 +274,40 @@ void register_skin_table_command(CLI::App& app) {
   sub->add_option("--reuse", o->reuse,
                   "A table of this kind (e.g. data/skin_stack_profiles.csv) whose nodes are copied instead of "
                   "solved: only new nodes are computed");
+  sub->add_flag("--offsets", o->offsets,
+                "Tabulate instead the offsets of the built-in table for another g, index and dermis ratio "
+                "(data/skin_stack_offsets.csv; about 45 min on 2 cores)");
+  sub->add_option("--offset-nodes", o->axes,
+                  "With --offsets: only these nodes, as AXIS=VALUE (g=0.8, eta=1.47, dermis_ratio=2); default: all");
   sub->callback([o] {
+    if (o->offsets) {
+      namespace acc = transport::accurate;
+      const acc::SkinStackTable table = acc::SkinStackTable::parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
+      acc::SkinStackOffsets offsets = acc::SkinStackOffsets::default_nodes(table);
+      offsets.provenance = "skin tabulate-skin-profiles --offsets (FrequencyStack, k0 = 0.02 s)";
+      if (!o->axes.empty()) {
+        std::array<std::vector<double>, acc::SkinStackOffsets::kAxes> only;
+        for (int a = 0; a < acc::SkinStackOffsets::kAxes; ++a) only[a] = {offsets.base[a]};
+        for (const std::string& spec : o->axes) {
+          const auto eq = spec.find('=');
+          int axis = -1;
+          for (int a = 0; a < acc::SkinStackOffsets::kAxes; ++a)
+            if (spec.substr(0, eq) == acc::SkinStackOffsets::kAxisNames[a]) axis = a;
+          if (eq == std::string::npos || axis < 0)
+            throw util::InputError("--offset-nodes: '" + spec + "' is not AXIS=VALUE with AXIS one of g, eta, dermis_ratio");
+          const std::vector<double> v = util::parse_number_list(spec.substr(eq + 1), "--offset-nodes", spec.substr(0, eq));
+          only[axis].insert(only[axis].end(), v.begin(), v.end());
+        }
+        for (auto& v : only) std::sort(v.begin(), v.end());
+        offsets.nodes = only;
+      }
+      std::optional<acc::SkinStackOffsets> reuse;
+      if (!o->reuse.empty()) reuse = acc::SkinStackOffsets::parse(util::io::read_file(o->reuse, "reuse", std::uintmax_t{64} << 20), o->reuse);
+      offsets.compute(table, progress_bar("stacks"), reuse ? &*reuse : nullptr);
+      util::io::write_file_atomic(o->out, offsets.to_csv());
+      std::cout << "wrote " << o->out << '\n';
+      return;
+    }
     transport::accurate::SkinStackTable table = transport::accurate::SkinStackTable::default_nodes();
     table.provenance = "skin tabulate-skin-profiles (FrequencyStack, k0 = 0.02 s)";
     std::optional<transport::accurate::SkinStackTable> reuse;

@@ -99,16 +99,19 @@ namespace {
 // s: k0 = 0.3 / 15, the resolution FrequencyStack has on the most scattering skin, 5 % at 10 mm
 // otherwise: its nodes are fixed in rad/mm, so in units of s = 1 /mm they would be those of a
 // stack with s = 1 /mm, and the skin's s is 4-15 /mm).
-std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, const Layer* below) {
+std::vector<double> solve(const std::vector<double>& x, double eta, double g, double tau_v, double a_e_v, const Layer* below) {
   LayerStack st;
   st.eta_above = 1.0;
-  st.layers.push_back({a_e_v, 1.0, tau_v, t.eta, t.g});
+  st.layers.push_back({a_e_v, 1.0, tau_v, eta, g});
   if (below) st.layers.push_back(*below);
   FrequencyProfileOptions o;
   o.k0 = 0.3 / 15.0;
   const FrequencyStack f(st, o);
-  ProfileSolver solver(RadialGrid::from(t.x));
+  ProfileSolver solver(RadialGrid::from(x));
   return solver.profile(f);
+}
+std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, const Layer* below) {
+  return solve(t.x, t.eta, t.g, tau_v, a_e_v, below);
 }
 // The top layer over an index-matched absorber (sigma_a = 1, sigma_s' = 1e-9 in units of s: no
 // light comes back from below).
@@ -326,7 +329,19 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
 }
 
 const SkinStackTable& SkinStackTable::builtin() {
-  static const SkinStackTable t = parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
+  static const SkinStackTable t = [] {
+    SkinStackTable table = parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
+    const SkinStackOffsets& o = SkinStackOffsets::builtin();
+    // The offsets are the table's: its geometry, coarse nodes among the table's, every other x.
+    bool ok = o.base[0] == table.g && o.base[1] == table.eta && o.base[2] == table.dermis_ratio &&
+              2 * o.x.size() - 1 == table.x.size();
+    for (std::size_t i = 0; ok && i < o.x.size(); ++i) ok = same_node(o.x[i], table.x[2 * i]);
+    for (const auto& [coarse, fine] : {std::pair{&o.tau, &table.tau}, {&o.a_e, &table.a_e}, {&o.a_d, &table.a_d}})
+      for (double v : *coarse) ok = ok && node_index(*fine, v) != std::string::npos;
+    if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
+    table.offsets = &o;
+    return table;
+  }();
   return t;
 }
 
@@ -349,12 +364,21 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
   if (ls.size() != 2) return "neither a half-space nor two layers";
   const Layer &e = ls[0], &d = ls[1];
   if (stack.eta_above != 1.0) return "the medium above is not air";
-  if (e.eta != eta || d.eta != eta) return "index is not the skin table's " + format_number(eta);
-  if (e.g != g || d.g != g) return "g is not the skin table's " + format_number(g);
   if (e.semi_infinite() || !d.semi_infinite()) return "not a finite layer over a half-space";
   const double s = e.sigma_s_prime;
-  if (!(s > 0) || !(std::abs(d.sigma_s_prime / s - dermis_ratio) <= 1e-9 * dermis_ratio))
-    return "the lower layer's sigma_s' is not " + format_number(dermis_ratio) + " x the top layer's";
+  if (!(s > 0) || !(d.sigma_s_prime > 0)) return "a layer does not scatter";
+  const double ratio = d.sigma_s_prime / s;
+  const bool own = std::abs(ratio - dermis_ratio) <= 1e-9 * dermis_ratio;
+  if (!offsets) {
+    if (e.eta != eta || d.eta != eta) return "index is not the skin table's " + format_number(eta);
+    if (e.g != g || d.g != g) return "g is not the skin table's " + format_number(g);
+    if (!own) return "the lower layer's sigma_s' is not " + format_number(dermis_ratio) + " x the top layer's";
+  } else {
+    if (e.eta != d.eta) return "the two layers' indices differ";
+    if (e.g != d.g) return "the two layers' g differ";
+    std::string why = offsets->gap(e.g, e.eta, own ? dermis_ratio : ratio);
+    if (!why.empty()) return why;
+  }
   const double t = s * e.thickness, ae = e.sigma_a / s, ad = d.sigma_a / s;
   if (!inside(tau, t)) return "sigma_s' d = " + format_number(t) + " is outside the skin table's [" + format_number(tau.front()) + ", " + format_number(tau.back()) + "]";
   if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + format_number(ae) + " is outside the skin table's [" + format_number(a_e.front()) + ", " + format_number(a_e.back()) + "]";
@@ -384,6 +408,14 @@ std::vector<double> SkinStackTable::ln_rho_half_space_at(double a) const {
 }
 
 std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) const {
+  std::vector<double> top, below;
+  ln_parts_at(t, ae, ad, top, below);
+  for (std::size_t m = 0; m < top.size(); ++m) top[m] = clamp_ln(log_sum(clamp_ln(top[m]), clamp_ln(below[m])));
+  return top;
+}
+
+void SkinStackTable::ln_parts_at(double t, double ae, double ad, std::vector<double>& top,
+                                 std::vector<double>& below) const {
   // The top layer alone in ln tau (as a power of its thickness near the beam); the light from
   // below in tau (it crosses the top layer twice: ln rho falls linearly in tau).
   const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
@@ -391,7 +423,8 @@ std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) co
   const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
   const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
   const std::size_t n_x = x.size();
-  std::vector<double> top(n_x, 0.0), below(n_x, 0.0);
+  top.assign(n_x, 0.0);
+  below.assign(n_x, 0.0);
   for (std::size_t i = 0; i < 4; ++i)
     for (std::size_t j = 0; j < 4; ++j) {
       const double w = st_top.weights[i] * se.weights[j];
@@ -404,17 +437,30 @@ std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) co
         for (std::size_t m = 0; m < n_x; ++m) below[m] += wb * b[m];
       }
     }
-  for (std::size_t m = 0; m < n_x; ++m) top[m] = clamp_ln(log_sum(clamp_ln(top[m]), clamp_ln(below[m])));
-  return top;
 }
 
 SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d)
     : table_(&table) {
   const Layer& e = stack.layers.at(0);
   s_ = e.sigma_s_prime;
-  ln_rho_ = stack.layers.size() == 1
-                ? table.ln_rho_half_space_at(e.sigma_a / s_)
-                : table.ln_rho_at(s_ * e.thickness, e.sigma_a / s_, stack.layers.at(1).sigma_a / s_);
+  if (stack.layers.size() == 1) {
+    ln_rho_ = table.ln_rho_half_space_at(e.sigma_a / s_);
+  } else {
+    const Layer& d = stack.layers[1];
+    const double t = s_ * e.thickness, ae = e.sigma_a / s_, ad = d.sigma_a / s_;
+    const double ratio = d.sigma_s_prime / s_;
+    const bool own_ratio = std::abs(ratio - table.dermis_ratio) <= 1e-9 * table.dermis_ratio;
+    if (e.g == table.g && e.eta == table.eta && own_ratio) {
+      ln_rho_ = table.ln_rho_at(t, ae, ad);
+    } else {
+      // Another geometry: the table's parts with the offsets of each axis added.
+      std::vector<double> top, low;
+      table.ln_parts_at(t, ae, ad, top, low);
+      table.offsets->add(t, ae, ad, e.g, e.eta, own_ratio ? table.dermis_ratio : ratio, table.x, top, low);
+      ln_rho_.resize(top.size());
+      for (std::size_t m = 0; m < top.size(); ++m) ln_rho_[m] = clamp_ln(log_sum(clamp_ln(top[m]), clamp_ln(low[m])));
+    }
+  }
   ln_x_ = mapped(table.x, log_of);
   const std::size_t n = ln_x_.size();
   h_ = (ln_x_.back() - ln_x_.front()) / static_cast<double>(n - 1);
@@ -462,6 +508,395 @@ double SkinStackProfile::operator()(double r) const {
   if (v < cutoff_) return 0.0;
   const double out = scale_ * std::exp(clamp_ln(v));
   return std::isfinite(out) ? out : 0.0;  // (a table of nodes ~1e-9 apart in x: see clamp_ln)
+}
+
+// --- Offsets for another g, index or dermis ratio --------------------------------------------
+
+namespace {
+constexpr double kOffsetValid = 1e-9;   // a part counts where it is above this of its node's peak
+constexpr double kMaxOffset = 20;       // |offset| in ln rho, as stored and parsed
+// The variable each axis is interpolated in: ln(1 - g), eta, ln ratio.
+double axis_variable(int axis, double v) { return axis == 0 ? std::log(1 - v) : axis == 2 ? std::log(v) : v; }
+std::vector<double> axis_variables(int axis, const std::vector<double>& nodes) {
+  std::vector<double> out(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) out[i] = axis_variable(axis, nodes[i]);
+  if (axis == 0) std::reverse(out.begin(), out.end());  // ln(1 - g) falls as g grows
+  return out;
+}
+// The index among sorted nodes, or npos.
+std::size_t exact_index(const std::vector<double>& nodes, double v) {
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    if (same_node(nodes[i], v)) return i;
+  return std::string::npos;
+}
+// new - base where both parts count; elsewhere the offset of the nearest x where they do (0 if
+// nowhere).
+std::vector<double> offset_row(const std::vector<double>& ln_new, double ln_new_peak, const double* ln_base,
+                               double ln_base_peak) {
+  const std::size_t n = ln_new.size();
+  std::vector<double> d(n, 0.0);
+  std::vector<char> ok(n, 0);
+  const double lv = std::log(kOffsetValid);
+  for (std::size_t i = 0; i < n; ++i) {
+    ok[i] = ln_new[i] > ln_new_peak + lv && ln_base[i] > ln_base_peak + lv;
+    if (ok[i]) d[i] = std::clamp(ln_new[i] - ln_base[i], -kMaxOffset, kMaxOffset);
+  }
+  std::ptrdiff_t last = -1;
+  for (std::size_t i = 0; i < n; ++i)
+    if (ok[i]) last = static_cast<std::ptrdiff_t>(i);
+    else if (last >= 0) d[i] = d[static_cast<std::size_t>(last)];
+  std::ptrdiff_t first = -1;
+  for (std::size_t i = 0; i < n; ++i)
+    if (ok[i]) { first = static_cast<std::ptrdiff_t>(i); break; }
+  if (first > 0)
+    for (std::size_t i = 0; i < static_cast<std::size_t>(first); ++i) d[i] = d[static_cast<std::size_t>(first)];
+  return d;
+}
+}  // namespace
+
+SkinStackOffsets SkinStackOffsets::default_nodes(const SkinStackTable& table) {
+  SkinStackOffsets o;
+  o.base = {table.g, table.eta, table.dermis_ratio};
+  o.nodes[0] = {0.7, 0.8, 0.9, 0.95, 0.97};
+  o.nodes[1] = {1.33, 1.4, 1.47, 1.55};
+  o.nodes[2] = {0.2, 0.3, 0.5, 0.75, 1.1, 1.5, 2.0};
+  // Every tau node (a thin top layer's offsets change fast with its depth); a_e and a_d every
+  // other up to 0.4, then 0.5 apart in sqrt a (and the last node); x every other.
+  o.tau = table.tau;
+  auto thin = [](const std::vector<double>& v) {
+    std::vector<double> out;
+    double last_sqrt = -1;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const bool log_part = v[i] <= 0.4 * (1 + 1e-9);
+      if (log_part ? i % 2 == 0 : std::sqrt(v[i]) - last_sqrt >= 0.5 - 1e-4 || i + 1 == v.size()) {
+        out.push_back(v[i]);
+        last_sqrt = std::sqrt(v[i]);
+      }
+    }
+    return out;
+  };
+  o.a_e = thin(table.a_e);
+  o.a_d = thin(table.a_d);
+  for (std::size_t i = 0; i < table.x.size(); i += 2) o.x.push_back(table.x[i]);
+  return o;
+}
+
+void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallback& progress,
+                               const SkinStackOffsets* reuse) {
+  const std::size_t n_t = tau.size(), n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
+  // Coarse nodes -> the table's nodes.
+  auto indices = [](const std::vector<double>& coarse, const std::vector<double>& fine, const char* key) {
+    std::vector<std::size_t> out;
+    for (double v : coarse) {
+      const std::size_t i = exact_index(fine, v);
+      if (i == std::string::npos)
+        throw InputError(std::string("skin table offsets: the ") + key + " node " + format_number(v) + " is not a node of the table");
+      out.push_back(i);
+    }
+    return out;
+  };
+  const auto it = indices(tau, table.tau, "tau"), ie = indices(a_e, table.a_e, "a_e"), id = indices(a_d, table.a_d, "a_d"),
+             ix = indices(x, table.x, "x");
+  if (!(base[0] == table.g && base[1] == table.eta && base[2] == table.dermis_ratio))
+    throw InputError("skin table offsets: the base geometry is not the table's");
+  const bool same_grid = reuse && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) &&
+                         same_nodes(reuse->a_d, a_d) && same_nodes(reuse->x, x);
+  // The jobs: per (axis, node) the top layers alone (g, eta; the dermis ratio uses the table's
+  // geometry's, solved once), then the full stacks.
+  struct Job { int axis; std::size_t node; std::size_t k; };
+  std::vector<Job> top_jobs, low_jobs;
+  bool ratio_jobs = false;
+  for (int a = 0; a < kAxes; ++a) {
+    d_top[a].assign(nodes[a].size(), {});
+    d_low[a].assign(nodes[a].size(), {});
+    for (std::size_t j = 0; j < nodes[a].size(); ++j) {
+      if (nodes[a][j] == base[a]) continue;
+      if (same_grid) {
+        const std::size_t r = exact_index(reuse->nodes[a], nodes[a][j]);
+        if (r != std::string::npos && !reuse->d_low[a][r].empty()) {
+          d_top[a][j] = reuse->d_top[a][r];
+          d_low[a][j] = reuse->d_low[a][r];
+          continue;
+        }
+      }
+      if (a != 2) d_top[a][j].assign(n_t * n_e * n_x, 0.0);
+      for (std::size_t k = 0; k < n_t * n_e && a != 2; ++k) top_jobs.push_back({a, j, k});
+      ratio_jobs = ratio_jobs || a == 2;
+      d_low[a][j].assign(n_t * n_e * n_d * n_x, 0.0);
+      for (std::size_t k = 0; k < n_t * n_e * n_d; ++k) low_jobs.push_back({a, j, k});
+    }
+  }
+  if (ratio_jobs)  // the table's own geometry (axis -1)
+    for (std::size_t k = 0; k < n_t * n_e; ++k) top_jobs.push_back({-1, 0, k});
+  std::mutex m;
+  std::size_t done = 0;
+  const std::size_t total = top_jobs.size() + low_jobs.size();
+  auto tick = [&] {
+    if (!progress) return;
+    const std::lock_guard<std::mutex> lock(m);
+    progress(++done, total);
+  };
+  const std::size_t nx_table = table.x.size();
+  auto at_x = [&](const std::vector<double>& fine) {
+    std::vector<double> out(n_x);
+    for (std::size_t i = 0; i < n_x; ++i) out[i] = fine[ix[i]];
+    return out;
+  };
+  auto row_of = [&](const std::vector<double>& v, std::size_t k) {
+    return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(k * nx_table), v.begin() + static_cast<std::ptrdiff_t>((k + 1) * nx_table));
+  };
+  auto geometry = [&](int axis, std::size_t node) {
+    const double v = axis >= 0 ? nodes[static_cast<std::size_t>(axis)][node] : 0.0;
+    return std::array<double, 3>{axis == 0 ? v : table.g, axis == 1 ? v : table.eta, axis == 2 ? v : table.dermis_ratio};
+  };
+  // The top layers alone, solved: per job (axis -1: the table's geometry).
+  std::vector<std::vector<double>> tops(top_jobs.size());
+  tbb::parallel_for(std::size_t{0}, top_jobs.size(), [&](std::size_t q) {
+    if (util::cancel::requested()) return;
+    const Job& jb = top_jobs[q];
+    const auto [g_v, eta_v, ratio_v] = geometry(jb.axis, jb.node);
+    const std::size_t i_t = jb.k / n_e, i_e = jb.k % n_e;
+    const Layer ab{1.0, 1e-9, kInfinity, eta_v, g_v};
+    tops[q] = solve(table.x, eta_v, g_v, tau[i_t], a_e[i_e], &ab);
+    if (jb.axis >= 0) {
+      const std::size_t kt = it[i_t] * table.a_e.size() + ie[i_e];
+      const std::vector<double> base_row = at_x(row_of(table.ln_rho_top, kt));
+      const std::vector<double> d = offset_row(at_x(floored_log(tops[q])), std::log(*std::max_element(tops[q].begin(), tops[q].end())),
+                                               base_row.data(), *std::max_element(base_row.begin(), base_row.end()));
+      std::copy(d.begin(), d.end(), d_top[static_cast<std::size_t>(jb.axis)][jb.node].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
+    }
+    tick();
+  });
+  util::cancel::check();
+  auto top_of = [&](int axis, std::size_t node, std::size_t k) -> const std::vector<double>& {
+    for (std::size_t q = 0; q < top_jobs.size(); ++q)
+      if (top_jobs[q].axis == (axis == 2 ? -1 : axis) && (axis == 2 || top_jobs[q].node == node) && top_jobs[q].k == k) return tops[q];
+    throw std::logic_error("skin table offsets: no top layer solved");
+  };
+  tbb::parallel_for(std::size_t{0}, low_jobs.size(), [&](std::size_t q) {
+    if (util::cancel::requested()) return;
+    const Job& jb = low_jobs[q];
+    const auto [g_v, eta_v, ratio_v] = geometry(jb.axis, jb.node);
+    const std::size_t i_d = jb.k % n_d, i_e = (jb.k / n_d) % n_e, i_t = jb.k / (n_d * n_e);
+    const std::size_t kt = it[i_t] * table.a_e.size() + ie[i_e], k_low = kt * table.a_d.size() + id[i_d];
+    const Layer de{a_d[i_d], ratio_v, kInfinity, eta_v, g_v};
+    const std::vector<double> R = solve(table.x, eta_v, g_v, tau[i_t], a_e[i_e], &de);
+    const std::vector<double>& T = top_of(jb.axis, jb.node, i_t * n_e + i_e);
+    const double peak = *std::max_element(R.begin(), R.end());
+    std::vector<double> ln_low(nx_table);
+    for (std::size_t i = 0; i < nx_table; ++i) ln_low[i] = std::log(std::max(R[i] - T[i], kFloor * peak));
+    // The table's peak of the whole profile at this node.
+    const std::vector<double> base_top = row_of(table.ln_rho_top, kt), base_low = row_of(table.ln_rho, k_low);
+    double base_peak = -1e300;
+    for (std::size_t i = 0; i < nx_table; ++i) base_peak = std::max(base_peak, log_sum(base_top[i], base_low[i]));
+    const std::vector<double> d = offset_row(at_x(ln_low), std::log(peak), at_x(base_low).data(), base_peak);
+    std::copy(d.begin(), d.end(), d_low[static_cast<std::size_t>(jb.axis)][jb.node].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
+    tick();
+  });
+  util::cancel::check();
+}
+
+std::string SkinStackOffsets::to_csv() const {
+  std::ostringstream os;
+  os << "# Spectral Skin: offsets of the skin table's two parts (data/skin_stack_profiles.csv) for\n"
+        "# another g, index or dermis ratio: ln rho(value) - ln rho(table), computed by this project's\n"
+        "# frequency-domain transport solver (FrequencyStack) on a coarse subset of the table's nodes;\n"
+        "# their use: include/skin/transport/skin_stack_table.hpp, docs/accurate-solver.md sec. 4.\n";
+  os << "# provenance: " << provenance << '\n';
+  for (int a = 0; a < kAxes; ++a)
+    os << "# " << kAxisNames[a] << ": " << format_number(base[a]) << "\n# " << kAxisNames[a]
+       << "_nodes: " << format_number_list(nodes[a]) << '\n';
+  os << "# tau: " << format_number_list(tau) << "\n# a_e: " << format_number_list(a_e)
+     << "\n# a_d: " << format_number_list(a_d) << "\n# x: " << format_number_list(x) << '\n';
+  os << "# Per axis and node other than the table's own: per (tau, a_e) the top layer's offset\n"
+        "# (a_d = inf; none on the dermis_ratio axis), then per a_d the offset of the light from below.\n";
+  os << "axis,value,tau,a_e,a_d";
+  for (std::size_t i = 0; i < x.size(); ++i) os << ",d_" << i;
+  os << '\n';
+  char buf[32];
+  for (int a = 0; a < kAxes; ++a)
+    for (std::size_t j = 0; j < nodes[a].size(); ++j) {
+      if (d_low[a][j].empty()) continue;
+      std::size_t k = 0, k_top = 0;
+      auto row = [&](double t, double e, const char* d, const double* v) {
+        os << a << ',' << format_number_list({nodes[a][j], t, e}) << ',' << d;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+          std::snprintf(buf, sizeof buf, ",%.4f", v[i]);
+          os << buf;
+        }
+        os << '\n';
+      };
+      for (double t : tau)
+        for (double e : a_e) {
+          if (!d_top[a][j].empty()) row(t, e, "inf", d_top[a][j].data() + k_top++ * x.size());
+          for (double d : a_d) row(t, e, format_number(d).c_str(), d_low[a][j].data() + k++ * x.size());
+        }
+    }
+  return os.str();
+}
+
+SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view source) {
+  const std::string src(source);
+  const auto meta = csv_metadata(text);
+  SkinStackOffsets o;
+  o.provenance = meta.count("provenance") ? meta.at("provenance") : "";
+  for (int a = 0; a < kAxes; ++a) {
+    o.base[static_cast<std::size_t>(a)] = metadata_number(meta, kAxisNames[a], src);
+    o.nodes[static_cast<std::size_t>(a)] = metadata_numbers(meta, std::string(kAxisNames[a]) + "_nodes", src);
+  }
+  o.tau = metadata_numbers(meta, "tau", src);
+  o.a_e = metadata_numbers(meta, "a_e", src);
+  o.a_d = metadata_numbers(meta, "a_d", src);
+  o.x = metadata_numbers(meta, "x", src);
+  for (const auto& [v, key] : {std::pair{&o.tau, "tau"}, {&o.a_e, "a_e"}, {&o.a_d, "a_d"}, {&o.x, "x"}}) {
+    if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
+    for (std::size_t i = 0; i < v->size(); ++i)
+      if (!((*v)[i] >= 1e-9 && (*v)[i] <= 1e9) ||
+          (i > 0 && !(std::sqrt((*v)[i]) > std::sqrt((*v)[i - 1]) && std::log((*v)[i]) > std::log((*v)[i - 1]))))
+        throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
+  }
+  const double lo[kAxes] = {0.0, 1.0, 1e-3}, hi[kAxes] = {0.99, 3.0, 1e3};
+  for (int a = 0; a < kAxes; ++a) {
+    const auto& v = o.nodes[static_cast<std::size_t>(a)];
+    const double b = o.base[static_cast<std::size_t>(a)];
+    if (exact_index(v, b) == std::string::npos)
+      throw InputError(src + ": '" + kAxisNames[a] + "_nodes' needs the table's " + format_number(b) + " among them");
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!(v[i] >= lo[a] && v[i] <= hi[a]) || (i > 0 && !(v[i] > v[i - 1] * (1 + 1e-9))))
+        throw InputError(src + ": '" + kAxisNames[a] + "_nodes' must lie within [" + format_number(lo[a]) + ", " +
+                         format_number(hi[a]) + "] and increase");
+  }
+  const Table data = parse_csv(text, src);
+  const std::size_t n_x = o.x.size(), n_t = o.tau.size(), n_e = o.a_e.size(), n_d = o.a_d.size();
+  if (data.columns.size() != 5 + n_x)
+    throw InputError(src + ": expected " + std::to_string(5 + n_x) + " columns, found " + std::to_string(data.columns.size()));
+  std::size_t r = 0;
+  const std::size_t rows = data.rows();
+  auto cell = [&](std::size_t c) { return data.data[c][r]; };
+  for (int a = 0; a < kAxes; ++a) {
+    const auto au = static_cast<std::size_t>(a);
+    o.d_top[au].assign(o.nodes[au].size(), {});
+    o.d_low[au].assign(o.nodes[au].size(), {});
+    for (std::size_t j = 0; j < o.nodes[au].size(); ++j) {
+      if (o.nodes[au][j] == o.base[au]) continue;
+      if (a != 2) o.d_top[au][j].assign(n_t * n_e * n_x, 0.0);
+      o.d_low[au][j].assign(n_t * n_e * n_d * n_x, 0.0);
+      std::size_t k = 0, k_top = 0;
+      for (std::size_t i_t = 0; i_t < n_t; ++i_t)
+        for (std::size_t i_e = 0; i_e < n_e; ++i_e)
+          for (std::size_t i_d = a == 2 ? 1 : 0; i_d <= n_d; ++i_d) {
+            const bool top = i_d == 0;
+            if (r >= rows)
+              throw InputError(src + ": the file ends before the rows of " + kAxisNames[a] + " = " + format_number(o.nodes[au][j]));
+            const double want[5] = {static_cast<double>(a), o.nodes[au][j], o.tau[i_t], o.a_e[i_e], top ? kInfinity : o.a_d[i_d - 1]};
+            for (std::size_t c = 0; c < 5; ++c) {
+              const double v = cell(c);
+              if (!(want[c] == kInfinity ? v == kInfinity : (c == 0 ? v == want[c] : std::abs(v / want[c] - 1) <= 1e-6)))
+                throw InputError(src + ": row " + std::to_string(r + 1) + " is not node (axis, value, tau, a_e, a_d) = (" +
+                                 std::to_string(a) + ", " + format_number(want[1]) + ", " + format_number(want[2]) + ", " +
+                                 format_number(want[3]) + ", " + format_number(want[4]) + ")");
+            }
+            double* out = top ? o.d_top[au][j].data() + k_top++ * n_x : o.d_low[au][j].data() + k++ * n_x;
+            for (std::size_t i = 0; i < n_x; ++i) {
+              const double v = cell(5 + i);
+              if (!(std::abs(v) <= kMaxOffset))
+                throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[5 + i] + " = " +
+                                 format_number(v) + " is not a finite number within " + format_number(kMaxOffset) + " of 0");
+              out[i] = v;
+            }
+            ++r;
+          }
+    }
+  }
+  if (r != rows) throw InputError(src + ": " + std::to_string(rows - r) + " row(s) after its last node");
+  return o;
+}
+
+const SkinStackOffsets& SkinStackOffsets::builtin() {
+  static const SkinStackOffsets o = parse(util::data::embedded("skin_stack_offsets.csv"), "skin_stack_offsets.csv");
+  return o;
+}
+
+std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) const {
+  const double v[kAxes] = {g_v, eta_v, ratio_v};
+  for (int a = 0; a < kAxes; ++a) {
+    const auto& n = nodes[static_cast<std::size_t>(a)];
+    if (!(v[a] >= n.front() && v[a] <= n.back()))
+      return std::string(a == 0 ? "g" : a == 1 ? "index" : "the lower layer's sigma_s' / the top layer's") + " " +
+             format_number(v[a]) + " is outside the skin table's [" + format_number(n.front()) + ", " + format_number(n.back()) + "]";
+  }
+  return {};
+}
+
+void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double eta_v, double ratio_v,
+                           const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low) const {
+  const std::size_t n_x = x.size(), n_e = a_e.size(), n_d = a_d.size();
+  const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
+  const Lagrange4Stencil st = lagrange4_stencil(tau, t);
+  const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
+  const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
+  std::vector<double> dt(n_x, 0.0), dl(n_x, 0.0);
+  const double v[kAxes] = {g_v, eta_v, ratio_v};
+  for (int a = 0; a < kAxes; ++a) {
+    const auto au = static_cast<std::size_t>(a);
+    if (v[a] == base[au]) continue;
+    // The axis' nodes and weights: the node itself where v is one, else 4-point Lagrange (linear
+    // between two nodes on an axis of fewer than 4).
+    const std::vector<double> vars = axis_variables(a, nodes[au]);
+    const double u = axis_variable(a, v[a]);
+    Lagrange4Stencil sp;
+    const std::size_t hit = exact_index(nodes[au], v[a]);
+    if (hit != std::string::npos) {
+      sp.first = a == 0 ? nodes[au].size() - 1 - hit : hit;
+      sp.weights = {1, 0, 0, 0};
+    } else if (vars.size() >= 4) {
+      sp = lagrange4_stencil(vars, u);
+    } else {
+      const std::size_t i = std::min<std::size_t>(static_cast<std::size_t>(std::upper_bound(vars.begin(), vars.end(), u) - vars.begin()), vars.size() - 1);
+      sp.first = i - 1;
+      const double f = (u - vars[i - 1]) / (vars[i] - vars[i - 1]);
+      sp.weights = {1 - f, f, 0, 0};
+    }
+    for (std::size_t p = 0; p < 4; ++p) {
+      if (sp.weights[p] == 0) continue;
+      const std::size_t j = a == 0 ? nodes[au].size() - 1 - (sp.first + p) : sp.first + p;
+      const double wp = sp.weights[p];
+      if (d_low[au][j].empty() || wp == 0) continue;  // the base: no offset
+      for (std::size_t i = 0; i < 4; ++i)
+        for (std::size_t e = 0; e < 4; ++e) {
+          if (!d_top[au][j].empty()) {
+            const double w = wp * st_top.weights[i] * se.weights[e];
+            const double* r = d_top[au][j].data() + ((st_top.first + i) * n_e + se.first + e) * n_x;
+            for (std::size_t m = 0; m < n_x; ++m) dt[m] += w * r[m];
+          }
+          for (std::size_t l = 0; l < 4; ++l) {
+            const double w = wp * st.weights[i] * se.weights[e] * sd.weights[l];
+            const double* r = d_low[au][j].data() + (((st.first + i) * n_e + se.first + e) * n_d + sd.first + l) * n_x;
+            for (std::size_t m = 0; m < n_x; ++m) dl[m] += w * r[m];
+          }
+        }
+    }
+  }
+  // This table's x are every other of the table's: the odd ones midway, by cubic Lagrange in
+  // the index (ln x is even), 3-point at the ends.
+  for (std::size_t i = 0; i < table_x.size(); ++i) {
+    double ot, ol;
+    if (i % 2 == 0) {
+      ot = dt[i / 2];
+      ol = dl[i / 2];
+    } else {
+      const std::size_t c = i / 2;  // between c and c + 1
+      const std::size_t f = std::min(c > 0 ? c - 1 : 0, n_x - 4);
+      const std::array<double, 4> w = lagrange4_weights(static_cast<double>(i) / 2 - static_cast<double>(f));
+      ot = ol = 0;
+      for (std::size_t q = 0; q < 4; ++q) {
+        ot += w[q] * dt[f + q];
+        ol += w[q] * dl[f + q];
+      }
+    }
+    top[i] += ot;
+    low[i] += ol;
+  }
 }
 
 }  // namespace skin::transport::accurate

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <tuple>
 
 #include "skin/physics/skin_parameters.hpp"
 #include "skin/transport/accurate.hpp"
@@ -216,9 +217,21 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   EXPECT_NE(t.gap(skin::physics::skin_layer_stack(dark, 450)).find("is outside the skin table's [0.004, 6.9"),
             std::string::npos)
       << t.gap(skin::physics::skin_layer_stack(dark, 450));
+  // Another g, index or dermis ratio is read with the offsets inside their nodes' range.
   skin::physics::SkinParameters p;
-  p.g = 0.8;
-  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("g is not"), std::string::npos);
+  p.g = 0.5;
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("g 0.5 is outside the skin table's ["), std::string::npos)
+      << t.gap(skin::physics::skin_layer_stack(p, 550));
+  p = {};
+  p.eta = 1.2;
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("index 1.2 is outside the skin table's ["), std::string::npos);
+  for (const auto& [g, eta, ratio] : {std::tuple{0.8, 1.4, 0.5}, {0.9, 1.33, 0.5}, {0.9, 1.4, 1.0}}) {
+    p = {};
+    p.g = g;
+    p.eta = eta;
+    p.dermis_scattering_scale = ratio;
+    EXPECT_EQ(t.gap(skin::physics::skin_layer_stack(p, 550)), "") << g << ' ' << eta << ' ' << ratio;
+  }
   // A thin epidermis (0.03-0.1 mm: most of the body and face) is read, every preset, 380-780 nm.
   for (const auto& preset : skin::physics::paper_presets())
     for (const double d : {0.03, 0.06, 0.1})
@@ -231,8 +244,9 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   p.epidermis_thickness = 2.0;
   EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("sigma_s' d ="), std::string::npos);
   p = {};
-  p.dermis_scattering_scale = 0.7;
-  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("0.5 x the top"), std::string::npos);
+  p.dermis_scattering_scale = 3;
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("the lower layer's sigma_s' / the top layer's 3 is outside"),
+            std::string::npos) << t.gap(skin::physics::skin_layer_stack(p, 550));
   skin::physics::LayerStack three = preset_stack("caucasian", 550);
   three.layers.push_back(three.layers.back());
   three.layers[1].thickness = 1.0;
@@ -349,3 +363,86 @@ TEST(SkinStackTable, ProfilesOfAnyParsedTableAreFiniteAndNonNegative) {
 }
 
 }  // namespace
+
+// The offsets for another g, index or dermis ratio (SkinStackOffsets) refuse malformed files in
+// one line naming the file, and a file written by to_csv() reads back.
+TEST(SkinStackOffsets, MalformedFilesAreRefused) {
+  using skin::transport::accurate::SkinStackOffsets;
+  SkinStackOffsets o;
+  o.nodes = {std::vector<double>{0.8, 0.9}, std::vector<double>{1.4}, std::vector<double>{0.5}};
+  o.tau = {1, 2, 3, 4};
+  o.a_e = o.a_d = {0.01, 0.1, 1, 10};
+  o.x = {0.1, 1, 10, 100, 1000};
+  o.d_top = {std::vector<std::vector<double>>{std::vector<double>(4 * 4 * 5, 0.25), {}}, {{}}, {{}}};
+  o.d_low = {std::vector<std::vector<double>>{std::vector<double>(4 * 4 * 4 * 5, -0.5), {}}, {{}}, {{}}};
+  const std::string good = o.to_csv();
+  const SkinStackOffsets back = SkinStackOffsets::parse(good, "o.csv");
+  EXPECT_EQ(back.d_top[0][0], o.d_top[0][0]);
+  EXPECT_EQ(back.d_low[0][0], o.d_low[0][0]);
+  EXPECT_EQ(back.gap(0.85, 1.4, 0.5), "");
+  EXPECT_EQ(back.gap(0.95, 1.4, 0.5), "g 0.95 is outside the skin table's [0.8, 0.9]");
+  EXPECT_EQ(back.gap(0.85, 1.45, 0.5), "index 1.45 is outside the skin table's [1.4, 1.4]");
+  auto refused = [](const std::string& text, const std::string& what) {
+    try {
+      SkinStackOffsets::parse(text, "o.csv");
+      ADD_FAILURE() << "accepted; expected: " << what;
+    } catch (const skin::util::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("o.csv"), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+    }
+  };
+  refused(good.substr(0, good.size() - 200), "o.csv");  // truncated
+  std::string bad = good;
+  bad.replace(bad.find("# g_nodes: 0.8,0.9"), 18, "# g_nodes: 0.8,0.85");
+  refused(bad, "'g_nodes' needs the table's 0.9 among them");
+  bad = good;
+  bad.replace(bad.find("\n0,0.8,1,0.01,0.01,"), 19, "\n0,0.8,1,0.01,0.02,");
+  refused(bad, "is not node (axis, value, tau, a_e, a_d) = (0, 0.8, 1, 0.01, 0.01)");
+  bad = good;
+  bad.replace(bad.rfind("-0.5000"), 7, "-25.0000");
+  refused(bad, "= -25 is not a finite number within 20 of 0");
+  bad = good;
+  bad.replace(bad.rfind("-0.5000"), 7, "nan");
+  refused(bad, "is 'nan', not a number");
+  bad = good + "0,0.8,4,10,10,0,0,0,0,0\n";
+  refused(bad, "1 row(s) after its last node");
+  bad = good;
+  bad.replace(bad.find("# eta_nodes: 1.4"), 16, "# eta_nodes: 1.4,9");
+  refused(bad, "'eta_nodes' must lie within [1, 3] and increase");
+}
+
+// Skin of another g, index or dermis ratio is read from the table with the offsets of each axis
+// added (docs/accurate-solver.md, sec. 4): against FrequencyStack solved for the same stack over
+// 0.02-10 mm, worst deviation where R is above 1e-4 of R(0.02 mm) (and above 1e-5), at nodes of
+// an axis and between them, in light, dark and thin skin.
+TEST(SkinStackOffsets, ProfilesOfAnotherGeometryMatchTheSolver) {
+  const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);
+  struct Case {
+    const char* preset;
+    double g, eta, ratio, thickness, lambda;
+  };
+  for (const Case& c : skin::test::sanitized<Case>({{"caucasian", 0.8, 1.4, 0.5, 0.25, 550.0},
+                                                     {"african", 0.8, 1.4, 0.5, 0.25, 500.0},
+                                                     {"caucasian", 0.9, 1.33, 0.5, 0.25, 650.0},
+                                                     {"caucasian", 0.9, 1.4, 1.0, 0.25, 450.0},
+                                                     {"asian", 0.8, 1.33, 1.0, 0.1, 600.0},
+                                                     {"caucasian", 0.8, 1.4, 0.5, 0.06, 450.0}})) {
+    skin::physics::SkinParameters p = skin::physics::find_preset(c.preset).parameters;
+    p.g = c.g;
+    p.eta = c.eta;
+    p.dermis_scattering_scale = c.ratio;
+    p.epidermis_thickness = c.thickness;
+    const skin::physics::LayerStack s = skin::physics::skin_layer_stack(p, c.lambda);
+    const skin::transport::accurate::AccurateStack table(s);
+    ASSERT_TRUE(table.skin_table()) << c.preset << ": " << SkinStackTable::builtin().gap(s);
+    const skin::transport::accurate::FrequencyStack solved(s);
+    EXPECT_NEAR(table.total(), solved.total(), 1e-12);
+    skin::transport::ProfileSolver ps(radii);
+    const auto [worst4, worst5] = worst_relative(ps.profile(table), ps.profile(solved));
+    std::cout << c.preset << " g " << c.g << " eta " << c.eta << " ratio " << c.ratio << ' ' << c.thickness << " mm at "
+              << c.lambda << " nm: worst " << 100 * worst4 << " % above 1e-4, " << 100 * worst5 << " % above 1e-5\n";
+    EXPECT_LT(worst4, 0.03) << c.preset << " at " << c.lambda << " nm";
+    EXPECT_LT(worst5, 0.10) << c.preset << " at " << c.lambda << " nm";
+  }
+}

@@ -26,6 +26,7 @@
 // The half-space (air over one semi-infinite layer of index eta and g): a = sigma_a / sigma_s'
 // from 1e-4 to 25 (alpha' 0.9999-0.038), R(r) = s^2 rho(x) with s its sigma_s', interpolated in
 // sqrt a like the top layer.
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <string>
@@ -48,6 +49,9 @@ struct SkinStackTable {
   std::vector<double> ln_rho_top;        // [(i_tau * a_e.size() + i_e) * x.size() + i_x]
   std::vector<double> ln_rho;            // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]
   std::vector<double> ln_rho_half;       // [i_h * x.size() + i_x]
+  // Offsets for another g, index or dermis ratio (none: only the table's own geometry is
+  // covered). The built-in table has the built-in offsets.
+  const struct SkinStackOffsets* offsets = nullptr;
 
   // The built-in nodes (data/skin_stack_profiles.csv), without values.
   static SkinStackTable default_nodes();
@@ -66,6 +70,8 @@ struct SkinStackTable {
   // ln rho at the x nodes of the stack (tau, a_e, a_d), or of the half-space a (inside the node
   // ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
+  // The two parts (ln rho_top, ln(rho - rho_top)) at the x nodes, before they are added.
+  void ln_parts_at(double tau, double a_e, double a_d, std::vector<double>& top, std::vector<double>& low) const;
   std::vector<double> ln_rho_half_space_at(double a) const;
   // The node's values (tests): ln rho at the x nodes (the two parts added).
   std::vector<double> node(std::size_t i_tau, std::size_t i_e, std::size_t i_d) const;
@@ -74,6 +80,44 @@ struct SkinStackTable {
   std::vector<double> solve_node(double tau, double a_e, double a_d) const;
   std::vector<double> solve_top(double tau, double a_e) const;
   std::vector<double> solve_half_space(double a) const;
+};
+
+// Offsets of the table's two parts for skin of another g, index or dermis ratio
+// (docs/accurate-solver.md, sec. 4): per axis (g, eta, dermis_ratio) and per node of it other
+// than the table's own value, ln rho_top(value) - ln rho_top(table) and the same for the light
+// from below, computed by FrequencyStack on a coarse subset of the table's (tau, a_e, a_d) nodes
+// and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
+// tau, sqrt a_e, sqrt a_d, ln x) and across each axis' nodes (in ln(1 - g), eta and ln ratio),
+// and the axes' offsets are added. Where a part is below 1e-9 of its node's peak (noise of the
+// inversion, or the floor) the offset holds its value from the nearest x where it is not.
+struct SkinStackOffsets {
+  static constexpr int kAxes = 3;  // g, eta, dermis_ratio
+  static constexpr const char* kAxisNames[kAxes] = {"g", "eta", "dermis_ratio"};
+  std::string provenance;
+  std::array<double, kAxes> base{0.9, 1.4, 0.5};     // the table's geometry
+  std::array<std::vector<double>, kAxes> nodes;       // per axis, increasing, the base among them
+  std::vector<double> tau, a_e, a_d, x;               // coarse nodes
+  // Per axis and node (empty at the base): [(i_tau * a_e.size() + i_e) * x.size() + i_x] and
+  // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]. The top layer does not
+  // depend on the dermis: no top offsets on that axis.
+  std::array<std::vector<std::vector<double>>, kAxes> d_top, d_low;
+
+  // The built-in nodes (data/skin_stack_offsets.csv) for `table`, without values.
+  static SkinStackOffsets default_nodes(const SkinStackTable& table);
+  // Computes the offsets against `table` (whose nodes must include these). With `reuse`, axis
+  // nodes it holds are copied.
+  void compute(const SkinStackTable& table, const util::ProgressCallback& progress = {},
+               const SkinStackOffsets* reuse = nullptr);
+  std::string to_csv() const;
+  static SkinStackOffsets parse(std::string_view text, std::string_view source);
+  static const SkinStackOffsets& builtin();
+
+  // Why (g, eta, dermis_ratio) is not covered (empty when it is).
+  std::string gap(double g, double eta, double dermis_ratio) const;
+  // Adds the offsets at (tau, a_e, a_d) to the table's parts at the table's x nodes (`table_x`:
+  // this table's x are every other of them).
+  void add(double t, double ae, double ad, double g, double eta, double dermis_ratio,
+           const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low) const;
 };
 
 // The profile of a stack in the table (gap() empty), as R(r) [1/mm^2] scaled to integrate to R_d.
