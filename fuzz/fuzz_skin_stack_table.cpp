@@ -1,15 +1,51 @@
 // The table of frequency-domain skin profiles (data/skin_stack_profiles.csv, written by
 // skin tabulate-skin-profiles): skin::transport::accurate::SkinStackTable::parse, then the profile of a stack
 // inside it (two layers and, if it has half-space nodes, a half-space). Invariants: a table that parses, written out (to_csv) and parsed again, writes the
-// same text; the profile of a stack it covers is finite and >= 0 at every radius.
+// same text; the profile of a stack it covers is finite and >= 0 at every radius. The same input
+// is also read as the table's offsets (below).
 #include <cmath>
 
 #include "fuzz_support.hpp"
 #include "skin/transport/skin_stack_table.hpp"
 
+namespace {
+// The same input read as the table's offsets (data/skin_stack_offsets.csv): what parses writes
+// out and reads back the same; with the built-in table, when its x nodes pair with the table's,
+// the profile of skin of another g, index and dermis ratio inside its ranges is finite and >= 0.
+void offsets(const std::uint8_t* data, std::size_t size) {
+  using skin::transport::accurate::SkinStackOffsets;
+  using skin::transport::accurate::SkinStackTable;
+  namespace fuzz = skin::fuzz;
+  SkinStackOffsets o;
+  if (!fuzz::accepts([&] { o = SkinStackOffsets::parse(fuzz::text(data, size), "fuzz.csv"); })) return;
+  const std::string csv = o.to_csv();
+  SkinStackOffsets again;
+  if (!fuzz::accepts([&] { again = SkinStackOffsets::parse(csv, "re-written"); }))
+    fuzz::finding("the re-written offsets do not parse");
+  if (again.to_csv() != csv) fuzz::finding("the re-written offsets read differently");
+  static SkinStackTable table = SkinStackTable::builtin();  // (libFuzzer runs one input at a time)
+  if (2 * o.x.size() - 1 != table.x.size()) return;
+  table.offsets = &o;
+  const double s = 5.0, tau = 1.0, a_e = 0.1, a_d = 0.05;
+  auto mid = [](const std::vector<double>& v) { return 0.5 * (v.front() + v.back()); };
+  const double g = mid(o.nodes[0]), eta = mid(o.nodes[1]), ratio = mid(o.nodes[2]);
+  if (!(std::abs(g) < 1 && eta >= 1 && eta <= 3 && ratio > 0)) return;
+  skin::physics::LayerStack stack;
+  stack.layers = {skin::physics::Layer{a_e * s, s, tau / s, eta, g},
+                  skin::physics::Layer{a_d * s, ratio * s, skin::physics::kInfinity, eta, g}};
+  if (!table.gap(stack).empty()) return;
+  const skin::transport::accurate::SkinStackProfile profile(table, stack, 0.5);
+  for (double r = 0; r < 100; r = r == 0 ? 1e-6 : r * 1.7) {
+    const double v = profile(r);
+    if (!std::isfinite(v) || v < 0) fuzz::finding("the profile of a covered stack with offsets is not finite and >= 0");
+  }
+}
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using skin::transport::accurate::SkinStackTable;
   namespace fuzz = skin::fuzz;
+  offsets(data, size);
   SkinStackTable table;
   if (!fuzz::accepts([&] { table = SkinStackTable::parse(fuzz::text(data, size), "fuzz.csv"); })) return 0;
   const std::string csv = table.to_csv();

@@ -634,7 +634,7 @@ function drawProfile() {
     // Off the accurate solver's skin table, or sfd: each wavelength is solved, ~2 s here.
     const minutes = Math.max(1, Math.round(pending.wavelengths * 2 / 60));
     const why = pending.solver === 'sfd' ? 'sfd reads no table'
-      : 'they are off its table of skin profiles: another g, index or dermis scattering, or an epidermis outside its thickness range';
+      : 'they are off its table of skin profiles: g, index or dermis scattering outside its range, or an epidermis too thin, too thick or too dark for it';
     $('profile-pending-text').textContent =
       `The ${pending.solver} profile of these parameters is solved at ${pending.wavelengths} of ${pending.of} ` +
       `wavelengths (${why}): about ${minutes} min in this page. The spectrum and colour above are exact.`;

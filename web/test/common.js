@@ -143,12 +143,12 @@ function rng(seed) {
   };
 }
 // Random skin within the paper's ranges (C_m 0-0.5, C_h 0-0.2) and around the other defaults,
-// for `solver`. The dermis scattering stays the paper's half of the epidermis': with another, the
-// accurate solver leaves its table of skin profiles and solves every wavelength in the frequency
-// domain (~1 s each in the module), minutes per comparison. For the accurate solver the epidermis
-// also keeps its default thickness, 0.25 mm: a thinner one (below 0.078 / sigma_s') or a thicker
-// one (above 4.5 / sigma_s') leaves the table at some wavelengths too. Both are drawn all the
-// same, so that the sequence of draws does not depend on the solver.
+// for `solver`. The dermis scattering is drawn from 0.3-0.8 of the epidermis' (the accurate
+// solver reads it from its table of skin profiles with the offsets for another dermis ratio).
+// For the accurate solver the epidermis keeps its default thickness, 0.25 mm: a thinner one
+// (below 0.078 / sigma_s') or a thicker one (above 4.5 / sigma_s') leaves the table at some
+// wavelengths, which are then solved in the frequency domain (~1 s each in the module). It is
+// drawn all the same, so that the sequence of draws does not depend on the solver.
 function randomParameters(u, solver) {
   if (solver !== 'accurate' && solver !== 'multipole') throw new Error(`randomParameters: solver ${solver}`);
   const p = {
@@ -156,7 +156,6 @@ function randomParameters(u, solver) {
     oxygenation: 0.5 + 0.5 * u(), epidermis_thickness: 0.1 + 0.3 * u(),
     dermis_scattering_scale: 0.3 + 0.5 * u(), beta_carotene: 50 * u(), bilirubin: 10 * u(),
   };
-  p.dermis_scattering_scale = 0.5;
   if (solver === 'accurate') p.epidermis_thickness = 0.25;
   return p;
 }
