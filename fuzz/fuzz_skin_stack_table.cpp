@@ -24,7 +24,10 @@ void offsets(const std::uint8_t* data, std::size_t size) {
     fuzz::finding("the re-written offsets do not parse");
   if (again.to_csv() != csv) fuzz::finding("the re-written offsets read differently");
   static SkinStackTable table = SkinStackTable::builtin();  // (libFuzzer runs one input at a time)
-  if (2 * o.x.size() - 1 != table.x.size()) return;
+  if (o.x.size() < 4 || (table.x.size() - 1) % (o.x.size() - 1) != 0) return;
+  const std::size_t stride = (table.x.size() - 1) / (o.x.size() - 1);
+  for (std::size_t i = 0; i < o.x.size(); ++i)
+    if (std::abs(o.x[i] / table.x[stride * i] - 1) > 1e-6) return;
   table.offsets = &o;
   const double s = 5.0, tau = 1.0, a_e = 0.1, a_d = 0.05;
   auto mid = [](const std::vector<double>& v) { return 0.5 * (v.front() + v.back()); };

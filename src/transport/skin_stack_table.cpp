@@ -332,10 +332,11 @@ const SkinStackTable& SkinStackTable::builtin() {
   static const SkinStackTable t = [] {
     SkinStackTable table = parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
     const SkinStackOffsets& o = SkinStackOffsets::builtin();
-    // The offsets are the table's: its geometry, coarse nodes among the table's, every other x.
+    // The offsets are the table's: its geometry, coarse nodes among the table's, every k-th x.
     bool ok = o.base[0] == table.g && o.base[1] == table.eta && o.base[2] == table.dermis_ratio &&
-              2 * o.x.size() - 1 == table.x.size();
-    for (std::size_t i = 0; ok && i < o.x.size(); ++i) ok = same_node(o.x[i], table.x[2 * i]);
+              o.x.size() >= 4 && (table.x.size() - 1) % (o.x.size() - 1) == 0;
+    const std::size_t stride = ok ? (table.x.size() - 1) / (o.x.size() - 1) : 0;
+    for (std::size_t i = 0; ok && i < o.x.size(); ++i) ok = same_node(o.x[i], table.x[stride * i]);
     for (const auto& [coarse, fine] : {std::pair{&o.tau, &table.tau}, {&o.a_e, &table.a_e}, {&o.a_d, &table.a_d}})
       for (double v : *coarse) ok = ok && node_index(*fine, v) != std::string::npos;
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
@@ -561,7 +562,7 @@ SkinStackOffsets SkinStackOffsets::default_nodes(const SkinStackTable& table) {
   o.nodes[1] = {1.33, 1.4, 1.47, 1.55};
   o.nodes[2] = {0.2, 0.3, 0.5, 0.75, 1.1, 1.5, 2.0};
   // Every tau node (a thin top layer's offsets change fast with its depth); a_e and a_d every
-  // other up to 0.4, then 0.5 apart in sqrt a (and the last node); x every other.
+  // other up to 0.4, then 0.5 apart in sqrt a (and the last node); x every other (8 per decade).
   o.tau = table.tau;
   auto thin = [](const std::vector<double>& v) {
     std::vector<double> out;
@@ -599,8 +600,20 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
              ix = indices(x, table.x, "x");
   if (!(base[0] == table.g && base[1] == table.eta && base[2] == table.dermis_ratio))
     throw InputError("skin table offsets: the base geometry is not the table's");
-  const bool same_grid = reuse && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) &&
-                         same_nodes(reuse->a_d, a_d) && same_nodes(reuse->x, x);
+  // Reused rows: the same tau, a_e and a_d, and each of these x among the reused table's.
+  std::vector<std::size_t> reuse_x;
+  bool same_grid = reuse && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) && same_nodes(reuse->a_d, a_d);
+  for (std::size_t i = 0; same_grid && i < n_x; ++i) {
+    reuse_x.push_back(exact_index(reuse->x, x[i]));
+    same_grid = reuse_x.back() != std::string::npos;
+  }
+  auto reused = [&](const std::vector<double>& from) {
+    const std::size_t rows = from.size() / reuse->x.size();
+    std::vector<double> out(rows * n_x);
+    for (std::size_t r = 0; r < rows; ++r)
+      for (std::size_t i = 0; i < n_x; ++i) out[r * n_x + i] = from[r * reuse->x.size() + reuse_x[i]];
+    return out;
+  };
   // The jobs: per (axis, node) the top layers alone (g, eta; the dermis ratio uses the table's
   // geometry's, solved once), then the full stacks.
   struct Job { int axis; std::size_t node; std::size_t k; };
@@ -614,8 +627,8 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
       if (same_grid) {
         const std::size_t r = exact_index(reuse->nodes[a], nodes[a][j]);
         if (r != std::string::npos && !reuse->d_low[a][r].empty()) {
-          d_top[a][j] = reuse->d_top[a][r];
-          d_low[a][j] = reuse->d_low[a][r];
+          d_top[a][j] = reused(reuse->d_top[a][r]);
+          d_low[a][j] = reused(reuse->d_low[a][r]);
           continue;
         }
       }
@@ -721,7 +734,7 @@ std::string SkinStackOffsets::to_csv() const {
       auto row = [&](double t, double e, const char* d, const double* v) {
         os << a << ',' << format_number_list({nodes[a][j], t, e}) << ',' << d;
         for (std::size_t i = 0; i < x.size(); ++i) {
-          std::snprintf(buf, sizeof buf, ",%.4f", v[i]);
+          std::snprintf(buf, sizeof buf, ",%.3f", v[i]);
           os << buf;
         }
         os << '\n';
@@ -877,17 +890,19 @@ void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double et
         }
     }
   }
-  // This table's x are every other of the table's: the odd ones midway, by cubic Lagrange in
-  // the index (ln x is even), 3-point at the ends.
+  // This table's x are every stride-th of the table's (ln x even): the others by cubic Lagrange
+  // in the index.
+  const std::size_t stride = (table_x.size() - 1) / (n_x - 1);
   for (std::size_t i = 0; i < table_x.size(); ++i) {
     double ot, ol;
-    if (i % 2 == 0) {
-      ot = dt[i / 2];
-      ol = dl[i / 2];
+    if (i % stride == 0) {
+      ot = dt[i / stride];
+      ol = dl[i / stride];
     } else {
-      const std::size_t c = i / 2;  // between c and c + 1
+      const std::size_t c = i / stride;  // between c and c + 1
       const std::size_t f = std::min(c > 0 ? c - 1 : 0, n_x - 4);
-      const std::array<double, 4> w = lagrange4_weights(static_cast<double>(i) / 2 - static_cast<double>(f));
+      const std::array<double, 4> w =
+          lagrange4_weights(static_cast<double>(i) / static_cast<double>(stride) - static_cast<double>(f));
       ot = ol = 0;
       for (std::size_t q = 0; q < 4; ++q) {
         ot += w[q] * dt[f + q];

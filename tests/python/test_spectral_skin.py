@@ -318,7 +318,7 @@ class Bindings(unittest.TestCase):
             self.assertAlmostEqual(total / p["R_d"][c], 1.0, delta=0.005)
 
     def test_validity_outside_the_accurate_tables(self):
-        # A dark top layer (alpha' = 0.038) over a bright half-space, and skin with g = 0.7: off
+        # A dark top layer (alpha' = 0.038) over a bright half-space, and skin with g = 0.6: off
         # the skin table, solved by radiative transfer in the spatial-frequency domain, inside
         # the model's range (no warning).
         layers = [{"sigma_a": 50.0, "sigma_s_prime": 2.0, "thickness": 0.05},
@@ -326,7 +326,7 @@ class Bindings(unittest.TestCase):
         with warnings.catch_warnings():
             warnings.simplefilter("error")
             r = ss.layers(layers, r_mm=[0.3, 3.0])
-            p = ss.rgb_profile("caucasian", r_mm=[0.3, 3.0], g=0.7, lambda_step=150)
+            p = ss.rgb_profile("caucasian", r_mm=[0.3, 3.0], g=0.6, lambda_step=150)
         self.assertEqual(r["validity"]["profile"], True)
         self.assertEqual(p["validity"]["profile"], True)
         self.assertGreater(r["profile"]["R"][0] if "profile" in r else r["R"][0], 0)

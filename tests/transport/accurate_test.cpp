@@ -316,12 +316,12 @@ TEST(Input, TypesPrintThemselves) {
 // AccurateStack: the radial response.
 
 
-// Off the skin table (skin with g = 0.7) the profile is the frequency-domain one, and it
-// integrates to the adding-doubling total (computed here on its own, not read from the
-// AccurateStack), within the 0.5 % of the integration grid.
+// Off the skin table (skin with g = 0.6, outside its offsets) the profile is the
+// frequency-domain one, and it integrates to the adding-doubling total (computed here on its own,
+// not read from the AccurateStack), within the 0.5 % of the integration grid.
 TEST(AccurateStack, OutsideTheTablesTheProfileIsTheFrequencyDomainOne) {
   auto params = skin::physics::find_preset("caucasian").parameters;
-  params.g = 0.7;
+  params.g = 0.6;
   const auto st = skin::physics::skin_layer_stack(params, 550);
   const skin::transport::accurate::AccurateStack acc(st);
   ASSERT_FALSE(acc.skin_table());

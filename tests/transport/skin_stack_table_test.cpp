@@ -400,10 +400,10 @@ TEST(SkinStackOffsets, MalformedFilesAreRefused) {
   bad.replace(bad.find("\n0,0.8,1,0.01,0.01,"), 19, "\n0,0.8,1,0.01,0.02,");
   refused(bad, "is not node (axis, value, tau, a_e, a_d) = (0, 0.8, 1, 0.01, 0.01)");
   bad = good;
-  bad.replace(bad.rfind("-0.5000"), 7, "-25.0000");
+  bad.replace(bad.rfind("-0.500"), 6, "-25.000");
   refused(bad, "= -25 is not a finite number within 20 of 0");
   bad = good;
-  bad.replace(bad.rfind("-0.5000"), 7, "nan");
+  bad.replace(bad.rfind("-0.500"), 6, "nan");
   refused(bad, "is 'nan', not a number");
   bad = good + "0,0.8,4,10,10,0,0,0,0,0\n";
   refused(bad, "1 row(s) after its last node");

@@ -115,7 +115,7 @@ struct SkinStackOffsets {
   // Why (g, eta, dermis_ratio) is not covered (empty when it is).
   std::string gap(double g, double eta, double dermis_ratio) const;
   // Adds the offsets at (tau, a_e, a_d) to the table's parts at the table's x nodes (`table_x`:
-  // this table's x are every other of them).
+  // this table's x are every k-th of them).
   void add(double t, double ae, double ad, double g, double eta, double dermis_ratio,
            const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low) const;
 };
