@@ -225,7 +225,7 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   p = {};
   p.eta = 1.2;
   EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("index 1.2 is outside the skin table's ["), std::string::npos);
-  for (const auto& [g, eta, ratio] : {std::tuple{0.8, 1.4, 0.5}, {0.9, 1.33, 0.5}, {0.9, 1.4, 1.0}}) {
+  for (const auto& [g, eta, ratio] : {std::tuple{0.8, 1.4, 0.5}, {0.9, 1.33, 0.5}, {0.9, 1.4, 1.0}, {0.75, 1.5, 0.5}}) {
     p = {};
     p.g = g;
     p.eta = eta;
@@ -243,6 +243,11 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   p = {};
   p.epidermis_thickness = 2.0;
   EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("sigma_s' d ="), std::string::npos);
+  // Another dermis ratio with another g or index: the offsets do not combine them.
+  p = {};
+  p.g = 0.8;
+  p.dermis_scattering_scale = 1.0;
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("do not combine them"), std::string::npos);
   p = {};
   p.dermis_scattering_scale = 3;
   EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("the lower layer's sigma_s' / the top layer's 3 is outside"),
@@ -426,7 +431,9 @@ TEST(SkinStackOffsets, ProfilesOfAnotherGeometryMatchTheSolver) {
                                                      {"african", 0.8, 1.4, 0.5, 0.25, 500.0},
                                                      {"caucasian", 0.9, 1.33, 0.5, 0.25, 650.0},
                                                      {"caucasian", 0.9, 1.4, 1.0, 0.25, 450.0},
-                                                     {"asian", 0.8, 1.33, 1.0, 0.1, 600.0},
+                                                     {"asian", 0.8, 1.33, 0.5, 0.1, 600.0},
+                                                     {"tanned", 0.9, 1.4, 1.8, 0.1, 500.0},
+                                                     {"caucasian", 0.75, 1.5, 0.5, 0.15, 650.0},
                                                      {"caucasian", 0.8, 1.4, 0.5, 0.06, 450.0}})) {
     skin::physics::SkinParameters p = skin::physics::find_preset(c.preset).parameters;
     p.g = c.g;

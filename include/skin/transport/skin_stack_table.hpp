@@ -110,7 +110,10 @@ struct SkinStackOffsets {
                const SkinStackOffsets* reuse = nullptr);
   std::string to_csv() const;
   static SkinStackOffsets parse(std::string_view text, std::string_view source);
-  static const SkinStackOffsets& builtin();
+  static const SkinStackOffsets& builtin();  // as read (the built-in table holds them settled)
+  // Holds the light-from-below offsets where that part is unreliable at a node of `table` (see
+  // the .cpp); the built-in table's offsets are settled.
+  void settle(const SkinStackTable& table);
 
   // Why (g, eta, dermis_ratio) is not covered (empty when it is).
   std::string gap(double g, double eta, double dermis_ratio) const;
