@@ -160,12 +160,12 @@ json compute(Part part) {
 // array's largest; anything else exactly); reports the first few
 // mismatches with their path.
 void compare(const json& want, const json& got, const std::string& path, int& failures,
-             double scale = 0) {
+             double scale = 0, double rel = 1e-12) {
   if (failures > 20) return;
   if (want.is_number()) {
     ASSERT_TRUE(got.is_number()) << path;
     const double a = want.get<double>(), b = got.get<double>();
-    const double tol = 1e-12 * std::max({std::abs(a), std::abs(b), scale}) + 1e-300;
+    const double tol = rel * std::max({std::abs(a), std::abs(b), scale}) + 1e-300;
     if (!(std::abs(a - b) <= tol)) {
       ++failures;
       ADD_FAILURE() << path << ": golden " << a << " now " << b << " (rel "
@@ -181,12 +181,12 @@ void compare(const json& want, const json& got, const std::string& path, int& fa
     for (const auto& x : want)
       if (x.is_number()) largest = std::max(largest, std::abs(x.get<double>()));
     for (std::size_t i = 0; i < want.size(); ++i)
-      compare(want[i], got[i], path + "[" + std::to_string(i) + "]", failures, largest);
+      compare(want[i], got[i], path + "[" + std::to_string(i) + "]", failures, largest, rel);
   } else if (want.is_object()) {
     ASSERT_TRUE(got.is_object()) << path;
     for (auto it = want.begin(); it != want.end(); ++it) {
       ASSERT_TRUE(got.contains(it.key())) << path << "." << it.key();
-      compare(it.value(), got[it.key()], path + "." + it.key(), failures);
+      compare(it.value(), got[it.key()], path + "." + it.key(), failures, 0, rel);
     }
   } else if (want != got) {  // strings (hex colours, names), booleans, null: exactly
     ++failures;
@@ -225,7 +225,10 @@ void check(Part part) {
     }
   }
   int failures = 0;
-  compare(want, got, "", failures);
+  // The frequency-domain profiles to 1e-11: thousands of nodes and the inverse transform carry
+  // libm's last bit further (the dark-over-bright stack's peak differs by 1.2e-12 between two
+  // 2-core AMD EPYC machines of this project, on the same commit).
+  compare(want, got, "", failures, 0, part == Part::frequency_domain ? 1e-11 : 1e-12);
   EXPECT_EQ(failures, 0);
 }
 
