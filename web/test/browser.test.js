@@ -85,10 +85,10 @@ async function main() {
     await press('hemoglobin', 'ArrowRight', 15);
     await press('melanin_blend', 'ArrowLeft', 200);
     await compareWithCli('after moving melanin, hemoglobin, melanin_blend');
-    // Off the accurate solver's skin table and its offsets (g below 0.7: two PageDowns, each a
-    // tenth of the slider): the spectrum and colour are updated (the CLI's), the profile is not
-    // solved until asked (seconds per wavelength here).
-    await press('g', 'PageDown', 2);
+    // Off the accurate solver's skin table and its offsets (g below 0.7: three PageDowns, each a
+    // tenth of the slider, from 0.9 to ~0.6): the spectrum and colour are updated (the CLI's), the
+    // profile is not solved until asked (seconds per wavelength here).
+    await press('g', 'PageDown', 3);
     {
       const s = await shown();
       const off = await page.evaluate(() => ({
