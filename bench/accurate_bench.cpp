@@ -22,8 +22,8 @@ using skin::physics::find_preset;
 using skin::physics::skin_layer_stack;
 
 namespace {
-// 0 caucasian, 1 african, 2 caucasian with g 0.8, index 1.45 and a dermis 0.8 as scattering as
-// the epidermis (read with the skin table's offsets on all three axes).
+// 0 caucasian, 1 african, 2 caucasian with g 0.8 and index 1.45 (read with the skin table's
+// offsets on two axes).
 const SkinParameters& params(int preset) {
   static const SkinParameters caucasian = find_preset("caucasian").parameters;
   static const SkinParameters african = find_preset("african").parameters;
@@ -31,12 +31,11 @@ const SkinParameters& params(int preset) {
     SkinParameters p = find_preset("caucasian").parameters;
     p.g = 0.8;
     p.eta = 1.45;
-    p.dermis_scattering_scale = 0.8;
     return p;
   }();
   return preset == 0 ? caucasian : preset == 1 ? african : other;
 }
-const char* label(int preset) { return preset == 0 ? "caucasian" : preset == 1 ? "african" : "caucasian g 0.8 eta 1.45 dermis 0.8"; }
+const char* label(int preset) { return preset == 0 ? "caucasian" : preset == 1 ? "african" : "caucasian g 0.8 eta 1.45"; }
 }  // namespace
 
 // R_d(lambda) at 151 wavelengths (400-700 nm, 2 nm): layer optics + adding-doubling per
