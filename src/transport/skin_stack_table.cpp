@@ -146,6 +146,11 @@ std::size_t node_index(const std::vector<double>& nodes, double v) {
 bool same_nodes(const std::vector<double>& a, const std::vector<double>& b) {
   return std::equal(a.begin(), a.end(), b.begin(), b.end(), same_node);
 }
+// The lower layer's sigma_s' over the top layer's, the table's own where within 1e-9 of it.
+double ratio_of(const SkinStackTable& t, const Layer& e, const Layer& d) {
+  const double ratio = d.sigma_s_prime / e.sigma_s_prime;
+  return std::abs(ratio - t.dermis_ratio) <= 1e-9 * t.dermis_ratio ? t.dermis_ratio : ratio;
+}
 }  // namespace
 
 void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTable* reuse) {
@@ -331,7 +336,7 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
 const SkinStackTable& SkinStackTable::builtin() {
   static const SkinStackTable t = [] {
     SkinStackTable table = parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
-    const SkinStackOffsets& o = SkinStackOffsets::builtin();
+    static SkinStackOffsets o = SkinStackOffsets::parse(util::data::embedded("skin_stack_offsets.csv"), "skin_stack_offsets.csv");
     // The offsets are the table's: its geometry, coarse nodes among the table's, every k-th x.
     bool ok = o.base[0] == table.g && o.base[1] == table.eta && o.base[2] == table.dermis_ratio &&
               o.x.size() >= 4 && (table.x.size() - 1) % (o.x.size() - 1) == 0;
@@ -340,9 +345,8 @@ const SkinStackTable& SkinStackTable::builtin() {
     for (const auto& [coarse, fine] : {std::pair{&o.tau, &table.tau}, {&o.a_e, &table.a_e}, {&o.a_d, &table.a_d}})
       for (double v : *coarse) ok = ok && node_index(*fine, v) != std::string::npos;
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
-    static SkinStackOffsets settled = o;
-    settled.settle(table);
-    table.offsets = &settled;
+    o.settle(table);
+    table.offsets = &o;
     return table;
   }();
   return t;
@@ -370,16 +374,15 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
   if (e.semi_infinite() || !d.semi_infinite()) return "not a finite layer over a half-space";
   const double s = e.sigma_s_prime;
   if (!(s > 0) || !(d.sigma_s_prime > 0)) return "a layer does not scatter";
-  const double ratio = d.sigma_s_prime / s;
-  const bool own = std::abs(ratio - dermis_ratio) <= 1e-9 * dermis_ratio;
+  const double ratio = ratio_of(*this, e, d);
   if (!offsets) {
     if (e.eta != eta || d.eta != eta) return "index is not the skin table's " + format_number(eta);
     if (e.g != g || d.g != g) return "g is not the skin table's " + format_number(g);
-    if (!own) return "the lower layer's sigma_s' is not " + format_number(dermis_ratio) + " x the top layer's";
+    if (ratio != dermis_ratio) return "the lower layer's sigma_s' is not " + format_number(dermis_ratio) + " x the top layer's";
   } else {
     if (e.eta != d.eta) return "the two layers' indices differ";
     if (e.g != d.g) return "the two layers' g differ";
-    std::string why = offsets->gap(e.g, e.eta, own ? dermis_ratio : ratio);
+    std::string why = offsets->gap(e.g, e.eta, ratio);
     if (!why.empty()) return why;
   }
   const double t = s * e.thickness, ae = e.sigma_a / s, ad = d.sigma_a / s;
@@ -410,11 +413,18 @@ std::vector<double> SkinStackTable::ln_rho_half_space_at(double a) const {
   return out;
 }
 
+namespace {
+// ln rho of the two parts added (in place of top).
+std::vector<double> added(std::vector<double> top, const std::vector<double>& below) {
+  for (std::size_t m = 0; m < top.size(); ++m) top[m] = clamp_ln(log_sum(clamp_ln(top[m]), clamp_ln(below[m])));
+  return top;
+}
+}  // namespace
+
 std::vector<double> SkinStackTable::ln_rho_at(double t, double ae, double ad) const {
   std::vector<double> top, below;
   ln_parts_at(t, ae, ad, top, below);
-  for (std::size_t m = 0; m < top.size(); ++m) top[m] = clamp_ln(log_sum(clamp_ln(top[m]), clamp_ln(below[m])));
-  return top;
+  return added(std::move(top), below);
 }
 
 void SkinStackTable::ln_parts_at(double t, double ae, double ad, std::vector<double>& top,
@@ -451,18 +461,13 @@ SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack
   } else {
     const Layer& d = stack.layers[1];
     const double t = s_ * e.thickness, ae = e.sigma_a / s_, ad = d.sigma_a / s_;
-    const double ratio = d.sigma_s_prime / s_;
-    const bool own_ratio = std::abs(ratio - table.dermis_ratio) <= 1e-9 * table.dermis_ratio;
-    if (e.g == table.g && e.eta == table.eta && own_ratio) {
-      ln_rho_ = table.ln_rho_at(t, ae, ad);
-    } else {
-      // Another geometry: the table's parts with the offsets of each axis added.
-      std::vector<double> top, low;
-      table.ln_parts_at(t, ae, ad, top, low);
-      table.offsets->add(t, ae, ad, e.g, e.eta, own_ratio ? table.dermis_ratio : ratio, table.x, top, low);
-      ln_rho_.resize(top.size());
-      for (std::size_t m = 0; m < top.size(); ++m) ln_rho_[m] = clamp_ln(log_sum(clamp_ln(top[m]), clamp_ln(low[m])));
-    }
+    const double ratio = ratio_of(table, e, d);
+    std::vector<double> top, low;
+    table.ln_parts_at(t, ae, ad, top, low);
+    // Another geometry: the offsets of each axis added to the parts (none at the table's own).
+    if (!(e.g == table.g && e.eta == table.eta && ratio == table.dermis_ratio))
+      table.offsets->add(t, ae, ad, e.g, e.eta, ratio, table.x, top, low);
+    ln_rho_ = added(std::move(top), low);
   }
   ln_x_ = mapped(table.x, log_of);
   const std::size_t n = ln_x_.size();
@@ -526,11 +531,16 @@ std::vector<double> axis_variables(int axis, const std::vector<double>& nodes) {
   if (axis == 0) std::reverse(out.begin(), out.end());  // ln(1 - g) falls as g grows
   return out;
 }
-// The index among sorted nodes, or npos.
-std::size_t exact_index(const std::vector<double>& nodes, double v) {
-  for (std::size_t i = 0; i < nodes.size(); ++i)
-    if (same_node(nodes[i], v)) return i;
-  return std::string::npos;
+// Each value where ok is false becomes that of the nearest x after the last ok one before it,
+// or before that, the first ok one (unchanged where none is ok).
+void hold_where_not(double* row, const std::vector<char>& ok) {
+  const std::size_t n = ok.size();
+  const auto first = static_cast<std::size_t>(std::find(ok.begin(), ok.end(), 1) - ok.begin());
+  if (first == n) return;
+  for (std::size_t i = 0; i < first; ++i) row[i] = row[first];
+  for (std::size_t i = first + 1, last = first; i < n; ++i)
+    if (ok[i]) last = i;
+    else row[i] = row[last];
 }
 // new - base where both parts count; elsewhere the offset of the nearest x where they do (0 if
 // nowhere).
@@ -544,15 +554,7 @@ std::vector<double> offset_row(const std::vector<double>& ln_new, double ln_new_
     ok[i] = ln_new[i] > ln_new_peak + lv && ln_base[i] > ln_base_peak + lv;
     if (ok[i]) d[i] = std::clamp(ln_new[i] - ln_base[i], -kMaxOffset, kMaxOffset);
   }
-  std::ptrdiff_t last = -1;
-  for (std::size_t i = 0; i < n; ++i)
-    if (ok[i]) last = static_cast<std::ptrdiff_t>(i);
-    else if (last >= 0) d[i] = d[static_cast<std::size_t>(last)];
-  std::ptrdiff_t first = -1;
-  for (std::size_t i = 0; i < n; ++i)
-    if (ok[i]) { first = static_cast<std::ptrdiff_t>(i); break; }
-  if (first > 0)
-    for (std::size_t i = 0; i < static_cast<std::size_t>(first); ++i) d[i] = d[static_cast<std::size_t>(first)];
+  hold_where_not(d.data(), ok);
   return d;
 }
 }  // namespace
@@ -591,7 +593,7 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
   auto indices = [](const std::vector<double>& coarse, const std::vector<double>& fine, const char* key) {
     std::vector<std::size_t> out;
     for (double v : coarse) {
-      const std::size_t i = exact_index(fine, v);
+      const std::size_t i = node_index(fine, v);
       if (i == std::string::npos)
         throw InputError(std::string("skin table offsets: the ") + key + " node " + format_number(v) + " is not a node of the table");
       out.push_back(i);
@@ -606,7 +608,7 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
   std::vector<std::size_t> reuse_x;
   bool same_grid = reuse && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) && same_nodes(reuse->a_d, a_d);
   for (std::size_t i = 0; same_grid && i < n_x; ++i) {
-    reuse_x.push_back(exact_index(reuse->x, x[i]));
+    reuse_x.push_back(node_index(reuse->x, x[i]));
     same_grid = reuse_x.back() != std::string::npos;
   }
   auto reused = [&](const std::vector<double>& from) {
@@ -627,7 +629,7 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
     for (std::size_t j = 0; j < nodes[a].size(); ++j) {
       if (nodes[a][j] == base[a]) continue;
       if (same_grid) {
-        const std::size_t r = exact_index(reuse->nodes[a], nodes[a][j]);
+        const std::size_t r = node_index(reuse->nodes[a], nodes[a][j]);
         if (r != std::string::npos && !reuse->d_low[a][r].empty()) {
           d_top[a][j] = reused(reuse->d_top[a][r]);
           d_low[a][j] = reused(reuse->d_low[a][r]);
@@ -774,7 +776,7 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
   for (int a = 0; a < kAxes; ++a) {
     const auto& v = o.nodes[static_cast<std::size_t>(a)];
     const double b = o.base[static_cast<std::size_t>(a)];
-    if (exact_index(v, b) == std::string::npos)
+    if (node_index(v, b) == std::string::npos)
       throw InputError(src + ": '" + kAxisNames[a] + "_nodes' needs the table's " + format_number(b) + " among them");
     for (std::size_t i = 0; i < v.size(); ++i)
       if (!(v[i] >= lo[a] && v[i] <= hi[a]) || (i > 0 && !(v[i] > v[i - 1] * (1 + 1e-9))))
@@ -857,21 +859,9 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
           if (q > best_q) { best_q = q; best = i; }
         }
         if (!any) ok[best] = 1;
-        double* row = d.data() + k * n_x;
-        std::ptrdiff_t last = -1;
-        for (std::size_t i = 0; i < n_x; ++i)
-          if (ok[i]) last = static_cast<std::ptrdiff_t>(i);
-          else if (last >= 0) row[i] = row[last];
-        std::size_t first = 0;
-        while (!ok[first]) ++first;
-        for (std::size_t i = 0; i < first; ++i) row[i] = row[first];
+        hold_where_not(d.data() + k * n_x, ok);
       }
     }
-}
-
-const SkinStackOffsets& SkinStackOffsets::builtin() {
-  static const SkinStackOffsets o = parse(util::data::embedded("skin_stack_offsets.csv"), "skin_stack_offsets.csv");
-  return o;
 }
 
 std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) const {
@@ -909,7 +899,7 @@ void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double et
     const std::vector<double> vars = axis_variables(a, nodes[au]);
     const double u = axis_variable(a, v[a]);
     Lagrange4Stencil sp;
-    const std::size_t hit = exact_index(nodes[au], v[a]);
+    const std::size_t hit = node_index(nodes[au], v[a]);
     if (hit != std::string::npos) {
       sp.first = a == 0 ? nodes[au].size() - 1 - hit : hit;
       sp.weights = {1, 0, 0, 0};

@@ -272,6 +272,21 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   EXPECT_FALSE(skin::transport::accurate::AccurateStack(three).skin_table());
 }
 
+// Parsing `text` throws one line containing `what` (and naming `file`, if `names_file`).
+template <typename Parsed>
+void expect_refused(const std::string& text, const std::string& file, const std::string& what, bool names_file) {
+  try {
+    Parsed::parse(text, file);
+    ADD_FAILURE() << "accepted; expected: " << what;
+  } catch (const skin::util::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    if (names_file) {
+      EXPECT_NE(std::string(e.what()).find(file), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+  }
+}
+
 TEST(SkinStackTable, MalformedTablesAreRefused) {
   SkinStackTable t = SkinStackTable::default_nodes();
   t.tau = {1, 2, 3, 4};
@@ -283,15 +298,7 @@ TEST(SkinStackTable, MalformedTablesAreRefused) {
   t.ln_rho_half.assign(4 * 5, -3.0);
   const std::string good = t.to_csv();
   EXPECT_NO_THROW(SkinStackTable::parse(good, "t.csv"));
-  auto refused = [](const std::string& text, const std::string& what) {
-    try {
-      SkinStackTable::parse(text, "t.csv");
-      ADD_FAILURE() << "accepted; expected: " << what;
-    } catch (const skin::util::InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
-    }
-  };
+  auto refused = [](const std::string& text, const std::string& what) { expect_refused<SkinStackTable>(text, "t.csv", what, false); };
   refused(good.substr(0, good.size() - 200), "t.csv");  // truncated
   std::string bad = good;
   bad.replace(bad.find("\n1,0.01,0.01,"), 13, "\n1,0.02,0.01,");
@@ -388,14 +395,7 @@ TEST(SkinStackOffsets, MalformedFilesAreRefused) {
   EXPECT_EQ(back.gap(0.95, 1.4, 0.5), "g 0.95 is outside the skin table's [0.8, 0.9]");
   EXPECT_EQ(back.gap(0.85, 1.45, 0.5), "index 1.45 is outside the skin table's [1.4, 1.4]");
   auto refused = [](const std::string& text, const std::string& what) {
-    try {
-      SkinStackOffsets::parse(text, "o.csv");
-      ADD_FAILURE() << "accepted; expected: " << what;
-    } catch (const skin::util::InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
-      EXPECT_NE(std::string(e.what()).find("o.csv"), std::string::npos) << e.what();
-      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
-    }
+    expect_refused<SkinStackOffsets>(text, "o.csv", what, true);
   };
   refused(good.substr(0, good.size() - 200), "o.csv");  // truncated
   std::string bad = good;

@@ -110,9 +110,9 @@ struct SkinStackOffsets {
                const SkinStackOffsets* reuse = nullptr);
   std::string to_csv() const;
   static SkinStackOffsets parse(std::string_view text, std::string_view source);
-  static const SkinStackOffsets& builtin();  // as read (the built-in table holds them settled)
   // Holds the light-from-below offsets where that part is unreliable at a node of `table` (see
-  // the .cpp); the built-in table's offsets are settled.
+  // the .cpp). The built-in table's offsets (SkinStackTable::builtin().offsets) are
+  // data/skin_stack_offsets.csv, settled.
   void settle(const SkinStackTable& table);
 
   // Why (g, eta, dermis_ratio) is not covered (empty when it is).
