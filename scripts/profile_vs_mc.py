@@ -72,9 +72,12 @@ CASES = {
     "g=0 two layers": ["--layer", "sigma_a=0.3,sigma_s_prime=2,thickness=0.3,g=0",
                        "--layer", "sigma_a=0.02,sigma_s_prime=1,g=0"],
 }
-for preset in ["caucasian", "african", "pale"]:
+for preset in ["caucasian", "asian", "african", "pale"]:
     for nm in [450, 650]:
         CASES[f"{preset} {nm} nm"] = ["--preset", preset, "--wavelength", str(nm)]
+# Dark skin's far field at the shortest wavelengths (issue 31).
+for preset in ["asian", "african"]:
+    CASES[f"{preset} 400 nm"] = ["--preset", preset, "--wavelength", "400"]
 # Skin off the accurate model's skin table (another g or dermis scattering: solved, not read).
 for preset, nm, flag, value in [("caucasian", 650, "g", "0.95"), ("african", 650, "g", "0.95"),
                                 ("african", 450, "g", "0.8"),

@@ -408,6 +408,7 @@ int detail::azimuthal_orders(const LayerStack& stack, double k, const FrequencyO
     sigma_t = std::min(sigma_t, e);
     depth += e * l.thickness;  // infinite for a semi-infinite layer
   }
+  if (options.orders_extinction > 0) sigma_t = options.orders_extinction;
   // An even number: with 47 orders the slab of sec. 5 is -4.6 % near the beam, with 48 +2.8 %.
   // (Clamped before the conversion: a clear stack has depth 0.)
   if (depth < kThinStackDepth) {
@@ -425,6 +426,9 @@ std::vector<double> frequency_response(const LayerStack& stack, const std::vecto
   if (options.azimuthal_orders < 0 || options.azimuthal_orders > 64)
     throw InputError("azimuthal-orders = " + std::to_string(options.azimuthal_orders) +
                      " is out of range: must be 0 (automatic) or in [1, 64]");
+  if (!(options.orders_extinction >= 0 && std::isfinite(options.orders_extinction)))
+    throw InputError("orders-extinction = " + std::to_string(options.orders_extinction) +
+                     " /mm is out of range: must be 0 (the stack's) or a finite positive number");
   for (double ki : k)
     if (!(ki >= 0 && std::isfinite(ki)))
       throw InputError("k = " + std::to_string(ki) + " rad/mm is out of range: must be >= 0");

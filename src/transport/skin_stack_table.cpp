@@ -16,6 +16,7 @@
 #include "skin/util/error.hpp"
 #include "skin/util/interpolation.hpp"
 #include "skin/util/table.hpp"
+#include "ad_core.hpp"
 
 namespace skin::transport::accurate {
 
@@ -40,7 +41,7 @@ namespace {
 
 constexpr double kFloor = 1e-13;  // of a node's peak
 // A table's ln rho (rho in units of s^2) lies within kMaxLnRho of 0 (the built-in table's within
-// -27.5 and 2.8), and each row within -ln kFloor = 29.93 of its own peak: parse() refuses other
+// -31.9 and 2.8), and each row within -ln kFloor = 29.93 of its own peak: parse() refuses other
 // values. Interpolated values are clamped to kMaxLnRho + kOvershoot, so that exp() of them is finite
 // whatever the weights (4-point Lagrange weights grow without bound on nodes nearly together): a
 // table that parses gives a finite, non-negative profile by construction. Neither bound is reached
@@ -118,11 +119,100 @@ std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, c
 Layer absorber(const SkinStackTable& t) { return {1.0, 1e-9, kInfinity, t.eta, t.g}; }
 
 Layer dermis(const SkinStackTable& t, double a_d_v) { return {a_d_v, t.dermis_ratio, kInfinity, t.eta, t.g}; }
+
+// The light that reached the lower layer, on its own: R(k) of the stack minus R(k) of the top
+// layer over the absorber, at the same frequencies, inverted by itself. The top layer's own
+// reflection is the same arithmetic in both solves, so the difference keeps the digits that the
+// difference of the two inverted profiles loses: their inversion is noise below ~1e-8 of
+// rho(0.01), and in a dark epidermis the light from below is smaller than that in the far field
+// (asian skin at 450 nm was 10-41 % low at 0.45-0.59 mm, docs/accurate-solver.md, sec. 4).
+// No singular part: the lower layer lies tau below the surface, so R(k) falls like e^(-tau k)
+// (the frequencies end at 36 / tau, e^-36 of R(0)), and no light comes back along the beam (the
+// layers are index-matched).
+class LightFromBelow final : public RadialResponse {
+ public:
+  static constexpr double kK0 = 0.3 / 15.0, kDu = 0.125;
+  static std::vector<double> frequencies(double tau_v) {
+    const double k_hi = 36.0 / tau_v;
+    const auto n = std::max<std::size_t>(static_cast<std::size_t>(std::ceil(std::asinh(k_hi / kK0) / kDu)) + 1, 8);
+    std::vector<double> k(n);
+    for (std::size_t j = 0; j < n; ++j) k[j] = kK0 * std::sinh(kDu * static_cast<double>(j));
+    return k;
+  }
+  explicit LightFromBelow(std::vector<double> R) : R_(std::move(R)) {}
+  double total() const override { return R_.front(); }
+  double singular(double) const override { return 0.0; }
+  double residual_k(double k) const override {
+    constexpr int P = 6;  // 6-point Lagrange in u = asinh(k / k0) / du, as FrequencyStack
+    const double u = std::asinh(std::abs(k) / kK0) / kDu;
+    const long last = static_cast<long>(R_.size()) - 1;
+    if (u >= static_cast<double>(last)) return 0.0;
+    const long m0 = std::min(static_cast<long>(std::floor(u)) - (P / 2 - 1), last - (P - 1));
+    const std::array<double, P> w = util::lagrange_weights<P>(u - static_cast<double>(m0));
+    double out = 0;
+    for (int a = 0; a < P; ++a) out += w[static_cast<std::size_t>(a)] * R_[static_cast<std::size_t>(std::labs(m0 + a))];
+    return out;
+  }
+
+ private:
+  std::vector<double> R_;  // at frequencies(tau)
+};
+// The same automatic azimuthal orders for the stack and the top layer over the absorber (so
+// that the top layer is the same arithmetic in both): those of the least extinction any dermis
+// of the table has (a_d = 0; the absorber's is less, and chose more orders than the stack's, which
+// left up to 1e-10 of the peak in the difference, in the far field of a dark epidermis).
+accurate::FrequencyOptions low_options(const SkinStackTable& t) {
+  accurate::FrequencyOptions o;
+  o.orders_extinction = detail::scaled_extinction(dermis(t, 0.0));
+  return o;
+}
+LayerStack stack_of(const SkinStackTable& t, double tau_v, double a_e_v, const Layer& below) {
+  LayerStack st;
+  st.eta_above = 1.0;
+  st.layers.push_back({a_e_v, 1.0, tau_v, t.eta, t.g});
+  st.layers.push_back(below);
+  return st;
+}
+// rho of the light from below at the x nodes, given R(k) of the top layer over the absorber at
+// LightFromBelow::frequencies(tau).
+std::vector<double> light_from_below(const SkinStackTable& t, double tau_v, double a_e_v, double a_d_v,
+                              const std::vector<double>& R_top_k) {
+  const std::vector<double> k = LightFromBelow::frequencies(tau_v);
+  std::vector<double> R = frequency_response(stack_of(t, tau_v, a_e_v, dermis(t, a_d_v)), k, low_options(t));
+  for (std::size_t j = 0; j < R.size(); ++j) R[j] -= R_top_k[j];
+  ProfileSolver solver(RadialGrid::from(t.x));
+  return solver.profile(LightFromBelow(std::move(R)));
+}
+std::vector<double> top_frequencies(const SkinStackTable& t, double tau_v, double a_e_v) {
+  return frequency_response(stack_of(t, tau_v, a_e_v, absorber(t)), LightFromBelow::frequencies(tau_v), low_options(t));
+}
 }  // namespace
 
 std::vector<double> SkinStackTable::solve_node(double tau_v, double a_e_v, double a_d_v) const {
   const Layer d = dermis(*this, a_d_v);
   return floored_log(solve(*this, tau_v, a_e_v, &d));
+}
+
+namespace {
+// ln rho of the light from below, floored at kLowFloor of the peak of the whole (top + low), about
+// where the rounding of the two R(k) leaves its noise (so that a dark epidermis' light from below,
+// down to ~e-32 of the peak, is its own smooth values and not the floor: ln rho falls linearly in
+// tau, and a floored node bent the interpolation), and at kFloor of its own peak.
+constexpr double kLowFloor = 1e-15;
+std::vector<double> floored_low(const std::vector<double>& top, const std::vector<double>& low) {
+  double peak = 0;
+  for (std::size_t i = 0; i < top.size(); ++i) peak = std::max(peak, top[i] + low[i]);
+  const double floor = std::max(kLowFloor * peak, kFloor * *std::max_element(low.begin(), low.end()));
+  std::vector<double> out(low.size());
+  for (std::size_t i = 0; i < low.size(); ++i) out[i] = std::log(std::max(low[i], floor));
+  return out;
+}
+}  // namespace
+
+std::vector<double> SkinStackTable::solve_low(double tau_v, double a_e_v, double a_d_v) const {
+  const Layer a = absorber(*this);
+  return floored_low(solve(*this, tau_v, a_e_v, &a),
+                     light_from_below(*this, tau_v, a_e_v, a_d_v, top_frequencies(*this, tau_v, a_e_v)));
 }
 
 std::vector<double> SkinStackTable::solve_top(double tau_v, double a_e_v) const {
@@ -178,8 +268,8 @@ void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTa
     const std::lock_guard<std::mutex> lock(m);
     progress(++done, total);
   };
-  // The top layers first (each lower-layer node subtracts its top layer's profile).
-  std::vector<std::vector<double>> top(tau.size() * n_e);
+  // The top layers first (each lower-layer node subtracts its top layer's R(k)).
+  std::vector<std::vector<double>> top(tau.size() * n_e), top_k(tau.size() * n_e);
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e, [&](std::size_t k) {
     if (util::cancel::requested()) return;  // thrown below
     if (from[k] != std::string::npos) {
@@ -192,6 +282,7 @@ void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTa
     }
     const Layer a = absorber(*this);
     top[k] = solve(*this, tau[k / n_e], a_e[k % n_e], &a);
+    top_k[k] = top_frequencies(*this, tau[k / n_e], a_e[k % n_e]);
     const std::vector<double> ln_top = floored_log(top[k]);
     std::copy(ln_top.begin(), ln_top.end(), ln_rho_top.begin() + static_cast<std::ptrdiff_t>(k * n_x));
     tick();
@@ -213,12 +304,10 @@ void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTa
     if (util::cancel::requested()) return;
     const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
     if (from[i_t * n_e + i_e] != std::string::npos) return;  // copied with its top layer
-    const Layer d = dermis(*this, a_d[i_d]);
-    const std::vector<double> R = solve(*this, tau[i_t], a_e[i_e], &d);
-    const std::vector<double>& T = top[i_t * n_e + i_e];
-    const double peak = *std::max_element(R.begin(), R.end());
-    for (std::size_t i = 0; i < n_x; ++i)
-      ln_rho[k * n_x + i] = std::log(std::max(R[i] - T[i], kFloor * peak));
+    const std::size_t k_top = i_t * n_e + i_e;
+    const std::vector<double> low =
+        floored_low(top[k_top], light_from_below(*this, tau[i_t], a_e[i_e], a_d[i_d], top_k[k_top]));
+    std::copy(low.begin(), low.end(), ln_rho.begin() + static_cast<std::ptrdiff_t>(k * n_x));
     tick();
   });
   util::cancel::check();
@@ -236,7 +325,8 @@ std::string SkinStackTable::to_csv() const {
      << "\n# a_d: " << format_number_list(a_d) << "\n# x: " << format_number_list(x) << '\n';
   if (!a_h.empty()) os << "# a_h: " << format_number_list(a_h) << '\n';
   os << "# Per (tau, a_e) first the top layer over an absorber (a_d = inf: the light that never\n"
-        "# reaches the lower layer), then per a_d the light that reached it: ln(rho - rho_top).\n"
+        "# reaches the lower layer), then per a_d the light that reached it, solved on its own (R(k)\n"
+        "# of the stack minus the top layer's, inverted): ln rho_low.\n"
         "# Then per a_h the half-space of the top layer's medium (tau = inf, a_e = a_h, a_d = inf).\n";
   os << "tau,a_e,a_d";
   for (std::size_t i = 0; i < x.size(); ++i) os << ",ln_rho_" << i;
@@ -618,11 +708,10 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
       for (std::size_t i = 0; i < n_x; ++i) out[r * n_x + i] = from[r * reuse->x.size() + reuse_x[i]];
     return out;
   };
-  // The jobs: per (axis, node) the top layers alone (g, eta; the dermis ratio uses the table's
-  // geometry's, solved once), then the full stacks.
+  // The jobs: per (axis, node) the top layers alone (their R(k), which the light from below
+  // subtracts, and for g and eta their profiles' offsets), then the light from below.
   struct Job { int axis; std::size_t node; std::size_t k; };
   std::vector<Job> top_jobs, low_jobs;
-  bool ratio_jobs = false;
   for (int a = 0; a < kAxes; ++a) {
     d_top[a].assign(nodes[a].size(), {});
     d_low[a].assign(nodes[a].size(), {});
@@ -637,14 +726,11 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
         }
       }
       if (a != 2) d_top[a][j].assign(n_t * n_e * n_x, 0.0);
-      for (std::size_t k = 0; k < n_t * n_e && a != 2; ++k) top_jobs.push_back({a, j, k});
-      ratio_jobs = ratio_jobs || a == 2;
+      for (std::size_t k = 0; k < n_t * n_e; ++k) top_jobs.push_back({a, j, k});
       d_low[a][j].assign(n_t * n_e * n_d * n_x, 0.0);
       for (std::size_t k = 0; k < n_t * n_e * n_d; ++k) low_jobs.push_back({a, j, k});
     }
   }
-  if (ratio_jobs)  // the table's own geometry (axis -1)
-    for (std::size_t k = 0; k < n_t * n_e; ++k) top_jobs.push_back({-1, 0, k});
   std::mutex m;
   std::size_t done = 0;
   const std::size_t total = top_jobs.size() + low_jobs.size();
@@ -662,20 +748,27 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
   auto row_of = [&](const std::vector<double>& v, std::size_t k) {
     return std::vector<double>(v.begin() + static_cast<std::ptrdiff_t>(k * nx_table), v.begin() + static_cast<std::ptrdiff_t>((k + 1) * nx_table));
   };
+  // The geometry of an axis node (no nodes or values: the solves read its eta, g, dermis ratio, x).
   auto geometry = [&](int axis, std::size_t node) {
-    const double v = axis >= 0 ? nodes[static_cast<std::size_t>(axis)][node] : 0.0;
-    return std::array<double, 3>{axis == 0 ? v : table.g, axis == 1 ? v : table.eta, axis == 2 ? v : table.dermis_ratio};
+    SkinStackTable geo;
+    const double v = nodes[static_cast<std::size_t>(axis)][node];
+    geo.g = axis == 0 ? v : table.g;
+    geo.eta = axis == 1 ? v : table.eta;
+    geo.dermis_ratio = axis == 2 ? v : table.dermis_ratio;
+    geo.x = table.x;
+    return geo;
   };
-  // The top layers alone, solved: per job (axis -1: the table's geometry).
-  std::vector<std::vector<double>> tops(top_jobs.size());
+  // The top layers alone, solved: per job its R(k), and (g, eta) its profile.
+  std::vector<std::vector<double>> tops(top_jobs.size()), tops_k(top_jobs.size());
   tbb::parallel_for(std::size_t{0}, top_jobs.size(), [&](std::size_t q) {
     if (util::cancel::requested()) return;
     const Job& jb = top_jobs[q];
-    const auto [g_v, eta_v, ratio_v] = geometry(jb.axis, jb.node);
+    const SkinStackTable geo = geometry(jb.axis, jb.node);
     const std::size_t i_t = jb.k / n_e, i_e = jb.k % n_e;
-    const Layer ab{1.0, 1e-9, kInfinity, eta_v, g_v};
-    tops[q] = solve(table.x, eta_v, g_v, tau[i_t], a_e[i_e], &ab);
-    if (jb.axis >= 0) {
+    tops_k[q] = top_frequencies(geo, tau[i_t], a_e[i_e]);
+    if (jb.axis != 2) {
+      const Layer ab = absorber(geo);
+      tops[q] = solve(geo, tau[i_t], a_e[i_e], &ab);
       const std::size_t kt = it[i_t] * table.a_e.size() + ie[i_e];
       const std::vector<double> base_row = at_x(row_of(table.ln_rho_top, kt));
       const std::vector<double> d = offset_row(at_x(floored_log(tops[q])), std::log(*std::max_element(tops[q].begin(), tops[q].end())),
@@ -685,25 +778,27 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
     tick();
   });
   util::cancel::check();
-  auto top_of = [&](int axis, std::size_t node, std::size_t k) -> const std::vector<double>& {
+  auto top_of = [&](int axis, std::size_t node, std::size_t k) {
     for (std::size_t q = 0; q < top_jobs.size(); ++q)
-      if (top_jobs[q].axis == (axis == 2 ? -1 : axis) && (axis == 2 || top_jobs[q].node == node) && top_jobs[q].k == k) return tops[q];
+      if (top_jobs[q].axis == axis && top_jobs[q].node == node && top_jobs[q].k == k) return q;
     throw std::logic_error("skin table offsets: no top layer solved");
   };
   tbb::parallel_for(std::size_t{0}, low_jobs.size(), [&](std::size_t q) {
     if (util::cancel::requested()) return;
     const Job& jb = low_jobs[q];
-    const auto [g_v, eta_v, ratio_v] = geometry(jb.axis, jb.node);
+    const SkinStackTable geo = geometry(jb.axis, jb.node);
     const std::size_t i_d = jb.k % n_d, i_e = (jb.k / n_d) % n_e, i_t = jb.k / (n_d * n_e);
     const std::size_t kt = it[i_t] * table.a_e.size() + ie[i_e], k_low = kt * table.a_d.size() + id[i_d];
-    const Layer de{a_d[i_d], ratio_v, kInfinity, eta_v, g_v};
-    const std::vector<double> R = solve(table.x, eta_v, g_v, tau[i_t], a_e[i_e], &de);
-    const std::vector<double>& T = top_of(jb.axis, jb.node, i_t * n_e + i_e);
-    const double peak = *std::max_element(R.begin(), R.end());
-    std::vector<double> ln_low(nx_table);
-    for (std::size_t i = 0; i < nx_table; ++i) ln_low[i] = std::log(std::max(R[i] - T[i], kFloor * peak));
-    // The table's peak of the whole profile at this node.
+    const std::size_t q_top = top_of(jb.axis, jb.node, i_t * n_e + i_e);
     const std::vector<double> base_top = row_of(table.ln_rho_top, kt), base_low = row_of(table.ln_rho, k_low);
+    // The top layer's profile (the dermis ratio's is the table's).
+    std::vector<double> T = tops[q_top];
+    if (jb.axis == 2) T = mapped(base_top, [](double v) { return std::exp(v); });
+    const std::vector<double> low = light_from_below(geo, tau[i_t], a_e[i_e], a_d[i_d], tops_k[q_top]);
+    const std::vector<double> ln_low = floored_low(T, low);
+    double peak = 0;
+    for (std::size_t i = 0; i < nx_table; ++i) peak = std::max(peak, T[i] + low[i]);
+    // The table's peak of the whole profile at this node.
     double base_peak = -1e300;
     for (std::size_t i = 0; i < nx_table; ++i) base_peak = std::max(base_peak, log_sum(base_top[i], base_low[i]));
     const std::vector<double> d = offset_row(at_x(ln_low), std::log(peak), at_x(base_low).data(), base_peak);

@@ -52,32 +52,39 @@ TEST(SkinStackTable, BuiltinHasTheDefaultNodesAndGeometry) {
 TEST(SkinStackTable, NodesAreTheFrequencyDomainProfiles) {
   const SkinStackTable& t = SkinStackTable::builtin();
   const auto i_01 = static_cast<std::size_t>(std::lower_bound(t.x.begin(), t.x.end(), 0.1) - t.x.begin());
-  // (tau 2, 1.33 and 0.078: the thinnest epidermis, a node added on 2026-12-04. There the two
-  // parts hold the node to 6e-4 from x = 0.01 (r >= 0.7-2.5 um in skin): each is the difference
-  // of two solves, which their noise enters. The top layer alone over the absorber is ~5e-4 of
-  // the node's value at x = 11-15, near its own noise; and below x = 0.01, finer than 1 / k_hi of
-  // a layer this thin, the two solves' continuations beyond k_hi differ (the solve with the
-  // dermis is up to 2 % below the top layer alone there, where no light from below can be).)
-  for (const auto& [i, j, l] : skin::test::sanitized({std::tuple{8u, 4u, 3u}, std::tuple{7u, 20u, 7u}, std::tuple{0u, 12u, 5u}})) {
+  // Each part is its own solve: the top layer alone over the absorber, and the light from below
+  // (R(k) of the stack minus the top layer's, inverted), to the table's 4 decimals of ln rho.
+  // (tau 2, 1.33 and 0.078: the thinnest epidermis; tau 4.5, a_e 1.58, a_d 0.78: a dark epidermis whose
+  // light from below is ~e^-32 of the peak.) Their sum is the stack's FrequencyStack profile
+  // within 2.5 % from x = 0.1 (r >= 1.4 um in skin) where that is above 1e-6 of rho(0.1): the two
+  // differ by how many azimuthal orders the top layer gets (the absorber's least extinction
+  // chooses more than the dermis'; the sum is the better converged of the two, e.g. 1.2 % at
+  // x = 5.6 of (tau 2, a_e 0.5, a_d 1), where the stack solved with more orders agrees with the
+  // sum to 1e-4). Measured: 2.2 % at x = 3.7 of the dark node (1.4e-6 of rho(0.1)); the thinnest
+  // node differs by up to 5.3 % at x = 0.01-0.075, nearer the beam than a tenth of its depth.
+  constexpr double kWholeTol = 0.025;
+  for (const auto& [i, j, l] : skin::test::sanitized(
+           {std::tuple{8u, 4u, 3u}, std::tuple{7u, 20u, 7u}, std::tuple{0u, 12u, 5u}, std::tuple{10u, 13u, 9u}})) {
+    const std::vector<double> top = t.solve_top(t.tau[i], t.a_e[j]);
+    const std::vector<double> low = t.solve_low(t.tau[i], t.a_e[j], t.a_d[l]);
+    const std::size_t first_top = (i * t.a_e.size() + j) * t.x.size(), first_low = ((i * t.a_e.size() + j) * t.a_d.size() + l) * t.x.size();
+    const double low_peak = *std::max_element(low.begin(), low.end());
+    int compared = 0;
+    for (std::size_t m = 0; m < t.x.size(); ++m) {
+      if (top[m] >= top[i_01] + std::log(1e-8)) {
+        EXPECT_NEAR(t.ln_rho_top[first_top + m], top[m], 6e-5) << "top " << i << ',' << j << " x = " << t.x[m];
+      }
+      if (low[m] >= low_peak + std::log(1e-6)) {  // (below, the inversion's rounding: 4e-4 at 1e-8)
+        EXPECT_NEAR(t.ln_rho[first_low + m], low[m], 6e-5) << "low " << i << ',' << j << ',' << l << " x = " << t.x[m];
+        ++compared;
+      }
+    }
+    EXPECT_GT(compared, 10);
     const std::vector<double> stored = t.node(i, j, l);
     const std::vector<double> solved = t.solve_node(t.tau[i], t.a_e[j], t.a_d[l]);
-    ASSERT_EQ(stored.size(), solved.size());
-    const bool thinnest = i == 0;
-    int compared = 0;
     for (std::size_t m = 0; m < solved.size(); ++m) {
-      if (solved[m] < solved[i_01] + std::log(1e-6)) continue;
-      if (thinnest && t.x[m] < 0.01) continue;
-      EXPECT_NEAR(stored[m], solved[m], thinnest ? 6e-4 : 1.5e-4) << "node " << i << ',' << j << ',' << l << " x = " << t.x[m];
-      ++compared;
-    }
-    EXPECT_GT(compared, 30);
-    // The top layer alone (the first part of the node) is its own solve.
-    const std::vector<double> top = t.solve_top(t.tau[i], t.a_e[j]);
-    const std::size_t first = (i * t.a_e.size() + j) * t.x.size();
-    for (std::size_t m = 0; m < top.size(); ++m) {
-      if (top[m] >= top[i_01] + std::log(1e-8)) {
-        EXPECT_NEAR(t.ln_rho_top[first + m], top[m], 6e-5) << "top " << i << ',' << j << " x = " << t.x[m];
-      }
+      if (solved[m] < solved[i_01] + std::log(1e-6) || t.x[m] < 0.1) continue;
+      EXPECT_NEAR(stored[m], solved[m], kWholeTol) << "node " << i << ',' << j << ',' << l << " x = " << t.x[m];
     }
   }
 }

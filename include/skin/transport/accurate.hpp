@@ -104,6 +104,10 @@ struct FrequencyOptions {
   // Orders at k > 0: 0 = automatic (more at higher k; docs/accurate-solver.md, sec. 3), else
   // [1, 64].
   int azimuthal_orders = 0;
+  // The extinction [1/mm] from which the automatic orders are chosen (0: the least delta-M scaled
+  // extinction of the stack's layers). Two stacks solved with the same value and the same top
+  // layers compute those layers with the same arithmetic (SkinStackTable's light from below).
+  double orders_extinction = 0;
   // The closed-form single scattering (FrequencyStack) in every layer (true) or in the top layer
   // only (false: the solver of issue 15's first sessions, kept for comparison).
   bool deep_single_scattering = true;

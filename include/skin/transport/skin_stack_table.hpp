@@ -9,10 +9,14 @@
 // dermis: reduced scattering dermis_ratio x s, absorption sigma_a,d). In units of 1 / s the stack
 // has three parameters, tau = s d, a_e = sigma_a,e / s and a_d = sigma_a,d / s, and its profile is
 // R(r) = s^2 rho(x), x = r s. Each node holds ln rho at the x nodes, computed by FrequencyStack
-// (floored at 1e-13 of the node's peak; in a dark epidermis the inversion is noise below ~1e-8
-// of rho(0.01), which the table keeps at that level).
+// (the top layer floored at 1e-13 of its peak: in a dark epidermis its inversion is noise below
+// ~1e-8 of rho(0.01), which the table keeps at that level; the light from below at 1e-15 of the
+// node's peak).
 // Two parts per node, each smooth in the parameters: the top layer alone over an absorber (no
-// light back from below), and the light that reached the lower layer (their sum has a knee where
+// light back from below), and the light that reached the lower layer, computed on its own (R(k)
+// of the stack minus R(k) of the top layer, at the same frequencies with the same azimuthal
+// orders, inverted: smooth down to ~1e-15 of the peak, where the difference of the two inverted
+// profiles was noise below ~1e-10 in a dark epidermis' far field) (their sum has a knee where
 // the second takes over, which moves with tau; interpolating the sum was up to 11 % off the
 // solver in african and 5 % in asian skin above 1e-4 of the peak, the parts 3.7 % and 0.43 %).
 // Interpolation: 4-point Lagrange in ln tau (the top layer) or tau (the light from below, which
@@ -45,7 +49,7 @@ struct SkinStackTable {
   std::vector<double> a_h;               // the half-space's nodes (none: half-spaces not covered)
   // The profile in two parts, each smooth in the parameters (their sum has a knee where the light
   // from below takes over, which moves with tau): the top layer alone over an absorber, and the
-  // light that reached the lower layer, ln(rho - rho_top).
+  // light that reached the lower layer, ln rho_low (solve_low()).
   std::vector<double> ln_rho_top;        // [(i_tau * a_e.size() + i_e) * x.size() + i_x]
   std::vector<double> ln_rho;            // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]
   std::vector<double> ln_rho_half;       // [i_h * x.size() + i_x]
@@ -70,7 +74,7 @@ struct SkinStackTable {
   // ln rho at the x nodes of the stack (tau, a_e, a_d), or of the half-space a (inside the node
   // ranges).
   std::vector<double> ln_rho_at(double tau, double a_e, double a_d) const;
-  // The two parts (ln rho_top, ln(rho - rho_top)) at the x nodes, before they are added.
+  // The two parts (ln rho_top, ln rho_low) at the x nodes, before they are added.
   void ln_parts_at(double tau, double a_e, double a_d, std::vector<double>& top, std::vector<double>& low) const;
   std::vector<double> ln_rho_half_space_at(double a) const;
   // The node's values (tests): ln rho at the x nodes (the two parts added).
@@ -79,6 +83,9 @@ struct SkinStackTable {
   // alone over an absorber.
   std::vector<double> solve_node(double tau, double a_e, double a_d) const;
   std::vector<double> solve_top(double tau, double a_e) const;
+  // ln rho of the light from below of one node, computed on its own (R(k) of the stack minus
+  // R(k) of the top layer, inverted; the table's low part), floored as in the table.
+  std::vector<double> solve_low(double tau, double a_e, double a_d) const;
   std::vector<double> solve_half_space(double a) const;
 };
 
