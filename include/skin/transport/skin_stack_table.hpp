@@ -92,8 +92,9 @@ struct SkinStackTable {
 // Offsets of the table's two parts for skin of another g, index or dermis ratio
 // (docs/accurate-solver.md, sec. 4): per axis (g, eta, dermis_ratio) and per node of it other
 // than the table's own value, ln rho_top(value) - ln rho_top(table) and the same for the light
-// from below, computed by FrequencyStack on a coarse subset of the table's (tau, a_e, a_d) nodes
-// and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
+// from below, computed as the table's parts are (FrequencyStack; the light from below on its own
+// since 2026-12-05: the nodes computed before hold it as the difference of two profiles) on a
+// coarse subset of the table's (tau, a_e, a_d) nodes and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
 // tau, sqrt a_e, sqrt a_d, ln x) and across each axis' nodes (in ln(1 - g), eta and ln ratio),
 // and the axes' offsets are added. Where a part is below 1e-9 of its node's peak (noise of the
 // inversion, or the floor) the offset holds its value from the nearest x where it is not.
