@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <numbers>
 #include <sstream>
@@ -499,6 +500,25 @@ TEST(FrequencyResponse, SingleScatteringOfAHalfSpaceIsTheClosedForm) {
   EXPECT_THROW(skin::transport::accurate::frequency_response(s, {-1.0}, o), skin::util::InputError);
   o.azimuthal_orders = -1;
   EXPECT_THROW(skin::transport::accurate::frequency_response(s, {1.0}, o), skin::util::InputError);
+  o.azimuthal_orders = 0;
+  for (double bad : {-1.0, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    o.orders_extinction = bad;
+    EXPECT_THROW(skin::transport::accurate::frequency_response(s, {1.0}, o), skin::util::InputError) << bad;
+  }
+}
+
+// The extinction that chooses the azimuthal orders: the stack's own (0) is the default, a
+// smaller one chooses more orders at k > 0 (and changes R(k) there only by the orders'
+// truncation), and at k = 0 (one order) nothing changes.
+TEST(FrequencyResponse, OrdersExtinctionChoosesTheOrders) {
+  const LayerStack s{{Layer{0.5, 5.0, 0.25, 1.4, 0.9}, Layer{0.05, 2.5, skin::physics::kInfinity, 1.4, 0.9}}};
+  skin::transport::accurate::FrequencyOptions own, more;
+  more.orders_extinction = 0.5;
+  const auto a = skin::transport::accurate::frequency_response(s, {0.0, 10.0}, own);
+  const auto b = skin::transport::accurate::frequency_response(s, {0.0, 10.0}, more);
+  EXPECT_EQ(a[0], b[0]);
+  EXPECT_NE(a[1], b[1]);
+  EXPECT_NEAR(a[1], b[1], 1e-3 * a[1]);
 }
 
 // The exact single scattering of the top layer in space integrates to its closed-form total
