@@ -638,12 +638,8 @@ FrequencyStack::FrequencyStack(const LayerStack& stack, const FrequencyProfileOp
     sigma_t = std::max(sigma_t, detail::scaled_extinction(l));
     finest = std::max({finest, detail::scaled_extinction(l), 1 / l.thickness});
   }
-  const double k_hi = options.k_hi * finest;
-  // At least the 6 points of the interpolation (residual_k).
-  const auto n = std::max<std::size_t>(
-      static_cast<std::size_t>(std::ceil(std::asinh(k_hi / k0_) / du_)) + 1, 8);
-  k_.resize(n);
-  for (std::size_t j = 0; j < n; ++j) k_[j] = k0_ * std::sinh(du_ * static_cast<double>(j));
+  k_ = detail::frequency_nodes(options.k_hi * finest, k0_, du_);
+  const std::size_t n = k_.size();
   R_ = frequency_response(stack, k_, options.transport);
   // Single scattering in the top layer, exactly (Henyey-Greenstein, in space) and as the solver
   // sees it (delta-M, discrete, in k): the profile is the exact one plus the solver's rest
@@ -715,21 +711,26 @@ double FrequencyStack::singular(double r) const {
              (std::numbers::pi * kBallisticWidth * kBallisticWidth);
 }
 
-double FrequencyStack::residual_k(double k) const {
-  if (k >= k_.back()) return 0.0;
-  // 6-point Lagrange in u: the interpolation error is periodic in u, i.e. at high k it has the
-  // period k du in k, and its transform is an echo at r ~ 2 pi / (k du) (0.1-0.5 mm for k of
-  // 100-700 rad/mm). With 4 points it stood at ~5e-7 of R(0.01 mm) at 0.2-0.7 mm in african skin
-  // at 450 nm, where the profile is below 1e-6 of that; with 6 it is ~1e-8, as with 4 points
-  // and half the spacing.
+double FrequencyStack::residual_k(double k) const { return detail::interpolate_in_u(k_, G_, k, k0_, du_); }
+
+std::vector<double> detail::frequency_nodes(double k_hi, double k0, double du) {
+  const auto n = std::max<std::size_t>(static_cast<std::size_t>(std::ceil(std::asinh(k_hi / k0) / du)) + 1, 8);
+  std::vector<double> k(n);
+  for (std::size_t j = 0; j < n; ++j) k[j] = k0 * std::sinh(du * static_cast<double>(j));
+  return k;
+}
+
+double detail::interpolate_in_u(const std::vector<double>& k_nodes, const std::vector<double>& G, double k,
+                                double k0, double du) {
+  if (k >= k_nodes.back()) return 0.0;
   constexpr int P = 6;
-  const double u = std::asinh(std::abs(k) / k0_) / du_;
-  const long last = static_cast<long>(k_.size()) - 1;
+  const double u = std::asinh(std::abs(k) / k0) / du;
+  const long last = static_cast<long>(k_nodes.size()) - 1;
   const long m0 = std::min(static_cast<long>(std::floor(u)) - (P / 2 - 1), last - (P - 1));
   const std::array<double, P> w = lagrange_weights<P>(u - static_cast<double>(m0));
   double out = 0;
   for (int a = 0; a < P; ++a)
-    out += w[static_cast<std::size_t>(a)] * G_[static_cast<std::size_t>(std::labs(m0 + a))];  // mirror: G(-u) = G(u)
+    out += w[static_cast<std::size_t>(a)] * G[static_cast<std::size_t>(std::labs(m0 + a))];  // mirror: G(-u) = G(u)
   return out;
 }
 

@@ -132,30 +132,14 @@ Layer dermis(const SkinStackTable& t, double a_d_v) { return {a_d_v, t.dermis_ra
 class LightFromBelow final : public RadialResponse {
  public:
   static constexpr double kK0 = 0.3 / 15.0, kDu = 0.125;
-  static std::vector<double> frequencies(double tau_v) {
-    const double k_hi = 36.0 / tau_v;
-    const auto n = std::max<std::size_t>(static_cast<std::size_t>(std::ceil(std::asinh(k_hi / kK0) / kDu)) + 1, 8);
-    std::vector<double> k(n);
-    for (std::size_t j = 0; j < n; ++j) k[j] = kK0 * std::sinh(kDu * static_cast<double>(j));
-    return k;
-  }
-  explicit LightFromBelow(std::vector<double> R) : R_(std::move(R)) {}
+  static std::vector<double> frequencies(double tau_v) { return detail::frequency_nodes(36.0 / tau_v, kK0, kDu); }
+  LightFromBelow(std::vector<double> k, std::vector<double> R) : k_(std::move(k)), R_(std::move(R)) {}
   double total() const override { return R_.front(); }
   double singular(double) const override { return 0.0; }
-  double residual_k(double k) const override {
-    constexpr int P = 6;  // 6-point Lagrange in u = asinh(k / k0) / du, as FrequencyStack
-    const double u = std::asinh(std::abs(k) / kK0) / kDu;
-    const long last = static_cast<long>(R_.size()) - 1;
-    if (u >= static_cast<double>(last)) return 0.0;
-    const long m0 = std::min(static_cast<long>(std::floor(u)) - (P / 2 - 1), last - (P - 1));
-    const std::array<double, P> w = util::lagrange_weights<P>(u - static_cast<double>(m0));
-    double out = 0;
-    for (int a = 0; a < P; ++a) out += w[static_cast<std::size_t>(a)] * R_[static_cast<std::size_t>(std::labs(m0 + a))];
-    return out;
-  }
+  double residual_k(double k) const override { return detail::interpolate_in_u(k_, R_, k, kK0, kDu); }
 
  private:
-  std::vector<double> R_;  // at frequencies(tau)
+  std::vector<double> k_, R_;  // frequencies(tau) and R(k) there
 };
 // The same automatic azimuthal orders for the stack and the top layer over the absorber (so
 // that the top layer is the same arithmetic in both): those of the least extinction any dermis
@@ -177,11 +161,11 @@ LayerStack stack_of(const SkinStackTable& t, double tau_v, double a_e_v, const L
 // LightFromBelow::frequencies(tau).
 std::vector<double> light_from_below(const SkinStackTable& t, double tau_v, double a_e_v, double a_d_v,
                               const std::vector<double>& R_top_k) {
-  const std::vector<double> k = LightFromBelow::frequencies(tau_v);
+  std::vector<double> k = LightFromBelow::frequencies(tau_v);
   std::vector<double> R = frequency_response(stack_of(t, tau_v, a_e_v, dermis(t, a_d_v)), k, low_options(t));
   for (std::size_t j = 0; j < R.size(); ++j) R[j] -= R_top_k[j];
   ProfileSolver solver(RadialGrid::from(t.x));
-  return solver.profile(LightFromBelow(std::move(R)));
+  return solver.profile(LightFromBelow(std::move(k), std::move(R)));
 }
 std::vector<double> top_frequencies(const SkinStackTable& t, double tau_v, double a_e_v) {
   return frequency_response(stack_of(t, tau_v, a_e_v, absorber(t)), LightFromBelow::frequencies(tau_v), low_options(t));
@@ -199,10 +183,14 @@ namespace {
 // down to ~e-32 of the peak, is its own smooth values and not the floor: ln rho falls linearly in
 // tau, and a floored node bent the interpolation), and at kFloor of its own peak.
 constexpr double kLowFloor = 1e-15;
-std::vector<double> floored_low(const std::vector<double>& top, const std::vector<double>& low) {
+// The peak of the whole profile, top + low.
+double whole_peak(const std::vector<double>& top, const std::vector<double>& low) {
   double peak = 0;
   for (std::size_t i = 0; i < top.size(); ++i) peak = std::max(peak, top[i] + low[i]);
-  const double floor = std::max(kLowFloor * peak, kFloor * *std::max_element(low.begin(), low.end()));
+  return peak;
+}
+std::vector<double> floored_low(const std::vector<double>& top, const std::vector<double>& low) {
+  const double floor = std::max(kLowFloor * whole_peak(top, low), kFloor * *std::max_element(low.begin(), low.end()));
   std::vector<double> out(low.size());
   for (std::size_t i = 0; i < low.size(); ++i) out[i] = std::log(std::max(low[i], floor));
   return out;
@@ -796,8 +784,7 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
     if (jb.axis == 2) T = mapped(base_top, [](double v) { return std::exp(v); });
     const std::vector<double> low = light_from_below(geo, tau[i_t], a_e[i_e], a_d[i_d], tops_k[q_top]);
     const std::vector<double> ln_low = floored_low(T, low);
-    double peak = 0;
-    for (std::size_t i = 0; i < nx_table; ++i) peak = std::max(peak, T[i] + low[i]);
+    const double peak = whole_peak(T, low);
     // The table's peak of the whole profile at this node.
     double base_peak = -1e300;
     for (std::size_t i = 0; i < nx_table; ++i) base_peak = std::max(base_peak, log_sum(base_top[i], base_low[i]));
