@@ -2,8 +2,10 @@
 // skin tabulate-skin-profiles): skin::transport::accurate::SkinStackTable::parse, then the profile of a stack
 // inside it (two layers and, if it has half-space nodes, a half-space). Invariants: a table that parses, written out (to_csv) and parsed again, writes the
 // same text; the profile of a stack it covers is finite and >= 0 at every radius. The same input
-// is also read as the table's offsets (below).
+// is also read as the table's offsets and their cross terms (below).
+#include <array>
 #include <cmath>
+#include <vector>
 
 #include "fuzz_support.hpp"
 #include "skin/transport/skin_stack_table.hpp"
@@ -43,12 +45,33 @@ void offsets(const std::uint8_t* data, std::size_t size) {
     if (!std::isfinite(v) || v < 0) fuzz::finding("the profile of a covered stack with offsets is not finite and >= 0");
   }
 }
+// The same input read as the offsets' cross terms (data/skin_stack_cross.csv): what parses
+// writes out and reads back the same, and the terms added in the middle of the ranges are finite.
+void cross(const std::uint8_t* data, std::size_t size) {
+  using skin::transport::accurate::SkinStackCross;
+  namespace fuzz = skin::fuzz;
+  SkinStackCross c;
+  if (!fuzz::accepts([&] { c = SkinStackCross::parse(fuzz::text(data, size), "fuzz.csv"); })) return;
+  const std::string csv = c.to_csv();
+  SkinStackCross again;
+  if (!fuzz::accepts([&] { again = SkinStackCross::parse(csv, "re-written"); }))
+    fuzz::finding("the re-written cross terms do not parse");
+  if (again.to_csv() != csv) fuzz::finding("the re-written cross terms read differently");
+  std::vector<double> dt(c.x.size(), 0.0), dl(c.x.size(), 0.0);
+  auto mid = [](const std::vector<double>& v) { return std::sqrt(v.front() * v.back()); };
+  std::array<double, 3> v{};
+  for (std::size_t a = 0; a < 3; ++a) v[a] = 0.5 * (c.ends[a][0] + c.ends[a][1]);
+  c.add(mid(c.tau), mid(c.a_e), mid(c.a_d), v, dt, dl);
+  for (std::size_t i = 0; i < dt.size(); ++i)
+    if (!std::isfinite(dt[i]) || !std::isfinite(dl[i])) fuzz::finding("the cross terms added are not finite");
+}
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using skin::transport::accurate::SkinStackTable;
   namespace fuzz = skin::fuzz;
   offsets(data, size);
+  cross(data, size);
   SkinStackTable table;
   if (!fuzz::accepts([&] { table = SkinStackTable::parse(fuzz::text(data, size), "fuzz.csv"); })) return 0;
   const std::string csv = table.to_csv();

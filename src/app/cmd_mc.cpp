@@ -261,7 +261,7 @@ void register_random_walk_command(CLI::App& app) {
 void register_skin_table_command(CLI::App& app) {
   struct Opts {
     std::string out, reuse;
-    bool offsets = false;
+    bool offsets = false, cross = false;
     std::vector<std::string> axes;
   };
   auto o = std::make_shared<Opts>();
@@ -277,9 +277,30 @@ void register_skin_table_command(CLI::App& app) {
   sub->add_flag("--offsets", o->offsets,
                 "Tabulate instead the offsets of the built-in table for another g, index and dermis ratio "
                 "(data/skin_stack_offsets.csv; about 45 min on 2 cores)");
+  sub->add_flag("--cross", o->cross,
+                "Tabulate instead the cross terms of the built-in offsets, for two of g, index and dermis ratio "
+                "off the table's at once (data/skin_stack_cross.csv; about 30 min on 2 cores; with --reuse only the corners it lacks)")
+      ->excludes("--offsets");
   sub->add_option("--offset-nodes", o->axes,
                   "With --offsets: only these nodes, as AXIS=VALUE (g=0.8, eta=1.47, dermis_ratio=2); default: all");
   sub->callback([o] {
+    if (o->cross) {
+      namespace acc = transport::accurate;
+      if (!o->axes.empty()) throw util::InputError("--cross does not take --offset-nodes");
+      // The built-in table and offsets, without their own cross terms.
+      acc::SkinStackTable table = acc::SkinStackTable::parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
+      acc::SkinStackOffsets offsets = acc::SkinStackOffsets::parse(util::data::embedded("skin_stack_offsets.csv"), "skin_stack_offsets.csv");
+      offsets.settle(table);
+      table.offsets = &offsets;
+      acc::SkinStackCross cross = acc::SkinStackCross::default_nodes(offsets);
+      cross.provenance = "skin tabulate-skin-profiles --cross (FrequencyStack, k0 = 0.02 s)";
+      std::optional<acc::SkinStackCross> reuse;
+      if (!o->reuse.empty()) reuse = acc::SkinStackCross::parse(util::io::read_file(o->reuse, "reuse", std::uintmax_t{64} << 20), o->reuse);
+      cross.compute(table, progress_bar("stacks"), reuse ? &*reuse : nullptr);
+      util::io::write_file_atomic(o->out, cross.to_csv());
+      std::cout << "wrote " << o->out << '\n';
+      return;
+    }
     if (o->offsets) {
       namespace acc = transport::accurate;
       const acc::SkinStackTable table = acc::SkinStackTable::parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");

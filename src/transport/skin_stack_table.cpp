@@ -642,7 +642,7 @@ SkinStackOffsets SkinStackOffsets::default_nodes(const SkinStackTable& table) {
   o.base = {table.g, table.eta, table.dermis_ratio};
   o.nodes[0] = {0.7, 0.8, 0.9, 0.95, 0.97};
   o.nodes[1] = {1.33, 1.4, 1.47, 1.55};
-  o.nodes[2] = {0.2, 0.3, 0.5, 0.75, 1.1, 1.5, 2.0};
+  o.nodes[2] = {0.2, 0.3, 0.5, 0.75, 1.0, 1.4, 2.0};
   // Every tau node (a thin top layer's offsets change fast with its depth); a_e and a_d every
   // other up to 0.4, then 0.5 apart in sqrt a (and the last node); x every other (8 per decade).
   o.tau = table.tau;
@@ -911,47 +911,53 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
   return o;
 }
 
-void SkinStackOffsets::settle(const SkinStackTable& table) {
-  // Where the light from below is under kReliableLow of the top layer's at a node, its part is
-  // the difference of two solves of nearly the same value, and the offset of that difference is
-  // noise (seen: 0.5 off the solver's in a bloody dermis at x 2-3): there the offset holds its
-  // value from the nearest x where the part is reliable (in a row reliable nowhere, from where
-  // it is largest against the top layer's).
+namespace {
+// Where the light from below is under kReliableLow of the top layer's at a node, its part is the
+// difference of two solves of nearly the same value, and the offset of that difference is noise
+// (seen: 0.5 off the solver's in a bloody dermis at x 2-3): there each row of `rows` (laid out as
+// d_low on the coarse nodes tau, a_e, a_d and every stride-th x of the table's) holds its value
+// from the nearest x where the part is reliable (in a row reliable nowhere, from where it is
+// largest against the top layer's).
+void hold_unreliable_low(const SkinStackTable& table, const std::vector<double>& tau, const std::vector<double>& a_e,
+                         const std::vector<double>& a_d, std::size_t n_x, std::vector<double>& rows) {
   constexpr double kReliableLow = 0.05;
-  const std::size_t n_x = x.size(), n_e = a_e.size(), n_d = a_d.size(), nx_t = table.x.size();
+  if (rows.empty()) return;
+  const std::size_t n_e = a_e.size(), n_d = a_d.size(), nx_t = table.x.size();
   const std::size_t stride = (nx_t - 1) / (n_x - 1);
   std::vector<std::size_t> it, ie, id;
   for (double v : tau) it.push_back(node_index(table.tau, v));
   for (double v : a_e) ie.push_back(node_index(table.a_e, v));
   for (double v : a_d) id.push_back(node_index(table.a_d, v));
-  for (auto& per_node : d_low)
-    for (std::vector<double>& d : per_node) {
-      if (d.empty()) continue;
-      for (std::size_t k = 0; k < tau.size() * n_e * n_d; ++k) {
-        const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
-        const std::size_t kt = it[i_t] * table.a_e.size() + ie[i_e], k_low = kt * table.a_d.size() + id[i_d];
-        std::vector<char> ok(n_x);
-        std::size_t best = 0;
-        double best_q = -1e300;
-        bool any = false;
-        for (std::size_t i = 0; i < n_x; ++i) {
-          const double q = table.ln_rho[k_low * nx_t + stride * i] - table.ln_rho_top[kt * nx_t + stride * i];
-          ok[i] = q >= std::log(kReliableLow);
-          any = any || ok[i];
-          if (q > best_q) { best_q = q; best = i; }
-        }
-        if (!any) ok[best] = 1;
-        hold_where_not(d.data() + k * n_x, ok);
-      }
+  for (std::size_t k = 0; k < tau.size() * n_e * n_d; ++k) {
+    const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
+    const std::size_t kt = it[i_t] * table.a_e.size() + ie[i_e], k_low = kt * table.a_d.size() + id[i_d];
+    std::vector<char> ok(n_x);
+    std::size_t best = 0;
+    double best_q = -1e300;
+    bool any = false;
+    for (std::size_t i = 0; i < n_x; ++i) {
+      const double q = table.ln_rho[k_low * nx_t + stride * i] - table.ln_rho_top[kt * nx_t + stride * i];
+      ok[i] = q >= std::log(kReliableLow);
+      any = any || ok[i];
+      if (q > best_q) { best_q = q; best = i; }
     }
+    if (!any) ok[best] = 1;
+    hold_where_not(rows.data() + k * n_x, ok);
+  }
+}
+}  // namespace
+
+void SkinStackOffsets::settle(const SkinStackTable& table) {
+  for (auto& per_node : d_low)
+    for (std::vector<double>& d : per_node) hold_unreliable_low(table, tau, a_e, a_d, x.size(), d);
 }
 
 std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) const {
   const double v[kAxes] = {g_v, eta_v, ratio_v};
-  // The axes' offsets are added, their cross terms not tabulated: g and the index together stay
-  // within a few per cent of the solver (measured: 0.3-6.4 %, median 0.9 %, above 1e-4 of R(0.02
-  // mm) over 10 random skins), another dermis ratio with another g or index does not (up to 22 %).
-  if (ratio_v != base[2] && (g_v != base[0] || eta_v != base[1]))
+  // Without cross terms the axes' offsets are added alone: g and the index together stay within a
+  // few per cent of the solver (measured: 0.3-6.4 %, median 0.9 %, above 1e-4 of R(0.02 mm) over
+  // 10 random skins), another dermis ratio with another g or index does not (up to 22 %).
+  if (!cross && ratio_v != base[2] && (g_v != base[0] || eta_v != base[1]))
     return "another dermis scattering ratio together with another g or index (the skin table's offsets "
            "do not combine them)";
   for (int a = 0; a < kAxes; ++a) {
@@ -965,7 +971,8 @@ std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) cons
 }
 
 void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double eta_v, double ratio_v,
-                           const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low) const {
+                           const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low,
+                           bool with_cross) const {
   const std::size_t n_x = x.size(), n_e = a_e.size(), n_d = a_d.size();
   const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
   const Lagrange4Stencil st = lagrange4_stencil(tau, t);
@@ -1013,6 +1020,7 @@ void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double et
         }
     }
   }
+  if (with_cross && cross) cross->add(t, ae, ad, {g_v, eta_v, ratio_v}, dt, dl);
   // This table's x are every stride-th of the table's (ln x even): the others by cubic Lagrange
   // in the index.
   const std::size_t stride = (table_x.size() - 1) / (n_x - 1);
@@ -1034,6 +1042,302 @@ void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double et
     }
     top[i] += ot;
     low[i] += ol;
+  }
+}
+
+// --- Cross terms of two axes ------------------------------------------------------------------
+
+namespace {
+const char* const kCrossPairNames[SkinStackCross::kPairs] = {"g x eta", "g x dermis_ratio", "eta x dermis_ratio"};
+// Every other node of the offsets' (and the last): the cross terms are a few per cent of the
+// profile and smooth in the parameters (measured, docs/accurate-solver.md sec. 4).
+std::vector<double> every_other(const std::vector<double>& v) {
+  std::vector<double> out;
+  for (std::size_t i = 0; i < v.size(); i += 2) out.push_back(v[i]);
+  if (v.size() % 2 == 0) out.push_back(v.back());
+  return out;
+}
+}  // namespace
+
+SkinStackCross SkinStackCross::default_nodes(const SkinStackOffsets& offsets) {
+  SkinStackCross c;
+  c.base = offsets.base;
+  for (std::size_t a = 0; a < SkinStackOffsets::kAxes; ++a) c.ends[a] = {offsets.nodes[a].front(), offsets.nodes[a].back()};
+  c.tau = every_other(offsets.tau);
+  c.a_e = every_other(offsets.a_e);
+  c.a_d = every_other(offsets.a_d);
+  c.x = offsets.x;
+  return c;
+}
+
+void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback& progress, const SkinStackCross* reuse) {
+  if (!table.offsets) throw InputError("skin table cross terms: the table has no offsets");
+  const SkinStackOffsets& off = *table.offsets;
+  const std::size_t n_t = tau.size(), n_e = a_e.size(), n_d = a_d.size(), n_x = x.size(), nx_t = table.x.size();
+  if (n_x < 2 || (nx_t - 1) % (n_x - 1) != 0) throw InputError("skin table cross terms: x is not every k-th of the table's");
+  const std::size_t stride = (nx_t - 1) / (n_x - 1);
+  for (std::size_t i = 0; i < n_x; ++i)
+    if (!same_node(x[i], table.x[stride * i])) throw InputError("skin table cross terms: x is not every k-th of the table's");
+  // The geometry of a corner.
+  auto values = [&](int p, int corner) {
+    std::array<double, SkinStackOffsets::kAxes> v = base;
+    const auto [a, b] = kPairAxes[static_cast<std::size_t>(p)];
+    v[static_cast<std::size_t>(a)] = ends[static_cast<std::size_t>(a)][static_cast<std::size_t>(corner / 2)];
+    v[static_cast<std::size_t>(b)] = ends[static_cast<std::size_t>(b)][static_cast<std::size_t>(corner % 2)];
+    return v;
+  };
+  auto geometry = [&](const std::array<double, SkinStackOffsets::kAxes>& v) {
+    SkinStackTable geo;
+    geo.g = v[0];
+    geo.eta = v[1];
+    geo.dermis_ratio = v[2];
+    geo.x = table.x;
+    return geo;
+  };
+  // The table's parts with both axes' offsets (no cross terms), at this x.
+  auto predicted = [&](const std::array<double, SkinStackOffsets::kAxes>& v, double t, double e, double d,
+                       std::vector<double>& top, std::vector<double>& low) {
+    table.ln_parts_at(t, e, d, top, low);
+    off.add(t, e, d, v[0], v[1], v[2], table.x, top, low, false);
+  };
+  auto coarse = [&](const std::vector<double>& fine) {
+    std::vector<double> out(n_x);
+    for (std::size_t i = 0; i < n_x; ++i) out[i] = fine[stride * i];
+    return out;
+  };
+  auto peak_of = [](const std::vector<double>& v) { return *std::max_element(v.begin(), v.end()); };
+  struct Job { int pair, corner; std::size_t k; };
+  std::vector<Job> top_jobs, low_jobs;
+  std::array<std::size_t, kPairs * 4> first_top{};  // per corner, its first top job
+  for (int p = 0; p < kPairs; ++p)
+    for (int c = 0; c < 4; ++c) {
+      const auto pu = static_cast<std::size_t>(p), cu = static_cast<std::size_t>(c);
+      c_top[pu][cu].assign(p == 0 ? n_t * n_e * n_x : 0, 0.0);
+      c_low[pu][cu].assign(n_t * n_e * n_d * n_x, 0.0);
+      const auto v = values(p, c);
+      if (v[static_cast<std::size_t>(kPairAxes[pu][0])] == base[static_cast<std::size_t>(kPairAxes[pu][0])] ||
+          v[static_cast<std::size_t>(kPairAxes[pu][1])] == base[static_cast<std::size_t>(kPairAxes[pu][1])])
+        continue;  // an axis without nodes on that side: no term
+      if (reuse && reuse->base == base && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) &&
+          same_nodes(reuse->a_d, a_d) && same_nodes(reuse->x, x)) {
+        bool same = false;
+        for (int rc = 0; rc < 4 && !same; ++rc) {
+          const std::size_t a = static_cast<std::size_t>(kPairAxes[pu][0]), b = static_cast<std::size_t>(kPairAxes[pu][1]);
+          const auto rcu = static_cast<std::size_t>(rc);
+          same = same_node(reuse->ends[a][rcu / 2], v[a]) && same_node(reuse->ends[b][rcu % 2], v[b]) &&
+                 !(reuse->ends[a][rcu / 2] == reuse->base[a] || reuse->ends[b][rcu % 2] == reuse->base[b]);
+          if (same) {
+            c_top[pu][cu] = reuse->c_top[pu][rcu];
+            c_low[pu][cu] = reuse->c_low[pu][rcu];
+          }
+        }
+        if (same) continue;  // copied
+      }
+      first_top[pu * 4 + cu] = top_jobs.size();
+      for (std::size_t k = 0; k < n_t * n_e; ++k) top_jobs.push_back({p, c, k});
+      for (std::size_t k = 0; k < n_t * n_e * n_d; ++k) low_jobs.push_back({p, c, k});
+    }
+  std::mutex m;
+  std::size_t done = 0;
+  const std::size_t total = top_jobs.size() + low_jobs.size();
+  auto tick = [&] {
+    if (!progress) return;
+    const std::lock_guard<std::mutex> lock(m);
+    progress(++done, total);
+  };
+  // The top layers alone: their R(k) (which the light from below subtracts) and profiles.
+  std::vector<std::vector<double>> tops(top_jobs.size()), tops_k(top_jobs.size());
+  tbb::parallel_for(std::size_t{0}, top_jobs.size(), [&](std::size_t q) {
+    if (util::cancel::requested()) return;
+    const Job& jb = top_jobs[q];
+    const auto v = values(jb.pair, jb.corner);
+    const SkinStackTable geo = geometry(v);
+    const std::size_t i_t = jb.k / n_e, i_e = jb.k % n_e;
+    tops_k[q] = top_frequencies(geo, tau[i_t], a_e[i_e]);
+    const Layer ab = absorber(geo);
+    tops[q] = solve(geo, tau[i_t], a_e[i_e], &ab);
+    if (jb.pair == 0) {
+      std::vector<double> top, low;
+      predicted(v, tau[i_t], a_e[i_e], a_d.front(), top, low);
+      const std::vector<double> base_row = coarse(top);
+      const std::vector<double> d = offset_row(coarse(floored_log(tops[q])), std::log(peak_of(tops[q])), base_row.data(), peak_of(base_row));
+      std::copy(d.begin(), d.end(), c_top[0][static_cast<std::size_t>(jb.corner)].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
+    }
+    tick();
+  });
+  util::cancel::check();
+  tbb::parallel_for(std::size_t{0}, low_jobs.size(), [&](std::size_t q) {
+    if (util::cancel::requested()) return;
+    const Job& jb = low_jobs[q];
+    const auto v = values(jb.pair, jb.corner);
+    const SkinStackTable geo = geometry(v);
+    const std::size_t i_d = jb.k % n_d, i_e = (jb.k / n_d) % n_e, i_t = jb.k / (n_d * n_e);
+    const std::size_t q_top = first_top[static_cast<std::size_t>(jb.pair) * 4 + static_cast<std::size_t>(jb.corner)] + i_t * n_e + i_e;
+    const std::vector<double>& T = tops[q_top];
+    const std::vector<double> lowp = light_from_below(geo, tau[i_t], a_e[i_e], a_d[i_d], tops_k[q_top]);
+    const std::vector<double> ln_low = floored_low(T, lowp);
+    std::vector<double> top, low;
+    predicted(v, tau[i_t], a_e[i_e], a_d[i_d], top, low);
+    double base_peak = -1e300;
+    for (std::size_t i = 0; i < nx_t; ++i) base_peak = std::max(base_peak, log_sum(top[i], low[i]));
+    const std::vector<double> base_low = coarse(low);
+    const std::vector<double> d = offset_row(coarse(ln_low), std::log(whole_peak(T, lowp)), base_low.data(), base_peak);
+    std::copy(d.begin(), d.end(), c_low[static_cast<std::size_t>(jb.pair)][static_cast<std::size_t>(jb.corner)].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
+    tick();
+  });
+  util::cancel::check();
+}
+
+std::string SkinStackCross::to_csv() const {
+  std::ostringstream os;
+  os << "# Spectral Skin: cross terms of the skin table's offsets (data/skin_stack_offsets.csv) for two\n"
+        "# of g, index and dermis ratio off the table's at once: at each corner (either end of each\n"
+        "# axis) ln rho solved by this project's frequency-domain transport solver (FrequencyStack)\n"
+        "# minus ln rho of the table with both axes' offsets, on a coarse subset of the offsets' nodes;\n"
+        "# their use: include/skin/transport/skin_stack_table.hpp, docs/accurate-solver.md sec. 4.\n";
+  os << "# provenance: " << provenance << '\n';
+  for (std::size_t a = 0; a < SkinStackOffsets::kAxes; ++a)
+    os << "# " << SkinStackOffsets::kAxisNames[a] << ": " << format_number(base[a]) << "\n# "
+       << SkinStackOffsets::kAxisNames[a] << "_ends: " << format_number_list({ends[a][0], ends[a][1]}) << '\n';
+  os << "# tau: " << format_number_list(tau) << "\n# a_e: " << format_number_list(a_e)
+     << "\n# a_d: " << format_number_list(a_d) << "\n# x: " << format_number_list(x) << '\n';
+  os << "# Per pair (0: g x eta, 1: g x dermis_ratio, 2: eta x dermis_ratio) and corner: per (tau, a_e)\n"
+        "# the top layer's term (a_d = inf; pair 0 only), then per a_d the term of the light from below.\n";
+  os << "pair,value_a,value_b,tau,a_e,a_d";
+  for (std::size_t i = 0; i < x.size(); ++i) os << ",c_" << i;
+  os << '\n';
+  char buf[32];
+  for (std::size_t p = 0; p < kPairs; ++p)
+    for (std::size_t c = 0; c < 4; ++c) {
+      const auto [a, b] = kPairAxes[p];
+      const double va = ends[static_cast<std::size_t>(a)][c / 2], vb = ends[static_cast<std::size_t>(b)][c % 2];
+      std::size_t k = 0, k_top = 0;
+      auto row = [&](double t, double e, const char* d, const double* v) {
+        os << p << ',' << format_number_list({va, vb, t, e}) << ',' << d;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+          std::snprintf(buf, sizeof buf, ",%.3f", v[i]);
+          os << buf;
+        }
+        os << '\n';
+      };
+      for (double t : tau)
+        for (double e : a_e) {
+          if (!c_top[p][c].empty()) row(t, e, "inf", c_top[p][c].data() + k_top++ * x.size());
+          for (double d : a_d) row(t, e, format_number(d).c_str(), c_low[p][c].data() + k++ * x.size());
+        }
+    }
+  return os.str();
+}
+
+SkinStackCross SkinStackCross::parse(std::string_view text, std::string_view source) {
+  const std::string src(source);
+  const auto meta = csv_metadata(text);
+  SkinStackCross c;
+  c.provenance = meta.count("provenance") ? meta.at("provenance") : "";
+  const double lo[SkinStackOffsets::kAxes] = {0.0, 1.0, 1e-3}, hi[SkinStackOffsets::kAxes] = {0.99, 3.0, 1e3};
+  for (std::size_t a = 0; a < SkinStackOffsets::kAxes; ++a) {
+    const std::string name = SkinStackOffsets::kAxisNames[a];
+    c.base[a] = metadata_number(meta, name, src);
+    const std::vector<double> e = metadata_numbers(meta, name + "_ends", src);
+    if (!(e.size() == 2 && e[0] >= lo[a] && e[0] <= c.base[a] && c.base[a] <= e[1] && e[1] <= hi[a] && e[0] < e[1]))
+      throw InputError(src + ": '" + name + "_ends' must be two different values within [" + format_number(lo[a]) + ", " +
+                       format_number(hi[a]) + "], one at or below and one at or above the table's " + format_number(c.base[a]));
+    c.ends[a] = {e[0], e[1]};
+  }
+  c.tau = metadata_numbers(meta, "tau", src);
+  c.a_e = metadata_numbers(meta, "a_e", src);
+  c.a_d = metadata_numbers(meta, "a_d", src);
+  c.x = metadata_numbers(meta, "x", src);
+  for (const auto& [v, key] : {std::pair{&c.tau, "tau"}, {&c.a_e, "a_e"}, {&c.a_d, "a_d"}, {&c.x, "x"}}) {
+    if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
+    for (std::size_t i = 0; i < v->size(); ++i)
+      if (!((*v)[i] >= 1e-9 && (*v)[i] <= 1e9) ||
+          (i > 0 && !(std::sqrt((*v)[i]) > std::sqrt((*v)[i - 1]) && std::log((*v)[i]) > std::log((*v)[i - 1]))))
+        throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
+  }
+  const Table data = parse_csv(text, src);
+  const std::size_t n_x = c.x.size(), n_t = c.tau.size(), n_e = c.a_e.size(), n_d = c.a_d.size();
+  if (data.columns.size() != 6 + n_x)
+    throw InputError(src + ": expected " + std::to_string(6 + n_x) + " columns, found " + std::to_string(data.columns.size()));
+  std::size_t r = 0;
+  const std::size_t rows = data.rows();
+  for (std::size_t p = 0; p < kPairs; ++p)
+    for (std::size_t k4 = 0; k4 < 4; ++k4) {
+      const auto [a, b] = kPairAxes[p];
+      const double va = c.ends[static_cast<std::size_t>(a)][k4 / 2], vb = c.ends[static_cast<std::size_t>(b)][k4 % 2];
+      c.c_top[p][k4].assign(p == 0 ? n_t * n_e * n_x : 0, 0.0);
+      c.c_low[p][k4].assign(n_t * n_e * n_d * n_x, 0.0);
+      std::size_t k = 0, k_top = 0;
+      for (std::size_t i_t = 0; i_t < n_t; ++i_t)
+        for (std::size_t i_e = 0; i_e < n_e; ++i_e)
+          for (std::size_t i_d = p == 0 ? 0 : 1; i_d <= n_d; ++i_d) {
+            const bool top = i_d == 0;
+            if (r >= rows)
+              throw InputError(src + ": the file ends before the rows of " + kCrossPairNames[p] + " = (" + format_number(va) +
+                               ", " + format_number(vb) + ")");
+            const double want[6] = {static_cast<double>(p), va, vb, c.tau[i_t], c.a_e[i_e], top ? kInfinity : c.a_d[i_d - 1]};
+            for (std::size_t col = 0; col < 6; ++col) {
+              const double v = data.data[col][r];
+              if (!(want[col] == kInfinity ? v == kInfinity : (col == 0 ? v == want[col] : std::abs(v / want[col] - 1) <= 1e-6)))
+                throw InputError(src + ": row " + std::to_string(r + 1) + " is not node (pair, value_a, value_b, tau, a_e, a_d) = (" +
+                                 std::to_string(p) + ", " + format_number(va) + ", " + format_number(vb) + ", " +
+                                 format_number(want[3]) + ", " + format_number(want[4]) + ", " + format_number(want[5]) + ")");
+            }
+            double* out = top ? c.c_top[p][k4].data() + k_top++ * n_x : c.c_low[p][k4].data() + k++ * n_x;
+            for (std::size_t i = 0; i < n_x; ++i) {
+              const double v = data.data[6 + i][r];
+              if (!(std::abs(v) <= kMaxOffset))
+                throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[6 + i] + " = " +
+                                 format_number(v) + " is not a finite number within " + format_number(kMaxOffset) + " of 0");
+              out[i] = v;
+            }
+            ++r;
+          }
+    }
+  if (r != rows) throw InputError(src + ": " + std::to_string(rows - r) + " row(s) after its last node");
+  return c;
+}
+
+void SkinStackCross::add(double t, double ae, double ad, const std::array<double, SkinStackOffsets::kAxes>& v,
+                         std::vector<double>& dt, std::vector<double>& dl) const {
+  // Per axis: the side (0 below the base, 1 above) and the position from the base to that end.
+  std::array<std::size_t, SkinStackOffsets::kAxes> side{};
+  std::array<double, SkinStackOffsets::kAxes> w{};
+  for (std::size_t a = 0; a < SkinStackOffsets::kAxes; ++a) {
+    side[a] = v[a] > base[a] ? 1 : 0;
+    if (v[a] == base[a] || ends[a][side[a]] == base[a]) continue;  // (no nodes on that side: no term)
+    const int ai = static_cast<int>(a);
+    w[a] = (axis_variable(ai, v[a]) - axis_variable(ai, base[a])) /
+           (axis_variable(ai, ends[a][side[a]]) - axis_variable(ai, base[a]));
+  }
+  const std::size_t n_x = x.size(), n_e = a_e.size(), n_d = a_d.size();
+  bool any = false;
+  for (const auto& [a, b] : kPairAxes) any = any || (w[static_cast<std::size_t>(a)] != 0 && w[static_cast<std::size_t>(b)] != 0);
+  if (!any) return;
+  const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
+  const Lagrange4Stencil st = lagrange4_stencil(tau, t);
+  const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
+  const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
+  for (std::size_t p = 0; p < kPairs; ++p) {
+    const auto a = static_cast<std::size_t>(kPairAxes[p][0]), b = static_cast<std::size_t>(kPairAxes[p][1]);
+    const double wp = w[a] * w[b];
+    if (wp == 0) continue;
+    const std::size_t corner = 2 * side[a] + side[b];
+    const std::vector<double>& ct = c_top[p][corner];
+    const std::vector<double>& cl = c_low[p][corner];
+    for (std::size_t i = 0; i < 4; ++i)
+      for (std::size_t e = 0; e < 4; ++e) {
+        if (!ct.empty()) {
+          const double wt = wp * st_top.weights[i] * se.weights[e];
+          const double* r = ct.data() + ((st_top.first + i) * n_e + se.first + e) * n_x;
+          for (std::size_t m = 0; m < n_x; ++m) dt[m] += wt * r[m];
+        }
+        for (std::size_t l = 0; l < 4; ++l) {
+          const double wl = wp * st.weights[i] * se.weights[e] * sd.weights[l];
+          const double* r = cl.data() + (((st.first + i) * n_e + se.first + e) * n_d + sd.first + l) * n_x;
+          for (std::size_t m = 0; m < n_x; ++m) dl[m] += wl * r[m];
+        }
+      }
   }
 }
 

@@ -22,6 +22,7 @@
 namespace {
 using skin::physics::Layer;
 using skin::transport::accurate::SkinStackTable;
+using skin::transport::accurate::SkinStackOffsets;
 
 skin::physics::LayerStack preset_stack(const char* name, double lambda) {
   return skin::physics::skin_layer_stack(skin::physics::find_preset(name).parameters, lambda);
@@ -250,7 +251,9 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   p = {};
   p.epidermis_thickness = 2.0;
   EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("sigma_s' d ="), std::string::npos);
-  // Another dermis ratio with another g or index: the offsets do not combine them.
+  // Another dermis ratio with another g or index: the offsets do not combine them (no cross terms
+  // are built in).
+  ASSERT_EQ(t.offsets->cross, nullptr);
   p = {};
   p.g = 0.8;
   p.dermis_scattering_scale = 1.0;
@@ -424,6 +427,68 @@ TEST(SkinStackOffsets, MalformedFilesAreRefused) {
   refused(bad, "'eta_nodes' must lie within [1, 3] and increase");
 }
 
+// The cross terms of two axes (SkinStackCross) refuse malformed files in one line naming the
+// file, a file written by to_csv() reads back, and a term is added only where both of its axes
+// are off the table's, scaled by their positions towards the corner's ends.
+TEST(SkinStackCross, MalformedFilesAreRefusedAndTermsScaleFromTheBase) {
+  using skin::transport::accurate::SkinStackCross;
+  SkinStackCross c;
+  c.ends = {{{0.7, 0.95}, {1.33, 1.55}, {0.2, 2.0}}};
+  c.tau = {1, 2, 3, 4};
+  c.a_e = c.a_d = {0.01, 0.1, 1, 10};
+  c.x = {0.1, 1, 10, 100, 1000};
+  for (std::size_t p = 0; p < SkinStackCross::kPairs; ++p)
+    for (std::size_t k = 0; k < 4; ++k) {
+      c.c_top[p][k].assign(p == 0 ? 4 * 4 * 5 : 0, 0.0);
+      c.c_low[p][k].assign(4 * 4 * 4 * 5, 0.0);
+    }
+  c.c_top[0][3].assign(4 * 4 * 5, 0.25);   // g high, eta high
+  c.c_low[1][0].assign(4 * 4 * 4 * 5, -0.5);  // g low, ratio low
+  const std::string good = c.to_csv();
+  const SkinStackCross back = SkinStackCross::parse(good, "c.csv");
+  EXPECT_EQ(back.to_csv(), good);
+  EXPECT_EQ(back.c_top[0][3], c.c_top[0][3]);
+  EXPECT_EQ(back.c_low[1][0], c.c_low[1][0]);
+  auto added = [&](double g, double eta, double ratio) {
+    std::vector<double> dt(5, 0.0), dl(5, 0.0);
+    back.add(2.5, 0.5, 0.5, {g, eta, ratio}, dt, dl);
+    return std::pair{dt[2], dl[2]};
+  };
+  EXPECT_EQ(added(0.95, 1.4, 0.5), std::pair(0.0, 0.0));  // one axis off: no pair term
+  EXPECT_EQ(added(0.95, 1.55, 0.5).second, 0.0);
+  EXPECT_NEAR(added(0.95, 1.55, 0.5).first, 0.25, 1e-12);  // the corner itself
+  // Halfway in ln(1 - g) and in eta: a quarter of it.
+  EXPECT_NEAR(added(1 - std::sqrt(0.1 * 0.05), 1.475, 0.5).first, 0.25 / 4, 1e-12);
+  EXPECT_NEAR(added(0.9, 1.55, 2.0).second, 0.0, 1e-12);  // eta x ratio: zero terms
+  EXPECT_NEAR(added(1 - std::sqrt(0.1 * 0.3), 1.4, std::sqrt(0.2 * 0.5)).second, -0.5 / 4, 1e-12);
+  // Offsets with cross terms combine another dermis ratio with another g or index; without, not.
+  SkinStackOffsets o = *SkinStackTable::builtin().offsets;
+  EXPECT_NE(o.gap(0.8, 1.45, 1.0).find("do not combine them"), std::string::npos);
+  o.cross = &back;
+  EXPECT_EQ(o.gap(0.8, 1.45, 1.0), "");
+  auto refused = [](const std::string& text, const std::string& what) {
+    expect_refused<SkinStackCross>(text, "c.csv", what, true);
+  };
+  refused(good.substr(0, good.size() - 200), "c.csv");  // truncated
+  std::string bad = good;
+  bad.replace(bad.find("# g_ends: 0.7,0.95"), 18, "# g_ends: 0.91,0.95");
+  refused(bad, "'g_ends' must be two different values within [0, 0.99], one at or below and one at or above the table's 0.9");
+  bad = good;
+  bad.replace(bad.find("\n0,0.7,1.33,1,0.01,inf,"), 23, "\n0,0.7,1.33,1,0.01,0.01,");
+  refused(bad, "is not node (pair, value_a, value_b, tau, a_e, a_d) = (0, 0.7, 1.33, 1, 0.01, inf)");
+  bad = good;
+  bad.replace(bad.rfind("0.000"), 5, "-25.000");
+  refused(bad, "= -25 is not a finite number within 20 of 0");
+  bad = good;
+  bad.replace(bad.rfind("0.000"), 5, "nan");
+  refused(bad, "is 'nan', not a number");
+  bad = good + "2,1.55,2,4,10,10,0,0,0,0,0\n";
+  refused(bad, "1 row(s) after its last node");
+  bad = good;
+  bad.replace(bad.find("# tau: 1,2,3,4"), 14, "# tau: 1,2,3");
+  refused(bad, "'tau' needs at least 4 nodes");
+}
+
 // Skin of another g, index or dermis ratio is read from the table with the offsets of each axis
 // added (docs/accurate-solver.md, sec. 4): against FrequencyStack solved for the same stack over
 // 0.02-10 mm, worst deviation where R is above 1e-4 of R(0.02 mm) (and above 1e-5), at nodes of
@@ -442,6 +507,7 @@ TEST(SkinStackOffsets, ProfilesOfAnotherGeometryMatchTheSolver) {
                                                      {"tanned", 0.9, 1.4, 1.8, 0.1, 500.0},
                                                      {"caucasian", 0.75, 1.5, 0.5, 0.15, 650.0},
                                                      {"caucasian", 0.8, 1.4, 0.5, 0.06, 450.0}})) {
+
     skin::physics::SkinParameters p = skin::physics::find_preset(c.preset).parameters;
     p.g = c.g;
     p.eta = c.eta;

@@ -89,6 +89,8 @@ struct SkinStackTable {
   std::vector<double> solve_half_space(double a) const;
 };
 
+struct SkinStackCross;
+
 // Offsets of the table's two parts for skin of another g, index or dermis ratio
 // (docs/accurate-solver.md, sec. 4): per axis (g, eta, dermis_ratio) and per node of it other
 // than the table's own value, ln rho_top(value) - ln rho_top(table) and the same for the light
@@ -97,7 +99,9 @@ struct SkinStackTable {
 // coarse subset of the table's (tau, a_e, a_d) nodes and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
 // tau, sqrt a_e, sqrt a_d, ln x) and across each axis' nodes (in ln(1 - g), eta and ln ratio),
 // and the axes' offsets are added. Where a part is below 1e-9 of its node's peak (noise of the
-// inversion, or the floor) the offset holds its value from the nearest x where it is not.
+// inversion, or the floor) the offset holds its value from the nearest x where it is not. Two or
+// three axes off the table's at once take the cross terms of each pair of them too
+// (SkinStackCross); without them another dermis ratio is not combined with another g or index.
 struct SkinStackOffsets {
   static constexpr int kAxes = 3;  // g, eta, dermis_ratio
   static constexpr const char* kAxisNames[kAxes] = {"g", "eta", "dermis_ratio"};
@@ -109,6 +113,9 @@ struct SkinStackOffsets {
   // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]. The top layer does not
   // depend on the dermis: no top offsets on that axis.
   std::array<std::vector<std::vector<double>>, kAxes> d_top, d_low;
+  // The cross terms of pairs of axes (none: not combined). The built-in offsets have the
+  // built-in cross terms (data/skin_stack_cross.csv).
+  const SkinStackCross* cross = nullptr;
 
   // The built-in nodes (data/skin_stack_offsets.csv) for `table`, without values.
   static SkinStackOffsets default_nodes(const SkinStackTable& table);
@@ -126,9 +133,49 @@ struct SkinStackOffsets {
   // Why (g, eta, dermis_ratio) is not covered (empty when it is).
   std::string gap(double g, double eta, double dermis_ratio) const;
   // Adds the offsets at (tau, a_e, a_d) to the table's parts at the table's x nodes (`table_x`:
-  // this table's x are every k-th of them).
+  // this table's x are every k-th of them), with the cross terms when there are any and
+  // `with_cross`.
   void add(double t, double ae, double ad, double g, double eta, double dermis_ratio,
-           const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low) const;
+           const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low,
+           bool with_cross = true) const;
+};
+
+// Cross terms of the offsets, for two axes off the table's geometry at once (docs/accurate-
+// solver.md, sec. 4). Per pair of axes ((g, eta), (g, dermis_ratio), (eta, dermis_ratio)) and per
+// corner (the lower or upper end of each of the two axes): the parts solved there minus the
+// table's parts with both axes' offsets added, on a coarse subset of the offsets' (tau, a_e, a_d)
+// nodes, at the offsets' x (held like the offsets where a part is below 1e-9 of its peak). For
+// values between the base and the ends each corner's term is scaled by the product of the two
+// axes' positions from the base towards it (in ln(1 - g), eta and ln ratio: the term is 0 where
+// either axis is at the base), and interpolated in (tau, a_e, a_d) like the offsets. The top
+// layer does not depend on the dermis: top terms on (g, eta) only. The three axes' joint term is
+// not tabulated (measured below 1.1 % of the profile where the pairs' are exact, sec. 4). Unlike
+// the offsets they are not held where the light from below is small against the top layer's: both
+// sides of the difference are computed on their own there (measured: holding them doubled the
+// table's deviation from the solver at a corner's node, 0.3 to 0.95 %).
+struct SkinStackCross {
+  static constexpr int kPairs = 3;
+  static constexpr std::array<std::array<int, 2>, kPairs> kPairAxes{{{0, 1}, {0, 2}, {1, 2}}};
+  std::string provenance;
+  std::array<double, SkinStackOffsets::kAxes> base{0.9, 1.4, 0.5};  // the table's geometry
+  std::array<std::array<double, 2>, SkinStackOffsets::kAxes> ends{};  // per axis, lower and upper end
+  std::vector<double> tau, a_e, a_d, x;  // coarse nodes (among the offsets'), the offsets' x
+  // Per pair and corner (2 x (first axis at its upper end) + (second axis at its upper end)), laid
+  // out as SkinStackOffsets::d_top and d_low; no top terms on pairs with the dermis ratio.
+  std::array<std::array<std::vector<double>, 4>, kPairs> c_top, c_low;
+
+  // The built-in nodes (data/skin_stack_cross.csv) for `offsets` (their axes' ends), without values.
+  static SkinStackCross default_nodes(const SkinStackOffsets& offsets);
+  // Computes the terms against `table` and its offsets (table.offsets, whose own cross terms are
+  // not used). progress(done, total) as SkinStackTable::compute; cancellable. With `reuse` (the
+  // same base and nodes), the corners it holds with the same two values are copied.
+  void compute(const SkinStackTable& table, const util::ProgressCallback& progress = {},
+               const SkinStackCross* reuse = nullptr);
+  std::string to_csv() const;
+  static SkinStackCross parse(std::string_view text, std::string_view source);
+  // Adds the pairs' terms at (tau, a_e, a_d) and the axes' values v to the offsets dt, dl (at x).
+  void add(double t, double ae, double ad, const std::array<double, SkinStackOffsets::kAxes>& v,
+           std::vector<double>& dt, std::vector<double>& dl) const;
 };
 
 // The profile of a stack in the table (gap() empty), as R(r) [1/mm^2] scaled to integrate to R_d.
