@@ -113,8 +113,9 @@ struct SkinStackOffsets {
   // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]. The top layer does not
   // depend on the dermis: no top offsets on that axis.
   std::array<std::vector<std::vector<double>>, kAxes> d_top, d_low;
-  // The cross terms of pairs of axes (none: not combined). The built-in offsets have the
-  // built-in cross terms (data/skin_stack_cross.csv).
+  // The cross terms of pairs of axes (none: another dermis ratio is not combined with another g
+  // or index). None are built in (measured and not accurate enough yet: docs/accurate-solver.md,
+  // sec. 4).
   const SkinStackCross* cross = nullptr;
 
   // The built-in nodes (data/skin_stack_offsets.csv) for `table`, without values.
@@ -164,7 +165,7 @@ struct SkinStackCross {
   // out as SkinStackOffsets::d_top and d_low; no top terms on pairs with the dermis ratio.
   std::array<std::array<std::vector<double>, 4>, kPairs> c_top, c_low;
 
-  // The built-in nodes (data/skin_stack_cross.csv) for `offsets` (their axes' ends), without values.
+  // The default nodes for `offsets` (their axes' ends, every other coarse node), without values.
   static SkinStackCross default_nodes(const SkinStackOffsets& offsets);
   // Computes the terms against `table` and its offsets (table.offsets, whose own cross terms are
   // not used). progress(done, total) as SkinStackTable::compute; cancellable. With `reuse` (the
