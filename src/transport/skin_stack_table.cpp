@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <mutex>
 #include <numbers>
 #include <sstream>
@@ -795,6 +796,46 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
   util::cancel::check();
 }
 
+namespace {
+// The rows of one axis node's offsets (or one corner's cross terms): per (tau, a_e) the top
+// layer's row (a_d = inf, when there is one), then per a_d the light from below's, each
+// "prefix,tau,a_e,a_d" and the values at x to 3 decimals.
+void write_rows(std::ostream& os, const std::string& prefix, const std::vector<double>& tau, const std::vector<double>& a_e,
+                const std::vector<double>& a_d, std::size_t n_x, const std::vector<double>& top, const std::vector<double>& low) {
+  char buf[32];
+  std::size_t k = 0, k_top = 0;
+  auto row = [&](double t, double e, const std::string& d, const double* v) {
+    os << prefix << ',' << format_number_list({t, e}) << ',' << d;
+    for (std::size_t i = 0; i < n_x; ++i) {
+      std::snprintf(buf, sizeof buf, ",%.3f", v[i]);
+      os << buf;
+    }
+    os << '\n';
+  };
+  for (double t : tau)
+    for (double e : a_e) {
+      if (!top.empty()) row(t, e, "inf", top.data() + k_top++ * n_x);
+      for (double d : a_d) row(t, e, format_number(d), low.data() + k++ * n_x);
+    }
+}
+// The coarse nodes of an offsets or cross-terms file, each at least 4, within [1e-9, 1e9] and
+// increasing.
+void read_coarse_nodes(const std::map<std::string, std::string, std::less<>>& meta, const std::string& src, std::vector<double>& tau,
+                       std::vector<double>& a_e, std::vector<double>& a_d, std::vector<double>& x) {
+  tau = metadata_numbers(meta, "tau", src);
+  a_e = metadata_numbers(meta, "a_e", src);
+  a_d = metadata_numbers(meta, "a_d", src);
+  x = metadata_numbers(meta, "x", src);
+  for (const auto& [v, key] : {std::pair{&tau, "tau"}, {&a_e, "a_e"}, {&a_d, "a_d"}, {&x, "x"}}) {
+    if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
+    for (std::size_t i = 0; i < v->size(); ++i)
+      if (!((*v)[i] >= 1e-9 && (*v)[i] <= 1e9) ||
+          (i > 0 && !(std::sqrt((*v)[i]) > std::sqrt((*v)[i - 1]) && std::log((*v)[i]) > std::log((*v)[i - 1]))))
+        throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
+  }
+}
+}  // namespace
+
 std::string SkinStackOffsets::to_csv() const {
   std::ostringstream os;
   os << "# Spectral Skin: offsets of the skin table's two parts (data/skin_stack_profiles.csv) for\n"
@@ -812,25 +853,10 @@ std::string SkinStackOffsets::to_csv() const {
   os << "axis,value,tau,a_e,a_d";
   for (std::size_t i = 0; i < x.size(); ++i) os << ",d_" << i;
   os << '\n';
-  char buf[32];
   for (int a = 0; a < kAxes; ++a)
-    for (std::size_t j = 0; j < nodes[a].size(); ++j) {
-      if (d_low[a][j].empty()) continue;
-      std::size_t k = 0, k_top = 0;
-      auto row = [&](double t, double e, const char* d, const double* v) {
-        os << a << ',' << format_number_list({nodes[a][j], t, e}) << ',' << d;
-        for (std::size_t i = 0; i < x.size(); ++i) {
-          std::snprintf(buf, sizeof buf, ",%.3f", v[i]);
-          os << buf;
-        }
-        os << '\n';
-      };
-      for (double t : tau)
-        for (double e : a_e) {
-          if (!d_top[a][j].empty()) row(t, e, "inf", d_top[a][j].data() + k_top++ * x.size());
-          for (double d : a_d) row(t, e, format_number(d).c_str(), d_low[a][j].data() + k++ * x.size());
-        }
-    }
+    for (std::size_t j = 0; j < nodes[a].size(); ++j)
+      if (!d_low[a][j].empty())
+        write_rows(os, std::to_string(a) + ',' + format_number(nodes[a][j]), tau, a_e, a_d, x.size(), d_top[a][j], d_low[a][j]);
   return os.str();
 }
 
@@ -843,17 +869,7 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
     o.base[static_cast<std::size_t>(a)] = metadata_number(meta, kAxisNames[a], src);
     o.nodes[static_cast<std::size_t>(a)] = metadata_numbers(meta, std::string(kAxisNames[a]) + "_nodes", src);
   }
-  o.tau = metadata_numbers(meta, "tau", src);
-  o.a_e = metadata_numbers(meta, "a_e", src);
-  o.a_d = metadata_numbers(meta, "a_d", src);
-  o.x = metadata_numbers(meta, "x", src);
-  for (const auto& [v, key] : {std::pair{&o.tau, "tau"}, {&o.a_e, "a_e"}, {&o.a_d, "a_d"}, {&o.x, "x"}}) {
-    if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
-    for (std::size_t i = 0; i < v->size(); ++i)
-      if (!((*v)[i] >= 1e-9 && (*v)[i] <= 1e9) ||
-          (i > 0 && !(std::sqrt((*v)[i]) > std::sqrt((*v)[i - 1]) && std::log((*v)[i]) > std::log((*v)[i - 1]))))
-        throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
-  }
+  read_coarse_nodes(meta, src, o.tau, o.a_e, o.a_d, o.x);
   const double lo[kAxes] = {0.0, 1.0, 1e-3}, hi[kAxes] = {0.99, 3.0, 1e3};
   for (int a = 0; a < kAxes; ++a) {
     const auto& v = o.nodes[static_cast<std::size_t>(a)];
@@ -1206,25 +1222,11 @@ std::string SkinStackCross::to_csv() const {
   os << "pair,value_a,value_b,tau,a_e,a_d";
   for (std::size_t i = 0; i < x.size(); ++i) os << ",c_" << i;
   os << '\n';
-  char buf[32];
   for (std::size_t p = 0; p < kPairs; ++p)
     for (std::size_t c = 0; c < 4; ++c) {
       const auto [a, b] = kPairAxes[p];
       const double va = ends[static_cast<std::size_t>(a)][c / 2], vb = ends[static_cast<std::size_t>(b)][c % 2];
-      std::size_t k = 0, k_top = 0;
-      auto row = [&](double t, double e, const char* d, const double* v) {
-        os << p << ',' << format_number_list({va, vb, t, e}) << ',' << d;
-        for (std::size_t i = 0; i < x.size(); ++i) {
-          std::snprintf(buf, sizeof buf, ",%.3f", v[i]);
-          os << buf;
-        }
-        os << '\n';
-      };
-      for (double t : tau)
-        for (double e : a_e) {
-          if (!c_top[p][c].empty()) row(t, e, "inf", c_top[p][c].data() + k_top++ * x.size());
-          for (double d : a_d) row(t, e, format_number(d).c_str(), c_low[p][c].data() + k++ * x.size());
-        }
+      write_rows(os, std::to_string(p) + ',' + format_number_list({va, vb}), tau, a_e, a_d, x.size(), c_top[p][c], c_low[p][c]);
     }
   return os.str();
 }
@@ -1244,17 +1246,7 @@ SkinStackCross SkinStackCross::parse(std::string_view text, std::string_view sou
                        format_number(hi[a]) + "], one at or below and one at or above the table's " + format_number(c.base[a]));
     c.ends[a] = {e[0], e[1]};
   }
-  c.tau = metadata_numbers(meta, "tau", src);
-  c.a_e = metadata_numbers(meta, "a_e", src);
-  c.a_d = metadata_numbers(meta, "a_d", src);
-  c.x = metadata_numbers(meta, "x", src);
-  for (const auto& [v, key] : {std::pair{&c.tau, "tau"}, {&c.a_e, "a_e"}, {&c.a_d, "a_d"}, {&c.x, "x"}}) {
-    if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
-    for (std::size_t i = 0; i < v->size(); ++i)
-      if (!((*v)[i] >= 1e-9 && (*v)[i] <= 1e9) ||
-          (i > 0 && !(std::sqrt((*v)[i]) > std::sqrt((*v)[i - 1]) && std::log((*v)[i]) > std::log((*v)[i - 1]))))
-        throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
-  }
+  read_coarse_nodes(meta, src, c.tau, c.a_e, c.a_d, c.x);
   const Table data = parse_csv(text, src);
   const std::size_t n_x = c.x.size(), n_t = c.tau.size(), n_e = c.a_e.size(), n_d = c.a_d.size();
   if (data.columns.size() != 6 + n_x)
