@@ -33,6 +33,7 @@ const state = {
   fitLimits: null,  // the fit's thresholds ({good_fit_rms}), from the module
   atBound: [],      // keys of the fitted parameters that ended on a bound of the last fit
   lights: {},       // each illuminant's colour as a light in linear sRGB (luminance 1), by name
+  viewLights: { fill: true, back: true },  // the 3D view's fill and back light on (the key always)
   kernels: null,    // the realtime export's document the 3D view's subsurface uses
   kernelsKey: '',   // the request it was computed for
 };
@@ -266,10 +267,14 @@ function urlFragment() {
   q.set('illuminant', state.illuminant);
   if (state.wide) q.set('range', '380-780');
   if ($('coefficients-details').open) q.set('table', 'open');
+  if (!state.viewLights.fill || !state.viewLights.back) q.set('lights', lightsText(state.viewLights));
   const preset = state.presets.find((p) => p.name === state.preset).parameters;
   for (const p of state.table) if (state.values[p.key] !== preset[p.key]) q.set(p.key, String(state.values[p.key]));
   return '#' + q.toString();
 }
+// The 3D view's lights as the URL writes them: the key always, then those of fill and back on.
+const LIGHTS = ['key', 'key,fill', 'key,back', 'key,fill,back'];
+const lightsText = (l) => ['key', ...(l.fill ? ['fill'] : []), ...(l.back ? ['back'] : [])].join(',');
 function writeUrl() {
   clearTimeout(urlTimer);
   const hash = urlFragment();
@@ -306,15 +311,20 @@ function restoreFromUrl() {
   state.illuminant = choice('illuminant', options('illuminant'), state.illuminant);
   state.wide = choice('range', ['400-700', '380-780'], '400-700') === '380-780';
   $('coefficients-details').open = choice('table', ['open', 'closed'], 'closed') === 'open';
+  const lights = choice('lights', LIGHTS, 'key,fill,back');
+  state.viewLights = { fill: lights.includes('fill'), back: lights.includes('back') };
+  $('view3d-fill').checked = state.viewLights.fill;
+  $('view3d-back').checked = state.viewLights.back;
+  if (window.skinView3d) window.skinView3d.setLights(state.viewLights);
   $('solver').value = state.solver;
   $('illuminant').value = state.illuminant;
   $('wide').checked = state.wide;
   state.values = { ...state.presets.find((p) => p.name === state.preset).parameters };
   const texts = {};
   for (const [name, v] of q) {
-    if (['preset', 'solver', 'illuminant', 'range', 'table'].includes(name)) continue;
+    if (['preset', 'solver', 'illuminant', 'range', 'table', 'lights'].includes(name)) continue;
     const p = state.table.find((t) => t.key === name);
-    if (!p) errors.push(`URL: '${name}' is not a parameter key: allowed names are preset, solver, illuminant, range, table and the parameters' keys (${state.table.map((t) => t.key).join(', ')})`);
+    if (!p) errors.push(`URL: '${name}' is not a parameter key: allowed names are preset, solver, illuminant, range, table, lights and the parameters' keys (${state.table.map((t) => t.key).join(', ')})`);
     else texts[name] = v;
   }
   showValues();
@@ -416,6 +426,7 @@ function drawView3d() {
   const view = window.skinView3d;
   if (!view || !state.spectrum) return;
   view.light = state.lights[state.illuminant] || [1, 1, 1];
+  view.setLights(state.viewLights);
   view.update(state.spectrum.color.srgb_linear, { oiliness: state.values.oiliness, roughness: state.values.roughness, eta: state.values.eta });
 }
 window.skinView3dPending = () => { drawView3d(); if (state.kernels) window.skinView3d.setKernels(state.kernels); };
@@ -889,6 +900,14 @@ createSkinModule().then((module) => {
     if (state.spectrum) drawCoefficients();
     if (state.spectrum && !fieldError() && !state.modelError) writeUrl();
   });
+  // The 3D view's fill and back light (view3d.js switches them; the URL keeps them).
+  for (const key of ['fill', 'back']) {
+    $('view3d-' + key).addEventListener('change', () => {
+      state.viewLights = { ...state.viewLights, [key]: $('view3d-' + key).checked };
+      if (window.skinView3d) window.skinView3d.setLights(state.viewLights);
+      if (state.spectrum && !fieldError() && !state.modelError) writeUrl();
+    });
+  }
   watchPlotWidths();
   restoreFromUrl();
   window.skinReady = true;

@@ -31,7 +31,8 @@
 // setLight(rgb), setMode('head' | 'patch'), pixels() (a frame drawn and read back, RGBA bytes,
 // bottom row first), frames (count of frames drawn), lastFrame (performance.now() at its end),
 // litFrames (of them, those that redrew the light before the composite), renderScene(mesh,
-// material) (the view as a `skin render` scene), getCamera()/setCamera(),
+// material) (the view as a `skin render` scene), getCamera()/setCamera(), setLights({fill, back})
+// and lights (one to three lights: the key always, the fill and the back light on or off),
 // loadFile(File), setBrush('turn' | 'blush' | 'pallor' | 'tan' | 'lighten'), clearPaint(),
 // loadMaps(File), mapAxes(centre, most), setMapColours(axes, colours, centre), clearMaps(), maps,
 // painted, paintReady (the grid for the maps or paint is in).
@@ -485,6 +486,7 @@ function createView() {
     parameters: { oiliness: 0.3, roughness: 0.35, eta: 1.4 }, albedo: [0.5, 0.4, 0.35], light: [1, 1, 1],
     kernels: null,  // {variance: [mm^2], share: [[r, g, b]]}
     brush: 'turn', painted: false,
+    lights: { fill: true, back: true },  // the key light is always on
   };
   let headObject = null, headMmPerUnit = 1, patchObject = null;
 
@@ -545,8 +547,8 @@ function createView() {
   function setUniforms() {
     const patchMode = view.mode === 'patch';
     surfaceUniforms.lightColor.value[0].setScalar(KEY.intensity);
-    surfaceUniforms.lightColor.value[1].setScalar(patchMode ? 0 : FILL.intensity);
-    surfaceUniforms.lightColor.value[2].setScalar(patchMode ? 0 : BACK.intensity);
+    surfaceUniforms.lightColor.value[1].setScalar(patchMode || !view.lights.fill ? 0 : FILL.intensity);
+    surfaceUniforms.lightColor.value[2].setScalar(patchMode || !view.lights.back ? 0 : BACK.intensity);
     surfaceUniforms.lightDir.value[0].copy(patchMode ? new THREE.Vector3(0, 0, 1) : KEY.dir);
     surfaceUniforms.translucency.value = !patchMode && !!view.kernels;
     surfaceUniforms.shadows.value = !patchMode;
@@ -753,6 +755,19 @@ function createView() {
       render();
     },
     setLight(rgb) { view.light = rgb; requestRender(); },
+    // The lights on: the key always, the fill and the back light as given (booleans); their
+    // boxes under the view follow.
+    setLights({ fill = view.lights.fill, back = view.lights.back } = {}) {
+      if (typeof fill !== 'boolean' || typeof back !== 'boolean') throw new Error('lights: fill and back must be true or false');
+      if (fill === view.lights.fill && back === view.lights.back) return;
+      relight();
+      view.lights = { fill, back };
+      for (const [id, on] of [['view3d-fill', fill], ['view3d-back', back]]) {
+        const box = document.getElementById(id);
+        if (box) box.checked = on;
+      }
+      requestRender();
+    },
     // The realtime export's document (its "gaussians": variance in mm^2 and weight per channel):
     // each Gaussian's share of the channel's total.
     setKernels(doc) {
@@ -960,7 +975,8 @@ function createView() {
     renderScene(mesh, material) {
       render();
       const v = (x) => [x.x, x.y, x.z];
-      const lights = [KEY, FILL, BACK].map((l) => ({
+      const on = [KEY, ...(view.lights.fill ? [FILL] : []), ...(view.lights.back ? [BACK] : [])];
+      const lights = on.map((l) => ({
         type: 'directional', direction: v(l.dir.clone().negate()),
         irradiance: view.light.map((c) => Math.PI * c * l.intensity),
       }));

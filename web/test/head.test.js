@@ -3,6 +3,8 @@
 //   - a lit head: the Lee Perry-Smith scan when the site holds it (scripts/web.sh copies it),
 //     enough pixels off the background, of a sensible brightness; with the mesh's request
 //     refused, a lit sphere instead;
+//   - one to three lights: the fill and the back light switch off by their boxes (the skin gets
+//     darker, skin render's scene loses them, the URL keeps them) and on again (the same frame);
 //   - the subsurface kernels are the realtime export's for the current parameters;
 //   - moving #param-melanin's slider changes the skin's pixels, and the time from the slider's
 //     input event to the next frame after the view's is measured (median of 15 moves) and
@@ -91,6 +93,29 @@ async function main() {
     const shots = path.join(ROOT, 'build-web', 'screenshots');
     fs.mkdirSync(shots, { recursive: true });
     await (await page.$('#view3d')).screenshot({ path: path.join(shots, 'view3d.png') });
+
+    // One to three lights: the back light and the fill switched off by their boxes each take
+    // light away (the luma of the skin falls, the scene for skin render has one light fewer),
+    // the URL keeps them; both on again, the frame is as before to the byte.
+    {
+      const failures = [];
+      const state = async () => page.evaluate(() => ({ pixels: skinView3d.pixels(), lights: skinView3d.renderScene('m.glb', 'skin').lights.length, hash: location.hash }));
+      const meanLuma = (p) => skin.reduce((s, i) => s + luma(p.data, i), 0) / Math.max(1, skin.length);
+      await page.click('#view3d-back');
+      const noBack = await state();
+      await page.click('#view3d-fill');
+      const keyOnly = await state();
+      await page.click('#view3d-back');
+      await page.click('#view3d-fill');
+      const again = await state();
+      const lumas = [mean, meanLuma(noBack.pixels), meanLuma(keyOnly.pixels)];
+      if (!(lumas[1] < lumas[0] && lumas[2] < lumas[1])) failures.push(`skin luma ${lumas.map((l) => l.toFixed(1)).join(' -> ')} does not fall`);
+      if (noBack.lights !== 2 || keyOnly.lights !== 1 || again.lights !== 3) failures.push(`scene lights ${noBack.lights}, ${keyOnly.lights}, ${again.lights} (expected 2, 1, 3)`);
+      if (!/lights=key&|lights=key$/.test(keyOnly.hash) || /lights=/.test(again.hash)) failures.push(`URL ${keyOnly.hash} / ${again.hash}`);
+      if (again.pixels.data.some((v, i) => v !== head.pixels.data[i])) failures.push('with every light on again the frame differs');
+      check(failures, `lights: skin luma ${lumas.map((l) => l.toFixed(0)).join(' -> ')} with the back light, then the fill off; ` +
+        `the scene's lights 3 -> ${noBack.lights} -> ${keyOnly.lights}; the URL keeps them; all on again, the same frame`);
+    }
 
     // The kernels are the realtime export's of these parameters.
     const kernels = await page.evaluate(() => {

@@ -9,7 +9,7 @@
 //     poor (RMS at or above the module's fit_limits.good_fit_rms);
 //   - plots: legends (model, measured, fit; the profile's R, G, B), the fit's line dashed and
 //     narrower than the model's, drawn over it; every plot text at least 11 px on screen;
-//   - the state in the URL: parameters, solver, illuminant, range and table restored on reload;
+//   - the state in the URL: parameters, solver, illuminant, range, table and the 3D view's lights restored on reload;
 //     a bad value in the URL gives the line a bad field gives (never a silent default);
 //   - layout: at 390 px and at 1280 px wide, no horizontal overflow and no two boxes overlapping;
 //   - accessibility: axe-core (pinned in web/package.json) finds no violation;
@@ -212,9 +212,10 @@ async function main() {
       await page.select('#illuminant', 'A');
       await page.click('#wide');
       await page.click('#coefficients-details summary');
+      await page.click('#view3d-back');
       await page.waitForFunction(() => window.skinState.spectrum.wavelength_nm[0] === 380 && window.skinState.color && !window.skinPending, { polling: 20 });
       // The URL is written once the page has been still for 200 ms.
-      await page.waitForFunction(() => location.hash.includes('range=380-780') && location.hash.includes('table=open') && location.hash.includes('hemoglobin=0.0234567'), { polling: 50, timeout: 5000 });
+      await page.waitForFunction(() => location.hash.includes('range=380-780') && location.hash.includes('table=open') && location.hash.includes('hemoglobin=0.0234567') && location.hash.includes('lights=key%2Cfill'), { polling: 50, timeout: 5000 });
       const before = await page.evaluate(() => ({ hash: location.hash, hex: document.getElementById('hex').textContent, values: window.skinState.values }));
       await page.reload();
       await ready(page);
@@ -224,9 +225,11 @@ async function main() {
         solver: document.getElementById('solver').value, illuminant: document.getElementById('illuminant').value,
         wide: document.getElementById('wide').checked, table: document.getElementById('coefficients-details').open,
         rows: document.querySelectorAll('#coefficients tr').length, field: document.getElementById('param-hemoglobin').value,
+        lights: [document.getElementById('view3d-fill').checked, document.getElementById('view3d-back').checked],
       }));
       if (after.hex !== before.hex || JSON.stringify(after.values) !== JSON.stringify(before.values)) failures.push(`reloaded: ${after.hex} ${JSON.stringify(after.values)} != ${before.hex} ${JSON.stringify(before.values)}`);
-      if (after.preset !== 'asian' || after.solver !== 'multipole' || after.illuminant !== 'A' || !after.wide || !after.table || after.rows !== 202 || after.field !== '0.0234567')
+      if (after.preset !== 'asian' || after.solver !== 'multipole' || after.illuminant !== 'A' || !after.wide || !after.table || after.rows !== 202 || after.field !== '0.0234567' ||
+          JSON.stringify(after.lights) !== '[true,false]')
         failures.push(`reloaded state ${JSON.stringify(after)}`);
       check(failures, `URL ${before.hash.slice(0, 90)}…: restored on reload`);
 
@@ -237,6 +240,7 @@ async function main() {
         ['hemoglobin=1e999', /^hemoglobin \(C_h\) = 1e999 is out of range: allowed range is \[0, 1\]$/, ['hemoglobin']],
         ['solver=nope', /^URL: solver = 'nope' is not known: allowed values are .*accurate/, []],
         ['preset=caucasian&colour=red', /^URL: 'colour' is not a parameter key/, []],
+        ['lights=all', /^URL: lights = 'all' is not known: allowed values are key, key,fill, key,back, key,fill,back$/, []],
       ];
       for (const [hash, message, flagged] of bad) {
         await page.goto(`${url}#${hash}`);
