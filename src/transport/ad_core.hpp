@@ -81,8 +81,13 @@ Vec under_surface(const physics::LayerStack& stack, const Streams& st, int block
 Vec escape_weights(const Streams& st, const physics::LayerStack& stack);
 
 // Azimuthal orders of the frequency-domain solver at frequency k (options, or automatic:
-// 3 + ceil(4 sqrt(kappa)), kappa = k / scaled_extinction of the layer of least
-// extinction, at most kMaxAutomaticOrders; docs/accurate-solver.md, sec. 3). A stack less than
+// kAutomaticOrders at every k > 0; docs/accurate-solver.md, sec. 3). The same number at every
+// k > 0: a step in their number between two frequency nodes is a jump in R(k) that rings in the
+// far field (until 2026-12-05 the orders grew with k, 3 + ceil(4 sqrt(k / sigma_t)) up to 8, and
+// under a dark epidermis over a more scattering dermis, asian skin at 450 nm with the dermis 1.4
+// times as scattering, the profile swung between -160 % and +230 % of the Monte Carlo's over
+// 0.3-0.9 mm, 1e-4 to 1e-6 of its peak, where 8 orders at every k are within 1 %; twice the
+// time per solve). A stack less than
 // kThinStackDepth scaled mean free paths deep in all (a thin slab: little multiple scattering
 // smooths the radiance's dependence on azimuth, and light trapped by total internal reflection
 // runs far along it) gets the same number of orders at every k > 0 (no step in their number
@@ -91,9 +96,9 @@ Vec escape_weights(const Streams& st, const physics::LayerStack& stack);
 // structure of the trapped light narrows as its damping per bounce, ~ the depth, falls; sec. 5),
 // at most kThinStackMostOrders.
 // scaled_extinction: sigma_a + sigma_s (1 - g^16), close to the delta-M scaled extinction of the
-// default quadrature (it sets only how many orders and nodes are used).
+// default quadrature (it sets only how deep a thin stack is and where the nodes end).
 double scaled_extinction(const physics::Layer& l);
-inline constexpr int kMaxAutomaticOrders = 8;
+inline constexpr int kAutomaticOrders = 8;
 inline constexpr int kThinStackOrders = 24;
 inline constexpr double kThinStackDepth = 0.5;
 inline constexpr double kThinStackOrderDepth = 1.5;

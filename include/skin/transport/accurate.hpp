@@ -101,13 +101,10 @@ Totals adding_doubling(const physics::LayerStack& stack, const Options& options 
 // R(0) is adding_doubling()'s R_d computed without its tables (they agree to ~1e-6).
 struct FrequencyOptions {
   Options totals;            // quadrature points (as for the totals)
-  // Orders at k > 0: 0 = automatic (more at higher k; docs/accurate-solver.md, sec. 3), else
-  // [1, 64].
+  // Orders at k > 0: 0 = automatic (the same number at every k > 0, more for a thin stack;
+  // docs/accurate-solver.md, sec. 3), else [1, 64]. Two stacks that get the same orders compute
+  // the same top layers with the same arithmetic (SkinStackTable's light from below).
   int azimuthal_orders = 0;
-  // The extinction [1/mm] from which the automatic orders are chosen (0: the least delta-M scaled
-  // extinction of the stack's layers). Two stacks solved with the same value and the same top
-  // layers compute those layers with the same arithmetic (SkinStackTable's light from below).
-  double orders_extinction = 0;
   // The closed-form single scattering (FrequencyStack) in every layer (true) or in the top layer
   // only (false: the solver of issue 15's first sessions, kept for comparison).
   bool deep_single_scattering = true;
