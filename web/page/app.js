@@ -646,8 +646,9 @@ function drawProfile() {
   const pending = state.profilePending;
   $('profile-pending').hidden = !pending;
   if (pending) {
-    // Off the accurate solver's skin table, or sfd: each wavelength is solved, ~2 s here.
-    const minutes = Math.max(1, Math.round(pending.wavelengths * 2 / 60));
+    // Off the accurate solver's skin table, or sfd: each wavelength is solved, ~4 s here (~2 s
+    // before the solver took 8 azimuthal orders at every frequency, 2026-12-05).
+    const minutes = Math.max(1, Math.round(pending.wavelengths * 4 / 60));
     const why = pending.solver === 'sfd' ? 'sfd reads no table'
       : 'they are off its table of skin profiles: g, index or dermis scattering outside its range, or an epidermis too thin, too thick or too dark for it';
     $('profile-pending-text').textContent =
