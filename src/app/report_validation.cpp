@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <ostream>
 #include <sstream>
 
@@ -404,8 +405,14 @@ std::size_t write_validation_report(std::ostream& md, const ValidationRun& run,
 
 namespace {
 
-// One map of the skin domain: every case a marker at (x, y) of its parameters, green where the
-// solver passes both checks, red where it fails one.
+// A case's worst error over what the check allows: the largest of its annuli's |R - MC| / (5 % +
+// 3 SE) and of |R_d - MC| / (0.5 % + 3 SE); it passes where this is at most 1.
+double worst_share(const CaseResult& c, std::size_t solver) {
+  return std::max(c.check_domain(solver).worst_share, c.rd_share(solver));
+}
+
+// One map of the skin domain: every case a marker at (x, y) of its parameters, coloured by its
+// worst error over the allowance (worst_share): up to 1/4, 1/2, 1 (passes) or beyond (fails).
 void plot_domain_map(const ValidationRun& run, std::size_t solver, const std::string& title,
                      const std::string& x_label, const std::string& y_label, bool log_x,
                      double (*x)(const mc::ValidationCase&), double (*y)(const mc::ValidationCase&),
@@ -415,20 +422,30 @@ void plot_domain_map(const ValidationRun& run, std::size_t solver, const std::st
   fig.x_label = x_label;
   fig.y_label = y_label;
   fig.log_x = log_x;
-  plot::Series pass, fail;
-  pass.label = run.solver_names[solver] + " passes";
-  fail.label = run.solver_names[solver] + " fails";
-  pass.markers = fail.markers = true;
-  pass.rgb = {0.1, 0.6, 0.2};
-  fail.rgb = {0.85, 0.1, 0.1};
-  for (const CaseResult& c : run.cases) {
-    const bool ok = c.check_domain(solver).beyond == 0 && c.rd_within(solver);
-    plot::Series& s = ok ? pass : fail;
-    s.x.push_back(x(c.c));
-    s.y.push_back(y(c.c));
+  struct Band {
+    double upto;
+    const char* label;
+    std::array<double, 3> rgb;
+  };
+  const std::array<Band, 4> bands{{{0.25, "worst error <= 1/4 of 5 % + 3 SE", {0.55, 0.8, 0.55}},
+                                   {0.5, "1/4 - 1/2 of it", {0.1, 0.6, 0.2}},
+                                   {1.0, "1/2 - 1 of it (passes)", {0.95, 0.6, 0.1}},
+                                   {std::numeric_limits<double>::infinity(), "beyond it (fails)", {0.85, 0.1, 0.1}}}};
+  std::array<plot::Series, 4> series;
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    series[b].label = bands[b].label;
+    series[b].rgb = bands[b].rgb;
+    series[b].markers = true;
   }
-  for (plot::Series* s : {&pass, &fail})
-    if (!s->x.empty()) fig.series.push_back(*s);
+  for (const CaseResult& c : run.cases) {
+    const double share = worst_share(c, solver);
+    std::size_t b = 0;
+    while (b + 1 < bands.size() && !(share <= bands[b].upto)) ++b;  // (NaN: beyond)
+    series[b].x.push_back(x(c.c));
+    series[b].y.push_back(y(c.c));
+  }
+  for (const plot::Series& s : series)
+    if (!s.x.empty()) fig.series.push_back(s);
   plot::save(fig, path);
 }
 
@@ -494,17 +511,23 @@ std::size_t write_domain_report(std::ostream& md, const ValidationRun& run,
     plot_domain_map(run, main, "Skin domain: " + name + " against Monte Carlo", "wavelength [nm]",
                     "blood C_h", false, wavelength, blood, plot_dir + "/domain_wavelength_blood.png");
     md << "## Maps of the domain (" << name << ")\n\n"
+       << "Each case is a marker at two of its parameters, coloured by its worst error over what the "
+          "check allows (the column `worst / allowed` below): up to 1/4, 1/2 or 1 of it (passes), or "
+          "beyond (fails).\n\n"
        << "![thickness and melanin](domain_thickness_melanin.png)\n"
           "![g and index](domain_g_eta.png)\n"
           "![wavelength and melanin](domain_wavelength_melanin.png)\n"
           "![wavelength and blood](domain_wavelength_blood.png)\n\n";
   }
-  md << "## Every case\n\n| case | parameters | annuli | beyond 5 % + 3 SE | worst (r mm) | MC R_d | "
-     << run.solver_names[main] << " R_d - MC |\n|---|---|---|---|---|---|---|\n";
+  md << "## Every case\n\n`worst / allowed`: the case's largest |R - MC| / (5 % + 3 SE) over its annuli "
+        "and |R_d - MC| / (0.5 % + 3 SE); it passes where this is at most 1 (the maps' colours).\n\n"
+        "| case | parameters | annuli | beyond 5 % + 3 SE | worst (r mm) | worst / allowed | MC R_d | "
+     << run.solver_names[main] << " R_d - MC |\n|---|---|---|---|---|---|---|---|\n";
   for (const CaseResult& c : run.cases) {
     const auto pc = c.check_domain(main);
     md << "| " << c.c.id << " | " << c.c.title << " | " << pc.checked << " | " << pc.beyond << " | "
-       << percent(pc.worst) << " (" << fmt("%.3g", pc.worst_r) << ") | " << fmt("%.5g", c.mc.R_d)
+       << percent(pc.worst) << " (" << fmt("%.3g", pc.worst_r) << ") | " << fmt("%.2f", worst_share(c, main))
+       << " | " << fmt("%.5g", c.mc.R_d)
        << " +- " << fmt("%.2g", c.mc.R_d_se) << " | "
        << fmt("%+.2f SE", (c.R_d[main] - c.mc.R_d) / std::max(c.mc.R_d_se, 1e-300)) << " |\n";
   }

@@ -234,7 +234,9 @@ CaseResult::ProfileCheck CaseResult::check_domain(std::size_t solver) const {
     if (r - half < 0.02 - 1e-12 || r + half > 10.0 + 1e-9 || !(mc.R_se[i] < 0.03 * mc.R[i])) continue;
     ++pc.checked;
     const double dev = P[i] / mc.R[i] - 1.0;
-    if (std::abs(P[i] - mc.R[i]) > 0.05 * mc.R[i] + 3.0 * mc.R_se[i]) ++pc.beyond;
+    const double allowed = 0.05 * mc.R[i] + 3.0 * mc.R_se[i];
+    if (std::abs(P[i] - mc.R[i]) > allowed) ++pc.beyond;
+    pc.worst_share = std::max(pc.worst_share, std::abs(P[i] - mc.R[i]) / allowed);
     if (std::abs(dev) > std::abs(pc.worst)) {
       pc.worst = dev;
       pc.worst_r = r;
@@ -245,6 +247,10 @@ CaseResult::ProfileCheck CaseResult::check_domain(std::size_t solver) const {
 
 bool CaseResult::rd_within(std::size_t solver, double rel) const {
   return std::abs(R_d.at(solver) - mc.R_d) <= rel * mc.R_d + 3.0 * mc.R_d_se;
+}
+
+double CaseResult::rd_share(std::size_t solver, double rel) const {
+  return std::abs(R_d.at(solver) - mc.R_d) / (rel * mc.R_d + 3.0 * mc.R_d_se);
 }
 
 double CaseResult::top_mfp() const {

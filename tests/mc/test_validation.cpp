@@ -128,6 +128,30 @@ TEST(ValidationCases, AnnulusCheckCountsWhatTheCriterionSays) {
   EXPECT_EQ(c.check_annuli(0, 0.0, 0.3, 0.05, 1e-8).checked, 3);
 }
 
+TEST(ValidationCases, DomainCheckReportsTheWorstErrorOverItsAllowance) {
+  // Three annuli of 0.1 mm centred at 0.1-0.3 mm: the first off by 4 % (allowed 5 % + 3 x 0.1 %),
+  // the second with a 10 % standard error (not checked: above 3 %), the third off by 10 %
+  // (allowed 5 % + 3 x 1 %).
+  mc::CaseResult c;
+  c.mc.r_mm = {0.1, 0.2, 0.3};
+  c.mc.R = {1.0, 0.1, 1e-3};
+  c.mc.R_se = {0.001, 0.01, 1e-5};
+  c.R = {{1.04, 0.2, 0.9e-3}};
+  c.mc.R_d = 0.5;
+  c.mc.R_d_se = 0.001;
+  c.R_d = {0.503};
+  const auto pc = c.check_domain(0);
+  EXPECT_EQ(pc.checked, 2);
+  EXPECT_EQ(pc.beyond, 1);
+  EXPECT_NEAR(pc.worst, -0.1, 1e-12);
+  EXPECT_NEAR(pc.worst_share, 1e-4 / 8e-5, 1e-9);  // the third: beyond (> 1); the first 0.755
+  EXPECT_NEAR(c.rd_share(0), 0.003 / 0.0055, 1e-9);
+  EXPECT_TRUE(c.rd_within(0));
+  c.R[0][2] = 1e-3;  // the third exact: the first is the worst, within its allowance
+  EXPECT_NEAR(c.check_domain(0).worst_share, 0.04 / 0.053, 1e-9);
+  EXPECT_EQ(c.check_domain(0).beyond, 0);
+}
+
 }  // namespace
 
 // The report's plots draw text through Cairo, whose fontconfig keeps a small cache alive until
