@@ -98,8 +98,9 @@ struct SkinStackCross;
 // since 2026-12-05: the nodes computed before hold it as the difference of two profiles) on a
 // coarse subset of the table's (tau, a_e, a_d) nodes and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
 // tau, sqrt a_e, sqrt a_d, ln x) and across each axis' nodes (in ln(1 - g), eta and ln ratio),
-// and the axes' offsets are added. Where a part is below 1e-9 of its node's peak (noise of the
-// inversion, or the floor) the offset holds its value from the nearest x where it is not. Two or
+// and the axes' offsets are added. Where a part is below a threshold of its node's peak (the top
+// layer 1e-9: its inversion's noise, or the floor; the light from below 1e-14, smooth to ~1e-15
+// since it is solved on its own) the offset holds its value from the nearest x where it is not. Two or
 // three axes off the table's at once take the cross terms of each pair of them too
 // (SkinStackCross); without them another dermis ratio is not combined with another g or index.
 struct SkinStackOffsets {
@@ -113,6 +114,10 @@ struct SkinStackOffsets {
   // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]. The top layer does not
   // depend on the dermis: no top offsets on that axis.
   std::array<std::vector<std::vector<double>>, kAxes> d_top, d_low;
+  // Per axis and node: 1 where its light from below was solved on its own (the file's
+  // `# AXIS_low_solved` line; compute() sets it), 0 where it is the difference of two solved profiles
+  // (the nodes computed before 2026-12-05), which settle() holds near the beam.
+  std::array<std::vector<char>, kAxes> low_solved;
   // The cross terms of pairs of axes (none: another dermis ratio is not combined with another g
   // or index). None are built in (measured and not accurate enough yet: docs/accurate-solver.md,
   // sec. 4).
@@ -126,8 +131,9 @@ struct SkinStackOffsets {
                const SkinStackOffsets* reuse = nullptr);
   std::string to_csv() const;
   static SkinStackOffsets parse(std::string_view text, std::string_view source);
-  // Holds the light-from-below offsets where that part is unreliable at a node of `table` (see
-  // the .cpp). The built-in table's offsets (SkinStackTable::builtin().offsets) are
+  // Holds the light-from-below offsets of the nodes whose light from below is the difference of
+  // two profiles (low_solved 0) where that part is unreliable at a node of `table` (see the
+  // .cpp). The built-in table's offsets (SkinStackTable::builtin().offsets) are
   // data/skin_stack_offsets.csv, settled.
   void settle(const SkinStackTable& table);
 
@@ -145,7 +151,7 @@ struct SkinStackOffsets {
 // solver.md, sec. 4). Per pair of axes ((g, eta), (g, dermis_ratio), (eta, dermis_ratio)) and per
 // corner (the lower or upper end of each of the two axes): the parts solved there minus the
 // table's parts with both axes' offsets added, on a coarse subset of the offsets' (tau, a_e, a_d)
-// nodes, at the offsets' x (held like the offsets where a part is below 1e-9 of its peak). For
+// nodes, at the offsets' x (held like the offsets where a part is below its threshold). For
 // values between the base and the ends each corner's term is scaled by the product of the two
 // axes' positions from the base towards it (in ln(1 - g), eta and ln ratio: the term is 0 where
 // either axis is at the base), and interpolated in (tau, a_e, a_d) like the offsets. The top
