@@ -433,6 +433,21 @@ TEST(SkinStackOffsets, MalformedFilesAreRefused) {
   bad = good;
   bad.replace(bad.find("# eta_nodes: 1.4"), 16, "# eta_nodes: 1.4,9");
   refused(bad, "'eta_nodes' must lie within [1, 3] and increase");
+  // Which nodes' light from below was solved on its own: written and read back; a value that is
+  // not one of the axis' other nodes is refused.
+  EXPECT_EQ(good.find("# g_low_solved"), std::string::npos);
+  EXPECT_EQ(back.low_solved[0], (std::vector<char>{0, 0}));
+  SkinStackOffsets solved = o;
+  solved.low_solved = {std::vector<char>{1, 0}, std::vector<char>{0}, std::vector<char>{0}};
+  const std::string with_solved = solved.to_csv();
+  EXPECT_NE(with_solved.find("\n# g_low_solved: 0.8\n"), std::string::npos);
+  EXPECT_EQ(SkinStackOffsets::parse(with_solved, "o.csv").low_solved[0], (std::vector<char>{1, 0}));
+  bad = with_solved;
+  bad.replace(bad.find("# g_low_solved: 0.8"), 19, "# g_low_solved: 0.9");
+  refused(bad, "'g_low_solved' names 0.9, which is not one of the 'g_nodes' other than the table's 0.9");
+  bad = with_solved;
+  bad.replace(bad.find("# g_low_solved: 0.8"), 19, "# g_low_solved: 0.7");
+  refused(bad, "'g_low_solved' names 0.7");
 }
 
 // The cross terms of two axes (SkinStackCross) refuse malformed files in one line naming the
@@ -532,5 +547,40 @@ TEST(SkinStackOffsets, ProfilesOfAnotherGeometryMatchTheSolver) {
               << c.lambda << " nm: worst " << 100 * worst4 << " % above 1e-4, " << 100 * worst5 << " % above 1e-5\n";
     EXPECT_LT(worst4, 0.03) << c.preset << " at " << c.lambda << " nm";
     EXPECT_LT(worst5, 0.10) << c.preset << " at " << c.lambda << " nm";
+  }
+}
+
+// The stored dermis-ratio offsets are their nodes solved again (SkinStackOffsets::compute on one
+// (tau, a_e, a_d) node, settled as the built-in ones): to the file's 3 decimals of ln rho. A
+// dark epidermis over a dermis of ratio 1.4 (tau 2, a_e 1.28, a_d 0.04: its far field is the
+// light from below, whose offsets a threshold of 1e-9 of the peak used to hold from 0.6 mm of
+// asian skin at 450 nm on) and a bright one at ratio 0.2 (the first only under the sanitizers).
+TEST(SkinStackOffsets, StoredDermisRatioNodesAreSolvedAgain) {
+  const SkinStackTable& t = SkinStackTable::builtin();
+  const SkinStackOffsets& b = *t.offsets;
+  auto nearest = [](const std::vector<double>& v, double x) {
+    return static_cast<std::size_t>(std::min_element(v.begin(), v.end(), [x](double p, double q) { return std::abs(p - x) < std::abs(q - x); }) - v.begin());
+  };
+  struct Case { double ratio, tau, a_e, a_d; };
+  for (const Case& c : skin::test::sanitized<Case>({{1.4, 2.0, 1.28, 0.04}, {0.2, 0.6, 0.02, 0.1}})) {
+    SkinStackOffsets o;
+    o.base = b.base;
+    o.nodes = {std::vector<double>{b.base[0]}, std::vector<double>{b.base[1]}, std::vector<double>{b.base[2], c.ratio}};
+    if (c.ratio < b.base[2]) std::swap(o.nodes[2][0], o.nodes[2][1]);
+    const std::size_t i = nearest(b.tau, c.tau), j = nearest(b.a_e, c.a_e), l = nearest(b.a_d, c.a_d);
+    o.tau = {b.tau[i]};
+    o.a_e = {b.a_e[j]};
+    o.a_d = {b.a_d[l]};
+    o.x = b.x;
+    o.compute(t);
+    o.settle(t);
+    const std::size_t node = c.ratio < b.base[2] ? 0 : 1, stored_node = nearest(b.nodes[2], c.ratio);
+    ASSERT_NEAR(b.nodes[2][stored_node], c.ratio, 1e-12);
+    const std::vector<double>& fresh = o.d_low[2][node];
+    const std::vector<double>& stored = b.d_low[2][stored_node];
+    const std::size_t first = ((i * b.a_e.size() + j) * b.a_d.size() + l) * b.x.size();
+    ASSERT_EQ(fresh.size(), b.x.size());
+    for (std::size_t m = 0; m < b.x.size(); ++m)
+      EXPECT_NEAR(stored[first + m], fresh[m], 1.5e-3) << "ratio " << c.ratio << " node " << i << ',' << j << ',' << l << " x = " << b.x[m];
   }
 }
