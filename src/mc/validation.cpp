@@ -245,12 +245,17 @@ CaseResult::ProfileCheck CaseResult::check_domain(std::size_t solver) const {
   return pc;
 }
 
+namespace {
+// What the check allows R_d to differ from the Monte Carlo's: rel of it plus 3 standard errors.
+double rd_allowance(const Result& mc, double rel) { return rel * mc.R_d + 3.0 * mc.R_d_se; }
+}  // namespace
+
 bool CaseResult::rd_within(std::size_t solver, double rel) const {
-  return std::abs(R_d.at(solver) - mc.R_d) <= rel * mc.R_d + 3.0 * mc.R_d_se;
+  return std::abs(R_d.at(solver) - mc.R_d) <= rd_allowance(mc, rel);
 }
 
 double CaseResult::rd_share(std::size_t solver, double rel) const {
-  return std::abs(R_d.at(solver) - mc.R_d) / (rel * mc.R_d + 3.0 * mc.R_d_se);
+  return std::abs(R_d.at(solver) - mc.R_d) / rd_allowance(mc, rel);
 }
 
 double CaseResult::top_mfp() const {
