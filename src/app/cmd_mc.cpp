@@ -262,7 +262,7 @@ void register_skin_table_command(CLI::App& app) {
   struct Opts {
     std::string out, reuse;
     bool offsets = false, cross = false;
-    std::vector<std::string> axes;
+    std::vector<std::string> axes, pairs;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* sub = app.add_subcommand(
@@ -279,14 +279,27 @@ void register_skin_table_command(CLI::App& app) {
                 "(data/skin_stack_offsets.csv; about 45 min on 2 cores)");
   sub->add_flag("--cross", o->cross,
                 "Tabulate instead the cross terms of the built-in offsets, for two of g, index and dermis ratio "
-                "off the table's at once (not built in; 17 min for 8 corners on 2 cores, g 0.97 several times more; with --reuse only the corners it lacks)")
+                "off the table's at once (not built in; on the offsets' nodes, ~15 min per corner on 2 cores, g 0.97 several times more; with --reuse only the corners it lacks)")
       ->excludes("--offsets");
   sub->add_option("--offset-nodes", o->axes,
                   "With --offsets: only these nodes, as AXIS=VALUE (g=0.8, eta=1.47, dermis_ratio=2); default: all");
+  sub->add_option("--cross-pairs", o->pairs,
+                  "With --cross: solve these pairs of axes (g:eta, g:dermis_ratio, eta:dermis_ratio) and copy the "
+                  "others' corners from --reuse (or leave them 0); default: all, the corners --reuse holds copied");
   sub->callback([o] {
     if (o->cross) {
       namespace acc = transport::accurate;
       if (!o->axes.empty()) throw util::InputError("--cross does not take --offset-nodes");
+      std::array<bool, acc::SkinStackCross::kPairs> pairs{false, false, false};
+      if (!o->pairs.empty()) {
+        static const char* const kNames[acc::SkinStackCross::kPairs] = {"g:eta", "g:dermis_ratio", "eta:dermis_ratio"};
+        for (const std::string& name : o->pairs) {
+          const auto* hit = std::find(std::begin(kNames), std::end(kNames), name);
+          if (hit == std::end(kNames))
+            throw util::InputError("--cross-pairs: '" + name + "' is not one of g:eta, g:dermis_ratio, eta:dermis_ratio");
+          pairs[static_cast<std::size_t>(hit - std::begin(kNames))] = true;
+        }
+      }
       // The built-in table and offsets, without their own cross terms.
       acc::SkinStackTable table = acc::SkinStackTable::parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
       acc::SkinStackOffsets offsets = acc::SkinStackOffsets::parse(util::data::embedded("skin_stack_offsets.csv"), "skin_stack_offsets.csv");
@@ -296,11 +309,12 @@ void register_skin_table_command(CLI::App& app) {
       cross.provenance = "skin tabulate-skin-profiles --cross (FrequencyStack, k0 = 0.02 s)";
       std::optional<acc::SkinStackCross> reuse;
       if (!o->reuse.empty()) reuse = acc::SkinStackCross::parse(util::io::read_file(o->reuse, "reuse", std::uintmax_t{64} << 20), o->reuse);
-      cross.compute(table, progress_bar("stacks"), reuse ? &*reuse : nullptr);
+      cross.compute(table, progress_bar("stacks"), reuse ? &*reuse : nullptr, o->pairs.empty() ? nullptr : &pairs);
       util::io::write_file_atomic(o->out, cross.to_csv());
       std::cout << "wrote " << o->out << '\n';
       return;
     }
+    if (!o->pairs.empty()) throw util::InputError("--cross-pairs is for --cross");
     if (o->offsets) {
       namespace acc = transport::accurate;
       const acc::SkinStackTable table = acc::SkinStackTable::parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");

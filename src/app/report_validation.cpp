@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "skin/plot/plot.hpp"
+#include "skin/transport/accurate.hpp"
 
 namespace skin::cli {
 
@@ -519,13 +520,19 @@ std::size_t write_domain_report(std::ostream& md, const ValidationRun& run,
           "![wavelength and melanin](domain_wavelength_melanin.png)\n"
           "![wavelength and blood](domain_wavelength_blood.png)\n\n";
   }
+  std::size_t read = 0;
+  for (const CaseResult& c : run.cases) read += transport::accurate::AccurateStack::reads_skin_table(c.c.stack) ? 1 : 0;
   md << "## Every case\n\n`worst / allowed`: the case's largest |R - MC| / (5 % + 3 SE) over its annuli "
-        "and |R_d - MC| / (0.5 % + 3 SE); it passes where this is at most 1 (the maps' colours).\n\n"
-        "| case | parameters | annuli | beyond 5 % + 3 SE | worst (r mm) | worst / allowed | MC R_d | "
-     << run.solver_names[main] << " R_d - MC |\n|---|---|---|---|---|---|---|---|\n";
+        "and |R_d - MC| / (0.5 % + 3 SE); it passes where this is at most 1 (the maps' colours). "
+        "`profile`: read from the skin table or solved in the frequency domain by the accurate model ("
+     << read << " of " << run.cases.size() << " read).\n\n"
+        "| case | parameters | profile | annuli | beyond 5 % + 3 SE | worst (r mm) | worst / allowed | MC R_d | "
+     << run.solver_names[main] << " R_d - MC |\n|---|---|---|---|---|---|---|---|---|\n";
   for (const CaseResult& c : run.cases) {
     const auto pc = c.check_domain(main);
-    md << "| " << c.c.id << " | " << c.c.title << " | " << pc.checked << " | " << pc.beyond << " | "
+    md << "| " << c.c.id << " | " << c.c.title << " | "
+       << (transport::accurate::AccurateStack::reads_skin_table(c.c.stack) ? "table" : "solved") << " | "
+       << pc.checked << " | " << pc.beyond << " | "
        << percent(pc.worst) << " (" << fmt("%.3g", pc.worst_r) << ") | " << fmt("%.2f", worst_share(c, main))
        << " | " << fmt("%.5g", c.mc.R_d)
        << " +- " << fmt("%.2g", c.mc.R_d_se) << " | "

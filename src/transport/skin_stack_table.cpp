@@ -423,6 +423,11 @@ const SkinStackTable& SkinStackTable::builtin() {
   return t;
 }
 
+namespace {
+// The darkest dermis (sigma_a over the top layer's sigma_s') read with the cross terms.
+constexpr double kCombinedDarkestDermis = 0.5;
+}  // namespace
+
 std::string SkinStackTable::gap(const LayerStack& stack) const {
   const auto& ls = stack.layers;
   auto inside = [](const std::vector<double>& v, double t) { return t >= v.front() && t <= v.back(); };
@@ -460,6 +465,15 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
   if (!inside(tau, t)) return "sigma_s' d = " + format_number(t) + " is outside the skin table's [" + format_number(tau.front()) + ", " + format_number(tau.back()) + "]";
   if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + format_number(ae) + " is outside the skin table's [" + format_number(a_e.front()) + ", " + format_number(a_e.back()) + "]";
   if (!inside(a_d, ad)) return "lower sigma_a / top sigma_s' = " + format_number(ad) + " is outside the skin table's [" + format_number(a_d.front()) + ", " + format_number(a_d.back()) + "]";
+  // Another dermis ratio with another g or index takes the cross terms, which miss a dark dermis'
+  // far field: there the corners' solves are near their floor (~1e-9 of the peak), within reach
+  // of a Monte Carlo (measured: index 1.49, ratio 2, g 0.7 with a_d 3.3 at 409 nm 39 % off the
+  // solver above 1e-4 of R(0.02 mm); index 1.54, ratio 1.41 with a_d 0.8 at 455 nm +19 to +38 % at
+  // 0.21-0.23 mm against 4e6 photons, SE 2-3 %). Such skin is solved.
+  if (offsets && ratio != dermis_ratio && (e.g != g || e.eta != eta) && ad > kCombinedDarkestDermis)
+    return "another dermis scattering ratio together with another g or index over a dermis with sigma_a / the top "
+           "layer's sigma_s' = " + format_number(ad) + " above " + format_number(kCombinedDarkestDermis) +
+           " (the skin table's cross terms miss its far field)";
   return {};
 }
 
@@ -523,6 +537,25 @@ void SkinStackTable::ln_parts_at(double t, double ae, double ad, std::vector<dou
     }
 }
 
+namespace {
+// Within a tenth of the top layer's depth from the beam (x < 0.1 tau) the light from below holds
+// its value there. The solver does not resolve it that near: its R(k) turns negative at high k
+// (tau 0.15: -3e-4 of R(0) at k ~ 50), where the light from a depth tau should fall like
+// e^(-tau k), so its profile dips below 0 within ~0.1 tau of the beam (tau 0.15: -0.07 at
+// x = 0.001, where it is ~+0.05 at 0.02-0.1; FrequencyStack's own profiles of the stack and of the
+// top layer differ the same way).
+// Offsets between such values jump from the floor to real values there, and their cubic
+// interpolation in ln x overshoots: a spike that the scaling to R_d spreads over the whole profile
+// (measured: +9 % of the integral, -10 % at every radius of a thin epidermis with index 1.52 and
+// dermis ratio 2; docs/accurate-solver.md, sec. 4). That light is flat across x << tau (it comes
+// from a depth tau), and there it is small against the top layer's own.
+void hold_low_near_beam(const std::vector<double>& x, double t, std::vector<double>& low) {
+  std::size_t k = 0;
+  while (k + 1 < x.size() && x[k] < 0.1 * t) ++k;
+  for (std::size_t i = 0; i < k; ++i) low[i] = low[k];
+}
+}  // namespace
+
 SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d)
     : table_(&table) {
   const Layer& e = stack.layers.at(0);
@@ -536,8 +569,10 @@ SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack
     std::vector<double> top, low;
     table.ln_parts_at(t, ae, ad, top, low);
     // Another geometry: the offsets of each axis added to the parts (none at the table's own).
-    if (!(e.g == table.g && e.eta == table.eta && ratio == table.dermis_ratio))
+    if (!(e.g == table.g && e.eta == table.eta && ratio == table.dermis_ratio)) {
       table.offsets->add(t, ae, ad, e.g, e.eta, ratio, table.x, top, low);
+      hold_low_near_beam(table.x, t, low);
+    }
     ln_rho_ = added(std::move(top), low);
   }
   ln_x_ = mapped(table.x, log_of);
@@ -598,6 +633,8 @@ namespace {
 // asian skin at 450 nm under a 1.4 dermis ratio, and read 14-62 % high there).
 constexpr double kOffsetValidTop = 1e-9;
 constexpr double kOffsetValidLow = 1e-14;
+// The cross terms keep their value beyond this x (in units of 1 / s; SkinStackCross::add).
+constexpr double kCrossHeldFrom = 20.0;
 constexpr double kMaxOffset = 20;       // |offset| in ln rho, as stored and parsed
 // The variable each axis is interpolated in: ln(1 - g), eta, ln ratio.
 double axis_variable(int axis, double v) { return axis == 0 ? std::log(1 - v) : axis == 2 ? std::log(v) : v; }
@@ -1004,13 +1041,14 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
 
 std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) const {
   const double v[kAxes] = {g_v, eta_v, ratio_v};
-  // Without cross terms the axes' offsets are added alone: g and the index together stay within a
-  // few per cent of the solver (measured: 0.3-6.4 %, median 0.9 %, above 1e-4 of R(0.02 mm) over
-  // 10 random skins), another dermis ratio with another g or index does not yet (0.3-7.6 %, 3 of 20
-  // random skins above 5 %, with the ratio nodes solved again on 2026-12-05).
+  // g and the index are added alone (together they stay within 0.3-6.4 % of the solver, median
+  // 0.9 %, above 1e-4 of R(0.02 mm) over 10 random skins). Another dermis ratio with another g or
+  // index needs the cross terms (the offsets added alone: 0.3-7.6 % over 20 random skins, 3 above
+  // 5 %, and 2 of 25 domain draws read that way beyond 5 % + 3 SE of the Monte Carlo); none are
+  // built in yet (docs/accurate-solver.md, sec. 4).
   if (!cross && ratio_v != base[2] && (g_v != base[0] || eta_v != base[1]))
-    return "another dermis scattering ratio together with another g or index (the skin table's offsets "
-           "do not combine them)";
+    return "another dermis scattering ratio together with another g or index (without cross terms the "
+           "skin table's offsets do not combine them)";
   for (int a = 0; a < kAxes; ++a) {
     const auto& n = nodes[static_cast<std::size_t>(a)];
     // (a relative 1e-9 beyond an end: a ratio of two coefficients computed apart)
@@ -1100,28 +1138,24 @@ void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double et
 
 namespace {
 const char* const kCrossPairNames[SkinStackCross::kPairs] = {"g x eta", "g x dermis_ratio", "eta x dermis_ratio"};
-// Every other node of the offsets' (and the last): the cross terms are a few per cent of the
-// profile and smooth in the parameters (measured, docs/accurate-solver.md sec. 4).
-std::vector<double> every_other(const std::vector<double>& v) {
-  std::vector<double> out;
-  for (std::size_t i = 0; i < v.size(); i += 2) out.push_back(v[i]);
-  if (v.size() % 2 == 0) out.push_back(v.back());
-  return out;
-}
 }  // namespace
 
 SkinStackCross SkinStackCross::default_nodes(const SkinStackOffsets& offsets) {
   SkinStackCross c;
   c.base = offsets.base;
   for (std::size_t a = 0; a < SkinStackOffsets::kAxes; ++a) c.ends[a] = {offsets.nodes[a].front(), offsets.nodes[a].back()};
-  c.tau = every_other(offsets.tau);
-  c.a_e = every_other(offsets.a_e);
-  c.a_d = every_other(offsets.a_d);
+  // The offsets' own nodes: on every other of them (2026-12-05) the terms varied too fast between
+  // nodes, and the offsets they correct are themselves not smooth everywhere (docs/accurate-solver.md,
+  // sec. 4); on the same nodes the two add up to the corner's solve at each node.
+  c.tau = offsets.tau;
+  c.a_e = offsets.a_e;
+  c.a_d = offsets.a_d;
   c.x = offsets.x;
   return c;
 }
 
-void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback& progress, const SkinStackCross* reuse) {
+void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback& progress, const SkinStackCross* reuse,
+                             const std::array<bool, kPairs>* solve_pairs) {
   if (!table.offsets) throw InputError("skin table cross terms: the table has no offsets");
   const SkinStackOffsets& off = *table.offsets;
   const std::size_t n_t = tau.size(), n_e = a_e.size(), n_d = a_d.size(), n_x = x.size(), nx_t = table.x.size();
@@ -1168,7 +1202,8 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
       if (v[static_cast<std::size_t>(kPairAxes[pu][0])] == base[static_cast<std::size_t>(kPairAxes[pu][0])] ||
           v[static_cast<std::size_t>(kPairAxes[pu][1])] == base[static_cast<std::size_t>(kPairAxes[pu][1])])
         continue;  // an axis without nodes on that side: no term
-      if (reuse && reuse->base == base && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) &&
+      const bool solve = !solve_pairs || (*solve_pairs)[pu];
+      if (reuse && !(solve_pairs && solve) && reuse->base == base && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) &&
           same_nodes(reuse->a_d, a_d) && same_nodes(reuse->x, x)) {
         bool same = false;
         for (int rc = 0; rc < 4 && !same; ++rc) {
@@ -1183,6 +1218,7 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
         }
         if (same) continue;  // copied
       }
+      if (!solve) continue;  // not asked for and not in `reuse`: 0
       first_top[pu * 4 + cu] = top_jobs.size();
       for (std::size_t k = 0; k < n_t * n_e; ++k) top_jobs.push_back({p, c, k});
       for (std::size_t k = 0; k < n_t * n_e * n_d; ++k) low_jobs.push_back({p, c, k});
@@ -1337,6 +1373,13 @@ void SkinStackCross::add(double t, double ae, double ad, const std::array<double
   const Lagrange4Stencil st = lagrange4_stencil(tau, t);
   const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
   const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
+  // The terms, added to dt and dl at the end: beyond x = kCrossHeldFrom they keep their value
+  // there. Farther out a bright dermis' tail at one node meets the floor at its neighbours (the
+  // stencil spans a_d up to 30 times apart, whose tails fall at rates several times apart), and
+  // the interpolated term is noise: a bright epidermis over a dermis of ratio 0.2 with index 1.55
+  // and g 0.78 (caucasian, 0.16 mm, 740 nm) read its tail beyond x = 100 up to 10^3 times the solve,
+  // 3 % of R_d, which the scaling to R_d took from every radius (4.3 % off the solver; held, 1 %).
+  std::vector<double> ct_sum(n_x, 0.0), cl_sum(n_x, 0.0);
   for (std::size_t p = 0; p < kPairs; ++p) {
     const auto a = static_cast<std::size_t>(kPairAxes[p][0]), b = static_cast<std::size_t>(kPairAxes[p][1]);
     const double wp = w[a] * w[b];
@@ -1349,14 +1392,20 @@ void SkinStackCross::add(double t, double ae, double ad, const std::array<double
         if (!ct.empty()) {
           const double wt = wp * st_top.weights[i] * se.weights[e];
           const double* r = ct.data() + ((st_top.first + i) * n_e + se.first + e) * n_x;
-          for (std::size_t m = 0; m < n_x; ++m) dt[m] += wt * r[m];
+          for (std::size_t m = 0; m < n_x; ++m) ct_sum[m] += wt * r[m];
         }
         for (std::size_t l = 0; l < 4; ++l) {
           const double wl = wp * st.weights[i] * se.weights[e] * sd.weights[l];
           const double* r = cl.data() + (((st.first + i) * n_e + se.first + e) * n_d + sd.first + l) * n_x;
-          for (std::size_t m = 0; m < n_x; ++m) dl[m] += wl * r[m];
+          for (std::size_t m = 0; m < n_x; ++m) cl_sum[m] += wl * r[m];
         }
       }
+  }
+  std::size_t last = 0;
+  while (last + 1 < n_x && x[last + 1] <= kCrossHeldFrom) ++last;
+  for (std::size_t m = 0; m < n_x; ++m) {
+    dt[m] += ct_sum[std::min(m, last)];
+    dl[m] += cl_sum[std::min(m, last)];
   }
 }
 

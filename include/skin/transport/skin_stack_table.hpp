@@ -119,8 +119,8 @@ struct SkinStackOffsets {
   // (the nodes computed before 2026-12-05), which settle() holds near the beam.
   std::array<std::vector<char>, kAxes> low_solved;
   // The cross terms of pairs of axes (none: another dermis ratio is not combined with another g
-  // or index). None are built in (measured and not accurate enough yet: docs/accurate-solver.md,
-  // sec. 4).
+  // or index). None are built in (computed: data/pending/skin_stack_cross.csv, not accurate
+  // enough everywhere yet: docs/accurate-solver.md, sec. 4).
   const SkinStackCross* cross = nullptr;
 
   // The built-in nodes (data/skin_stack_offsets.csv) for `table`, without values.
@@ -171,13 +171,17 @@ struct SkinStackCross {
   // out as SkinStackOffsets::d_top and d_low; no top terms on pairs with the dermis ratio.
   std::array<std::array<std::vector<double>, 4>, kPairs> c_top, c_low;
 
-  // The default nodes for `offsets` (their axes' ends, every other coarse node), without values.
+  // The default nodes for `offsets` (their axes' ends and their (tau, a_e, a_d) nodes, so that at
+  // a node the offsets' values and the terms add up to the corner's solve exactly and are
+  // interpolated with the same weights), without values.
   static SkinStackCross default_nodes(const SkinStackOffsets& offsets);
   // Computes the terms against `table` and its offsets (table.offsets, whose own cross terms are
   // not used). progress(done, total) as SkinStackTable::compute; cancellable. With `reuse` (the
-  // same base and nodes), the corners it holds with the same two values are copied.
+  // same base and nodes), the corners it holds with the same two values are copied. With
+  // `solve_pairs`, the pairs marked are solved and the others' corners copied from `reuse` (or
+  // left 0).
   void compute(const SkinStackTable& table, const util::ProgressCallback& progress = {},
-               const SkinStackCross* reuse = nullptr);
+               const SkinStackCross* reuse = nullptr, const std::array<bool, kPairs>* solve_pairs = nullptr);
   std::string to_csv() const;
   static SkinStackCross parse(std::string_view text, std::string_view source);
   // Adds the pairs' terms at (tau, a_e, a_d) and the axes' values v to the offsets dt, dl (at x).
@@ -186,6 +190,9 @@ struct SkinStackCross {
 };
 
 // The profile of a stack in the table (gap() empty), as R(r) [1/mm^2] scaled to integrate to R_d.
+// With an axis off the table's geometry (offsets added) the light from below is held within 0.1 tau
+// of the beam at its value there (the solver does not resolve it nearer: docs/accurate-solver.md,
+// sec. 4).
 class SkinStackProfile {
  public:
   SkinStackProfile(const SkinStackTable& table, const physics::LayerStack& stack, double R_d);
