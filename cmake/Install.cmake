@@ -32,7 +32,7 @@ foreach(part ${skin_install_parts})
     DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/skin)
 endforeach()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/data/ DESTINATION ${CMAKE_INSTALL_DATADIR}/spectral_skin/data
-  FILES_MATCHING PATTERN "*.csv" PATTERN "pending" EXCLUDE)  # data/pending: computed, not yet used
+  FILES_MATCHING PATTERN "*.csv")
 
 # Every imported target that an installed library links (privately too: static libraries pass
 # them on) must be found by the package's config file; checked here, at configure time, so that

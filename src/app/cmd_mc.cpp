@@ -279,7 +279,7 @@ void register_skin_table_command(CLI::App& app) {
                 "(data/skin_stack_offsets.csv; about 45 min on 2 cores)");
   sub->add_flag("--cross", o->cross,
                 "Tabulate instead the cross terms of the built-in offsets, for two of g, index and dermis ratio "
-                "off the table's at once (not built in; on the offsets' nodes, ~15 min per corner on 2 cores, g 0.97 several times more; with --reuse only the corners it lacks)")
+                "off the table's at once (data/skin_stack_cross.csv; on the offsets' nodes, ~15 min per corner on 2 cores, g 0.97 several times more; with --reuse only the corners it lacks)")
       ->excludes("--offsets");
   sub->add_option("--offset-nodes", o->axes,
                   "With --offsets: only these nodes, as AXIS=VALUE (g=0.8, eta=1.47, dermis_ratio=2); default: all");

@@ -284,13 +284,13 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   p = {};
   p.epidermis_thickness = 2.0;
   EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("sigma_s' d ="), std::string::npos);
-  // Another dermis ratio with another g or index: the built-in offsets do not combine them (their
-  // cross terms are not built in yet: docs/accurate-solver.md, sec. 4).
-  ASSERT_EQ(t.offsets->cross, nullptr);
+  // Another dermis ratio with another g or index: the built-in offsets combine them with their
+  // cross terms (data/skin_stack_cross.csv), over a dermis no darker than a_d 0.5.
+  ASSERT_NE(t.offsets->cross, nullptr);
   p = {};
   p.g = 0.8;
   p.dermis_scattering_scale = 1.0;
-  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("do not combine them"), std::string::npos);
+  EXPECT_EQ(t.gap(skin::physics::skin_layer_stack(p, 550)), "");
   p = {};
   p.dermis_scattering_scale = 3;
   EXPECT_NE(t.gap(skin::physics::skin_layer_stack(p, 550)).find("the lower layer's sigma_s' / the top layer's 3 is outside"),
@@ -619,22 +619,15 @@ TEST(SkinStackOffsets, ProfilesOfAnotherGeometryMatchTheSolver) {
 }
 
 // Another dermis ratio together with another g or index, read with the three axes' offsets and
-// the cross terms computed for them (data/pending, not built in yet: docs/accurate-solver.md,
-// sec. 4), against FrequencyStack as above. The cases: a thin epidermis with index 1.52 and
-// dermis ratio 2, a bright far field at index 1.55 with ratio 0.2 (4.3 % off without the terms
-// held from x = 20 on), the same index with ratio 1.8, a dark thin epidermis with ratio 2 (61 %
-// off without the light from below held within 0.1 tau of the beam) and one inside every range.
+// their cross terms (docs/accurate-solver.md, sec. 4), against FrequencyStack as above. The
+// cases: a thin epidermis with index 1.52 and dermis ratio 2, a bright far field at index 1.55
+// with ratio 0.2 (4.3 % off without the terms held from x = 20 on), the same index with ratio
+// 1.8, a dark thin epidermis with ratio 2 (61 % off without the light from below held within 0.1
+// tau of the beam), one inside every range, and domain draw 23 (g 0.835, index 1.35, ratio 1.34
+// at 451 nm; 6.3 % off without the terms held where the corners' solves near their floor).
 TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
-  using skin::transport::accurate::SkinStackCross;
   const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);
-  // The built-in table and offsets with the cross terms computed for them (data/pending: the
-  // (g, ratio) and (index, ratio) pairs; not built in yet).
-  const std::string file = std::string(SKIN_SOURCE_DIR) + "/data/pending/skin_stack_cross.csv";
-  const SkinStackCross cross = SkinStackCross::parse(skin::util::io::read_file(file, "cross terms", std::uintmax_t{64} << 20), file);
-  SkinStackTable t = SkinStackTable::builtin();
-  SkinStackOffsets o = *t.offsets;
-  o.cross = &cross;
-  t.offsets = &o;
+  const SkinStackTable& t = SkinStackTable::builtin();
   for (const GeometryCase& c : skin::test::sanitized<GeometryCase>({{"pale", 0.9, 1.52, 2.0, 0.02, 560.0},
                                                      {"caucasian", 0.78, 1.55, 0.2, 0.16, 740.0},
                                                      {"caucasian", 0.9, 1.55, 1.8, 0.09, 560.0},
@@ -642,7 +635,6 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
                                                      {"asian", 0.8, 1.45, 1.0, 0.1, 500.0}})) {
     const skin::physics::LayerStack s = geometry_stack(c);
     ASSERT_EQ(t.gap(s), "") << c.preset;
-    ASSERT_NE(SkinStackTable::builtin().gap(s), "") << c.preset;  // not read by the built-in table
     const skin::transport::accurate::FrequencyStack solved(s);
     const skin::transport::accurate::SkinStackProfile read(t, s, solved.total());
     std::vector<double> table_R;
@@ -650,6 +642,27 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
     skin::transport::ProfileSolver ps(radii);
     const auto [worst4, worst5] = worst_relative(table_R, ps.profile(solved));
     expect_near_the_solver(c, worst4, worst5);
+  }
+  // Domain draw 23 (skin validate --domain 60 --domain-seed 2026), in reduced units with sigma_s'
+  // 15.79 / mm: where its light from below is ~5e-8 of the peak (x 5.4), the corners' solves are
+  // near their floor; the terms held there (SkinStackCross::settle) read it 3.8 % off the solver
+  // above 1e-4 of R(0.02 mm), 6.3 % not held (10.7 % off a 2e6-photon Monte Carlo, 9.7 % allowed).
+  // (Release only, as the other cases after the first.)
+  if (!skin::test::kUnderSanitizers) {
+    const double s = 15.79, g = 0.83457687184592844, eta = 1.3464124506824522;
+    skin::physics::LayerStack d23;
+    d23.layers = {{0.71012474244275126 * s, s, 0.60978693833287512 / s, eta, g},
+                  {0.20319374564149284 * s, 1.339432969897965 * s, skin::physics::kInfinity, eta, g}};
+    ASSERT_EQ(t.gap(d23), "");
+    const skin::transport::accurate::FrequencyStack solved(d23);
+    const skin::transport::accurate::SkinStackProfile read(t, d23, solved.total());
+    std::vector<double> table_R;
+    for (double r : radii.r) table_R.push_back(read(r));
+    skin::transport::ProfileSolver ps(radii);
+    const auto [worst4, worst5] = worst_relative(table_R, ps.profile(solved));
+    std::cout << "domain draw 23 at 451 nm: worst " << 100 * worst4 << " % above 1e-4, " << 100 * worst5 << " % above 1e-5\n";
+    EXPECT_LT(worst4, 0.05);
+    EXPECT_LT(worst5, 0.10);
   }
   // Over a dark dermis (african at 420 nm: a_d 1.14) such skin is refused: the cross terms miss
   // its far field. With one axis off it is read.

@@ -119,8 +119,7 @@ struct SkinStackOffsets {
   // (the nodes computed before 2026-12-05), which settle() holds near the beam.
   std::array<std::vector<char>, kAxes> low_solved;
   // The cross terms of pairs of axes (none: another dermis ratio is not combined with another g
-  // or index). None are built in (computed: data/pending/skin_stack_cross.csv, not accurate
-  // enough everywhere yet: docs/accurate-solver.md, sec. 4).
+  // or index). The built-in offsets' are data/skin_stack_cross.csv, settled.
   const SkinStackCross* cross = nullptr;
 
   // The built-in nodes (data/skin_stack_offsets.csv) for `table`, without values.
@@ -150,8 +149,9 @@ struct SkinStackOffsets {
 // Cross terms of the offsets, for two axes off the table's geometry at once (docs/accurate-
 // solver.md, sec. 4). Per pair of axes ((g, eta), (g, dermis_ratio), (eta, dermis_ratio)) and per
 // corner (the lower or upper end of each of the two axes): the parts solved there minus the
-// table's parts with both axes' offsets added, on a coarse subset of the offsets' (tau, a_e, a_d)
-// nodes, at the offsets' x (held like the offsets where a part is below its threshold). For
+// table's parts with both axes' offsets added, on the offsets' (tau, a_e, a_d) nodes, at the
+// offsets' x (held like the offsets where a part is below its threshold, and on reading where the
+// corner's solve nears its floor: settle()). For
 // values between the base and the ends each corner's term is scaled by the product of the two
 // axes' positions from the base towards it (in ln(1 - g), eta and ln ratio: the term is 0 where
 // either axis is at the base), and interpolated in (tau, a_e, a_d) like the offsets. The top
@@ -184,6 +184,11 @@ struct SkinStackCross {
                const SkinStackCross* reuse = nullptr, const std::array<bool, kPairs>* solve_pairs = nullptr);
   std::string to_csv() const;
   static SkinStackCross parse(std::string_view text, std::string_view source);
+  // Holds each node's terms outside the x where its corner's part and the table's are both above
+  // 1e-8 of the node's peak (the corners' solves near their floor: see the .cpp), 0 at a node
+  // where they never are. `offsets` are the table's, settled, on these nodes (else logic_error).
+  // The built-in terms are settled this way.
+  void settle(const SkinStackTable& table, const SkinStackOffsets& offsets);
   // Adds the pairs' terms at (tau, a_e, a_d) and the axes' values v to the offsets dt, dl (at x).
   void add(double t, double ae, double ad, const std::array<double, SkinStackOffsets::kAxes>& v,
            std::vector<double>& dt, std::vector<double>& dl) const;
