@@ -622,8 +622,8 @@ TEST(SkinStackOffsets, ProfilesOfAnotherGeometryMatchTheSolver) {
 // their cross terms (docs/accurate-solver.md, sec. 4), against FrequencyStack as above. The
 // cases: a thin epidermis with index 1.52 and dermis ratio 2, a bright far field at index 1.55
 // with ratio 0.2 (4.3 % off without the terms held from x = 20 on), the same index with ratio
-// 1.8, a dark thin epidermis with ratio 2 (61 % off without the light from below held within 0.1
-// tau of the beam), one inside every range, and domain draw 23 (g 0.835, index 1.35, ratio 1.34
+// 1.8, a dark thin epidermis with ratio 2 (61 % off without the light from below held near the
+// beam), one inside every range, and domain draw 23 (g 0.835, index 1.35, ratio 1.34
 // at 451 nm; 6.3 % off without the terms held where the corners' solves near their floor).
 TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
   const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);
@@ -643,27 +643,38 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
     const auto [worst4, worst5] = worst_relative(table_R, ps.profile(solved));
     expect_near_the_solver(c, worst4, worst5);
   }
-  // Domain draw 23 (skin validate --domain 60 --domain-seed 2026), in reduced units with sigma_s'
-  // 15.79 / mm: where its light from below is ~5e-8 of the peak (x 5.4), the corners' solves are
-  // near their floor; the terms held there (SkinStackCross::settle) read it 3.8 % off the solver
-  // above 1e-4 of R(0.02 mm), 6.3 % not held (10.7 % off a 2e6-photon Monte Carlo, 9.7 % allowed).
-  // (Release only, as the other cases after the first.)
-  if (!skin::test::kUnderSanitizers) {
-    const double s = 15.79, g = 0.83457687184592844, eta = 1.3464124506824522;
-    skin::physics::LayerStack d23;
-    d23.layers = {{0.71012474244275126 * s, s, 0.60978693833287512 / s, eta, g},
-                  {0.20319374564149284 * s, 1.339432969897965 * s, skin::physics::kInfinity, eta, g}};
-    ASSERT_EQ(t.gap(d23), "");
-    const skin::transport::accurate::FrequencyStack solved(d23);
-    const skin::transport::accurate::SkinStackProfile read(t, d23, solved.total());
-    std::vector<double> table_R;
-    for (double r : radii.r) table_R.push_back(read(r));
-    skin::transport::ProfileSolver ps(radii);
-    const auto [worst4, worst5] = worst_relative(table_R, ps.profile(solved));
-    std::cout << "domain draw 23 at 451 nm: worst " << 100 * worst4 << " % above 1e-4, " << 100 * worst5 << " % above 1e-5\n";
-    EXPECT_LT(worst4, 0.05);
-    EXPECT_LT(worst5, 0.10);
-  }
+  // Stacks given in reduced units (the epidermis' sigma_s' s per mm, tau, a_e, a_d, g, index,
+  // dermis ratio), held within 5 % above 1e-4 of R(0.02 mm) and 10 % above 1e-5 (Release only, as
+  // the other cases after the first):
+  // - domain draw 23 (skin validate --domain 60 --domain-seed 2026): where its light from below is
+  //   ~5e-8 of the peak (x 5.4) the corners' solves are near their floor; the terms held there
+  //   (SkinStackCross::settle) read it 3.9 % off, 6.3 % not held (+10.7 % off a 2e6-photon Monte
+  //   Carlo where 9.7 % is allowed);
+  // - two epidermises thin in tau (0.17-0.19) but 0.11-0.16 mm thick, g 0.71-0.78, ratio 2, whose
+  //   split of the light into the two parts rings out to ~0.3 tau of the beam: with the light
+  //   from below held within 0.3 tau 3.0 and 3.8 % off, within 0.1 tau 7.8 and 9.9 % (+8.6 % off
+  //   a 4e6-photon Monte Carlo at 0.02-0.03 mm where 7.7 % is allowed).
+  struct Reduced { const char* name; double s, tau, a_e, a_d, g, eta, ratio; };
+  if (!skin::test::kUnderSanitizers)
+    for (const Reduced& c : {Reduced{"domain draw 23", 15.79, 0.60978693833287512, 0.71012474244275126, 0.20319374564149284,
+                                     0.83457687184592844, 1.3464124506824522, 1.339432969897965},
+                             Reduced{"thin tau, g 0.71", 1.623260533068936, 0.18649128105881427, 0.50813489321540051,
+                                     0.015655585784173236, 0.70949835769857272, 1.3346007498368042, 2.0},
+                             Reduced{"thin tau, g 0.78", 1.1140679156229485, 0.17378883187117938, 2.185556971650783,
+                                     0.039953638447684389, 0.77668013681113501, 1.5074715173874316, 2.0}}) {
+      skin::physics::LayerStack st;
+      st.layers = {{c.a_e * c.s, c.s, c.tau / c.s, c.eta, c.g}, {c.a_d * c.s, c.ratio * c.s, skin::physics::kInfinity, c.eta, c.g}};
+      ASSERT_EQ(t.gap(st), "") << c.name;
+      const skin::transport::accurate::FrequencyStack solved(st);
+      const skin::transport::accurate::SkinStackProfile read(t, st, solved.total());
+      std::vector<double> table_R;
+      for (double r : radii.r) table_R.push_back(read(r));
+      skin::transport::ProfileSolver ps(radii);
+      const auto [worst4, worst5] = worst_relative(table_R, ps.profile(solved));
+      std::cout << c.name << ": worst " << 100 * worst4 << " % above 1e-4, " << 100 * worst5 << " % above 1e-5\n";
+      EXPECT_LT(worst4, 0.05) << c.name;
+      EXPECT_LT(worst5, 0.10) << c.name;
+    }
   // Over a dark dermis (african at 420 nm: a_d 1.14) such skin is refused: the cross terms miss
   // its far field. With one axis off it is read.
   skin::physics::SkinParameters p = skin::physics::find_preset("african").parameters;

@@ -195,9 +195,9 @@ struct SkinStackCross {
 };
 
 // The profile of a stack in the table (gap() empty), as R(r) [1/mm^2] scaled to integrate to R_d.
-// With an axis off the table's geometry (offsets added) the light from below is held within 0.1 tau
-// of the beam at its value there (the solver does not resolve it nearer: docs/accurate-solver.md,
-// sec. 4).
+// With an axis off the table's geometry (offsets added) the light from below is held within 0.3 tau
+// of the beam at its value there (the solver does not resolve it nearer, and its split into the
+// two parts rings there: docs/accurate-solver.md, sec. 4).
 class SkinStackProfile {
  public:
   SkinStackProfile(const SkinStackTable& table, const physics::LayerStack& stack, double R_d);
