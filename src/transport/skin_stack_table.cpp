@@ -653,7 +653,7 @@ constexpr double kCrossHeldFrom = 20.0;
 // corners' solves reach their floor near 1e-9 of the peak, and a term between floored
 // neighbours is noise: a 0.039 mm epidermis with g 0.835, index 1.35 and dermis ratio 1.3 at
 // 451 nm (domain draw 23) read +6.3 % off the solver at 0.34 mm (x 5.4, ~5e-8 of the peak), +10.7 %
-// off a 2e6-photon Monte Carlo where 9.7 % is allowed; held, +3.8 % off the solver.
+// off a 2e6-photon Monte Carlo where 9.7 % is allowed; held, +3.9 % off the solver.
 constexpr double kCrossValid = 1e-8;
 constexpr double kMaxOffset = 20;       // |offset| in ln rho, as stored and parsed
 // The variable each axis is interpolated in: ln(1 - g), eta, ln ratio.

@@ -478,6 +478,49 @@ TEST(SkinStackOffsets, MalformedFilesAreRefused) {
 // The cross terms of two axes (SkinStackCross) refuse malformed files in one line naming the
 // file, a file written by to_csv() reads back, and a term is added only where both of its axes
 // are off the table's, scaled by their positions towards the corner's ends.
+// SkinStackCross::settle: a node's terms keep their value beyond the x where the light from
+// below (the table's or the corner's) falls under 1e-8 of the node's peak, which comes at smaller
+// x in a dark stack than in a bright one, and are 0 where it never is above; where it is they are
+// untouched. Terms that are not on the offsets' nodes are refused.
+TEST(SkinStackCross, SettleHoldsTermsNearTheFloorAndNeedsTheOffsetsNodes) {
+  using skin::transport::accurate::SkinStackCross;
+  const SkinStackTable& t = SkinStackTable::builtin();
+  const SkinStackOffsets& o = *t.offsets;
+  SkinStackCross c = SkinStackCross::default_nodes(o);
+  const std::size_t n_t = c.tau.size(), n_e = c.a_e.size(), n_d = c.a_d.size(), n_x = c.x.size();
+  for (std::size_t p = 0; p < SkinStackCross::kPairs; ++p)
+    for (std::size_t k = 0; k < 4; ++k) {
+      c.c_top[p][k].assign(p == 0 ? n_t * n_e * n_x : 0, 0.0);
+      c.c_low[p][k].assign(n_t * n_e * n_d * n_x, 0.0);
+    }
+  // (index, ratio) at (1.55, 2): a ramp in x at every node.
+  std::vector<double>& low = c.c_low[2][3];
+  for (std::size_t i = 0; i < low.size(); ++i) low[i] = 0.001 * static_cast<double>(i % n_x);
+  c.settle(t, o);
+  // A node's row: the ramp on one run of x, held at its ends outside it (near the beam too, where
+  // the solved light from below is not resolved); the run's last x is returned.
+  auto last_kept = [&](std::size_t i_t, std::size_t i_e, std::size_t i_d) {
+    const double* row = low.data() + ((i_t * n_e + i_e) * n_d + i_d) * n_x;
+    std::size_t f = 0;
+    while (f < n_x && row[f] != 0.001 * static_cast<double>(f)) ++f;
+    if (f == n_x) return f;
+    std::size_t l = f;
+    while (l + 1 < n_x && row[l + 1] == 0.001 * static_cast<double>(l + 1)) ++l;
+    for (std::size_t i = 0; i < n_x; ++i)
+      if (i < f || i > l) EXPECT_EQ(row[i], row[i < f ? f : l]) << "node " << i_t << ',' << i_e << ',' << i_d << " x index " << i;
+    return l;
+  };
+  const std::size_t bright = last_kept(0, 0, 0), darker = last_kept(n_t / 2, n_e / 2, n_d / 2);
+  EXPECT_LT(darker, bright);
+  EXPECT_LT(bright, n_x - 1);  // even a bright stack's far tail falls under 1e-8 of its peak
+  // The darkest node's light from below is under 1e-8 of its peak everywhere: no term.
+  const double* darkest = low.data() + (((n_t - 1) * n_e + n_e - 1) * n_d + n_d - 1) * n_x;
+  for (std::size_t i = 0; i < n_x; ++i) EXPECT_EQ(darkest[i], 0.0);
+  SkinStackCross other = SkinStackCross::default_nodes(o);
+  other.a_d.pop_back();
+  EXPECT_THROW(other.settle(t, o), std::logic_error);
+}
+
 TEST(SkinStackCross, MalformedFilesAreRefusedAndTermsScaleFromTheBase) {
   using skin::transport::accurate::SkinStackCross;
   SkinStackCross c;
