@@ -1181,7 +1181,19 @@ void SkinStackCross::settle(const SkinStackTable& table, const SkinStackOffsets&
     for (std::size_t i = 0; i < f; ++i) row[i] = row[f];
     for (std::size_t i = l + 1; i < n_x; ++i) row[i] = row[l];
   };
+  // A row of terms (at node `first` / n_x of its part) against the table's part at that node
+  // (table_part, every stride-th x) and the two axes' offsets there (empty: none): the corner's part is
+  // their sum.
   std::vector<char> ok(n_x);
+  auto settle_row = [&](double* row, const double* table_part, const std::vector<double>& oa, const std::vector<double>& ob,
+                        std::size_t first, double floor) {
+    for (std::size_t i = 0; i < n_x; ++i) {
+      const double b = table_part[stride * i];
+      const double corner = b + (oa.empty() ? 0.0 : oa[first + i]) + (ob.empty() ? 0.0 : ob[first + i]) + row[i];
+      ok[i] = b > floor && corner > floor;
+    }
+    hold(row, ok);
+  };
   for (std::size_t p = 0; p < kPairs; ++p)
     for (std::size_t c = 0; c < 4; ++c) {
       const std::size_t a = static_cast<std::size_t>(kPairAxes[p][0]), b = static_cast<std::size_t>(kPairAxes[p][1]);
@@ -1197,24 +1209,9 @@ void SkinStackCross::settle(const SkinStackTable& table, const SkinStackOffsets&
           double peak = -std::numeric_limits<double>::infinity();
           for (std::size_t i = 0; i < nx_t; ++i) peak = std::max(peak, log_sum(bt[i], bl[i]));
           const std::size_t kl = k * n_d + l;
-          const std::vector<double> &oa = offsets.d_low[a][ja], &ob = offsets.d_low[b][jb];
-          double* row = c_low[p][c].data() + kl * n_x;
-          for (std::size_t i = 0; i < n_x; ++i) {
-            const double base_low = bl[stride * i];
-            const double corner_low = base_low + (oa.empty() ? 0.0 : oa[kl * n_x + i]) + (ob.empty() ? 0.0 : ob[kl * n_x + i]) + row[i];
-            ok[i] = base_low > peak + lv && corner_low > peak + lv;
-          }
-          hold(row, ok);
-          if (l == 0 && !c_top[p][c].empty()) {
-            const std::vector<double> &ta = offsets.d_top[a][ja], &tb = offsets.d_top[b][jb];
-            double* trow = c_top[p][c].data() + k * n_x;
-            for (std::size_t i = 0; i < n_x; ++i) {
-              const double base_top = bt[stride * i];
-              const double corner_top = base_top + (ta.empty() ? 0.0 : ta[k * n_x + i]) + (tb.empty() ? 0.0 : tb[k * n_x + i]) + trow[i];
-              ok[i] = base_top > peak + lv && corner_top > peak + lv;
-            }
-            hold(trow, ok);
-          }
+          settle_row(c_low[p][c].data() + kl * n_x, bl, offsets.d_low[a][ja], offsets.d_low[b][jb], kl * n_x, peak + lv);
+          if (l == 0 && !c_top[p][c].empty())
+            settle_row(c_top[p][c].data() + k * n_x, bt, offsets.d_top[a][ja], offsets.d_top[b][jb], k * n_x, peak + lv);
         }
       }
     }

@@ -174,6 +174,17 @@ void expect_near_the_solver(const GeometryCase& c, double worst4, double worst5)
   EXPECT_LT(worst4, 0.03) << c.preset << " at " << c.lambda << " nm";
   EXPECT_LT(worst5, 0.10) << c.preset << " at " << c.lambda << " nm";
 }
+// The worst relative deviations (above 1e-4 and 1e-5 of R(0.02 mm)) of the profile `t` reads for
+// `s` from FrequencyStack's, at `radii`.
+std::pair<double, double> read_against_the_solver(const SkinStackTable& t, const skin::physics::LayerStack& s,
+                                                  const skin::transport::RadialGrid& radii) {
+  const skin::transport::accurate::FrequencyStack solved(s);
+  const skin::transport::accurate::SkinStackProfile read(t, s, solved.total());
+  std::vector<double> table_R;
+  for (double r : radii.r) table_R.push_back(read(r));
+  skin::transport::ProfileSolver ps(radii);
+  return worst_relative(table_R, ps.profile(solved));
+}
 }  // namespace
 
 // Between the nodes, on skin: the accurate model's profile (the table) against FrequencyStack
@@ -507,7 +518,9 @@ TEST(SkinStackCross, SettleHoldsTermsNearTheFloorAndNeedsTheOffsetsNodes) {
     std::size_t l = f;
     while (l + 1 < n_x && row[l + 1] == 0.001 * static_cast<double>(l + 1)) ++l;
     for (std::size_t i = 0; i < n_x; ++i)
-      if (i < f || i > l) EXPECT_EQ(row[i], row[i < f ? f : l]) << "node " << i_t << ',' << i_e << ',' << i_d << " x index " << i;
+      if (i < f || i > l) {
+        EXPECT_EQ(row[i], row[i < f ? f : l]) << "node " << i_t << ',' << i_e << ',' << i_d << " x index " << i;
+      }
     return l;
   };
   const std::size_t bright = last_kept(0, 0, 0), darker = last_kept(n_t / 2, n_e / 2, n_d / 2);
@@ -678,12 +691,7 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
                                                      {"asian", 0.8, 1.45, 1.0, 0.1, 500.0}})) {
     const skin::physics::LayerStack s = geometry_stack(c);
     ASSERT_EQ(t.gap(s), "") << c.preset;
-    const skin::transport::accurate::FrequencyStack solved(s);
-    const skin::transport::accurate::SkinStackProfile read(t, s, solved.total());
-    std::vector<double> table_R;
-    for (double r : radii.r) table_R.push_back(read(r));
-    skin::transport::ProfileSolver ps(radii);
-    const auto [worst4, worst5] = worst_relative(table_R, ps.profile(solved));
+    const auto [worst4, worst5] = read_against_the_solver(t, s, radii);
     expect_near_the_solver(c, worst4, worst5);
   }
   // Stacks given in reduced units (the epidermis' sigma_s' s per mm, tau, a_e, a_d, g, index,
@@ -708,12 +716,7 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
       skin::physics::LayerStack st;
       st.layers = {{c.a_e * c.s, c.s, c.tau / c.s, c.eta, c.g}, {c.a_d * c.s, c.ratio * c.s, skin::physics::kInfinity, c.eta, c.g}};
       ASSERT_EQ(t.gap(st), "") << c.name;
-      const skin::transport::accurate::FrequencyStack solved(st);
-      const skin::transport::accurate::SkinStackProfile read(t, st, solved.total());
-      std::vector<double> table_R;
-      for (double r : radii.r) table_R.push_back(read(r));
-      skin::transport::ProfileSolver ps(radii);
-      const auto [worst4, worst5] = worst_relative(table_R, ps.profile(solved));
+      const auto [worst4, worst5] = read_against_the_solver(t, st, radii);
       std::cout << c.name << ": worst " << 100 * worst4 << " % above 1e-4, " << 100 * worst5 << " % above 1e-5\n";
       EXPECT_LT(worst4, 0.05) << c.name;
       EXPECT_LT(worst5, 0.10) << c.name;
