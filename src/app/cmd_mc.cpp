@@ -284,8 +284,8 @@ void register_skin_table_command(CLI::App& app) {
   sub->add_option("--offset-nodes", o->axes,
                   "With --offsets: only these nodes, as AXIS=VALUE (g=0.8, eta=1.47, dermis_ratio=2); default: all");
   sub->add_option("--cross-pairs", o->pairs,
-                  "With --cross: solve these pairs of axes (g:eta, g:dermis_ratio, eta:dermis_ratio) and copy the "
-                  "others' corners from --reuse (or leave them 0); default: all, the corners --reuse holds copied");
+                  "With --cross: solve only these pairs of axes (g:eta, g:dermis_ratio, eta:dermis_ratio), leaving "
+                  "the others' corners 0; default: all. With --reuse, the corners it holds are copied in every case");
   sub->callback([o] {
     if (o->cross) {
       namespace acc = transport::accurate;

@@ -418,10 +418,12 @@ const SkinStackTable& SkinStackTable::builtin() {
       for (double v : *coarse) ok = ok && node_index(*fine, v) != std::string::npos;
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
     o.settle(table);
-    // The cross terms are the offsets': their base, their axes' ends, their nodes.
+    // The cross terms are the offsets': their base, their axes' ends among the offsets' nodes (an
+    // axis may reach farther than its cross terms: combined reads stop at the ends, gap()), their
+    // nodes.
     static SkinStackCross c = SkinStackCross::parse(util::data::embedded("skin_stack_cross.csv"), "skin_stack_cross.csv");
     for (std::size_t a = 0; a < SkinStackOffsets::kAxes; ++a)
-      ok = ok && c.ends[a][0] == o.nodes[a].front() && c.ends[a][1] == o.nodes[a].back();
+      for (double end : c.ends[a]) ok = ok && c.base[a] == o.base[a] && node_index(o.nodes[a], end) != std::string::npos;
     if (!ok) throw std::logic_error("skin_stack_cross.csv does not belong to skin_stack_offsets.csv");
     c.settle(table, o);  // (checks the nodes)
     o.cross = &c;
@@ -1069,13 +1071,24 @@ std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) cons
   if (!cross && ratio_v != base[2] && (g_v != base[0] || eta_v != base[1]))
     return "another dermis scattering ratio together with another g or index (without cross terms the "
            "skin table's offsets do not combine them)";
+  auto name = [](int a) { return std::string(a == 0 ? "g" : a == 1 ? "index" : "the lower layer's sigma_s' / the top layer's"); };
   for (int a = 0; a < kAxes; ++a) {
     const auto& n = nodes[static_cast<std::size_t>(a)];
     // (a relative 1e-9 beyond an end: a ratio of two coefficients computed apart)
     if (!(v[a] >= n.front() * (1 - 1e-9) && v[a] <= n.back() * (1 + 1e-9)))
-      return std::string(a == 0 ? "g" : a == 1 ? "index" : "the lower layer's sigma_s' / the top layer's") + " " +
-             format_number(v[a]) + " is outside the skin table's [" + format_number(n.front()) + ", " + format_number(n.back()) + "]";
+      return name(a) + " " + format_number(v[a]) + " is outside the skin table's [" + format_number(n.front()) + ", " +
+             format_number(n.back()) + "]";
   }
+  // Combined with another dermis ratio, g and the index stop at the cross terms' ends (an axis'
+  // offsets may reach farther: their cross corners are not computed).
+  if (cross && ratio_v != base[2])
+    for (int a = 0; a < 2; ++a) {
+      const auto au = static_cast<std::size_t>(a);
+      const auto& e = cross->ends[au];
+      if (!(v[a] >= e[0] * (1 - 1e-9) && v[a] <= e[1] * (1 + 1e-9)))
+        return name(a) + " " + format_number(v[a]) + " together with another dermis scattering ratio is outside the skin "
+               "table's cross terms' [" + format_number(e[0]) + ", " + format_number(e[1]) + "]";
+    }
   return {};
 }
 
@@ -1280,7 +1293,7 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
           v[static_cast<std::size_t>(kPairAxes[pu][1])] == base[static_cast<std::size_t>(kPairAxes[pu][1])])
         continue;  // an axis without nodes on that side: no term
       const bool solve = !solve_pairs || (*solve_pairs)[pu];
-      if (reuse && !(solve_pairs && solve) && reuse->base == base && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) &&
+      if (reuse && reuse->base == base && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) &&
           same_nodes(reuse->a_d, a_d) && same_nodes(reuse->x, x)) {
         bool same = false;
         for (int rc = 0; rc < 4 && !same; ++rc) {

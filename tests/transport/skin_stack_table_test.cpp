@@ -595,9 +595,9 @@ TEST(SkinStackCross, MalformedFilesAreRefusedAndTermsScaleFromTheBase) {
 }
 
 // `skin tabulate-skin-profiles --cross --cross-pairs`: only the pairs asked for are solved, the
-// others' corners copied from the table to reuse (or 0). At a corner's node the table with both
-// axes' offsets plus the term is the corner's light from below solved there (one node: g 0.7
-// with dermis ratio 0.2 and 2; about 2 s in Release).
+// others' corners 0, and a table to reuse gives every corner it holds, asked for or not. At a
+// corner's node the table with both axes' offsets plus the term is the corner's light from below
+// solved there (one node: g 0.7 with dermis ratio 0.2 and 2; about 2 s in Release).
 TEST(SkinStackCross, OnlyThePairsAskedForAreSolvedAtTheOffsetsNodes) {
   using skin::transport::accurate::SkinStackCross;
   const SkinStackTable& t = SkinStackTable::builtin();
@@ -610,12 +610,13 @@ TEST(SkinStackCross, OnlyThePairsAskedForAreSolvedAtTheOffsetsNodes) {
   c.tau = {o.tau[7]};  // 1.33
   c.a_e = {o.a_e[4]};  // 0.4
   c.a_d = {o.a_d[4]};  // 0.4
+  c.ends[0] = {o.nodes[0].front(), o.base[0]};  // g's lower end only (0.7)
   const std::array<bool, SkinStackCross::kPairs> g_and_ratio{false, true, false};
   c.compute(t, {}, nullptr, &g_and_ratio);
   const std::size_t n_x = c.x.size();
   for (std::size_t p = 0; p < SkinStackCross::kPairs; ++p)
     for (std::size_t k = 0; k < 4; ++k) {
-      const bool solved = p == 1 && k < 2;  // g at its lower end (0.7; its upper end is the table's 0.9)
+      const bool solved = p == 1 && k < 2;  // g at its lower end (0.7; its upper end here is the table's 0.9)
       ASSERT_EQ(c.c_low[p][k].size(), n_x);
       const double largest = std::abs(*std::max_element(c.c_low[p][k].begin(), c.c_low[p][k].end(),
                                                         [](double a, double b) { return std::abs(a) < std::abs(b); }));
@@ -647,6 +648,12 @@ TEST(SkinStackCross, OnlyThePairsAskedForAreSolvedAtTheOffsetsNodes) {
   const std::array<bool, SkinStackCross::kPairs> none{false, false, false};
   again.compute(t, {}, &c, &none);
   EXPECT_EQ(again.c_low, c.c_low);
+  // The pair asked for again with the same table to reuse: copied, not solved (nor set to 0).
+  SkinStackCross copied = again;
+  for (auto& pair : copied.c_low)
+    for (auto& corner_terms : pair) corner_terms.clear();
+  copied.compute(t, {}, &c, &g_and_ratio);
+  EXPECT_EQ(copied.c_low, c.c_low);
 }
 
 // Skin of another g, index or dermis ratio is read from the table with the offsets of each axis

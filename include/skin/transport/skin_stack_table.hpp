@@ -177,9 +177,9 @@ struct SkinStackCross {
   static SkinStackCross default_nodes(const SkinStackOffsets& offsets);
   // Computes the terms against `table` and its offsets (table.offsets, whose own cross terms are
   // not used). progress(done, total) as SkinStackTable::compute; cancellable. With `reuse` (the
-  // same base and nodes), the corners it holds with the same two values are copied. With
-  // `solve_pairs`, the pairs marked are solved and the others' corners copied from `reuse` (or
-  // left 0).
+  // same base and nodes), the corners it holds with the same two values are copied (to solve a
+  // corner again, leave it out of `reuse`). With `solve_pairs`, only the marked pairs' other
+  // corners are solved; the other pairs' are 0.
   void compute(const SkinStackTable& table, const util::ProgressCallback& progress = {},
                const SkinStackCross* reuse = nullptr, const std::array<bool, kPairs>* solve_pairs = nullptr);
   std::string to_csv() const;
