@@ -326,6 +326,30 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   EXPECT_FALSE(skin::transport::accurate::AccurateStack(three).skin_table());
 }
 
+// An axis' offsets may reach farther than its cross terms (g 0.95 offsets, cross terms only down
+// to g 0.7): a combined read beyond the cross terms' ends is refused with that reason, while the
+// same g alone, or inside the ends with another dermis ratio, is read.
+TEST(SkinStackOffsets, CombinedReadsStopAtTheCrossTermsEnds) {
+  using skin::transport::accurate::SkinStackCross;
+  SkinStackOffsets o;
+  o.base = {0.9, 1.4, 0.5};
+  o.nodes = {std::vector<double>{0.7, 0.8, 0.9, 0.95}, {1.33, 1.4, 1.55}, {0.2, 0.5, 2.0}};
+  EXPECT_NE(o.gap(0.8, 1.4, 2.0).find("without cross terms"), std::string::npos) << o.gap(0.8, 1.4, 2.0);
+  SkinStackCross c;
+  c.base = o.base;
+  c.ends = {std::array<double, 2>{0.7, 0.9}, {1.33, 1.55}, {0.2, 2.0}};
+  o.cross = &c;
+  EXPECT_EQ(o.gap(0.93, 1.4, 0.5), "");  // g alone: the offsets
+  EXPECT_EQ(o.gap(0.8, 1.4, 2.0), "");   // inside the cross terms' ends
+  EXPECT_EQ(o.gap(0.9, 1.5, 0.3), "");
+  EXPECT_EQ(o.gap(0.93, 1.4, 2.0), "g 0.93 together with another dermis scattering ratio is outside the skin table's "
+                                   "cross terms' [0.7, 0.9]");
+  EXPECT_NE(o.gap(0.97, 1.4, 0.5).find("g 0.97 is outside the skin table's [0.7, 0.95]"), std::string::npos)
+      << o.gap(0.97, 1.4, 0.5);
+  c.ends[0] = {0.7, 0.95};
+  EXPECT_EQ(o.gap(0.93, 1.4, 2.0), "");
+}
+
 // Parsing `text` throws one line containing `what` (and naming `file`, if `names_file`).
 template <typename Parsed>
 void expect_refused(const std::string& text, const std::string& file, const std::string& what, bool names_file) {
