@@ -1079,15 +1079,16 @@ std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) cons
       return name(a) + " " + format_number(v[a]) + " is outside the skin table's [" + format_number(n.front()) + ", " +
              format_number(n.back()) + "]";
   }
-  // Combined with another dermis ratio, g and the index stop at the cross terms' ends (an axis'
-  // offsets may reach farther: their cross corners are not computed).
+  // Combined with another dermis ratio, g and the index stop where the cross terms reach: their
+  // corners, or on a side without corners the other side's continued through the base, no farther
+  // than that corner is from the base (an axis' offsets may reach farther).
   if (cross && ratio_v != base[2])
     for (int a = 0; a < 2; ++a) {
-      const auto au = static_cast<std::size_t>(a);
-      const auto& e = cross->ends[au];
-      if (!(v[a] >= e[0] * (1 - 1e-9) && v[a] <= e[1] * (1 + 1e-9)))
+      const double lo = cross->reach(a, 0), hi = cross->reach(a, 1);
+      if (!(v[a] >= lo * (1 - 1e-9) && v[a] <= hi * (1 + 1e-9)))
         return name(a) + " " + format_number(v[a]) + " together with another dermis scattering ratio is outside the skin "
-               "table's cross terms' [" + format_number(e[0]) + ", " + format_number(e[1]) + "]";
+               "table's cross terms' reach [" + format_number(std::round(lo * 1e4) / 1e4) + ", " +
+               format_number(std::round(hi * 1e4) / 1e4) + "]";
     }
   return {};
 }
@@ -1446,17 +1447,32 @@ SkinStackCross SkinStackCross::parse(std::string_view text, std::string_view sou
   return c;
 }
 
+double SkinStackCross::position(int axis, std::size_t side, double v) const {
+  const auto a = static_cast<std::size_t>(axis);
+  return (axis_variable(axis, v) - axis_variable(axis, base[a])) / (axis_variable(axis, ends[a][side]) - axis_variable(axis, base[a]));
+}
+
+double SkinStackCross::reach(int axis, std::size_t side) const {
+  const auto a = static_cast<std::size_t>(axis);
+  if (ends[a][side] != base[a] || ends[a][1 - side] == base[a]) return ends[a][side];
+  // The other side's end mirrored through the base in the axis' variable (ln(1 - g), the index,
+  // ln ratio).
+  const double u = 2 * axis_variable(axis, base[a]) - axis_variable(axis, ends[a][1 - side]);
+  return axis == 0 ? 1 - std::exp(u) : axis == 2 ? std::exp(u) : u;
+}
+
 void SkinStackCross::add(double t, double ae, double ad, const std::array<double, SkinStackOffsets::kAxes>& v,
                          std::vector<double>& dt, std::vector<double>& dl) const {
-  // Per axis: the side (0 below the base, 1 above) and the position from the base to that end.
+  // Per axis: the corners' side (0 below the base, 1 above) and the position from the base to
+  // that end; on a side without corners, the other side's, continued linearly through the base (a
+  // negative position; gap() keeps it within -1).
   std::array<std::size_t, SkinStackOffsets::kAxes> side{};
   std::array<double, SkinStackOffsets::kAxes> w{};
   for (std::size_t a = 0; a < SkinStackOffsets::kAxes; ++a) {
     side[a] = v[a] > base[a] ? 1 : 0;
-    if (v[a] == base[a] || ends[a][side[a]] == base[a]) continue;  // (no nodes on that side: no term)
-    const int ai = static_cast<int>(a);
-    w[a] = (axis_variable(ai, v[a]) - axis_variable(ai, base[a])) /
-           (axis_variable(ai, ends[a][side[a]]) - axis_variable(ai, base[a]));
+    if (ends[a][side[a]] == base[a]) side[a] = 1 - side[a];
+    if (v[a] == base[a] || ends[a][side[a]] == base[a]) continue;  // (no corners on either side: no term)
+    w[a] = position(static_cast<int>(a), side[a], v[a]);
   }
   const std::size_t n_x = x.size(), n_e = a_e.size(), n_d = a_d.size();
   bool any = false;

@@ -326,28 +326,36 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   EXPECT_FALSE(skin::transport::accurate::AccurateStack(three).skin_table());
 }
 
-// An axis' offsets may reach farther than its cross terms (g 0.95 offsets, cross terms only down
-// to g 0.7): a combined read beyond the cross terms' ends is refused with that reason, while the
-// same g alone, or inside the ends with another dermis ratio, is read.
-TEST(SkinStackOffsets, CombinedReadsStopAtTheCrossTermsEnds) {
+// An axis' offsets may reach farther than its cross terms' corners (g 0.97 offsets, corners only
+// at g 0.7). On the side without corners the terms are the other side's continued through the
+// base (SkinStackCross::add), as far as that corner is from the base: g 0.9667 (ln(1 - g) mirrored
+// through ln 0.1). A combined read beyond it is refused with that reason, while the same g alone,
+// or another dermis ratio inside the reach, is read.
+TEST(SkinStackOffsets, CombinedReadsStopWhereTheCrossTermsReach) {
   using skin::transport::accurate::SkinStackCross;
   SkinStackOffsets o;
   o.base = {0.9, 1.4, 0.5};
-  o.nodes = {std::vector<double>{0.7, 0.8, 0.9, 0.95}, {1.33, 1.4, 1.55}, {0.2, 0.5, 2.0}};
+  o.nodes = {std::vector<double>{0.7, 0.8, 0.9, 0.95, 0.97}, {1.33, 1.4, 1.55}, {0.2, 0.5, 2.0}};
   EXPECT_NE(o.gap(0.8, 1.4, 2.0).find("without cross terms"), std::string::npos) << o.gap(0.8, 1.4, 2.0);
   SkinStackCross c;
   c.base = o.base;
   c.ends = {std::array<double, 2>{0.7, 0.9}, {1.33, 1.55}, {0.2, 2.0}};
   o.cross = &c;
-  EXPECT_EQ(o.gap(0.93, 1.4, 0.5), "");  // g alone: the offsets
-  EXPECT_EQ(o.gap(0.8, 1.4, 2.0), "");   // inside the cross terms' ends
-  EXPECT_EQ(o.gap(0.9, 1.5, 0.3), "");
-  EXPECT_EQ(o.gap(0.93, 1.4, 2.0), "g 0.93 together with another dermis scattering ratio is outside the skin table's "
-                                   "cross terms' [0.7, 0.9]");
-  EXPECT_NE(o.gap(0.97, 1.4, 0.5).find("g 0.97 is outside the skin table's [0.7, 0.95]"), std::string::npos)
-      << o.gap(0.97, 1.4, 0.5);
-  c.ends[0] = {0.7, 0.95};
-  EXPECT_EQ(o.gap(0.93, 1.4, 2.0), "");
+  EXPECT_NEAR(c.reach(0, 1), 1 - 0.01 / 0.3, 1e-12);
+  EXPECT_EQ(c.reach(0, 0), 0.7);
+  EXPECT_EQ(c.reach(1, 1), 1.55);
+  EXPECT_NEAR(c.position(0, 0, 0.95), std::log(0.5) / std::log(3.0), 1e-12);  // -0.63: through the base
+  EXPECT_EQ(o.gap(0.97, 1.4, 0.5), "");  // g alone: the offsets
+  EXPECT_EQ(o.gap(0.8, 1.4, 2.0), "");
+  EXPECT_EQ(o.gap(0.95, 1.4, 2.0), "");  // continued through the base
+  EXPECT_EQ(o.gap(0.97, 1.4, 2.0), "g 0.97 together with another dermis scattering ratio is outside the skin table's "
+                                   "cross terms' reach [0.7, 0.9667]");
+  EXPECT_NE(o.gap(0.98, 1.4, 0.5).find("g 0.98 is outside the skin table's [0.7, 0.97]"), std::string::npos)
+      << o.gap(0.98, 1.4, 0.5);
+  c.ends[1] = {1.4, 1.55};  // the index: corners above only, mirrored to 1.25 below
+  EXPECT_EQ(o.gap(0.9, 1.33, 2.0), "");
+  c.ends[0] = {0.9, 0.9};  // no corners on either side: nothing to continue
+  EXPECT_NE(o.gap(0.8, 1.4, 2.0).find("reach [0.9, 0.9]"), std::string::npos) << o.gap(0.8, 1.4, 2.0);
 }
 
 // Parsing `text` throws one line containing `what` (and naming `file`, if `names_file`).

@@ -154,7 +154,9 @@ struct SkinStackOffsets {
 // corner's solve nears its floor: settle()). For
 // values between the base and the ends each corner's term is scaled by the product of the two
 // axes' positions from the base towards it (in ln(1 - g), eta and ln ratio: the term is 0 where
-// either axis is at the base), and interpolated in (tau, a_e, a_d) like the offsets. The top
+// either axis is at the base), and interpolated in (tau, a_e, a_d) like the offsets. On a side of
+// an axis without corners (g above 0.9: not solved) the other side's corners are continued
+// linearly through the base (a negative position), no farther than they are from it. The top
 // layer does not depend on the dermis: top terms on (g, eta) only. The three axes' joint term is
 // not tabulated (measured below 1.1 % of the profile where the pairs' are exact, sec. 4). Unlike
 // the offsets they are not held where the light from below is small against the top layer's: both
@@ -189,6 +191,14 @@ struct SkinStackCross {
   // where they never are. `offsets` are the table's, settled, on these nodes (else logic_error).
   // The built-in terms are settled this way.
   void settle(const SkinStackTable& table, const SkinStackOffsets& offsets);
+  // The farthest value of `axis` a combined read reaches on `side` (0 below the base, 1 above):
+  // the corners' end, or where a side has no corners (g above the table's 0.9 today), the other
+  // side's end mirrored through the base in the axis' variable (ln(1 - g), the index, ln ratio),
+  // whose terms add() continues linearly through the base there (docs/accurate-solver.md, sec. 4).
+  double reach(int axis, std::size_t side) const;
+  // The position of v from the base towards the end on `side` (1 at the end; negative on the
+  // other side).
+  double position(int axis, std::size_t side, double v) const;
   // Adds the pairs' terms at (tau, a_e, a_d) and the axes' values v to the offsets dt, dl (at x).
   void add(double t, double ae, double ad, const std::array<double, SkinStackOffsets::kAxes>& v,
            std::vector<double>& dt, std::vector<double>& dl) const;
