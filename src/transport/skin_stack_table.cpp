@@ -419,8 +419,8 @@ const SkinStackTable& SkinStackTable::builtin() {
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
     o.settle(table);
     // The cross terms are the offsets': their base, their axes' ends among the offsets' nodes (an
-    // axis may reach farther than its cross terms: combined reads stop at the ends, gap()), their
-    // nodes.
+    // axis' offsets may reach farther than its corners: combined reads stop where the terms reach,
+    // gap()), their nodes.
     static SkinStackCross c = SkinStackCross::parse(util::data::embedded("skin_stack_cross.csv"), "skin_stack_cross.csv");
     for (std::size_t a = 0; a < SkinStackOffsets::kAxes; ++a)
       for (double end : c.ends[a]) ok = ok && c.base[a] == o.base[a] && node_index(o.nodes[a], end) != std::string::npos;
