@@ -660,6 +660,8 @@ constexpr double kCrossValid = 1e-8;
 constexpr double kMaxOffset = 20;       // |offset| in ln rho, as stored and parsed
 // The variable each axis is interpolated in: ln(1 - g), eta, ln ratio.
 double axis_variable(int axis, double v) { return axis == 0 ? std::log(1 - v) : axis == 2 ? std::log(v) : v; }
+// Its inverse: the axis' value at u.
+double axis_value(int axis, double u) { return axis == 0 ? 1 - std::exp(u) : axis == 2 ? std::exp(u) : u; }
 std::vector<double> axis_variables(int axis, const std::vector<double>& nodes) {
   std::vector<double> out(nodes.size());
   for (std::size_t i = 0; i < nodes.size(); ++i) out[i] = axis_variable(axis, nodes[i]);
@@ -1457,8 +1459,7 @@ double SkinStackCross::reach(int axis, std::size_t side) const {
   if (ends[a][side] != base[a] || ends[a][1 - side] == base[a]) return ends[a][side];
   // The other side's end mirrored through the base in the axis' variable (ln(1 - g), the index,
   // ln ratio).
-  const double u = 2 * axis_variable(axis, base[a]) - axis_variable(axis, ends[a][1 - side]);
-  return axis == 0 ? 1 - std::exp(u) : axis == 2 ? std::exp(u) : u;
+  return axis_value(axis, 2 * axis_variable(axis, base[a]) - axis_variable(axis, ends[a][1 - side]));
 }
 
 void SkinStackCross::add(double t, double ae, double ad, const std::array<double, SkinStackOffsets::kAxes>& v,
