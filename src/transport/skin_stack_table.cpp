@@ -11,6 +11,7 @@
 #include <mutex>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include "skin/transport/accurate.hpp"
 #include "skin/transport/profile.hpp"
@@ -416,6 +417,9 @@ const SkinStackTable& SkinStackTable::builtin() {
     for (std::size_t i = 0; ok && i < o.x.size(); ++i) ok = same_node(o.x[i], table.x[stride * i]);
     for (const auto& [coarse, fine] : {std::pair{&o.tau, &table.tau}, {&o.a_e, &table.a_e}, {&o.a_d, &table.a_d}})
       for (double v : *coarse) ok = ok && node_index(*fine, v) != std::string::npos;
+    for (int a = 0; a < SkinStackOffsets::kAxes; ++a)
+      for (const auto& [own, fine] : {std::pair{&o.a_e_of(a), &table.a_e}, {&o.a_d_of(a), &table.a_d}})
+        for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos;
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
     o.settle(table);
     // The cross terms are the offsets': their base, their axes' ends among the offsets' nodes (an
@@ -739,12 +743,36 @@ SkinStackOffsets SkinStackOffsets::default_nodes(const SkinStackTable& table) {
   o.a_e = thin(table.a_e);
   o.a_d = thin(table.a_d);
   for (std::size_t i = 0; i < table.x.size(); i += 2) o.x.push_back(table.x[i]);
+  // The dermis ratio's a_e: above 0.4 every other of the table's (0.25 apart in sqrt a, twice as
+  // fine as the others'). Its offset's far field is the light's path through the lower layer
+  // against the top's, which changes between a_e 0.4 and 1.28 (x 6.5: 0.2 off the solver across
+  // them, 0.04 with a node between; docs/accurate-solver.md, sec. 4).
+  std::vector<double>& ratio_e = o.axis_a_e[2];
+  for (std::size_t i = 0, k = 0; i < table.a_e.size(); ++i) {
+    const bool log_part = table.a_e[i] <= 0.4 * (1 + 1e-9);
+    if (log_part ? std::find(o.a_e.begin(), o.a_e.end(), table.a_e[i]) != o.a_e.end() : ++k % 2 == 0 || i + 1 == table.a_e.size())
+      ratio_e.push_back(table.a_e[i]);
+  }
   return o;
+}
+
+std::size_t SkinStackOffsets::low_row(int axis, std::size_t i_t, std::size_t i_e, std::size_t i_d) const {
+  const std::vector<double>&ae = a_e_of(axis), &ad = a_d_of(axis);
+  const std::size_t e = node_index(ae, a_e.at(i_e)), d = node_index(ad, a_d.at(i_d));
+  if (e == std::string::npos || d == std::string::npos) throw std::logic_error("skin table offsets: an axis' nodes miss the coarse ones");
+  return (i_t * ae.size() + e) * ad.size() + d;
+}
+
+std::size_t SkinStackOffsets::top_row(int axis, std::size_t i_t, std::size_t i_e) const {
+  const std::vector<double>& ae = a_e_of(axis);
+  const std::size_t e = node_index(ae, a_e.at(i_e));
+  if (e == std::string::npos) throw std::logic_error("skin table offsets: an axis' nodes miss the coarse ones");
+  return i_t * ae.size() + e;
 }
 
 void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallback& progress,
                                const SkinStackOffsets* reuse) {
-  const std::size_t n_t = tau.size(), n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
+  const std::size_t n_t = tau.size(), n_x = x.size();
   // Coarse nodes -> the table's nodes.
   auto indices = [](const std::vector<double>& coarse, const std::vector<double>& fine, const char* key) {
     std::vector<std::size_t> out;
@@ -756,48 +784,79 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
     }
     return out;
   };
-  const auto it = indices(tau, table.tau, "tau"), ie = indices(a_e, table.a_e, "a_e"), id = indices(a_d, table.a_d, "a_d"),
-             ix = indices(x, table.x, "x");
+  const auto it = indices(tau, table.tau, "tau"), ix = indices(x, table.x, "x");
+  std::array<std::vector<std::size_t>, kAxes> ie, id;  // per axis, its a_e and a_d among the table's
+  for (int a = 0; a < kAxes; ++a) {
+    ie[static_cast<std::size_t>(a)] = indices(a_e_of(a), table.a_e, "a_e");
+    id[static_cast<std::size_t>(a)] = indices(a_d_of(a), table.a_d, "a_d");
+    for (const auto& [own, coarse] : {std::pair{&a_e_of(a), &a_e}, {&a_d_of(a), &a_d}})
+      for (double v : *coarse)
+        if (node_index(*own, v) == std::string::npos)
+          throw InputError(std::string("skin table offsets: the ") + kAxisNames[a] + " axis' nodes miss the coarse node " + format_number(v));
+  }
   if (!(base[0] == table.g && base[1] == table.eta && base[2] == table.dermis_ratio))
     throw InputError("skin table offsets: the base geometry is not the table's");
-  // Reused rows: the same tau, a_e and a_d, and each of these x among the reused table's.
+  // Reused rows: the same tau, each of these x among the reused table's, and per row its (a_e, a_d)
+  // among the reused axis' nodes.
   std::vector<std::size_t> reuse_x;
-  bool same_grid = reuse && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) && same_nodes(reuse->a_d, a_d);
+  bool same_grid = reuse && same_nodes(reuse->tau, tau);
   for (std::size_t i = 0; same_grid && i < n_x; ++i) {
     reuse_x.push_back(node_index(reuse->x, x[i]));
     same_grid = reuse_x.back() != std::string::npos;
   }
-  auto reused = [&](const std::vector<double>& from) {
-    const std::size_t rows = from.size() / reuse->x.size();
-    std::vector<double> out(rows * n_x);
-    for (std::size_t r = 0; r < rows; ++r)
-      for (std::size_t i = 0; i < n_x; ++i) out[r * n_x + i] = from[r * reuse->x.size() + reuse_x[i]];
-    return out;
+  auto copy_row = [&](const std::vector<double>& from, std::size_t r_from, std::vector<double>& to, std::size_t r_to) {
+    for (std::size_t i = 0; i < n_x; ++i) to[r_to * n_x + i] = from[r_from * reuse->x.size() + reuse_x[i]];
   };
   // The jobs: per (axis, node) the top layers alone (their R(k), which the light from below
-  // subtracts, and for g and eta their profiles' offsets), then the light from below.
+  // subtracts, and for g and eta their profiles' offsets), then the light from below; per job
+  // k = i_tau * n_e + i_e, or (i_tau * n_e + i_e) * n_d + i_d, on the axis' nodes.
   struct Job { int axis; std::size_t node; std::size_t k; };
   std::vector<Job> top_jobs, low_jobs;
   for (int a = 0; a < kAxes; ++a) {
-    d_top[a].assign(nodes[a].size(), {});
-    d_low[a].assign(nodes[a].size(), {});
-    low_solved[a].assign(nodes[a].size(), 0);
-    for (std::size_t j = 0; j < nodes[a].size(); ++j) {
-      if (nodes[a][j] == base[a]) continue;
-      if (same_grid) {
-        const std::size_t r = node_index(reuse->nodes[a], nodes[a][j]);
-        if (r != std::string::npos && !reuse->d_low[a][r].empty()) {
-          d_top[a][j] = reused(reuse->d_top[a][r]);
-          d_low[a][j] = reused(reuse->d_low[a][r]);
-          low_solved[a][j] = r < reuse->low_solved[a].size() ? reuse->low_solved[a][r] : 0;
-          continue;
+    const auto au = static_cast<std::size_t>(a);
+    const std::vector<double>&ae = a_e_of(a), &ad = a_d_of(a);
+    const std::size_t n_e = ae.size(), n_d = ad.size();
+    d_top[au].assign(nodes[au].size(), {});
+    d_low[au].assign(nodes[au].size(), {});
+    low_solved[au].assign(nodes[au].size(), 0);
+    for (std::size_t j = 0; j < nodes[au].size(); ++j) {
+      if (nodes[au][j] == base[au]) continue;
+      if (a != 2) d_top[au][j].assign(n_t * n_e * n_x, 0.0);
+      d_low[au][j].assign(n_t * n_e * n_d * n_x, 0.0);
+      std::vector<char> held_top(n_t * n_e, 0), held_low(n_t * n_e * n_d, 0);
+      const std::size_t r = same_grid ? node_index(reuse->nodes[au], nodes[au][j]) : std::string::npos;
+      if (r != std::string::npos && !reuse->d_low[au][r].empty()) {
+        const std::vector<double>&re = reuse->a_e_of(a), &rd = reuse->a_d_of(a);
+        const bool solved = r < reuse->low_solved[au].size() && reuse->low_solved[au][r];
+        std::size_t held = 0;
+        for (std::size_t i_t = 0; i_t < n_t; ++i_t)
+          for (std::size_t i_e = 0; i_e < n_e; ++i_e) {
+            const std::size_t e = node_index(re, ae[i_e]);
+            if (e == std::string::npos) continue;
+            if (a != 2) copy_row(reuse->d_top[au][r], i_t * re.size() + e, d_top[au][j], i_t * n_e + i_e);
+            held_top[i_t * n_e + i_e] = 1;
+            for (std::size_t i_d = 0; i_d < n_d; ++i_d) {
+              const std::size_t d = node_index(rd, ad[i_d]);
+              if (d == std::string::npos) continue;
+              copy_row(reuse->d_low[au][r], (i_t * re.size() + e) * rd.size() + d, d_low[au][j], (i_t * n_e + i_e) * n_d + i_d);
+              held_low[(i_t * n_e + i_e) * n_d + i_d] = 1;
+              ++held;
+            }
+          }
+        if (held == held_low.size()) {
+          low_solved[au][j] = solved ? 1 : 0;
+          continue;  // every row copied
         }
+        if (!solved) std::fill(held_low.begin(), held_low.end(), 0), std::fill(held_top.begin(), held_top.end(), 0);
       }
-      low_solved[a][j] = 1;  // (solved below, the light from below on its own)
-      if (a != 2) d_top[a][j].assign(n_t * n_e * n_x, 0.0);
-      for (std::size_t k = 0; k < n_t * n_e; ++k) top_jobs.push_back({a, j, k});
-      d_low[a][j].assign(n_t * n_e * n_d * n_x, 0.0);
-      for (std::size_t k = 0; k < n_t * n_e * n_d; ++k) low_jobs.push_back({a, j, k});
+      low_solved[au][j] = 1;  // (the rows solved below: the light from below on its own)
+      for (std::size_t k = 0; k < n_t * n_e; ++k) {
+        bool needed = !held_top[k];
+        for (std::size_t i_d = 0; i_d < n_d; ++i_d) needed = needed || !held_low[k * n_d + i_d];
+        if (needed) top_jobs.push_back({a, j, k});
+      }
+      for (std::size_t k = 0; k < n_t * n_e * n_d; ++k)
+        if (!held_low[k]) low_jobs.push_back({a, j, k});
     }
   }
   std::mutex m;
@@ -832,37 +891,41 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
   tbb::parallel_for(std::size_t{0}, top_jobs.size(), [&](std::size_t q) {
     if (util::cancel::requested()) return;
     const Job& jb = top_jobs[q];
+    const auto au = static_cast<std::size_t>(jb.axis);
     const SkinStackTable geo = geometry(jb.axis, jb.node);
-    const std::size_t i_t = jb.k / n_e, i_e = jb.k % n_e;
-    tops_k[q] = top_frequencies(geo, tau[i_t], a_e[i_e]);
+    const std::vector<double>& ae = a_e_of(jb.axis);
+    const std::size_t n_e = ae.size(), i_t = jb.k / n_e, i_e = jb.k % n_e;
+    tops_k[q] = top_frequencies(geo, tau[i_t], ae[i_e]);
     if (jb.axis != 2) {
       const Layer ab = absorber(geo);
-      tops[q] = solve(geo, tau[i_t], a_e[i_e], &ab);
-      const std::size_t kt = it[i_t] * table.a_e.size() + ie[i_e];
+      tops[q] = solve(geo, tau[i_t], ae[i_e], &ab);
+      const std::size_t kt = it[i_t] * table.a_e.size() + ie[au][i_e];
       const std::vector<double> d = top_offset(tops[q], row_of(table.ln_rho_top, kt), at_x);
-      std::copy(d.begin(), d.end(), d_top[static_cast<std::size_t>(jb.axis)][jb.node].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
+      std::copy(d.begin(), d.end(), d_top[au][jb.node].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
     }
     tick();
   });
   util::cancel::check();
-  auto top_of = [&](int axis, std::size_t node, std::size_t k) {
-    for (std::size_t q = 0; q < top_jobs.size(); ++q)
-      if (top_jobs[q].axis == axis && top_jobs[q].node == node && top_jobs[q].k == k) return q;
-    throw std::logic_error("skin table offsets: no top layer solved");
-  };
+  // Each (axis, node, tau, a_e)'s top job.
+  std::map<std::array<std::size_t, 3>, std::size_t> top_of;
+  for (std::size_t q = 0; q < top_jobs.size(); ++q)
+    top_of[{static_cast<std::size_t>(top_jobs[q].axis), top_jobs[q].node, top_jobs[q].k}] = q;
   tbb::parallel_for(std::size_t{0}, low_jobs.size(), [&](std::size_t q) {
     if (util::cancel::requested()) return;
     const Job& jb = low_jobs[q];
+    const auto au = static_cast<std::size_t>(jb.axis);
     const SkinStackTable geo = geometry(jb.axis, jb.node);
+    const std::vector<double>&ae = a_e_of(jb.axis), &ad = a_d_of(jb.axis);
+    const std::size_t n_e = ae.size(), n_d = ad.size();
     const std::size_t i_d = jb.k % n_d, i_e = (jb.k / n_d) % n_e, i_t = jb.k / (n_d * n_e);
-    const std::size_t kt = it[i_t] * table.a_e.size() + ie[i_e], k_low = kt * table.a_d.size() + id[i_d];
-    const std::size_t q_top = top_of(jb.axis, jb.node, i_t * n_e + i_e);
+    const std::size_t kt = it[i_t] * table.a_e.size() + ie[au][i_e], k_low = kt * table.a_d.size() + id[au][i_d];
+    const std::size_t q_top = top_of.at({au, jb.node, i_t * n_e + i_e});
     const std::vector<double> base_top = row_of(table.ln_rho_top, kt), base_low = row_of(table.ln_rho, k_low);
     // The top layer's profile (the dermis ratio's is the table's).
     std::vector<double> T = tops[q_top];
     if (jb.axis == 2) T = mapped(base_top, [](double v) { return std::exp(v); });
-    const std::vector<double> d = low_offset(geo, tau[i_t], a_e[i_e], a_d[i_d], T, tops_k[q_top], base_top, base_low, at_x);
-    std::copy(d.begin(), d.end(), d_low[static_cast<std::size_t>(jb.axis)][jb.node].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
+    const std::vector<double> d = low_offset(geo, tau[i_t], ae[i_e], ad[i_d], T, tops_k[q_top], base_top, base_low, at_x);
+    std::copy(d.begin(), d.end(), d_low[au][jb.node].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
     tick();
   });
   util::cancel::check();
@@ -922,19 +985,25 @@ std::string SkinStackOffsets::to_csv() const {
     for (std::size_t j = 0; j < nodes[a].size() && j < low_solved[a].size(); ++j)
       if (low_solved[a][j]) solved.push_back(nodes[a][j]);
     if (!solved.empty()) os << "# " << kAxisNames[a] << "_low_solved: " << format_number_list(solved) << '\n';
+    if (!axis_a_e[static_cast<std::size_t>(a)].empty())
+      os << "# " << kAxisNames[a] << "_a_e: " << format_number_list(axis_a_e[static_cast<std::size_t>(a)]) << '\n';
+    if (!axis_a_d[static_cast<std::size_t>(a)].empty())
+      os << "# " << kAxisNames[a] << "_a_d: " << format_number_list(axis_a_d[static_cast<std::size_t>(a)]) << '\n';
   }
   os << "# tau: " << format_number_list(tau) << "\n# a_e: " << format_number_list(a_e)
      << "\n# a_d: " << format_number_list(a_d) << "\n# x: " << format_number_list(x) << '\n';
   os << "# Per axis and node other than the table's own: per (tau, a_e) the top layer's offset\n"
         "# (a_d = inf; none on the dermis_ratio axis), then per a_d the offset of the light from below\n"
-        "# (solved on its own at the nodes AXIS_low_solved names; elsewhere the difference of two profiles).\n";
+        "# (solved on its own at the nodes AXIS_low_solved names; elsewhere the difference of two profiles);\n"
+        "# a_e and a_d are the axis' own nodes where AXIS_a_e or AXIS_a_d names them (finer), else the above.\n";
   os << "axis,value,tau,a_e,a_d";
   for (std::size_t i = 0; i < x.size(); ++i) os << ",d_" << i;
   os << '\n';
   for (int a = 0; a < kAxes; ++a)
     for (std::size_t j = 0; j < nodes[a].size(); ++j)
       if (!d_low[a][j].empty())
-        write_rows(os, std::to_string(a) + ',' + format_number(nodes[a][j]), tau, a_e, a_d, x.size(), d_top[a][j], d_low[a][j]);
+        write_rows(os, std::to_string(a) + ',' + format_number(nodes[a][j]), tau, a_e_of(a), a_d_of(a), x.size(), d_top[a][j],
+                   d_low[a][j]);
   return os.str();
 }
 
@@ -950,6 +1019,18 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
   read_coarse_nodes(meta, src, o.tau, o.a_e, o.a_d, o.x);
   for (int a = 0; a < kAxes; ++a) {
     const auto au = static_cast<std::size_t>(a);
+    // An axis' own a_e or a_d nodes: at least 4, within [1e-9, 1e9], increasing, holding the coarse ones.
+    for (const auto& [own, coarse, key] : {std::tuple{&o.axis_a_e[au], &o.a_e, "_a_e"}, {&o.axis_a_d[au], &o.a_d, "_a_d"}}) {
+      const std::string name = std::string(kAxisNames[a]) + key;
+      if (!meta.count(name)) continue;
+      *own = metadata_numbers(meta, name, src);
+      for (std::size_t i = 0; i < own->size(); ++i)
+        if (!((*own)[i] >= 1e-9 && (*own)[i] <= 1e9) || (i > 0 && !(std::sqrt((*own)[i]) > std::sqrt((*own)[i - 1]))))
+          throw InputError(src + ": '" + name + "' must lie within [1e-9, 1e9] and increase");
+      for (double v : *coarse)
+        if (node_index(*own, v) == std::string::npos)
+          throw InputError(src + ": '" + name + "' must hold every node of '" + std::string(key + 1) + "' (" + format_number(v) + " is missing)");
+    }
     o.low_solved[au].assign(o.nodes[au].size(), 0);
     const std::string key = std::string(kAxisNames[a]) + "_low_solved";
     if (!meta.count(key)) continue;
@@ -973,7 +1054,7 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
                          format_number(hi[a]) + "] and increase");
   }
   const Table data = parse_csv(text, src);
-  const std::size_t n_x = o.x.size(), n_t = o.tau.size(), n_e = o.a_e.size(), n_d = o.a_d.size();
+  const std::size_t n_x = o.x.size(), n_t = o.tau.size();
   if (data.columns.size() != 5 + n_x)
     throw InputError(src + ": expected " + std::to_string(5 + n_x) + " columns, found " + std::to_string(data.columns.size()));
   std::size_t r = 0;
@@ -981,6 +1062,8 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
   auto cell = [&](std::size_t c) { return data.data[c][r]; };
   for (int a = 0; a < kAxes; ++a) {
     const auto au = static_cast<std::size_t>(a);
+    const std::vector<double>&ae = o.a_e_of(a), &ad = o.a_d_of(a);
+    const std::size_t n_e = ae.size(), n_d = ad.size();
     o.d_top[au].assign(o.nodes[au].size(), {});
     o.d_low[au].assign(o.nodes[au].size(), {});
     for (std::size_t j = 0; j < o.nodes[au].size(); ++j) {
@@ -994,7 +1077,7 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
             const bool top = i_d == 0;
             if (r >= rows)
               throw InputError(src + ": the file ends before the rows of " + kAxisNames[a] + " = " + format_number(o.nodes[au][j]));
-            const double want[5] = {static_cast<double>(a), o.nodes[au][j], o.tau[i_t], o.a_e[i_e], top ? kInfinity : o.a_d[i_d - 1]};
+            const double want[5] = {static_cast<double>(a), o.nodes[au][j], o.tau[i_t], ae[i_e], top ? kInfinity : ad[i_d - 1]};
             for (std::size_t c = 0; c < 5; ++c) {
               const double v = cell(c);
               if (!(want[c] == kInfinity ? v == kInfinity : (c == 0 ? v == want[c] : std::abs(v / want[c] - 1) <= 1e-6)))
@@ -1060,7 +1143,8 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
   // with the dermis twice as scattering at 500 nm: 1.7 % off the solver held, 0.3 % not).
   for (std::size_t a = 0; a < d_low.size(); ++a)
     for (std::size_t j = 0; j < d_low[a].size(); ++j)
-      if (!(j < low_solved[a].size() && low_solved[a][j])) hold_unreliable_low(table, tau, a_e, a_d, x.size(), d_low[a][j]);
+      if (!(j < low_solved[a].size() && low_solved[a][j]))
+        hold_unreliable_low(table, tau, a_e_of(static_cast<int>(a)), a_d_of(static_cast<int>(a)), x.size(), d_low[a][j]);
 }
 
 std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) const {
@@ -1098,16 +1182,17 @@ std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) cons
 void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double eta_v, double ratio_v,
                            const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low,
                            bool with_cross) const {
-  const std::size_t n_x = x.size(), n_e = a_e.size(), n_d = a_d.size();
+  const std::size_t n_x = x.size();
   const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
   const Lagrange4Stencil st = lagrange4_stencil(tau, t);
-  const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
-  const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
   std::vector<double> dt(n_x, 0.0), dl(n_x, 0.0);
   const double v[kAxes] = {g_v, eta_v, ratio_v};
   for (int a = 0; a < kAxes; ++a) {
     const auto au = static_cast<std::size_t>(a);
     if (v[a] == base[au]) continue;
+    const std::size_t n_e = a_e_of(a).size(), n_d = a_d_of(a).size();
+    const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e_of(a), sqrt_of), std::sqrt(ae));
+    const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d_of(a), sqrt_of), std::sqrt(ad));
     // The axis' nodes and weights: the node itself where v is one, else 4-point Lagrange (linear
     // between two nodes on an axis of fewer than 4).
     const std::vector<double> vars = axis_variables(a, nodes[au]);
@@ -1201,11 +1286,11 @@ void SkinStackCross::settle(const SkinStackTable& table, const SkinStackOffsets&
   // (table_part, every stride-th x) and the two axes' offsets there (empty: none): the corner's part is
   // their sum.
   std::vector<char> ok(n_x);
-  auto settle_row = [&](double* row, const double* table_part, const std::vector<double>& oa, const std::vector<double>& ob,
-                        std::size_t first, double floor) {
+  auto settle_row = [&](double* row, const double* table_part, const std::vector<double>& oa, std::size_t first_a,
+                        const std::vector<double>& ob, std::size_t first_b, double floor) {
     for (std::size_t i = 0; i < n_x; ++i) {
       const double b = table_part[stride * i];
-      const double corner = b + (oa.empty() ? 0.0 : oa[first + i]) + (ob.empty() ? 0.0 : ob[first + i]) + row[i];
+      const double corner = b + (oa.empty() ? 0.0 : oa[first_a + i]) + (ob.empty() ? 0.0 : ob[first_b + i]) + row[i];
       ok[i] = b > floor && corner > floor;
     }
     hold(row, ok);
@@ -1224,10 +1309,14 @@ void SkinStackCross::settle(const SkinStackTable& table, const SkinStackOffsets&
           const double* bl = table.ln_rho.data() + (kt * table.a_d.size() + id[l]) * nx_t;
           double peak = -std::numeric_limits<double>::infinity();
           for (std::size_t i = 0; i < nx_t; ++i) peak = std::max(peak, log_sum(bt[i], bl[i]));
-          const std::size_t kl = k * n_d + l;
-          settle_row(c_low[p][c].data() + kl * n_x, bl, offsets.d_low[a][ja], offsets.d_low[b][jb], kl * n_x, peak + lv);
+          // (each axis' offsets on its own nodes, which hold these)
+          const std::size_t kl = k * n_d + l, i_t = k / n_e, i_e = k % n_e;
+          const int ia = static_cast<int>(a), ib = static_cast<int>(b);
+          settle_row(c_low[p][c].data() + kl * n_x, bl, offsets.d_low[a][ja], offsets.low_row(ia, i_t, i_e, l) * n_x,
+                     offsets.d_low[b][jb], offsets.low_row(ib, i_t, i_e, l) * n_x, peak + lv);
           if (l == 0 && !c_top[p][c].empty())
-            settle_row(c_top[p][c].data() + k * n_x, bt, offsets.d_top[a][ja], offsets.d_top[b][jb], k * n_x, peak + lv);
+            settle_row(c_top[p][c].data() + k * n_x, bt, offsets.d_top[a][ja], offsets.top_row(ia, i_t, i_e) * n_x,
+                       offsets.d_top[b][jb], offsets.top_row(ib, i_t, i_e) * n_x, peak + lv);
         }
       }
     }

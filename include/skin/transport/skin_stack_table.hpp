@@ -96,7 +96,8 @@ struct SkinStackCross;
 // than the table's own value, ln rho_top(value) - ln rho_top(table) and the same for the light
 // from below, computed as the table's parts are (FrequencyStack; the light from below on its own
 // since 2026-12-05: the nodes computed before hold it as the difference of two profiles) on a
-// coarse subset of the table's (tau, a_e, a_d) nodes and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
+// coarse subset of the table's (tau, a_e, a_d) nodes (the dermis ratio's a_e twice as fine above
+// 0.4: axis_a_e) and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
 // tau, sqrt a_e, sqrt a_d, ln x) and across each axis' nodes (in ln(1 - g), eta and ln ratio),
 // and the axes' offsets are added. Where a part is below a threshold of its node's peak (the top
 // layer 1e-9: its inversion's noise, or the floor; the light from below 1e-14, smooth to ~1e-15
@@ -109,10 +110,21 @@ struct SkinStackOffsets {
   std::string provenance;
   std::array<double, kAxes> base{0.9, 1.4, 0.5};     // the table's geometry
   std::array<std::vector<double>, kAxes> nodes;       // per axis, increasing, the base among them
-  std::vector<double> tau, a_e, a_d, x;               // coarse nodes
-  // Per axis and node (empty at the base): [(i_tau * a_e.size() + i_e) * x.size() + i_x] and
-  // [((i_tau * a_e.size() + i_e) * a_d.size() + i_d) * x.size() + i_x]. The top layer does not
-  // depend on the dermis: no top offsets on that axis.
+  std::vector<double> tau, a_e, a_d, x;               // coarse nodes (the cross terms' too)
+  // Per axis, finer (a_e, a_d) nodes than these, among the table's and holding these (empty: these).
+  // The dermis ratio's a_e since 2026-12-05: its offset's far field changes its fall with x
+  // several-fold between a_e 0.4 and 1.28, and read across them was 10-51 % off a Monte Carlo
+  // (docs/accurate-solver.md, sec. 4).
+  std::array<std::vector<double>, kAxes> axis_a_e, axis_a_d;
+  const std::vector<double>& a_e_of(int axis) const { return axis_a_e[static_cast<std::size_t>(axis)].empty() ? a_e : axis_a_e[static_cast<std::size_t>(axis)]; }
+  const std::vector<double>& a_d_of(int axis) const { return axis_a_d[static_cast<std::size_t>(axis)].empty() ? a_d : axis_a_d[static_cast<std::size_t>(axis)]; }
+  // The row of the light from below of (tau, a_e, a_d) at these (coarse) nodes' indices in the
+  // axis' own nodes (d_low[axis][j] + row * x.size()), and of the top layer (d_top).
+  std::size_t low_row(int axis, std::size_t i_tau, std::size_t i_e, std::size_t i_d) const;
+  std::size_t top_row(int axis, std::size_t i_tau, std::size_t i_e) const;
+  // Per axis and node (empty at the base), on the axis' nodes (a_e_of, a_d_of):
+  // [(i_tau * n_e + i_e) * x.size() + i_x] and [((i_tau * n_e + i_e) * n_d + i_d) * x.size() + i_x].
+  // The top layer does not depend on the dermis: no top offsets on that axis.
   std::array<std::vector<std::vector<double>>, kAxes> d_top, d_low;
   // Per axis and node: 1 where its light from below was solved on its own (the file's
   // `# AXIS_low_solved` line; compute() sets it), 0 where it is the difference of two solved profiles
@@ -124,8 +136,10 @@ struct SkinStackOffsets {
 
   // The built-in nodes (data/skin_stack_offsets.csv) for `table`, without values.
   static SkinStackOffsets default_nodes(const SkinStackTable& table);
-  // Computes the offsets against `table` (whose nodes must include these). With `reuse`, axis
-  // nodes it holds are copied.
+  // Computes the offsets against `table` (whose nodes must include these). With `reuse`, the rows
+  // of each axis node it holds (the same tau and (tau, a_e, a_d) among its nodes for that axis) are
+  // copied and only the others solved (all of a node whose light from below it holds as a
+  // difference, low_solved 0, unless it holds every row).
   void compute(const SkinStackTable& table, const util::ProgressCallback& progress = {},
                const SkinStackOffsets* reuse = nullptr);
   std::string to_csv() const;
@@ -173,9 +187,10 @@ struct SkinStackCross {
   // out as SkinStackOffsets::d_top and d_low; no top terms on pairs with the dermis ratio.
   std::array<std::array<std::vector<double>, 4>, kPairs> c_top, c_low;
 
-  // The default nodes for `offsets` (their axes' ends and their (tau, a_e, a_d) nodes, so that at
-  // a node the offsets' values and the terms add up to the corner's solve exactly and are
-  // interpolated with the same weights), without values.
+  // The default nodes for `offsets` (their axes' ends and their coarse (tau, a_e, a_d) nodes, so
+  // that at a node the offsets' values and the terms add up to the corner's solve exactly; between
+  // nodes the terms are interpolated with the coarse nodes' weights, also where an axis' offsets
+  // have finer nodes of their own), without values.
   static SkinStackCross default_nodes(const SkinStackOffsets& offsets);
   // Computes the terms against `table` and its offsets (table.offsets, whose own cross terms are
   // not used). progress(done, total) as SkinStackTable::compute; cancellable. With `reuse` (the
