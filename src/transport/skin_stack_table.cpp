@@ -743,16 +743,19 @@ SkinStackOffsets SkinStackOffsets::default_nodes(const SkinStackTable& table) {
   o.a_e = thin(table.a_e);
   o.a_d = thin(table.a_d);
   for (std::size_t i = 0; i < table.x.size(); i += 2) o.x.push_back(table.x[i]);
-  // The dermis ratio's a_e: above 0.4 every other of the table's (0.25 apart in sqrt a, twice as
-  // fine as the others'). Its offset's far field is the light's path through the lower layer
-  // against the top's, which changes between a_e 0.4 and 1.28 (x 6.5: 0.2 off the solver across
-  // them, 0.04 with a node between; docs/accurate-solver.md, sec. 4).
-  std::vector<double>& ratio_e = o.axis_a_e[2];
+  // The dermis ratio's a_e and a_d: above 0.4 every other of the table's a_e and every a_d (0.25
+  // apart in sqrt a, twice as fine as the others'). Its offset's far field is the light's path
+  // through the lower layer against the top's, which changes fast there (x 6.5: 0.2 off the
+  // solver across a_e 0.4 and 1.28, 0.04 with a node between; x 7.5, across a_d 0.4 and 1.28: 0.54,
+  // 0.01; docs/accurate-solver.md, sec. 4).
+  std::vector<double>&ratio_e = o.axis_a_e[2], &ratio_d = o.axis_a_d[2];
   for (std::size_t i = 0, k = 0; i < table.a_e.size(); ++i) {
     const bool log_part = table.a_e[i] <= 0.4 * (1 + 1e-9);
     if (log_part ? std::find(o.a_e.begin(), o.a_e.end(), table.a_e[i]) != o.a_e.end() : ++k % 2 == 0 || i + 1 == table.a_e.size())
       ratio_e.push_back(table.a_e[i]);
   }
+  for (double v : table.a_d)
+    if (v > 0.4 * (1 + 1e-9) || std::find(o.a_d.begin(), o.a_d.end(), v) != o.a_d.end()) ratio_d.push_back(v);
   return o;
 }
 
