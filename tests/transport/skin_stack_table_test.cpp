@@ -742,7 +742,7 @@ TEST(SkinStackOffsets, ProfilesOfAnotherGeometryMatchTheSolver) {
 // 1.28, where the offset's fall with x changes several-fold (docs/accurate-solver.md, sec. 4): a
 // 0.031 mm epidermis (tau 1.36, a_e 0.66, a_d 0.37, ratio 2, g 0.9, index 1.4), read across those
 // nodes +20 % off the solver at 0.15 mm (3e-5 of R(0.02 mm)) and +10 to +51 % off a 4e6-photon
-// Monte Carlo at 0.135-0.165 mm; with the ratio's own a_e nodes (twice as fine above 0.4) within
+// Monte Carlo at 0.135-0.165 mm; with the ratio's own a_e and a_d nodes (twice as fine above 0.4) within
 // the tolerances above.
 TEST(SkinStackOffsets, DermisRatioFarFieldBetweenTheCoarseEpidermisNodes) {
   const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);

@@ -96,8 +96,8 @@ struct SkinStackCross;
 // than the table's own value, ln rho_top(value) - ln rho_top(table) and the same for the light
 // from below, computed as the table's parts are (FrequencyStack; the light from below on its own
 // since 2026-12-05: the nodes computed before hold it as the difference of two profiles) on a
-// coarse subset of the table's (tau, a_e, a_d) nodes (the dermis ratio's a_e twice as fine above
-// 0.4: axis_a_e) and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
+// coarse subset of the table's (tau, a_e, a_d) nodes (the dermis ratio's a_e and a_d twice as fine
+// above 0.4: axis_a_e, axis_a_d) and every other x node. They are interpolated like the table (4-point Lagrange in ln tau or
 // tau, sqrt a_e, sqrt a_d, ln x) and across each axis' nodes (in ln(1 - g), eta and ln ratio),
 // and the axes' offsets are added. Where a part is below a threshold of its node's peak (the top
 // layer 1e-9: its inversion's noise, or the floor; the light from below 1e-14, smooth to ~1e-15
@@ -112,9 +112,9 @@ struct SkinStackOffsets {
   std::array<std::vector<double>, kAxes> nodes;       // per axis, increasing, the base among them
   std::vector<double> tau, a_e, a_d, x;               // coarse nodes (the cross terms' too)
   // Per axis, finer (a_e, a_d) nodes than these, among the table's and holding these (empty: these).
-  // The dermis ratio's a_e since 2026-12-05: its offset's far field changes its fall with x
-  // several-fold between a_e 0.4 and 1.28, and read across them was 10-51 % off a Monte Carlo
-  // (docs/accurate-solver.md, sec. 4).
+  // The dermis ratio's, 0.25 apart in sqrt a above 0.4, since 2026-12-05: its offset's far field
+  // changes its fall with x several-fold between a_e 0.4 and 1.28, and read across them was 10-51 %
+  // off a Monte Carlo (docs/accurate-solver.md, sec. 4).
   std::array<std::vector<double>, kAxes> axis_a_e, axis_a_d;
   const std::vector<double>& a_e_of(int axis) const { return axis_a_e[static_cast<std::size_t>(axis)].empty() ? a_e : axis_a_e[static_cast<std::size_t>(axis)]; }
   const std::vector<double>& a_d_of(int axis) const { return axis_a_d[static_cast<std::size_t>(axis)].empty() ? a_d : axis_a_d[static_cast<std::size_t>(axis)]; }
