@@ -956,21 +956,21 @@ void write_rows(std::ostream& os, const std::string& prefix, const std::vector<d
       for (double d : a_d) row(t, e, format_number(d), low.data() + k++ * n_x);
     }
 }
-// The coarse nodes of an offsets or cross-terms file, each at least 4, within [1e-9, 1e9] and
-// increasing.
+// One list of coarse nodes (`key` in `src`): at least 4, within [1e-9, 1e9] and increasing.
+void check_coarse_nodes(const std::vector<double>& v, const std::string& key, const std::string& src) {
+  if (v.size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (!(v[i] >= 1e-9 && v[i] <= 1e9) || (i > 0 && !(std::sqrt(v[i]) > std::sqrt(v[i - 1]) && std::log(v[i]) > std::log(v[i - 1]))))
+      throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
+}
+// The coarse nodes of an offsets or cross-terms file, each checked by check_coarse_nodes.
 void read_coarse_nodes(const std::map<std::string, std::string, std::less<>>& meta, const std::string& src, std::vector<double>& tau,
                        std::vector<double>& a_e, std::vector<double>& a_d, std::vector<double>& x) {
   tau = metadata_numbers(meta, "tau", src);
   a_e = metadata_numbers(meta, "a_e", src);
   a_d = metadata_numbers(meta, "a_d", src);
   x = metadata_numbers(meta, "x", src);
-  for (const auto& [v, key] : {std::pair{&tau, "tau"}, {&a_e, "a_e"}, {&a_d, "a_d"}, {&x, "x"}}) {
-    if (v->size() < 4) throw InputError(src + ": '" + key + "' needs at least 4 nodes");
-    for (std::size_t i = 0; i < v->size(); ++i)
-      if (!((*v)[i] >= 1e-9 && (*v)[i] <= 1e9) ||
-          (i > 0 && !(std::sqrt((*v)[i]) > std::sqrt((*v)[i - 1]) && std::log((*v)[i]) > std::log((*v)[i - 1]))))
-        throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
-  }
+  for (const auto& [v, key] : {std::pair{&tau, "tau"}, {&a_e, "a_e"}, {&a_d, "a_d"}, {&x, "x"}}) check_coarse_nodes(*v, key, src);
 }
 }  // namespace
 
@@ -1027,9 +1027,7 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
       const std::string name = std::string(kAxisNames[a]) + key;
       if (!meta.count(name)) continue;
       *own = metadata_numbers(meta, name, src);
-      for (std::size_t i = 0; i < own->size(); ++i)
-        if (!((*own)[i] >= 1e-9 && (*own)[i] <= 1e9) || (i > 0 && !(std::sqrt((*own)[i]) > std::sqrt((*own)[i - 1]))))
-          throw InputError(src + ": '" + name + "' must lie within [1e-9, 1e9] and increase");
+      check_coarse_nodes(*own, name, src);
       for (double v : *coarse)
         if (node_index(*own, v) == std::string::npos)
           throw InputError(src + ": '" + name + "' must hold every node of '" + std::string(key + 1) + "' (" + format_number(v) + " is missing)");

@@ -185,6 +185,10 @@ std::pair<double, double> read_against_the_solver(const SkinStackTable& t, const
   skin::transport::ProfileSolver ps(radii);
   return worst_relative(table_R, ps.profile(solved));
 }
+// The index of the node of v nearest to x.
+std::size_t nearest_index(const std::vector<double>& v, double x) {
+  return static_cast<std::size_t>(std::min_element(v.begin(), v.end(), [x](double p, double q) { return std::abs(p - x) < std::abs(q - x); }) - v.begin());
+}
 }  // namespace
 
 // Between the nodes, on skin: the accurate model's profile (the table) against FrequencyStack
@@ -828,9 +832,7 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
 TEST(SkinStackOffsets, StoredDermisRatioNodesAreSolvedAgain) {
   const SkinStackTable& t = SkinStackTable::builtin();
   const SkinStackOffsets& b = *t.offsets;
-  auto nearest = [](const std::vector<double>& v, double x) {
-    return static_cast<std::size_t>(std::min_element(v.begin(), v.end(), [x](double p, double q) { return std::abs(p - x) < std::abs(q - x); }) - v.begin());
-  };
+  const auto nearest = nearest_index;
   struct Case { double ratio, tau, a_e, a_d; };
   for (const Case& c : skin::test::sanitized<Case>({{1.4, 2.0, 1.28, 0.04}, {0.2, 0.6, 0.02, 0.1}})) {
     SkinStackOffsets o;
@@ -864,7 +866,7 @@ TEST(SkinStackOffsets, ReusedRowsAreCopiedAndOnlyTheOthersSolved) {
   const SkinStackTable& t = SkinStackTable::builtin();
   const SkinStackOffsets& b = *t.offsets;
   auto at = [](const std::vector<double>& v, double x) {
-    const auto i = static_cast<std::size_t>(std::min_element(v.begin(), v.end(), [x](double p, double q) { return std::abs(p - x) < std::abs(q - x); }) - v.begin());
+    const std::size_t i = nearest_index(v, x);
     EXPECT_NEAR(v[i], x, 1e-3 * x);
     return i;
   };
