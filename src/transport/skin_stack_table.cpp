@@ -406,6 +406,10 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
   return t;
 }
 
+namespace {
+void continue_far_fields(SkinStackTable& t);  // (below, with the offsets' settle)
+}  // namespace
+
 const SkinStackTable& SkinStackTable::builtin() {
   static const SkinStackTable t = [] {
     SkinStackTable table = parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
@@ -422,6 +426,7 @@ const SkinStackTable& SkinStackTable::builtin() {
         for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos;
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
     o.settle(table);
+    continue_far_fields(table);  // (after the offsets' settle, which reads the rows as solved)
     // The cross terms are the offsets': their base, their axes' ends among the offsets' nodes (an
     // axis' offsets may reach farther than its corners: combined reads stop where the terms reach,
     // gap()), their nodes.
@@ -1103,6 +1108,82 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
 }
 
 namespace {
+// The far field of a solved light from below ends in the noise of its inversion: R(k) of two solves
+// differ by ~1e-12 of their value at low k, which leaves rho noisy from ~1e-9 of the whole peak on
+// (a 0.26-tau epidermis with a_e 1.01 over a_d 0.78: values solved with 4 and 16 times finer
+// frequencies and quadrature agree to x 7.5, then differ by 15 % at x 8.7 and change sign at x 10;
+// interpolated, a 0.023 mm epidermis read 53-97 % low at 0.61-0.71 mm, 7.3 times what a 4e6-photon
+// Monte Carlo allows; docs/accurate-solver.md, sec. 4). The noise is ~1e-9 of the peak of the
+// whole profile (top + low) in that node and 5-10 % of the row at ~2e-8. From kFarFieldWatched of
+// that peak on (beyond the row's own peak), the slope of ln rho between neighbouring nodes steepens
+// ever more slowly, or flattens ever more slowly (rho ~ e^(-sigma x) / x^p); the first change of
+// slope that breaks that by more than kFarFieldTolerance of ln rho at one node ends the row's own
+// values, and beyond, ln rho continues linearly in x (the precise solve's slope within 1 % over
+// x 4.2-8.7 in that node) with the least-squares slope of the last kFarFieldFit of them.
+constexpr double kFarFieldWatched = 1e-6;
+constexpr double kFarFieldTolerance = 0.05;
+constexpr std::size_t kFarFieldFit = 3;
+// Returns the last node kept (x.size() when none is changed).
+std::size_t continue_far_field(const std::vector<double>& x, std::vector<double>& v, double ln_whole_peak) {
+  const std::size_t n = x.size();
+  const double watched = ln_whole_peak + std::log(kFarFieldWatched);
+  const auto peak = static_cast<std::size_t>(std::max_element(v.begin(), v.end()) - v.begin());
+  std::size_t i0 = std::max<std::size_t>(peak, 1);
+  while (i0 < n && v[i0] >= watched) ++i0;
+  if (i0 + 2 >= n) return n;
+  // the slope between node i and i + 1, and its change from the one before
+  auto slope = [&](std::size_t i) { return (v[i + 1] - v[i]) / (x[i + 1] - x[i]); };
+  auto change = [&](std::size_t i) { return slope(i) - slope(i - 1); };
+  std::size_t last = n;
+  for (std::size_t i = i0; i + 1 < n; ++i) {
+    // A change of ln rho by e at node i + 1 changes slope(i) by e / (x[i+1] - x[i]); counting
+    // the node before it, the change by up to twice that.
+    const double c = change(i), tol = 2 * kFarFieldTolerance / (x[i + 1] - x[i]);
+    const double before = i > i0 ? change(i - 1) : c;
+    // steepening no faster than before (flattening is not watched: where a slower part of the
+    // light takes over, the slope flattens for good)
+    if (c < std::min(before, 0.0) - tol) {
+      last = i;
+      break;
+    }
+  }
+  if (last == n) return n;
+  const std::size_t first = last >= peak + kFarFieldFit ? last + 1 - kFarFieldFit : peak;
+  if (first == last) return n;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = first; i <= last; ++i) {
+    sx += x[i];
+    sy += v[i];
+    sxx += x[i] * x[i];
+    sxy += x[i] * v[i];
+  }
+  const double m = static_cast<double>(last - first + 1);
+  const double fitted = (m * sxy - sx * sy) / (m * sxx - sx * sx);
+  if (!(fitted < 0)) return n;  // (not falling there: left as it is)
+  // (down to the rows' floor, as solved rows: a row far below its neighbours bends their
+  // interpolation)
+  const double lowest = ln_whole_peak + std::log(kLowFloor);
+  for (std::size_t i = last + 1; i < n; ++i) v[i] = std::max(v[last] + fitted * (x[i] - x[last]), lowest);
+  return last;
+}
+// Each row of lows (n_x values, laid out as rows of x) continued beyond its far field's noise.
+// The peak of ln(e^top + e^low) over two rows of n values.
+double ln_whole_peak(const double* top, const double* low, std::size_t n) {
+  double peak = -1e300;
+  for (std::size_t i = 0; i < n; ++i) peak = std::max(peak, log_sum(top[i], low[i]));
+  return peak;
+}
+// Each light from below of a table continued beyond its far field's noise.
+void continue_far_fields(SkinStackTable& t) {
+  const std::size_t n_x = t.x.size(), n_d = t.a_d.size();
+  std::vector<double> row(n_x);
+  for (std::size_t k = 0; k < t.tau.size() * t.a_e.size() * n_d; ++k) {
+    double* low = t.ln_rho.data() + k * n_x;
+    std::copy_n(low, n_x, row.begin());
+    continue_far_field(t.x, row, ln_whole_peak(t.ln_rho_top.data() + (k / n_d) * n_x, low, n_x));
+    std::copy_n(row.begin(), n_x, low);
+  }
+}
 // Where the light from below is under kReliableLow of the top layer's at a node, its part is the
 // difference of two solves of nearly the same value, and the offset of that difference is noise
 // (seen: 0.5 off the solver's in a bloody dermis at x 2-3): there each row of `rows` (laid out as
@@ -1146,6 +1227,43 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
     for (std::size_t j = 0; j < d_low[a].size(); ++j)
       if (!(j < low_solved[a].size() && low_solved[a][j]))
         hold_unreliable_low(table, tau, a_e_of(static_cast<int>(a)), a_d_of(static_cast<int>(a)), x.size(), d_low[a][j]);
+  // Each node's light from below (the table's plus the offset) continued beyond its far field's
+  // noise, and so is the table's own (builtin() continues the table's rows after this): the
+  // offset becomes the difference of the two continued rows.
+  const std::size_t n_x = x.size(), nx_t = table.x.size(), stride = (nx_t - 1) / (n_x - 1);
+  std::vector<double> solved(nx_t), node(n_x), node_top(n_x);
+  for (std::size_t a = 0; a < d_low.size(); ++a) {
+    const auto& ae = a_e_of(static_cast<int>(a));
+    const auto& ad = a_d_of(static_cast<int>(a));
+    for (std::size_t j = 0; j < d_low[a].size(); ++j) {
+      auto& rows = d_low[a][j];
+      if (rows.empty()) continue;
+      const bool has_top = j < d_top[a].size() && !d_top[a][j].empty();
+      const bool solved_alone = j < low_solved[a].size() && low_solved[a][j];
+      for (std::size_t k = 0; k < tau.size() * ae.size() * ad.size(); ++k) {
+        const std::size_t i_d = k % ad.size(), i_e = (k / ad.size()) % ae.size(), i_t = k / (ad.size() * ae.size());
+        const std::size_t k_top = node_index(table.tau, tau[i_t]) * table.a_e.size() + node_index(table.a_e, ae[i_e]);
+        const std::size_t k_low = k_top * table.a_d.size() + node_index(table.a_d, ad[i_d]);
+        const double* top = table.ln_rho_top.data() + k_top * nx_t;
+        std::copy_n(table.ln_rho.begin() + static_cast<std::ptrdiff_t>(k_low * nx_t), nx_t, solved.begin());
+        double* d = rows.data() + k * n_x;
+        const double* dt = has_top ? d_top[a][j].data() + (k / ad.size()) * n_x : nullptr;
+        for (std::size_t i = 0; i < n_x; ++i) {
+          node[i] = solved[stride * i] + d[i];
+          node_top[i] = top[stride * i] + (dt ? dt[i] : 0.0);
+        }
+        const std::size_t kept = continue_far_field(table.x, solved, ln_whole_peak(top, solved.data(), nx_t));
+        if (solved_alone) {
+          continue_far_field(x, node, ln_whole_peak(node_top.data(), node.data(), n_x));
+          for (std::size_t i = 0; i < n_x; ++i) d[i] = std::clamp(node[i] - solved[stride * i], -kMaxOffset, kMaxOffset);
+        } else {
+          // (a node's light from below as the difference of two profiles, held where unreliable:
+          // the offset is held beyond the table's row too)
+          for (std::size_t i = kept / stride + 1; i < n_x; ++i) d[i] = d[kept / stride];
+        }
+      }
+    }
+  }
 }
 
 std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) const {

@@ -19,6 +19,7 @@
 #include "skin/transport/skin_stack_table.hpp"
 #include "skin/util/error.hpp"
 #include "skin/util/input_file.hpp"
+#include "skin/util/table.hpp"
 #include "skin_test_paths.hpp"
 #include "test_support.hpp"
 
@@ -825,13 +826,14 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
 }
 
 // The stored dermis-ratio offsets are their nodes solved again (SkinStackOffsets::compute on one
-// (tau, a_e, a_d) node, settled as the built-in ones): to the file's 3 decimals of ln rho. A
+// (tau, a_e, a_d) node over the table as stored, against the file as stored: builtin() settles
+// both, continuing far fields beyond their noise): to the file's 3 decimals of ln rho. A
 // dark epidermis over a dermis of ratio 1.4 (tau 2, a_e 1.28, a_d 0.04: its far field is the
 // light from below, whose offsets a threshold of 1e-9 of the peak used to hold from 0.6 mm of
 // asian skin at 450 nm on) and a bright one at ratio 0.2 (the first only under the sanitizers).
 TEST(SkinStackOffsets, StoredDermisRatioNodesAreSolvedAgain) {
-  const SkinStackTable& t = SkinStackTable::builtin();
-  const SkinStackOffsets& b = *t.offsets;
+  const SkinStackTable t = SkinStackTable::parse(skin::util::data::embedded("skin_stack_profiles.csv"), "profiles");
+  const SkinStackOffsets b = SkinStackOffsets::parse(skin::util::data::embedded("skin_stack_offsets.csv"), "offsets");
   const auto nearest = nearest_index;
   struct Case { double ratio, tau, a_e, a_d; };
   for (const Case& c : skin::test::sanitized<Case>({{1.4, 2.0, 1.28, 0.04}, {0.2, 0.6, 0.02, 0.1}})) {
@@ -845,7 +847,6 @@ TEST(SkinStackOffsets, StoredDermisRatioNodesAreSolvedAgain) {
     o.a_d = {b.a_d[l]};
     o.x = b.x;
     o.compute(t);
-    o.settle(t);
     const std::size_t node = c.ratio < b.base[2] ? 0 : 1, stored_node = nearest(b.nodes[2], c.ratio);
     ASSERT_NEAR(b.nodes[2][stored_node], c.ratio, 1e-12);
     const std::vector<double>& fresh = o.d_low[2][node];
@@ -861,10 +862,11 @@ TEST(SkinStackOffsets, StoredDermisRatioNodesAreSolvedAgain) {
 // the others: the dermis ratio's own, finer a_e nodes over offsets on the coarse ones solve one top
 // layer and one light from below (the new a_e), keep the held row bit for bit, and the new row is
 // the built-in offsets' stored one (to the file's 3 decimals; a_e 0.779, one of the nodes the
-// ratio's far field needs, sec. 4 of docs/accurate-solver.md).
+// ratio's far field needs, sec. 4 of docs/accurate-solver.md), all over the table and offsets as
+// stored (builtin() settles them).
 TEST(SkinStackOffsets, ReusedRowsAreCopiedAndOnlyTheOthersSolved) {
-  const SkinStackTable& t = SkinStackTable::builtin();
-  const SkinStackOffsets& b = *t.offsets;
+  const SkinStackTable t = SkinStackTable::parse(skin::util::data::embedded("skin_stack_profiles.csv"), "profiles");
+  const SkinStackOffsets b = SkinStackOffsets::parse(skin::util::data::embedded("skin_stack_offsets.csv"), "offsets");
   auto at = [](const std::vector<double>& v, double x) {
     const std::size_t i = nearest_index(v, x);
     EXPECT_NEAR(v[i], x, 1e-3 * x);
