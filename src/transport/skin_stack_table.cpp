@@ -173,10 +173,11 @@ std::vector<double> SkinStackTable::solve_node(double tau_v, double a_e_v, doubl
 }
 
 namespace {
-// ln rho of the light from below, floored at kLowFloor of the peak of the whole (top + low), about
-// where the rounding of the two R(k) leaves its noise (so that a dark epidermis' light from below,
-// down to ~e-32 of the peak, is its own smooth values and not the floor: ln rho falls linearly in
-// tau, and a floored node bent the interpolation), and at kFloor of its own peak.
+// ln rho of the light from below, floored at kLowFloor of the peak of the whole (top + low) (so
+// that a dark epidermis' light from below, down to ~e-32 of the peak, is its own smooth values and
+// not the floor: ln rho falls linearly in tau, and a floored node bent the interpolation), and at
+// kFloor of its own peak. Its far field can end in its inversion's noise well above that floor
+// (~1e-9 of the whole peak in a thin epidermis over a dark dermis): continue_far_field().
 constexpr double kLowFloor = 1e-15;
 // The peak of the whole profile, top + low.
 double whole_peak(const std::vector<double>& top, const std::vector<double>& low) {
@@ -652,9 +653,10 @@ double SkinStackProfile::operator()(double r) const {
 
 namespace {
 // A part counts where it is above this of its node's peak: the top layer alone to 1e-9 (its
-// inversion's noise floor), the light from below, solved on its own and smooth to ~1e-15, to
-// 1e-14 (at 1e-9 a dark epidermis' far field held the offset of ~0.6 mm over 0.59-0.71 mm of
-// asian skin at 450 nm under a 1.4 dermis ratio, and read 14-62 % high there).
+// inversion's noise floor), the light from below, solved on its own, to 1e-14 (at 1e-9 a dark
+// epidermis' far field held the offset of ~0.6 mm over 0.59-0.71 mm of asian skin at 450 nm
+// under a 1.4 dermis ratio, and read 14-62 % high there; where its own far field ends in noise
+// above that, settle() continues it).
 constexpr double kOffsetValidTop = 1e-9;
 constexpr double kOffsetValidLow = 1e-14;
 // The cross terms keep their value beyond this x (in units of 1 / s; SkinStackCross::add).
@@ -1108,18 +1110,20 @@ SkinStackOffsets SkinStackOffsets::parse(std::string_view text, std::string_view
 }
 
 namespace {
-// The far field of a solved light from below ends in the noise of its inversion: R(k) of two solves
-// differ by ~1e-12 of their value at low k, which leaves rho noisy from ~1e-9 of the whole peak on
-// (a 0.26-tau epidermis with a_e 1.01 over a_d 0.78: values solved with 4 and 16 times finer
-// frequencies and quadrature agree to x 7.5, then differ by 15 % at x 8.7 and change sign at x 10;
-// interpolated, a 0.023 mm epidermis read 53-97 % low at 0.61-0.71 mm, 7.3 times what a 4e6-photon
-// Monte Carlo allows; docs/accurate-solver.md, sec. 4). The noise is ~1e-9 of the peak of the
-// whole profile (top + low) in that node and 5-10 % of the row at ~2e-8. From kFarFieldWatched of
-// that peak on (beyond the row's own peak), the slope of ln rho between neighbouring nodes steepens
-// ever more slowly, or flattens ever more slowly (rho ~ e^(-sigma x) / x^p); the first change of
-// slope that breaks that by more than kFarFieldTolerance of ln rho at one node ends the row's own
-// values, and beyond, ln rho continues linearly in x (the precise solve's slope within 1 % over
-// x 4.2-8.7 in that node) with the least-squares slope of the last kFarFieldFit of them.
+// The far field of a solved light from below ends in the noise of its inversion: R(k) of the two
+// solves carries ~1e-12 of noise (~1e-10 of its value at low k), which leaves rho noisy from ~1e-9
+// of the peak of the whole profile (top + low) on. In a node with tau 0.26, a_e 1.01 and a_d 0.78
+// the stored row, solved again with 2 and 4 times finer frequencies and a finer quadrature, agrees
+// to x 7.5, then differs by 15 % at x 8.7 (~2e-10 of the peak) and changes sign at x 10; read
+// between such nodes, a 0.023 mm epidermis was 53-97 % low at 0.61-0.71 mm, 7.3 times what a
+// 4e6-photon Monte Carlo allows (docs/accurate-solver.md, sec. 4). There ln rho falls nearly
+// linearly in x (the finer solves' slope within 2 % over x 4.2-8.7), so each row is continued that
+// way: from kFarFieldWatched of the whole peak on (beyond the row's own peak), the slope of ln rho
+// between neighbouring nodes must not steepen faster than it did between the nodes before, by more
+// than kFarFieldTolerance of ln rho at one node (flattening is not watched: where a less absorbed
+// part of the light takes over, the slope flattens for good); the first node that breaks that ends
+// the row's own values, and beyond, ln rho continues with the least-squares slope of the last
+// kFarFieldFit of them (no lower than the row's floor, kLowFloor of the whole peak).
 constexpr double kFarFieldWatched = 1e-6;
 constexpr double kFarFieldTolerance = 0.05;
 constexpr std::size_t kFarFieldFit = 3;
@@ -1140,9 +1144,7 @@ std::size_t continue_far_field(const std::vector<double>& x, std::vector<double>
     // the node before it, the change by up to twice that.
     const double c = change(i), tol = 2 * kFarFieldTolerance / (x[i + 1] - x[i]);
     const double before = i > i0 ? change(i - 1) : c;
-    // steepening no faster than before (flattening is not watched: where a slower part of the
-    // light takes over, the slope flattens for good)
-    if (c < std::min(before, 0.0) - tol) {
+    if (c < std::min(before, 0.0) - tol) {  // steepening faster than before
       last = i;
       break;
     }
