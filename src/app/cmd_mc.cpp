@@ -304,6 +304,7 @@ void register_skin_table_command(CLI::App& app) {
       acc::SkinStackTable table = acc::SkinStackTable::parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
       acc::SkinStackOffsets offsets = acc::SkinStackOffsets::parse(util::data::embedded("skin_stack_offsets.csv"), "skin_stack_offsets.csv");
       offsets.settle(table);
+      table.settle();
       table.offsets = &offsets;
       acc::SkinStackCross cross = acc::SkinStackCross::default_nodes(offsets);
       cross.provenance = "skin tabulate-skin-profiles --cross (FrequencyStack, k0 = 0.02 s)";

@@ -407,10 +407,6 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
   return t;
 }
 
-namespace {
-void continue_far_fields(SkinStackTable& t);  // (below, with the offsets' settle)
-}  // namespace
-
 const SkinStackTable& SkinStackTable::builtin() {
   static const SkinStackTable t = [] {
     SkinStackTable table = parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
@@ -427,7 +423,7 @@ const SkinStackTable& SkinStackTable::builtin() {
         for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos;
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
     o.settle(table);
-    continue_far_fields(table);  // (after the offsets' settle, which reads the rows as solved)
+    table.settle();  // (after the offsets')
     // The cross terms are the offsets': their base, their axes' ends among the offsets' nodes (an
     // axis' offsets may reach farther than its corners: combined reads stop where the terms reach,
     // gap()), their nodes.
@@ -853,11 +849,15 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
               ++held;
             }
           }
-        if (held == held_low.size()) {
-          low_solved[au][j] = solved ? 1 : 0;
+        // (a node whose light from below is held as the difference of two profiles is solved
+        // again, its top layers with it: their R(k) is what the light from below subtracts)
+        if (!solved) {
+          std::fill(held_low.begin(), held_low.end(), 0);
+          std::fill(held_top.begin(), held_top.end(), 0);
+        } else if (held == held_low.size()) {
+          low_solved[au][j] = 1;
           continue;  // every row copied
         }
-        if (!solved) std::fill(held_low.begin(), held_low.end(), 0), std::fill(held_top.begin(), held_top.end(), 0);
       }
       low_solved[au][j] = 1;  // (the rows solved below: the light from below on its own)
       for (std::size_t k = 0; k < n_t * n_e; ++k) {
@@ -1175,17 +1175,20 @@ double ln_whole_peak(const double* top, const double* low, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) peak = std::max(peak, log_sum(top[i], low[i]));
   return peak;
 }
-// Each light from below of a table continued beyond its far field's noise.
-void continue_far_fields(SkinStackTable& t) {
-  const std::size_t n_x = t.x.size(), n_d = t.a_d.size();
+}  // namespace
+
+void SkinStackTable::settle() {
+  const std::size_t n_x = x.size(), n_d = a_d.size();
   std::vector<double> row(n_x);
-  for (std::size_t k = 0; k < t.tau.size() * t.a_e.size() * n_d; ++k) {
-    double* low = t.ln_rho.data() + k * n_x;
+  for (std::size_t k = 0; k < tau.size() * a_e.size() * n_d; ++k) {
+    double* low = ln_rho.data() + k * n_x;
     std::copy_n(low, n_x, row.begin());
-    continue_far_field(t.x, row, ln_whole_peak(t.ln_rho_top.data() + (k / n_d) * n_x, low, n_x));
+    continue_far_field(x, row, ln_whole_peak(ln_rho_top.data() + (k / n_d) * n_x, low, n_x));
     std::copy_n(row.begin(), n_x, low);
   }
 }
+
+namespace {
 // Where the light from below is under kReliableLow of the top layer's at a node, its part is the
 // difference of two solves of nearly the same value, and the offset of that difference is noise
 // (seen: 0.5 off the solver's in a bloody dermis at x 2-3): there each row of `rows` (laid out as

@@ -911,4 +911,16 @@ TEST(SkinStackOffsets, ReusedRowsAreCopiedAndOnlyTheOthersSolved) {
   const std::size_t j = at(b.nodes[2], 2.0);
   const std::size_t first = (((at(b.tau, 1.333) * ratio_e.size()) + at(ratio_e, 0.779)) * b.a_d_of(2).size() + at(b.a_d_of(2), 0.1265)) * n_x;
   for (std::size_t m = 0; m < n_x; ++m) EXPECT_NEAR(b.d_low[2][j][first + m], fine.d_low[2][1][n_x + m], 1.5e-3) << "x = " << b.x[m];
+  // Offsets holding every row solved the present way are copied whole; a node whose light from
+  // below they hold as the difference of two profiles (low_solved 0) is solved again, the same.
+  SkinStackOffsets again = coarse;
+  total = 0;
+  again.compute(t, [&](std::size_t, std::size_t n) { total = n; }, &coarse);
+  EXPECT_EQ(total, 0u);
+  SkinStackOffsets as_difference = coarse;
+  as_difference.low_solved[2][1] = 0;
+  again.compute(t, [&](std::size_t, std::size_t n) { total = n; }, &as_difference);
+  EXPECT_EQ(total, 2u);
+  EXPECT_EQ(again.low_solved[2][1], 1);
+  EXPECT_TRUE(std::equal(coarse.d_low[2][1].begin(), coarse.d_low[2][1].end(), again.d_low[2][1].begin()));
 }

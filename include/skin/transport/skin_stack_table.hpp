@@ -67,6 +67,10 @@ struct SkinStackTable {
   std::string to_csv() const;
   // Throws InputError naming `source` for a malformed table.
   static SkinStackTable parse(std::string_view text, std::string_view source);
+  // Continues each light from below beyond the noise its inversion leaves in the far field,
+  // linearly in x (docs/accurate-solver.md, sec. 4). After the offsets' settle() (which reads the
+  // rows as solved); builtin() is parsed and settled so.
+  void settle();
   static const SkinStackTable& builtin();
 
   // Why a stack is not in the table (empty when it is).
@@ -139,7 +143,7 @@ struct SkinStackOffsets {
   // Computes the offsets against `table` (whose nodes must include these). With `reuse`, the rows
   // of each axis node it holds (the same tau and (tau, a_e, a_d) among its nodes for that axis) are
   // copied and only the others solved (all of a node whose light from below it holds as a
-  // difference, low_solved 0, unless it holds every row).
+  // difference, low_solved 0: such a node is solved again, the present way).
   void compute(const SkinStackTable& table, const util::ProgressCallback& progress = {},
                const SkinStackOffsets* reuse = nullptr);
   std::string to_csv() const;
