@@ -1171,8 +1171,11 @@ std::size_t continue_far_field(const std::vector<double>& x, std::vector<double>
 // Each row of lows (n_x values, laid out as rows of x) continued beyond its far field's noise.
 // The peak of ln(e^top + e^low) over two rows of n values.
 double ln_whole_peak(const double* top, const double* low, std::size_t n) {
-  double peak = -1e300;
-  for (std::size_t i = 0; i < n; ++i) peak = std::max(peak, log_sum(top[i], low[i]));
+  // (only where the larger part is within ln 2 of the largest can the sum be largest)
+  double larger = -1e300, peak = -1e300;
+  for (std::size_t i = 0; i < n; ++i) larger = std::max(larger, std::max(top[i], low[i]));
+  for (std::size_t i = 0; i < n; ++i)
+    if (std::max(top[i], low[i]) >= larger - std::numbers::ln2) peak = std::max(peak, log_sum(top[i], low[i]));
   return peak;
 }
 }  // namespace
@@ -1240,6 +1243,10 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
   for (std::size_t a = 0; a < d_low.size(); ++a) {
     const auto& ae = a_e_of(static_cast<int>(a));
     const auto& ad = a_d_of(static_cast<int>(a));
+    std::vector<std::size_t> it, ie, id;  // the axis' nodes among the table's
+    for (double v : tau) it.push_back(node_index(table.tau, v));
+    for (double v : ae) ie.push_back(node_index(table.a_e, v));
+    for (double v : ad) id.push_back(node_index(table.a_d, v));
     for (std::size_t j = 0; j < d_low[a].size(); ++j) {
       auto& rows = d_low[a][j];
       if (rows.empty()) continue;
@@ -1247,8 +1254,7 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
       const bool solved_alone = j < low_solved[a].size() && low_solved[a][j];
       for (std::size_t k = 0; k < tau.size() * ae.size() * ad.size(); ++k) {
         const std::size_t i_d = k % ad.size(), i_e = (k / ad.size()) % ae.size(), i_t = k / (ad.size() * ae.size());
-        const std::size_t k_top = node_index(table.tau, tau[i_t]) * table.a_e.size() + node_index(table.a_e, ae[i_e]);
-        const std::size_t k_low = k_top * table.a_d.size() + node_index(table.a_d, ad[i_d]);
+        const std::size_t k_top = it[i_t] * table.a_e.size() + ie[i_e], k_low = k_top * table.a_d.size() + id[i_d];
         const double* top = table.ln_rho_top.data() + k_top * nx_t;
         std::copy_n(table.ln_rho.begin() + static_cast<std::ptrdiff_t>(k_low * nx_t), nx_t, solved.begin());
         double* d = rows.data() + k * n_x;
