@@ -260,7 +260,7 @@ void register_random_walk_command(CLI::App& app) {
 
 void register_skin_table_command(CLI::App& app) {
   struct Opts {
-    std::string out, reuse;
+    std::string out, reuse, rebase_from;
     bool offsets = false, cross = false;
     std::vector<std::string> axes, pairs;
   };
@@ -286,7 +286,13 @@ void register_skin_table_command(CLI::App& app) {
   sub->add_option("--cross-pairs", o->pairs,
                   "With --cross: solve only these pairs of axes (g:eta, g:dermis_ratio, eta:dermis_ratio), leaving "
                   "the others' corners 0; default: all. With --reuse, the corners it holds are copied in every case");
+  sub->add_option("--rebase-from", o->rebase_from,
+                  "With --cross --reuse: the offsets file the reused terms were computed against; writes those "
+                  "terms rebased onto the built-in offsets (each corner's term changes by the offsets' change "
+                  "there), nothing solved");
   sub->callback([o] {
+    if (!o->rebase_from.empty() && (!o->cross || o->reuse.empty()))
+      throw util::InputError("--rebase-from is for --cross with --reuse (the terms to rebase)");
     if (o->cross) {
       namespace acc = transport::accurate;
       if (!o->axes.empty()) throw util::InputError("--cross does not take --offset-nodes");
@@ -304,12 +310,29 @@ void register_skin_table_command(CLI::App& app) {
       acc::SkinStackTable table = acc::SkinStackTable::parse(util::data::embedded("skin_stack_profiles.csv"), "skin_stack_profiles.csv");
       acc::SkinStackOffsets offsets = acc::SkinStackOffsets::parse(util::data::embedded("skin_stack_offsets.csv"), "skin_stack_offsets.csv");
       offsets.settle(table);
+      std::optional<acc::SkinStackOffsets> before;  // the offsets the reused terms were computed against
+      if (!o->rebase_from.empty()) {
+        before = acc::SkinStackOffsets::parse(util::io::read_file(o->rebase_from, "rebase-from", std::uintmax_t{64} << 20), o->rebase_from);
+        before->settle(table);
+      }
       table.settle();
       table.offsets = &offsets;
       acc::SkinStackCross cross = acc::SkinStackCross::default_nodes(offsets);
       cross.provenance = "skin tabulate-skin-profiles --cross (FrequencyStack, k0 = 0.02 s)";
       std::optional<acc::SkinStackCross> reuse;
       if (!o->reuse.empty()) reuse = acc::SkinStackCross::parse(util::io::read_file(o->reuse, "reuse", std::uintmax_t{64} << 20), o->reuse);
+      if (before) {  // the reused terms rebased, nothing solved
+        acc::SkinStackCross rebased = *reuse;
+        try {
+          rebased.rebase(*before, offsets);
+        } catch (const std::logic_error&) {
+          throw util::InputError("--rebase-from: " + o->rebase_from + " is not on the nodes of the reused terms and the built-in offsets");
+        }
+        rebased.provenance += "; rebased onto other offsets (--rebase-from)";
+        util::io::write_file_atomic(o->out, rebased.to_csv());
+        std::cout << "wrote " << o->out << '\n';
+        return;
+      }
       cross.compute(table, progress_bar("stacks"), reuse ? &*reuse : nullptr, o->pairs.empty() ? nullptr : &pairs);
       util::io::write_file_atomic(o->out, cross.to_csv());
       std::cout << "wrote " << o->out << '\n';

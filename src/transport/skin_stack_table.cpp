@@ -1452,6 +1452,39 @@ void SkinStackCross::settle(const SkinStackTable& table, const SkinStackOffsets&
     }
 }
 
+void SkinStackCross::rebase(const SkinStackOffsets& from, const SkinStackOffsets& to) {
+  for (const SkinStackOffsets* o : {&from, &to})
+    if (!(same_nodes(tau, o->tau) && same_nodes(a_e, o->a_e) && same_nodes(a_d, o->a_d) && same_nodes(x, o->x) && base == o->base))
+      throw std::logic_error("skin table cross terms: not on the offsets' nodes");
+  const std::size_t n_t = tau.size(), n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
+  // row += from's two offsets - to's, each axis' on its own nodes at the end `v` (none: 0)
+  auto shift = [&](double* row, int axis, double v, bool top, std::size_t i_t, std::size_t i_e, std::size_t i_d) {
+    const auto au = static_cast<std::size_t>(axis);
+    for (const auto& [o, sign] : {std::pair{&from, 1.0}, {&to, -1.0}}) {
+      const std::size_t j = node_index(o->nodes[au], v);
+      if (j == std::string::npos) throw std::logic_error("skin table cross terms: an end is not an offsets node");
+      const std::vector<double>& rows = top ? o->d_top[au][j] : o->d_low[au][j];
+      if (rows.empty()) continue;
+      const double* d = rows.data() + (top ? o->top_row(axis, i_t, i_e) : o->low_row(axis, i_t, i_e, i_d)) * n_x;
+      for (std::size_t i = 0; i < n_x; ++i) row[i] += sign * d[i];
+    }
+  };
+  for (std::size_t p = 0; p < kPairs; ++p)
+    for (std::size_t c = 0; c < 4; ++c) {
+      const int a = kPairAxes[p][0], b = kPairAxes[p][1];
+      const double va = ends[static_cast<std::size_t>(a)][c / 2], vb = ends[static_cast<std::size_t>(b)][c % 2];
+      if (va == base[static_cast<std::size_t>(a)] || vb == base[static_cast<std::size_t>(b)] || c_low[p][c].empty()) continue;
+      for (std::size_t k = 0; k < n_t * n_e; ++k) {
+        const std::size_t i_t = k / n_e, i_e = k % n_e;
+        for (std::size_t l = 0; l < n_d; ++l)
+          for (const auto& [axis, v] : {std::pair{a, va}, {b, vb}})
+            shift(c_low[p][c].data() + (k * n_d + l) * n_x, axis, v, false, i_t, i_e, l);
+        if (!c_top[p][c].empty())
+          for (const auto& [axis, v] : {std::pair{a, va}, {b, vb}}) shift(c_top[p][c].data() + k * n_x, axis, v, true, i_t, i_e, 0);
+      }
+    }
+}
+
 SkinStackCross SkinStackCross::default_nodes(const SkinStackOffsets& offsets) {
   SkinStackCross c;
   c.base = offsets.base;

@@ -12,7 +12,9 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include "../temp_dir.hpp"
 #include "skin/mc/tabulate.hpp"
@@ -135,6 +137,34 @@ TEST(CliTabulate, SmallTableParsesBackAndBadInputLeavesNoFile) {
     EXPECT_LT(t.R_d[i], 1) << t.alpha[i];
   }
   std::filesystem::remove(out);
+}
+
+// The cross terms rebased onto other offsets: only with --cross --reuse, a file that is not
+// offsets is refused without output, and the built-in terms rebased from the offsets they were
+// computed against onto the same offsets are the built-in terms (to the file's 3 decimals).
+TEST(CliTabulate, CrossTermsRebasedOntoTheSameOffsetsAreUnchanged) {
+  const skin::test::TempDir tmp("skin_rebase_cli");
+  const std::string out = (tmp.path() / "cross.csv").string(), data = std::string(SKIN_SOURCE_DIR) + "/data/";
+  const std::string reuse = " --reuse " + data + "skin_stack_cross.csv";
+  EXPECT_EQ(run_skin("tabulate-skin-profiles --rebase-from " + data + "skin_stack_offsets.csv -o " + out).status, 2);
+  EXPECT_EQ(run_skin("tabulate-skin-profiles --cross" + reuse + " --rebase-from " + data + "d65.csv -o " + out).status, 2);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const auto r = run_skin("tabulate-skin-profiles --cross" + reuse + " --rebase-from " + data + "skin_stack_offsets.csv -o " + out);
+  ASSERT_EQ(r.status, 0) << r.out;
+  auto rows = [](const std::string& path) {
+    std::ifstream in(path);
+    std::vector<std::string> v;
+    for (std::string line; std::getline(in, line);)
+      if (!line.starts_with("#")) v.push_back(line);
+    return v;
+  };
+  const auto a = rows(data + "skin_stack_cross.csv"), b = rows(out);
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 1; i < a.size(); ++i) {  // (after the header) each value equal, -0.000 as 0.000
+    std::istringstream sa(a[i]), sb(b[i]);
+    for (std::string u, v; std::getline(sa, u, ',') && std::getline(sb, v, ',');)
+      ASSERT_EQ(std::stod(u), std::stod(v)) << "row " << i;
+  }
 }
 
 }  // namespace

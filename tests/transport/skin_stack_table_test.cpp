@@ -27,6 +27,7 @@ namespace {
 using skin::physics::Layer;
 using skin::transport::accurate::SkinStackTable;
 using skin::transport::accurate::SkinStackOffsets;
+using skin::transport::accurate::SkinStackCross;
 
 skin::physics::LayerStack preset_stack(const char* name, double lambda) {
   return skin::physics::skin_layer_stack(skin::physics::find_preset(name).parameters, lambda);
@@ -841,6 +842,39 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
       << t.gap(skin::physics::skin_layer_stack(p, 420));
   p.g = 0.9;
   EXPECT_EQ(t.gap(skin::physics::skin_layer_stack(p, 420)), "");
+}
+
+// Rebased cross terms: terms computed against other offsets become those of the given ones by
+// each corner's change of the two axes' offsets, row by row. With the g 0.7 node's light from
+// below raised by 0.1 and its top layer's by 0.05 in the offsets they were computed against, the
+// terms of the corners at g 0.7 rise by as much (pair g x index: both parts; g x dermis ratio: the
+// light from below), and the other terms stay.
+TEST(SkinStackCross, RebasedTermsFollowTheOffsetsChangeAtTheirCorners) {
+  const SkinStackTable& t = SkinStackTable::builtin();
+  const SkinStackOffsets& to = *t.offsets;
+  SkinStackOffsets from = to;
+  const std::size_t j = nearest_index(from.nodes[0], 0.7);
+  ASSERT_EQ(from.nodes[0][j], 0.7);
+  for (double& v : from.d_low[0][j]) v += 0.1;
+  for (double& v : from.d_top[0][j]) v += 0.05;
+  SkinStackCross c = *to.cross;
+  c.rebase(from, to);
+  std::size_t shifted = 0;
+  for (std::size_t p = 0; p < SkinStackCross::kPairs; ++p)
+    for (std::size_t k = 0; k < 4; ++k) {
+      const bool at_g07 = SkinStackCross::kPairAxes[p][0] == 0 && c.ends[0][k / 2] == 0.7;
+      for (const auto& [after, before, by] : {std::tuple{&c.c_low[p][k], &to.cross->c_low[p][k], 0.1},
+                                              {&c.c_top[p][k], &to.cross->c_top[p][k], 0.05}}) {
+        ASSERT_EQ(after->size(), before->size());
+        for (std::size_t i = 0; i < after->size(); ++i)
+          ASSERT_NEAR((*after)[i] - (*before)[i], at_g07 ? by : 0.0, 1e-12) << "pair " << p << " corner " << k;
+        if (at_g07) shifted += after->size();
+      }
+    }
+  EXPECT_GT(shifted, 0u);
+  SkinStackOffsets other = to;
+  other.tau.pop_back();
+  EXPECT_THROW(c.rebase(other, to), std::logic_error);
 }
 
 // The stored dermis-ratio offsets are their nodes solved again (SkinStackOffsets::compute on one

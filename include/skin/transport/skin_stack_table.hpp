@@ -210,6 +210,12 @@ struct SkinStackCross {
   // where they never are. `offsets` are the table's, settled, on these nodes (else logic_error).
   // The built-in terms are settled this way.
   void settle(const SkinStackTable& table, const SkinStackOffsets& offsets);
+  // Makes terms computed against the offsets `from` those of the offsets `to` without solving the
+  // corners again: a term is the corner's solve minus the table with both axes' offsets, so each
+  // row changes by the two offsets' change at its corner and node. Before settle(); `from` and
+  // `to` on these nodes and ends, settled as they were when the terms were computed (else
+  // logic_error).
+  void rebase(const SkinStackOffsets& from, const SkinStackOffsets& to);
   // The farthest value of `axis` a combined read reaches on `side` (0 below the base, 1 above):
   // the corners' end, or where a side has no corners (g above the table's 0.9 today), the other
   // side's end mirrored through the base in the axis' variable (ln(1 - g), the index, ln ratio),
