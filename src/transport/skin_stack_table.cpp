@@ -1168,7 +1168,6 @@ std::size_t continue_far_field(const std::vector<double>& x, std::vector<double>
   for (std::size_t i = last + 1; i < n; ++i) v[i] = std::max(v[last] + fitted * (x[i] - x[last]), lowest);
   return last;
 }
-// Each row of lows (n_x values, laid out as rows of x) continued beyond its far field's noise.
 // The peak of ln(e^top + e^low) over two rows of n values.
 double ln_whole_peak(const double* top, const double* low, std::size_t n) {
   // (only where the larger part is within ln 2 of the largest can the sum be largest)
@@ -1236,8 +1235,8 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
       if (!(j < low_solved[a].size() && low_solved[a][j]))
         hold_unreliable_low(table, tau, a_e_of(static_cast<int>(a)), a_d_of(static_cast<int>(a)), x.size(), d_low[a][j]);
   // Each node's light from below (the table's plus the offset) continued beyond its far field's
-  // noise, and so is the table's own (builtin() continues the table's rows after this): the
-  // offset becomes the difference of the two continued rows.
+  // noise, and so is the table's own (SkinStackTable::settle(), after this): the offset becomes the
+  // difference of the two continued rows.
   const std::size_t n_x = x.size(), nx_t = table.x.size(), stride = (nx_t - 1) / (n_x - 1);
   std::vector<double> solved(nx_t), node(n_x), node_top(n_x);
   for (std::size_t a = 0; a < d_low.size(); ++a) {
