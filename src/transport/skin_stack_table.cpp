@@ -1179,16 +1179,24 @@ double ln_whole_peak(const double* top, const double* low, std::size_t n) {
 }
 }  // namespace
 
-void SkinStackTable::settle() {
-  const std::size_t n_x = x.size(), n_d = a_d.size();
+namespace {
+// The table's lights from below (ln_rho, rows of x) continued beyond their noise, in place; per
+// row the last node kept (x.size() where none is changed).
+std::vector<std::size_t> continue_lows(const SkinStackTable& t, std::vector<double>& ln_rho) {
+  const std::size_t n_x = t.x.size(), n_d = t.a_d.size();
+  std::vector<std::size_t> kept(t.tau.size() * t.a_e.size() * n_d);
   std::vector<double> row(n_x);
-  for (std::size_t k = 0; k < tau.size() * a_e.size() * n_d; ++k) {
+  for (std::size_t k = 0; k < kept.size(); ++k) {
     double* low = ln_rho.data() + k * n_x;
     std::copy_n(low, n_x, row.begin());
-    continue_far_field(x, row, ln_whole_peak(ln_rho_top.data() + (k / n_d) * n_x, low, n_x));
+    kept[k] = continue_far_field(t.x, row, ln_whole_peak(t.ln_rho_top.data() + (k / n_d) * n_x, low, n_x));
     std::copy_n(row.begin(), n_x, low);
   }
+  return kept;
 }
+}  // namespace
+
+void SkinStackTable::settle() { continue_lows(*this, ln_rho); }
 
 namespace {
 // Where the light from below is under kReliableLow of the top layer's at a node, its part is the
@@ -1238,7 +1246,9 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
   // noise, and so is the table's own (SkinStackTable::settle(), after this): the offset becomes the
   // difference of the two continued rows.
   const std::size_t n_x = x.size(), nx_t = table.x.size(), stride = (nx_t - 1) / (n_x - 1);
-  std::vector<double> solved(nx_t), node(n_x), node_top(n_x);
+  std::vector<double> continued = table.ln_rho;  // the table's rows as settle() leaves them
+  const std::vector<std::size_t> kept = continue_lows(table, continued);
+  std::vector<double> node(n_x), node_top(n_x);
   for (std::size_t a = 0; a < d_low.size(); ++a) {
     const auto& ae = a_e_of(static_cast<int>(a));
     const auto& ad = a_d_of(static_cast<int>(a));
@@ -1255,22 +1265,21 @@ void SkinStackOffsets::settle(const SkinStackTable& table) {
         const std::size_t i_d = k % ad.size(), i_e = (k / ad.size()) % ae.size(), i_t = k / (ad.size() * ae.size());
         const std::size_t k_top = it[i_t] * table.a_e.size() + ie[i_e], k_low = k_top * table.a_d.size() + id[i_d];
         const double* top = table.ln_rho_top.data() + k_top * nx_t;
-        std::copy_n(table.ln_rho.begin() + static_cast<std::ptrdiff_t>(k_low * nx_t), nx_t, solved.begin());
+        const double *solved = table.ln_rho.data() + k_low * nx_t, *settled = continued.data() + k_low * nx_t;
         double* d = rows.data() + k * n_x;
+        if (!solved_alone) {
+          // (a node's light from below as the difference of two profiles, held where unreliable:
+          // the offset is held beyond the table's row too)
+          for (std::size_t i = kept[k_low] / stride + 1; i < n_x; ++i) d[i] = d[kept[k_low] / stride];
+          continue;
+        }
         const double* dt = has_top ? d_top[a][j].data() + (k / ad.size()) * n_x : nullptr;
         for (std::size_t i = 0; i < n_x; ++i) {
           node[i] = solved[stride * i] + d[i];
           node_top[i] = top[stride * i] + (dt ? dt[i] : 0.0);
         }
-        const std::size_t kept = continue_far_field(table.x, solved, ln_whole_peak(top, solved.data(), nx_t));
-        if (solved_alone) {
-          continue_far_field(x, node, ln_whole_peak(node_top.data(), node.data(), n_x));
-          for (std::size_t i = 0; i < n_x; ++i) d[i] = std::clamp(node[i] - solved[stride * i], -kMaxOffset, kMaxOffset);
-        } else {
-          // (a node's light from below as the difference of two profiles, held where unreliable:
-          // the offset is held beyond the table's row too)
-          for (std::size_t i = kept / stride + 1; i < n_x; ++i) d[i] = d[kept / stride];
-        }
+        continue_far_field(x, node, ln_whole_peak(node_top.data(), node.data(), n_x));
+        for (std::size_t i = 0; i < n_x; ++i) d[i] = std::clamp(node[i] - settled[stride * i], -kMaxOffset, kMaxOffset);
       }
     }
   }
