@@ -665,6 +665,19 @@ constexpr double kCrossHeldFrom = 20.0;
 // off a 2e6-photon Monte Carlo where 9.7 % is allowed; held, +3.9 % off the solver.
 constexpr double kCrossValid = 1e-8;
 constexpr double kMaxOffset = 20;       // |offset| in ln rho, as stored and parsed
+// Beyond the g axis' last node the offsets continue linearly in 1 - g through the last two nodes,
+// this much of their interval farther (0.95 and 0.9: to g 0.97, the domain's top). As g -> 1 at a
+// fixed reduced scattering the profile tends to a limit, so the offset is smooth in 1 - g there:
+// the same rule from 0.8 and 0.9 to 0.95 (half their interval) was within 3.8 % of the solved
+// 0.95 node's top layer above 1e-4 of its peak, median 1 %, over its 2294 values
+// (docs/accurate-solver.md, sec. 4); in ln(1 - g) it was 11 %.
+constexpr double kGContinued = 0.4;
+// The largest g the offsets read: the last node, or continued beyond it.
+double g_reach(const std::vector<double>& g_nodes) {
+  const std::size_t n = g_nodes.size();
+  if (n < 2) return g_nodes.back();
+  return g_nodes[n - 1] + kGContinued * (g_nodes[n - 1] - g_nodes[n - 2]);
+}
 // The variable each axis is interpolated in: ln(1 - g), eta, ln ratio.
 double axis_variable(int axis, double v) { return axis == 0 ? std::log(1 - v) : axis == 2 ? std::log(v) : v; }
 // Its inverse: the axis' value at u.
@@ -1298,17 +1311,22 @@ std::string SkinStackOffsets::gap(double g_v, double eta_v, double ratio_v) cons
   auto name = [](int a) { return std::string(a == 0 ? "g" : a == 1 ? "index" : "the lower layer's sigma_s' / the top layer's"); };
   for (int a = 0; a < kAxes; ++a) {
     const auto& n = nodes[static_cast<std::size_t>(a)];
+    const double top = a == 0 ? g_reach(n) : n.back();
     // (a relative 1e-9 beyond an end: a ratio of two coefficients computed apart)
-    if (!(v[a] >= n.front() * (1 - 1e-9) && v[a] <= n.back() * (1 + 1e-9)))
+    if (!(v[a] >= n.front() * (1 - 1e-9) && v[a] <= top * (1 + 1e-9)))
       return name(a) + " " + format_number(v[a]) + " is outside the skin table's [" + format_number(n.front()) + ", " +
-             format_number(n.back()) + "]";
+             format_number(std::round(top * 1e4) / 1e4) + "]";
   }
   // Combined with another dermis ratio, g and the index stop where the cross terms reach: their
   // corners, or on a side without corners the other side's continued through the base, no farther
   // than that corner is from the base (an axis' offsets may reach farther).
   if (cross && ratio_v != base[2])
     for (int a = 0; a < 2; ++a) {
-      const double lo = cross->reach(a, 0), hi = cross->reach(a, 1);
+      const double lo = cross->reach(a, 0);
+      double hi = cross->reach(a, 1);
+      // (g continued beyond its last node as far as the offsets are, where the cross terms have
+      // corners to continue: their position continues linearly too)
+      if (a == 0 && hi > base[0]) hi = std::max(hi, g_reach(nodes[0]));
       if (!(v[a] >= lo * (1 - 1e-9) && v[a] <= hi * (1 + 1e-9)))
         return name(a) + " " + format_number(v[a]) + " together with another dermis scattering ratio is outside the skin "
                "table's cross terms' reach [" + format_number(std::round(lo * 1e4) / 1e4) + ", " +
@@ -1340,6 +1358,11 @@ void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double et
     if (hit != std::string::npos) {
       sp.first = a == 0 ? nodes[au].size() - 1 - hit : hit;
       sp.weights = {1, 0, 0, 0};
+    } else if (a == 0 && v[a] > nodes[au].back()) {  // beyond the last g node: linear in 1 - g (g_reach)
+      const std::size_t n = nodes[au].size();
+      const double f = ((1 - v[a]) - (1 - nodes[au][n - 1])) / ((1 - nodes[au][n - 2]) - (1 - nodes[au][n - 1]));
+      sp.first = 0;  // (vars reversed: the last node first)
+      sp.weights = {1 - f, f, 0, 0};
     } else if (vars.size() >= 4) {
       sp = lagrange4_stencil(vars, u);
     } else {
@@ -1466,6 +1489,11 @@ void SkinStackCross::rebase(const SkinStackOffsets& from, const SkinStackOffsets
       throw std::logic_error("skin table cross terms: not on the offsets' nodes");
   const std::size_t n_t = tau.size(), n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
   // row += from's two offsets - to's, each axis' on its own nodes at the end `v` (none: 0)
+  // (Within kMaxOffset of 0, as every term is computed and parsed: the offsets' change reaches
+  // beyond it only in a far field below the terms' floor, kCrossValid, where settle() holds them.)
+  auto clamp_offsets = [](double* row, std::size_t n) {
+    for (std::size_t i = 0; i < n; ++i) row[i] = std::clamp(row[i], -kMaxOffset, kMaxOffset);
+  };
   auto shift = [&](double* row, int axis, double v, bool top, std::size_t i_t, std::size_t i_e, std::size_t i_d) {
     const auto au = static_cast<std::size_t>(axis);
     for (const auto& [o, sign] : {std::pair{&from, 1.0}, {&to, -1.0}}) {
@@ -1484,11 +1512,16 @@ void SkinStackCross::rebase(const SkinStackOffsets& from, const SkinStackOffsets
       if (va == base[static_cast<std::size_t>(a)] || vb == base[static_cast<std::size_t>(b)] || c_low[p][c].empty()) continue;
       for (std::size_t k = 0; k < n_t * n_e; ++k) {
         const std::size_t i_t = k / n_e, i_e = k % n_e;
-        for (std::size_t l = 0; l < n_d; ++l)
-          for (const auto& [axis, v] : {std::pair{a, va}, {b, vb}})
-            shift(c_low[p][c].data() + (k * n_d + l) * n_x, axis, v, false, i_t, i_e, l);
-        if (!c_top[p][c].empty())
-          for (const auto& [axis, v] : {std::pair{a, va}, {b, vb}}) shift(c_top[p][c].data() + k * n_x, axis, v, true, i_t, i_e, 0);
+        for (std::size_t l = 0; l < n_d; ++l) {
+          double* row = c_low[p][c].data() + (k * n_d + l) * n_x;
+          for (const auto& [axis, v] : {std::pair{a, va}, {b, vb}}) shift(row, axis, v, false, i_t, i_e, l);
+          clamp_offsets(row, n_x);
+        }
+        if (!c_top[p][c].empty()) {
+          double* row = c_top[p][c].data() + k * n_x;
+          for (const auto& [axis, v] : {std::pair{a, va}, {b, vb}}) shift(row, axis, v, true, i_t, i_e, 0);
+          clamp_offsets(row, n_x);
+        }
       }
     }
 }

@@ -332,6 +332,35 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   EXPECT_FALSE(skin::transport::accurate::AccurateStack(three).skin_table());
 }
 
+// Beyond the g axis' last node the offsets continue linearly in 1 - g through the last two nodes,
+// 0.4 of their interval farther (0.95 and the base 0.9: to 0.97): the rule by arithmetic, on
+// offsets of constant rows (the other nodes' values are not used), and no farther.
+TEST(SkinStackOffsets, GBeyondItsLastNodeContinuesLinearlyInOneMinusG) {
+  SkinStackOffsets o;
+  o.base = {0.9, 1.4, 0.5};
+  o.nodes = {std::vector<double>{0.8, 0.9, 0.95}, std::vector<double>{1.4}, std::vector<double>{0.5}};
+  o.tau = {1, 2, 3, 4};
+  o.a_e = o.a_d = {0.01, 0.1, 1, 10};
+  o.x = {0.1, 1, 10, 100, 1000};
+  const std::size_t n_top = 4 * 4 * 5, n_low = 4 * 4 * 4 * 5;
+  o.d_top = {std::vector<std::vector<double>>{std::vector<double>(n_top, 0.25), {}, std::vector<double>(n_top, 0.1)}, {{}}, {{}}};
+  o.d_low = {std::vector<std::vector<double>>{std::vector<double>(n_low, -0.5), {}, std::vector<double>(n_low, 0.2)}, {{}}, {{}}};
+  auto read = [&](double g) {
+    std::vector<double> top(5, 0.0), low(5, 0.0);
+    o.add(2.5, 0.3, 0.3, g, 1.4, 0.5, o.x, top, low, false);
+    return std::pair{top, low};
+  };
+  for (const auto& [g, f] : {std::pair{0.95, 1.0}, std::pair{0.96, 1.2}, std::pair{0.97, 1.4}}) {
+    EXPECT_EQ(o.gap(g, 1.4, 0.5), "") << g;
+    const auto [top, low] = read(g);
+    for (std::size_t i = 0; i < 5; ++i) {
+      EXPECT_NEAR(top[i], 0.1 * f, 1e-12) << "g " << g << ", x " << o.x[i];
+      EXPECT_NEAR(low[i], 0.2 * f, 1e-12) << "g " << g << ", x " << o.x[i];
+    }
+  }
+  EXPECT_EQ(o.gap(0.971, 1.4, 0.5), "g 0.971 is outside the skin table's [0.8, 0.97]");
+}
+
 // An axis' offsets may reach farther than its cross terms' corners (g 0.97 offsets, corners only
 // at g 0.7). On the side without corners the terms are the other side's continued through the
 // base (SkinStackCross::add), as far as that corner is from the base: g 0.9667 (ln(1 - g) mirrored
@@ -354,9 +383,16 @@ TEST(SkinStackOffsets, CombinedReadsStopWhereTheCrossTermsReach) {
   EXPECT_EQ(o.gap(0.97, 1.4, 0.5), "");  // g alone: the offsets
   EXPECT_EQ(o.gap(0.8, 1.4, 2.0), "");
   EXPECT_EQ(o.gap(0.95, 1.4, 2.0), "");  // continued through the base
-  EXPECT_EQ(o.gap(0.97, 1.4, 2.0), "g 0.97 together with another dermis scattering ratio is outside the skin table's "
-                                   "cross terms' reach [0.7, 0.9667]");
-  EXPECT_NE(o.gap(0.98, 1.4, 0.5).find("g 0.98 is outside the skin table's [0.7, 0.97]"), std::string::npos)
+  EXPECT_EQ(o.gap(0.45, 1.4, 0.5), "g 0.45 is outside the skin table's [0.7, 0.978]");
+  // The index has no continuation beyond its nodes: its reach is the corners' mirrored.
+  c.ends[1] = {1.4, 1.47};
+  EXPECT_EQ(o.gap(0.9, 1.5, 2.0), "index 1.5 together with another dermis scattering ratio is outside the skin "
+                                  "table's cross terms' reach [1.33, 1.47]");
+  c.ends[1] = {1.33, 1.55};
+  // g beyond its last node (0.97, continued to 0.978: g_reach) with another ratio: the cross
+  // terms' position continues as far.
+  EXPECT_EQ(o.gap(0.975, 1.4, 2.0), "");
+  EXPECT_NE(o.gap(0.98, 1.4, 0.5).find("g 0.98 is outside the skin table's [0.7, 0.978]"), std::string::npos)
       << o.gap(0.98, 1.4, 0.5);
   c.ends[1] = {1.4, 1.55};  // the index: corners above only, mirrored to 1.25 below
   EXPECT_EQ(o.gap(0.9, 1.33, 2.0), "");
@@ -484,7 +520,7 @@ TEST(SkinStackOffsets, MalformedFilesAreRefused) {
   EXPECT_EQ(back.d_top[0][0], o.d_top[0][0]);
   EXPECT_EQ(back.d_low[0][0], o.d_low[0][0]);
   EXPECT_EQ(back.gap(0.85, 1.4, 0.5), "");
-  EXPECT_EQ(back.gap(0.95, 1.4, 0.5), "g 0.95 is outside the skin table's [0.8, 0.9]");
+  EXPECT_EQ(back.gap(0.95, 1.4, 0.5), "g 0.95 is outside the skin table's [0.8, 0.94]");  // (continued 0.4 of 0.1)
   EXPECT_EQ(back.gap(0.85, 1.45, 0.5), "index 1.45 is outside the skin table's [1.4, 1.4]");
   auto refused = [](const std::string& text, const std::string& what) {
     expect_refused<SkinStackOffsets>(text, "o.csv", what, true);
