@@ -909,6 +909,17 @@ TEST(SkinStackCross, RebasedTermsFollowTheOffsetsChangeAtTheirCorners) {
       }
     }
   EXPECT_GT(shifted, 0u);
+  // A change that would carry a term beyond 20 in ln rho stops there, as terms are computed and
+  // parsed (the file it writes is read back).
+  for (double& v : from.d_low[0][j]) v += 30;
+  SkinStackCross far = *to.cross;
+  far.rebase(from, to);
+  double most = 0;
+  for (std::size_t p = 0; p < SkinStackCross::kPairs; ++p)
+    for (std::size_t k = 0; k < 4; ++k)
+      for (double v : far.c_low[p][k]) most = std::max(most, std::abs(v));
+  EXPECT_EQ(most, 20.0);
+  EXPECT_NO_THROW(SkinStackCross::parse(far.to_csv(), "rebased.csv"));
   SkinStackOffsets other = to;
   other.tau.pop_back();
   EXPECT_THROW(c.rebase(other, to), std::logic_error);
