@@ -75,7 +75,7 @@ std::vector<double> floored_log(std::vector<double> R) {
 
 SkinStackTable SkinStackTable::default_nodes() {
   SkinStackTable t;
-  for (int k = -8; k <= 2; ++k) t.tau.push_back(2.0 * std::pow(1.5, k));
+  for (int k = -8; k <= 4; ++k) t.tau.push_back(2.0 * std::pow(1.5, k));
   // a: four per decade from 0.004 to 0.4, then evenly in sqrt(a) (0.25 apart, then 0.5).
   std::vector<double> a;
   for (int k = 0; k <= 8; ++k) a.push_back(0.004 * std::pow(10.0, k / 4.0));
@@ -420,7 +420,11 @@ const SkinStackTable& SkinStackTable::builtin() {
       for (double v : *coarse) ok = ok && node_index(*fine, v) != std::string::npos;
     for (int a = 0; a < SkinStackOffsets::kAxes; ++a)
       for (const auto& [own, fine] : {std::pair{&o.a_e_of(a), &table.a_e}, {&o.a_d_of(a), &table.a_d}})
-        for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos;
+        for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos && same_node(own->front(), fine->front()) &&
+                                    same_node(own->back(), fine->back());
+    // ... and span them (gap() asks the table's range: a read inside it is inside the offsets').
+    for (const auto& [coarse, fine] : {std::pair{&o.tau, &table.tau}, {&o.a_e, &table.a_e}, {&o.a_d, &table.a_d}})
+      ok = ok && same_node(coarse->front(), fine->front()) && same_node(coarse->back(), fine->back());
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
     o.settle(table);
     table.settle();  // (after the offsets')
@@ -816,14 +820,20 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
   }
   if (!(base[0] == table.g && base[1] == table.eta && base[2] == table.dermis_ratio))
     throw InputError("skin table offsets: the base geometry is not the table's");
-  // Reused rows: the same tau, each of these x among the reused table's, and per row its (a_e, a_d)
-  // among the reused axis' nodes.
-  std::vector<std::size_t> reuse_x;
-  bool same_grid = reuse && same_nodes(reuse->tau, tau);
+  // Reused rows: each of these x among the reused table's, and per row its tau, a_e and a_d among
+  // the reused file's (an axis' a_e and a_d its own). New tau nodes (the table extended) are
+  // solved, the rest copied.
+  std::vector<std::size_t> reuse_x, reuse_t;
+  bool same_grid = reuse != nullptr;
   for (std::size_t i = 0; same_grid && i < n_x; ++i) {
     reuse_x.push_back(node_index(reuse->x, x[i]));
     same_grid = reuse_x.back() != std::string::npos;
   }
+  for (std::size_t i_t = 0; same_grid && i_t < n_t; ++i_t) reuse_t.push_back(node_index(reuse->tau, tau[i_t]));
+  // The table extended by new tau nodes: a node whose light from below the reused file holds as
+  // the difference of two profiles keeps those rows (and that label) and only the new ones are
+  // solved.
+  const bool extending = same_grid && !same_nodes(reuse->tau, tau);
   auto copy_row = [&](const std::vector<double>& from, std::size_t r_from, std::vector<double>& to, std::size_t r_to) {
     for (std::size_t i = 0; i < n_x; ++i) to[r_to * n_x + i] = from[r_from * reuse->x.size() + reuse_x[i]];
   };
@@ -851,29 +861,32 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
         std::size_t held = 0;
         for (std::size_t i_t = 0; i_t < n_t; ++i_t)
           for (std::size_t i_e = 0; i_e < n_e; ++i_e) {
-            const std::size_t e = node_index(re, ae[i_e]);
-            if (e == std::string::npos) continue;
-            if (a != 2) copy_row(reuse->d_top[au][r], i_t * re.size() + e, d_top[au][j], i_t * n_e + i_e);
+            const std::size_t e = node_index(re, ae[i_e]), t = reuse_t[i_t];
+            if (e == std::string::npos || t == std::string::npos) continue;
+            if (a != 2) copy_row(reuse->d_top[au][r], t * re.size() + e, d_top[au][j], i_t * n_e + i_e);
             held_top[i_t * n_e + i_e] = 1;
             for (std::size_t i_d = 0; i_d < n_d; ++i_d) {
               const std::size_t d = node_index(rd, ad[i_d]);
               if (d == std::string::npos) continue;
-              copy_row(reuse->d_low[au][r], (i_t * re.size() + e) * rd.size() + d, d_low[au][j], (i_t * n_e + i_e) * n_d + i_d);
+              copy_row(reuse->d_low[au][r], (t * re.size() + e) * rd.size() + d, d_low[au][j], (i_t * n_e + i_e) * n_d + i_d);
               held_low[(i_t * n_e + i_e) * n_d + i_d] = 1;
               ++held;
             }
           }
         // (a node whose light from below is held as the difference of two profiles is solved
-        // again, its top layers with it: their R(k) is what the light from below subtracts)
-        if (!solved) {
+        // again, its top layers with it: their R(k) is what the light from below subtracts;
+        // unless the table was extended: then only its new rows are solved, and it keeps its label)
+        if (!solved && !extending) {
           std::fill(held_low.begin(), held_low.end(), 0);
           std::fill(held_top.begin(), held_top.end(), 0);
         } else if (held == held_low.size()) {
-          low_solved[au][j] = 1;
+          low_solved[au][j] = solved ? 1 : 0;
           continue;  // every row copied
         }
+        low_solved[au][j] = solved || !extending ? 1 : 0;
+      } else {
+        low_solved[au][j] = 1;  // (the rows solved below: the light from below on its own)
       }
-      low_solved[au][j] = 1;  // (the rows solved below: the light from below on its own)
       for (std::size_t k = 0; k < n_t * n_e; ++k) {
         bool needed = !held_top[k];
         for (std::size_t i_d = 0; i_d < n_d; ++i_d) needed = needed || !held_low[k * n_d + i_d];
@@ -1580,7 +1593,12 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
   };
   struct Job { int pair, corner; std::size_t k; };
   std::vector<Job> top_jobs, low_jobs;
-  std::array<std::size_t, kPairs * 4> first_top{};  // per corner, its first top job
+  // Per tau node, its index among the reused file's (new tau nodes, the table extended, are solved).
+  std::vector<std::size_t> reuse_t(n_t, std::string::npos);
+  const bool reusable = reuse && reuse->base == base && same_nodes(reuse->a_e, a_e) && same_nodes(reuse->a_d, a_d) &&
+                        same_nodes(reuse->x, x);
+  if (reusable)
+    for (std::size_t i_t = 0; i_t < n_t; ++i_t) reuse_t[i_t] = node_index(reuse->tau, tau[i_t]);
   for (int p = 0; p < kPairs; ++p)
     for (int c = 0; c < 4; ++c) {
       const auto pu = static_cast<std::size_t>(p), cu = static_cast<std::size_t>(c);
@@ -1591,25 +1609,37 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
           v[static_cast<std::size_t>(kPairAxes[pu][1])] == base[static_cast<std::size_t>(kPairAxes[pu][1])])
         continue;  // an axis without nodes on that side: no term
       const bool solve = !solve_pairs || (*solve_pairs)[pu];
-      if (reuse && reuse->base == base && same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e, a_e) &&
-          same_nodes(reuse->a_d, a_d) && same_nodes(reuse->x, x)) {
+      std::vector<char> held(n_t, 0);  // per tau node: its rows copied from `reuse`
+      if (reusable) {
         bool same = false;
         for (int rc = 0; rc < 4 && !same; ++rc) {
           const std::size_t a = static_cast<std::size_t>(kPairAxes[pu][0]), b = static_cast<std::size_t>(kPairAxes[pu][1]);
           const auto rcu = static_cast<std::size_t>(rc);
           same = same_node(reuse->ends[a][rcu / 2], v[a]) && same_node(reuse->ends[b][rcu % 2], v[b]) &&
-                 !(reuse->ends[a][rcu / 2] == reuse->base[a] || reuse->ends[b][rcu % 2] == reuse->base[b]);
-          if (same) {
-            c_top[pu][cu] = reuse->c_top[pu][rcu];
-            c_low[pu][cu] = reuse->c_low[pu][rcu];
+                 !(reuse->ends[a][rcu / 2] == reuse->base[a] || reuse->ends[b][rcu % 2] == reuse->base[b]) &&
+                 reuse->c_low[pu][rcu].size() == reuse->tau.size() * n_e * n_d * n_x &&
+                 reuse->c_top[pu][rcu].size() == (p == 0 ? reuse->tau.size() * n_e * n_x : 0);
+          if (!same) continue;
+          for (std::size_t i_t = 0; i_t < n_t; ++i_t) {
+            const std::size_t t = reuse_t[i_t];
+            if (t == std::string::npos) continue;
+            held[i_t] = 1;
+            const auto top_rows = static_cast<std::ptrdiff_t>(n_e * n_x), low_rows = static_cast<std::ptrdiff_t>(n_e * n_d * n_x);
+            if (p == 0)
+              std::copy_n(reuse->c_top[pu][rcu].begin() + static_cast<std::ptrdiff_t>(t) * top_rows, top_rows,
+                          c_top[pu][cu].begin() + static_cast<std::ptrdiff_t>(i_t) * top_rows);
+            std::copy_n(reuse->c_low[pu][rcu].begin() + static_cast<std::ptrdiff_t>(t) * low_rows, low_rows,
+                        c_low[pu][cu].begin() + static_cast<std::ptrdiff_t>(i_t) * low_rows);
           }
         }
-        if (same) continue;  // copied
+        if (!same) std::fill(held.begin(), held.end(), 0);
       }
-      if (!solve) continue;  // not asked for and not in `reuse`: 0
-      first_top[pu * 4 + cu] = top_jobs.size();
-      for (std::size_t k = 0; k < n_t * n_e; ++k) top_jobs.push_back({p, c, k});
-      for (std::size_t k = 0; k < n_t * n_e * n_d; ++k) low_jobs.push_back({p, c, k});
+      // Not asked for: what `reuse` holds (a new tau node's rows 0), or 0.
+      if (!solve || std::find(held.begin(), held.end(), 0) == held.end()) continue;
+      for (std::size_t k = 0; k < n_t * n_e; ++k)
+        if (!held[k / n_e]) top_jobs.push_back({p, c, k});
+      for (std::size_t k = 0; k < n_t * n_e * n_d; ++k)
+        if (!held[k / (n_e * n_d)]) low_jobs.push_back({p, c, k});
     }
   std::mutex m;
   std::size_t done = 0;
@@ -1639,13 +1669,18 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
     tick();
   });
   util::cancel::check();
+  // Each (pair, corner, tau, a_e)'s top job.
+  std::map<std::array<std::size_t, 3>, std::size_t> top_of;
+  for (std::size_t q = 0; q < top_jobs.size(); ++q)
+    top_of[{static_cast<std::size_t>(top_jobs[q].pair), static_cast<std::size_t>(top_jobs[q].corner), top_jobs[q].k}] = q;
   tbb::parallel_for(std::size_t{0}, low_jobs.size(), [&](std::size_t q) {
     if (util::cancel::requested()) return;
     const Job& jb = low_jobs[q];
     const auto v = values(jb.pair, jb.corner);
     const SkinStackTable geo = geometry(v);
     const std::size_t i_d = jb.k % n_d, i_e = (jb.k / n_d) % n_e, i_t = jb.k / (n_d * n_e);
-    const std::size_t q_top = first_top[static_cast<std::size_t>(jb.pair) * 4 + static_cast<std::size_t>(jb.corner)] + i_t * n_e + i_e;
+    const std::size_t q_top =
+        top_of.at({static_cast<std::size_t>(jb.pair), static_cast<std::size_t>(jb.corner), i_t * n_e + i_e});
     std::vector<double> top, low;
     predicted(v, tau[i_t], a_e[i_e], a_d[i_d], top, low);
     const std::vector<double> d = low_offset(geo, tau[i_t], a_e[i_e], a_d[i_d], tops[q_top], tops_k[q_top], top, low, coarse);

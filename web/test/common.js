@@ -146,7 +146,7 @@ function rng(seed) {
 // for `solver`. The dermis scattering is drawn from 0.3-0.8 of the epidermis' (the accurate
 // solver reads it from its table of skin profiles with the offsets for another dermis ratio).
 // For the accurate solver the epidermis keeps its default thickness, 0.25 mm: a thinner one
-// (below 0.078 / sigma_s') or a thicker one (above 4.5 / sigma_s') leaves the table at some
+// (below 0.078 / sigma_s') or a thicker one (above 10.1 / sigma_s') leaves the table at some
 // wavelengths, which are then solved in the frequency domain (~1 s each in the module). It is
 // drawn all the same, so that the sequence of draws does not depend on the solver.
 function randomParameters(u, solver) {
