@@ -279,7 +279,7 @@ void register_skin_table_command(CLI::App& app) {
                 "(data/skin_stack_offsets.csv; about 45 min on 2 cores)");
   sub->add_flag("--cross", o->cross,
                 "Tabulate instead the cross terms of the built-in offsets, for two of g, index and dermis ratio "
-                "off the table's at once (data/skin_stack_cross.csv; on the offsets' nodes, ~15 min per corner on 2 cores, g 0.97 several times more; with --reuse only the corners it lacks, or only the new tau nodes of the reused corners)")
+                "off the table's at once (data/skin_stack_cross.csv; on the offsets' nodes, ~15 min per corner on 2 cores, g 0.97 several times more; with --reuse only the corners it lacks, or only the new nodes of the reused corners)")
       ->excludes("--offsets");
   sub->add_option("--offset-nodes", o->axes,
                   "With --offsets: only these nodes, as AXIS=VALUE (g=0.8, eta=1.47, dermis_ratio=2); default: all");
@@ -321,8 +321,8 @@ void register_skin_table_command(CLI::App& app) {
       cross.provenance = "skin tabulate-skin-profiles --cross (FrequencyStack, k0 = 0.02 s)";
       std::optional<acc::SkinStackCross> reuse;
       if (!o->reuse.empty()) reuse = acc::SkinStackCross::parse(util::io::read_file(o->reuse, "reuse", std::uintmax_t{64} << 20), o->reuse);
-      // Terms extended to new tau nodes of the table (and so of the offsets) keep their corners.
-      if (reuse && reuse->tau != cross.tau) cross.ends = reuse->ends;
+      // Terms extended to new nodes of the offsets keep their corners.
+      if (reuse && (reuse->tau != cross.tau || reuse->a_e != cross.a_e || reuse->a_d != cross.a_d)) cross.ends = reuse->ends;
       if (before) {  // the reused terms rebased, nothing solved
         acc::SkinStackCross rebased = *reuse;
         try {

@@ -229,18 +229,22 @@ double ratio_of(const SkinStackTable& t, const Layer& e, const Layer& d) {
 
 void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTable* reuse) {
   const std::size_t n_e = a_e.size(), n_d = a_d.size(), n_x = x.size();
-  if (reuse && !(reuse->eta == eta && reuse->g == g && reuse->dermis_ratio == dermis_ratio &&
-                 same_nodes(reuse->a_d, a_d) && same_nodes(reuse->x, x)))
-    throw InputError("reuse: the table to reuse has another geometry, a_d or x nodes than the one computed");
+  if (reuse && !(reuse->eta == eta && reuse->g == g && reuse->dermis_ratio == dermis_ratio && same_nodes(reuse->x, x)))
+    throw InputError("reuse: the table to reuse has another geometry or x nodes than the one computed");
   const bool reuse_half = reuse && same_nodes(reuse->a_h, a_h);
-  // Per (tau, a_e): its row in `reuse`, or npos (solved).
-  std::vector<std::size_t> from(tau.size() * n_e, std::string::npos);
-  if (reuse)
+  // Per (tau, a_e): its row in `reuse`, or npos (solved); per a_d its index there, or npos (its
+  // rows solved, with the top layer's R(k) solved again for them).
+  std::vector<std::size_t> from(tau.size() * n_e, std::string::npos), from_d(n_d, std::string::npos);
+  if (reuse) {
     for (std::size_t i_t = 0; i_t < tau.size(); ++i_t)
       for (std::size_t i_e = 0; i_e < n_e; ++i_e) {
         const std::size_t r_t = node_index(reuse->tau, tau[i_t]), r_e = node_index(reuse->a_e, a_e[i_e]);
         if (r_t != std::string::npos && r_e != std::string::npos) from[i_t * n_e + i_e] = r_t * reuse->a_e.size() + r_e;
       }
+    for (std::size_t i_d = 0; i_d < n_d; ++i_d) from_d[i_d] = node_index(reuse->a_d, a_d[i_d]);
+  }
+  const bool every_a_d = std::find(from_d.begin(), from_d.end(), std::string::npos) == from_d.end();
+  auto copied = [&](std::size_t k_top, std::size_t i_d) { return from[k_top] != std::string::npos && from_d[i_d] != std::string::npos; };
   const std::size_t total = tau.size() * n_e * (n_d + 1) + a_h.size();
   ln_rho.assign(tau.size() * n_e * n_d * n_x, 0.0);
   ln_rho_top.assign(tau.size() * n_e * n_x, 0.0);
@@ -256,15 +260,24 @@ void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTa
   std::vector<std::vector<double>> top(tau.size() * n_e), top_k(tau.size() * n_e);
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e, [&](std::size_t k) {
     if (util::cancel::requested()) return;  // thrown below
+    const Layer a = absorber(*this);
     if (from[k] != std::string::npos) {
       const auto src = reuse->ln_rho_top.begin() + static_cast<std::ptrdiff_t>(from[k] * n_x);
       std::copy(src, src + static_cast<std::ptrdiff_t>(n_x), ln_rho_top.begin() + static_cast<std::ptrdiff_t>(k * n_x));
-      const auto rows = reuse->ln_rho.begin() + static_cast<std::ptrdiff_t>(from[k] * n_d * n_x);
-      std::copy(rows, rows + static_cast<std::ptrdiff_t>(n_d * n_x), ln_rho.begin() + static_cast<std::ptrdiff_t>(k * n_d * n_x));
-      for (std::size_t i = 0; i <= n_d; ++i) tick();
+      const std::size_t n_d_reuse = reuse->a_d.size();
+      for (std::size_t i_d = 0; i_d < n_d; ++i_d) {
+        if (from_d[i_d] == std::string::npos) continue;
+        const auto row = reuse->ln_rho.begin() + static_cast<std::ptrdiff_t>((from[k] * n_d_reuse + from_d[i_d]) * n_x);
+        std::copy(row, row + static_cast<std::ptrdiff_t>(n_x), ln_rho.begin() + static_cast<std::ptrdiff_t>((k * n_d + i_d) * n_x));
+        tick();
+      }
+      tick();
+      if (every_a_d) return;
+      // (new a_d nodes: their light from below subtracts this top layer's R(k); its row stays the copy)
+      top[k] = solve(*this, tau[k / n_e], a_e[k % n_e], &a);
+      top_k[k] = top_frequencies(*this, tau[k / n_e], a_e[k % n_e]);
       return;
     }
-    const Layer a = absorber(*this);
     top[k] = solve(*this, tau[k / n_e], a_e[k % n_e], &a);
     top_k[k] = top_frequencies(*this, tau[k / n_e], a_e[k % n_e]);
     const std::vector<double> ln_top = floored_log(top[k]);
@@ -287,7 +300,7 @@ void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTa
   tbb::parallel_for(std::size_t{0}, tau.size() * n_e * n_d, [&](std::size_t k) {
     if (util::cancel::requested()) return;
     const std::size_t i_d = k % n_d, i_e = (k / n_d) % n_e, i_t = k / (n_d * n_e);
-    if (from[i_t * n_e + i_e] != std::string::npos) return;  // copied with its top layer
+    if (copied(i_t * n_e + i_e, i_d)) return;  // copied with its top layer
     const std::size_t k_top = i_t * n_e + i_e;
     const std::vector<double> low =
         floored_low(top[k_top], light_from_below(*this, tau[i_t], a_e[i_e], a_d[i_d], top_k[k_top]));
@@ -1593,53 +1606,69 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
   };
   struct Job { int pair, corner; std::size_t k; };
   std::vector<Job> top_jobs, low_jobs;
-  // Per tau node, its index among the reused file's (new tau nodes, the table extended, are solved).
-  std::vector<std::size_t> reuse_t(n_t, std::string::npos);
-  const bool reusable = reuse && reuse->base == base && same_nodes(reuse->a_e, a_e) && same_nodes(reuse->a_d, a_d) &&
-                        same_nodes(reuse->x, x);
-  if (reusable)
-    for (std::size_t i_t = 0; i_t < n_t; ++i_t) reuse_t[i_t] = node_index(reuse->tau, tau[i_t]);
+  // Per tau, a_e and a_d node, its index among the reused file's (new nodes, the offsets extended,
+  // are solved).
+  std::vector<std::size_t> reuse_t(n_t, std::string::npos), reuse_e(n_e, std::string::npos), reuse_d(n_d, std::string::npos);
+  const bool reusable = reuse && reuse->base == base && same_nodes(reuse->x, x);
+  if (reusable) {
+    for (std::size_t i = 0; i < n_t; ++i) reuse_t[i] = node_index(reuse->tau, tau[i]);
+    for (std::size_t i = 0; i < n_e; ++i) reuse_e[i] = node_index(reuse->a_e, a_e[i]);
+    for (std::size_t i = 0; i < n_d; ++i) reuse_d[i] = node_index(reuse->a_d, a_d[i]);
+  }
+  // Per corner, its rows copied from `reuse`: (tau, a_e) top rows and (tau, a_e, a_d) rows.
+  std::array<std::vector<char>, kPairs * 4> held_top, held_low;
   for (int p = 0; p < kPairs; ++p)
     for (int c = 0; c < 4; ++c) {
       const auto pu = static_cast<std::size_t>(p), cu = static_cast<std::size_t>(c);
       c_top[pu][cu].assign(p == 0 ? n_t * n_e * n_x : 0, 0.0);
       c_low[pu][cu].assign(n_t * n_e * n_d * n_x, 0.0);
+      std::vector<char>&ht = held_top[pu * 4 + cu], &hl = held_low[pu * 4 + cu];
+      ht.assign(n_t * n_e, 0);
+      hl.assign(n_t * n_e * n_d, 0);
       const auto v = values(p, c);
       if (v[static_cast<std::size_t>(kPairAxes[pu][0])] == base[static_cast<std::size_t>(kPairAxes[pu][0])] ||
           v[static_cast<std::size_t>(kPairAxes[pu][1])] == base[static_cast<std::size_t>(kPairAxes[pu][1])])
         continue;  // an axis without nodes on that side: no term
       const bool solve = !solve_pairs || (*solve_pairs)[pu];
-      std::vector<char> held(n_t, 0);  // per tau node: its rows copied from `reuse`
       if (reusable) {
-        bool same = false;
-        for (int rc = 0; rc < 4 && !same; ++rc) {
+        const std::size_t rn_t = reuse->tau.size(), rn_e = reuse->a_e.size(), rn_d = reuse->a_d.size();
+        for (int rc = 0; rc < 4; ++rc) {
           const std::size_t a = static_cast<std::size_t>(kPairAxes[pu][0]), b = static_cast<std::size_t>(kPairAxes[pu][1]);
           const auto rcu = static_cast<std::size_t>(rc);
-          same = same_node(reuse->ends[a][rcu / 2], v[a]) && same_node(reuse->ends[b][rcu % 2], v[b]) &&
-                 !(reuse->ends[a][rcu / 2] == reuse->base[a] || reuse->ends[b][rcu % 2] == reuse->base[b]) &&
-                 reuse->c_low[pu][rcu].size() == reuse->tau.size() * n_e * n_d * n_x &&
-                 reuse->c_top[pu][rcu].size() == (p == 0 ? reuse->tau.size() * n_e * n_x : 0);
+          const bool same = same_node(reuse->ends[a][rcu / 2], v[a]) && same_node(reuse->ends[b][rcu % 2], v[b]) &&
+                            !(reuse->ends[a][rcu / 2] == reuse->base[a] || reuse->ends[b][rcu % 2] == reuse->base[b]) &&
+                            reuse->c_low[pu][rcu].size() == rn_t * rn_e * rn_d * n_x &&
+                            reuse->c_top[pu][rcu].size() == (p == 0 ? rn_t * rn_e * n_x : 0);
           if (!same) continue;
-          for (std::size_t i_t = 0; i_t < n_t; ++i_t) {
-            const std::size_t t = reuse_t[i_t];
-            if (t == std::string::npos) continue;
-            held[i_t] = 1;
-            const auto top_rows = static_cast<std::ptrdiff_t>(n_e * n_x), low_rows = static_cast<std::ptrdiff_t>(n_e * n_d * n_x);
-            if (p == 0)
-              std::copy_n(reuse->c_top[pu][rcu].begin() + static_cast<std::ptrdiff_t>(t) * top_rows, top_rows,
-                          c_top[pu][cu].begin() + static_cast<std::ptrdiff_t>(i_t) * top_rows);
-            std::copy_n(reuse->c_low[pu][rcu].begin() + static_cast<std::ptrdiff_t>(t) * low_rows, low_rows,
-                        c_low[pu][cu].begin() + static_cast<std::ptrdiff_t>(i_t) * low_rows);
-          }
+          for (std::size_t i_t = 0; i_t < n_t; ++i_t)
+            for (std::size_t i_e = 0; i_e < n_e; ++i_e) {
+              const std::size_t t = reuse_t[i_t], e = reuse_e[i_e];
+              if (t == std::string::npos || e == std::string::npos) continue;
+              const std::size_t k = i_t * n_e + i_e, rk = t * rn_e + e;
+              if (p == 0) {
+                std::copy_n(reuse->c_top[pu][rcu].begin() + static_cast<std::ptrdiff_t>(rk * n_x), n_x,
+                            c_top[pu][cu].begin() + static_cast<std::ptrdiff_t>(k * n_x));
+                ht[k] = 1;
+              }
+              for (std::size_t i_d = 0; i_d < n_d; ++i_d) {
+                if (reuse_d[i_d] == std::string::npos) continue;
+                std::copy_n(reuse->c_low[pu][rcu].begin() + static_cast<std::ptrdiff_t>((rk * rn_d + reuse_d[i_d]) * n_x), n_x,
+                            c_low[pu][cu].begin() + static_cast<std::ptrdiff_t>((k * n_d + i_d) * n_x));
+                hl[k * n_d + i_d] = 1;
+              }
+            }
+          break;
         }
-        if (!same) std::fill(held.begin(), held.end(), 0);
       }
-      // Not asked for: what `reuse` holds (a new tau node's rows 0), or 0.
-      if (!solve || std::find(held.begin(), held.end(), 0) == held.end()) continue;
-      for (std::size_t k = 0; k < n_t * n_e; ++k)
-        if (!held[k / n_e]) top_jobs.push_back({p, c, k});
+      // Not asked for: what `reuse` holds (a new node's rows 0), or 0.
+      if (!solve) continue;
+      for (std::size_t k = 0; k < n_t * n_e; ++k) {
+        bool needed = p == 0 && !ht[k];  // (pair 0's top term; every light from below subtracts its top layer's R(k))
+        for (std::size_t i_d = 0; i_d < n_d; ++i_d) needed = needed || !hl[k * n_d + i_d];
+        if (needed) top_jobs.push_back({p, c, k});
+      }
       for (std::size_t k = 0; k < n_t * n_e * n_d; ++k)
-        if (!held[k / (n_e * n_d)]) low_jobs.push_back({p, c, k});
+        if (!hl[k]) low_jobs.push_back({p, c, k});
     }
   std::mutex m;
   std::size_t done = 0;
@@ -1660,7 +1689,7 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
     tops_k[q] = top_frequencies(geo, tau[i_t], a_e[i_e]);
     const Layer ab = absorber(geo);
     tops[q] = solve(geo, tau[i_t], a_e[i_e], &ab);
-    if (jb.pair == 0) {
+    if (jb.pair == 0 && !held_top[static_cast<std::size_t>(jb.pair) * 4 + static_cast<std::size_t>(jb.corner)][jb.k]) {
       std::vector<double> top, low;
       predicted(v, tau[i_t], a_e[i_e], a_d.front(), top, low);
       const std::vector<double> d = top_offset(tops[q], top, coarse);

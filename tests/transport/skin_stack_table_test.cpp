@@ -48,6 +48,32 @@ TEST(SkinStackTable, BuiltinHasTheDefaultNodesAndGeometry) {
   EXPECT_EQ(t.ln_rho_half.size(), t.a_h.size() * t.x.size());
 }
 
+// `skin tabulate-skin-profiles --reuse`: a table with more a_d nodes copies every row the reused
+// one holds and solves only the new a_d's light from below (with the top layer's R(k) solved again
+// for it), as solve_low() does (new tau or a_e nodes: their top layer too). One node of tau 4.5,
+// a_e 0.4, a_d 0.126, then a_d 1.28 added. (The comparison with solve_low() in Release only.)
+TEST(SkinStackTable, ReuseSolvesOnlyTheNewNodes) {
+  SkinStackTable one = SkinStackTable::default_nodes();
+  one.tau = {4.5};
+  one.a_e = {0.4};
+  one.a_d = {one.a_d[6]};  // 0.126
+  one.a_h.clear();
+  one.compute();
+  SkinStackTable more = one;
+  more.a_d = {one.a_d[0], 1.282456};
+  std::size_t total = 0, calls = 0;
+  more.compute([&](std::size_t, std::size_t n) { total = n; ++calls; }, &one);
+  EXPECT_EQ(total, 3u);  // 1 top + 2 a_d
+  EXPECT_EQ(calls, 3u);
+  const std::size_t n_x = one.x.size();
+  ASSERT_EQ(more.ln_rho.size(), 2 * n_x);
+  EXPECT_TRUE(std::equal(one.ln_rho.begin(), one.ln_rho.end(), more.ln_rho.begin()));
+  EXPECT_EQ(one.ln_rho_top, more.ln_rho_top);
+  if (skin::test::kUnderSanitizers) return;
+  const std::vector<double> solved = more.solve_low(4.5, 0.4, 1.282456);
+  EXPECT_TRUE(std::equal(solved.begin(), solved.end(), more.ln_rho.begin() + static_cast<std::ptrdiff_t>(n_x)));
+}
+
 // Three nodes solved again (a bright epidermis over a bright dermis; african skin's epidermis over
 // its dermis; a 0.078-deep epidermis over a bright dermis; the first only under the sanitizers):
 // each of the table's two parts is its own solve (the top layer to its 4 stored decimals, the light
@@ -793,13 +819,31 @@ TEST(SkinStackCross, OnlyThePairsAskedForAreSolvedAtTheOffsetsNodes) {
     for (std::size_t k = 0; k < 4; ++k) {
       ASSERT_EQ(longer.c_low[p][k].size(), 2 * rows);
       EXPECT_TRUE(std::equal(c.c_low[p][k].begin(), c.c_low[p][k].end(), longer.c_low[p][k].begin())) << "pair " << p << " corner " << k;
-      const bool solved = p == 1 && k < 2;
+      const bool asked = p == 1 && k < 2;
       const double largest = std::abs(*std::max_element(longer.c_low[p][k].begin() + static_cast<std::ptrdiff_t>(rows), longer.c_low[p][k].end(),
                                                         [](double a, double b) { return std::abs(a) < std::abs(b); }));
-      if (solved) {
+      if (asked) {
         EXPECT_GT(largest, 1e-4) << "pair " << p << " corner " << k;
       } else {
         EXPECT_EQ(largest, 0.0) << "pair " << p << " corner " << k;
+      }
+    }
+  // The offsets extended by an a_d node likewise: the old rows copied, the new a_d's solved (with
+  // its top layer's R(k)) for the pair asked for, 0 for the others.
+  SkinStackCross wider = c;
+  wider.a_d = {c.a_d[0], o.a_d[5]};  // 0.4, 1.28
+  wider.compute(t, {}, &c, &g_and_ratio);
+  const std::size_t n_x_c = c.x.size();
+  for (std::size_t p = 0; p < SkinStackCross::kPairs; ++p)
+    for (std::size_t k = 0; k < 4; ++k) {
+      ASSERT_EQ(wider.c_low[p][k].size(), 2 * n_x_c);
+      EXPECT_TRUE(std::equal(c.c_low[p][k].begin(), c.c_low[p][k].end(), wider.c_low[p][k].begin())) << "pair " << p << " corner " << k;
+      const double largest = std::abs(*std::max_element(wider.c_low[p][k].begin() + static_cast<std::ptrdiff_t>(n_x_c), wider.c_low[p][k].end(),
+                                                        [](double a, double b) { return std::abs(a) < std::abs(b); }));
+      if (p == 1 && k < 2) {
+        EXPECT_GT(largest, 1e-4) << "a_d 1.28, pair " << p << " corner " << k;
+      } else {
+        EXPECT_EQ(largest, 0.0) << "a_d 1.28, pair " << p << " corner " << k;
       }
     }
   const std::vector<double> solved_2 = corner.solve_low(o.tau[8], c.a_e[0], c.a_d[0]);
