@@ -358,7 +358,16 @@ function scheduleUpdate(now = false) {
   }
   pending = true;
   window.skinPending = true;
-  requestAnimationFrame(() => { pending = false; window.skinPending = false; update(); });
+  const run = () => {
+    if (!pending) return;
+    pending = false;
+    window.skinPending = false;
+    update();
+  };
+  requestAnimationFrame(run);
+  // (A page whose frames stop, hidden or throttled, still updates: once, after 250 ms. A headless
+  // browser's test once waited 120 s on an update scheduled for a frame that never came.)
+  setTimeout(run, 250);
 }
 
 // One full update: spectrum (R_d, layer coefficients, colour) and the RGB profile at 256 radii,
