@@ -843,10 +843,6 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
     same_grid = reuse_x.back() != std::string::npos;
   }
   for (std::size_t i_t = 0; same_grid && i_t < n_t; ++i_t) reuse_t.push_back(node_index(reuse->tau, tau[i_t]));
-  // The table extended by new tau nodes: a node whose light from below the reused file holds as
-  // the difference of two profiles keeps those rows (and that label) and only the new ones are
-  // solved.
-  const bool extending = same_grid && !same_nodes(reuse->tau, tau);
   auto copy_row = [&](const std::vector<double>& from, std::size_t r_from, std::vector<double>& to, std::size_t r_to) {
     for (std::size_t i = 0; i < n_x; ++i) to[r_to * n_x + i] = from[r_from * reuse->x.size() + reuse_x[i]];
   };
@@ -862,15 +858,23 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
     d_top[au].assign(nodes[au].size(), {});
     d_low[au].assign(nodes[au].size(), {});
     low_solved[au].assign(nodes[au].size(), 0);
+    // The nodes extended (new tau nodes of the table, new a_e or a_d nodes of this axis): a node
+    // whose light from below the reused file holds as the difference of two profiles keeps those
+    // rows (and that label) and only the new ones are solved.
+    const bool extending = same_grid && !(same_nodes(reuse->tau, tau) && same_nodes(reuse->a_e_of(a), ae) && same_nodes(reuse->a_d_of(a), ad));
     for (std::size_t j = 0; j < nodes[au].size(); ++j) {
       if (nodes[au][j] == base[au]) continue;
       if (a != 2) d_top[au][j].assign(n_t * n_e * n_x, 0.0);
       d_low[au][j].assign(n_t * n_e * n_d * n_x, 0.0);
       std::vector<char> held_top(n_t * n_e, 0), held_low(n_t * n_e * n_d, 0);
       const std::size_t r = same_grid ? node_index(reuse->nodes[au], nodes[au][j]) : std::string::npos;
-      if (r != std::string::npos && !reuse->d_low[au][r].empty()) {
+      const bool reused = r != std::string::npos && !reuse->d_low[au][r].empty();
+      const bool solved = reused && r < reuse->low_solved[au].size() && reuse->low_solved[au][r];
+      // (the rows solved below are the light from below on its own, unless a node held as a
+      // difference is extended)
+      low_solved[au][j] = reused && !solved && extending ? 0 : 1;
+      if (reused) {
         const std::vector<double>&re = reuse->a_e_of(a), &rd = reuse->a_d_of(a);
-        const bool solved = r < reuse->low_solved[au].size() && reuse->low_solved[au][r];
         std::size_t held = 0;
         for (std::size_t i_t = 0; i_t < n_t; ++i_t)
           for (std::size_t i_e = 0; i_e < n_e; ++i_e) {
@@ -893,12 +897,8 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
           std::fill(held_low.begin(), held_low.end(), 0);
           std::fill(held_top.begin(), held_top.end(), 0);
         } else if (held == held_low.size()) {
-          low_solved[au][j] = solved ? 1 : 0;
           continue;  // every row copied
         }
-        low_solved[au][j] = solved || !extending ? 1 : 0;
-      } else {
-        low_solved[au][j] = 1;  // (the rows solved below: the light from below on its own)
       }
       for (std::size_t k = 0; k < n_t * n_e; ++k) {
         bool needed = !held_top[k];
