@@ -849,7 +849,9 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
   // The jobs: per (axis, node) the top layers alone (their R(k), which the light from below
   // subtracts, and for g and eta their profiles' offsets), then the light from below; per job
   // k = i_tau * n_e + i_e, or (i_tau * n_e + i_e) * n_d + i_d, on the axis' nodes.
-  struct Job { int axis; std::size_t node; std::size_t k; };
+  // (A top job whose row is held solves the top layer for the light from below only: its stored
+  // row is kept, as solves of earlier solver versions differ in the row's last decimal.)
+  struct Job { int axis; std::size_t node; std::size_t k; bool held = false; };
   std::vector<Job> top_jobs, low_jobs;
   for (int a = 0; a < kAxes; ++a) {
     const auto au = static_cast<std::size_t>(a);
@@ -903,7 +905,7 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
       for (std::size_t k = 0; k < n_t * n_e; ++k) {
         bool needed = !held_top[k];
         for (std::size_t i_d = 0; i_d < n_d; ++i_d) needed = needed || !held_low[k * n_d + i_d];
-        if (needed) top_jobs.push_back({a, j, k});
+        if (needed) top_jobs.push_back({a, j, k, held_top[k] != 0});
       }
       for (std::size_t k = 0; k < n_t * n_e * n_d; ++k)
         if (!held_low[k]) low_jobs.push_back({a, j, k});
@@ -949,9 +951,11 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
     if (jb.axis != 2) {
       const Layer ab = absorber(geo);
       tops[q] = solve(geo, tau[i_t], ae[i_e], &ab);
-      const std::size_t kt = it[i_t] * table.a_e.size() + ie[au][i_e];
-      const std::vector<double> d = top_offset(tops[q], row_of(table.ln_rho_top, kt), at_x);
-      std::copy(d.begin(), d.end(), d_top[au][jb.node].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
+      if (!jb.held) {
+        const std::size_t kt = it[i_t] * table.a_e.size() + ie[au][i_e];
+        const std::vector<double> d = top_offset(tops[q], row_of(table.ln_rho_top, kt), at_x);
+        std::copy(d.begin(), d.end(), d_top[au][jb.node].begin() + static_cast<std::ptrdiff_t>(jb.k * n_x));
+      }
     }
     tick();
   });

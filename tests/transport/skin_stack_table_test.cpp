@@ -1145,4 +1145,20 @@ TEST(SkinStackOffsets, ReusedRowsAreCopiedAndOnlyTheOthersSolved) {
   EXPECT_EQ(total, 2u);
   EXPECT_EQ(wider.low_solved[2][1], 0);
   EXPECT_EQ(wider.d_low[2][1], fine.d_low[2][1]);
+  // A g node gaining an a_d node: its top layer is solved again for the new light from below, and
+  // the top layer's row it holds is kept as held (here a made-up row), not written over.
+  SkinStackOffsets g_coarse = coarse;
+  g_coarse.nodes[0] = {0.8, b.base[0]};
+  g_coarse.d_top[0] = {std::vector<double>(n_x, 0.25), {}};
+  g_coarse.d_low[0] = {std::vector<double>(n_x, 0.125), {}};
+  g_coarse.low_solved[0] = {1, 0};
+  SkinStackOffsets g_more = g_coarse;
+  g_more.a_d = {coarse.a_d[0], t.a_d[at(t.a_d, 1.282)]};
+  total = 0;
+  g_more.compute(t, [&](std::size_t, std::size_t n) { total = n; }, &g_coarse);
+  EXPECT_EQ(total, 4u);  // per node (g 0.8, dermis ratio 2) its top layer and its new light from below
+  EXPECT_EQ(g_more.d_top[0][0], g_coarse.d_top[0][0]);
+  ASSERT_EQ(g_more.d_low[0][0].size(), 2 * n_x);
+  EXPECT_TRUE(std::equal(g_coarse.d_low[0][0].begin(), g_coarse.d_low[0][0].end(), g_more.d_low[0][0].begin()));
+  EXPECT_GT(std::abs(g_more.d_low[0][0][n_x + n_x / 2] - 0.125), 1e-6);  // solved
 }
