@@ -217,6 +217,13 @@ std::size_t node_index(const std::vector<double>& nodes, double v) {
     if (same_node(nodes[i], v)) return i;
   return std::string::npos;
 }
+// Per node of `nodes`, its index among `in` (npos where it is not one): a reused file's rows.
+std::vector<std::size_t> node_indices(const std::vector<double>& in, const std::vector<double>& nodes) {
+  std::vector<std::size_t> out;
+  out.reserve(nodes.size());
+  for (double v : nodes) out.push_back(node_index(in, v));
+  return out;
+}
 bool same_nodes(const std::vector<double>& a, const std::vector<double>& b) {
   return std::equal(a.begin(), a.end(), b.begin(), b.end(), same_node);
 }
@@ -241,7 +248,7 @@ void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTa
         const std::size_t r_t = node_index(reuse->tau, tau[i_t]), r_e = node_index(reuse->a_e, a_e[i_e]);
         if (r_t != std::string::npos && r_e != std::string::npos) from[i_t * n_e + i_e] = r_t * reuse->a_e.size() + r_e;
       }
-    for (std::size_t i_d = 0; i_d < n_d; ++i_d) from_d[i_d] = node_index(reuse->a_d, a_d[i_d]);
+    from_d = node_indices(reuse->a_d, a_d);
   }
   const bool every_a_d = std::find(from_d.begin(), from_d.end(), std::string::npos) == from_d.end();
   auto copied = [&](std::size_t k_top, std::size_t i_d) { return from[k_top] != std::string::npos && from_d[i_d] != std::string::npos; };
@@ -836,13 +843,9 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
   // Reused rows: each of these x among the reused table's, and per row its tau, a_e and a_d among
   // the reused file's (an axis' a_e and a_d its own). New tau nodes (the table extended) are
   // solved, the rest copied.
-  std::vector<std::size_t> reuse_x, reuse_t;
-  bool same_grid = reuse != nullptr;
-  for (std::size_t i = 0; same_grid && i < n_x; ++i) {
-    reuse_x.push_back(node_index(reuse->x, x[i]));
-    same_grid = reuse_x.back() != std::string::npos;
-  }
-  for (std::size_t i_t = 0; same_grid && i_t < n_t; ++i_t) reuse_t.push_back(node_index(reuse->tau, tau[i_t]));
+  const std::vector<std::size_t> reuse_x = reuse ? node_indices(reuse->x, x) : std::vector<std::size_t>{};
+  const bool same_grid = reuse && std::find(reuse_x.begin(), reuse_x.end(), std::string::npos) == reuse_x.end();
+  const std::vector<std::size_t> reuse_t = same_grid ? node_indices(reuse->tau, tau) : std::vector<std::size_t>{};
   auto copy_row = [&](const std::vector<double>& from, std::size_t r_from, std::vector<double>& to, std::size_t r_to) {
     for (std::size_t i = 0; i < n_x; ++i) to[r_to * n_x + i] = from[r_from * reuse->x.size() + reuse_x[i]];
   };
@@ -877,15 +880,16 @@ void SkinStackOffsets::compute(const SkinStackTable& table, const ProgressCallba
       low_solved[au][j] = reused && !solved && extending ? 0 : 1;
       if (reused) {
         const std::vector<double>&re = reuse->a_e_of(a), &rd = reuse->a_d_of(a);
+        const std::vector<std::size_t> reuse_e = node_indices(re, ae), reuse_d = node_indices(rd, ad);
         std::size_t held = 0;
         for (std::size_t i_t = 0; i_t < n_t; ++i_t)
           for (std::size_t i_e = 0; i_e < n_e; ++i_e) {
-            const std::size_t e = node_index(re, ae[i_e]), t = reuse_t[i_t];
+            const std::size_t e = reuse_e[i_e], t = reuse_t[i_t];
             if (e == std::string::npos || t == std::string::npos) continue;
             if (a != 2) copy_row(reuse->d_top[au][r], t * re.size() + e, d_top[au][j], i_t * n_e + i_e);
             held_top[i_t * n_e + i_e] = 1;
             for (std::size_t i_d = 0; i_d < n_d; ++i_d) {
-              const std::size_t d = node_index(rd, ad[i_d]);
+              const std::size_t d = reuse_d[i_d];
               if (d == std::string::npos) continue;
               copy_row(reuse->d_low[au][r], (t * re.size() + e) * rd.size() + d, d_low[au][j], (i_t * n_e + i_e) * n_d + i_d);
               held_low[(i_t * n_e + i_e) * n_d + i_d] = 1;
@@ -1612,12 +1616,12 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
   std::vector<Job> top_jobs, low_jobs;
   // Per tau, a_e and a_d node, its index among the reused file's (new nodes, the offsets extended,
   // are solved).
-  std::vector<std::size_t> reuse_t(n_t, std::string::npos), reuse_e(n_e, std::string::npos), reuse_d(n_d, std::string::npos);
   const bool reusable = reuse && reuse->base == base && same_nodes(reuse->x, x);
+  std::vector<std::size_t> reuse_t, reuse_e, reuse_d;
   if (reusable) {
-    for (std::size_t i = 0; i < n_t; ++i) reuse_t[i] = node_index(reuse->tau, tau[i]);
-    for (std::size_t i = 0; i < n_e; ++i) reuse_e[i] = node_index(reuse->a_e, a_e[i]);
-    for (std::size_t i = 0; i < n_d; ++i) reuse_d[i] = node_index(reuse->a_d, a_d[i]);
+    reuse_t = node_indices(reuse->tau, tau);
+    reuse_e = node_indices(reuse->a_e, a_e);
+    reuse_d = node_indices(reuse->a_d, a_d);
   }
   // Per corner, its rows copied from `reuse`: (tau, a_e) top rows and (tau, a_e, a_d) rows.
   std::array<std::vector<char>, kPairs * 4> held_top, held_low;
