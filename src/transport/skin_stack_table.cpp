@@ -76,9 +76,11 @@ std::vector<double> floored_log(std::vector<double> R) {
 SkinStackTable SkinStackTable::default_nodes() {
   SkinStackTable t;
   for (int k = -8; k <= 4; ++k) t.tau.push_back(2.0 * std::pow(1.5, k));
-  // a: four per decade from 0.004 to 0.4, then evenly in sqrt(a) (0.25 apart, then 0.5).
+  // a: four per decade from 0.00126 to 0.4, then evenly in sqrt(a) (0.25 apart, then 0.5). (The
+  // skin domain's least absorbing skin, red light through the thinnest melanin and blood, reaches
+  // a_e and a_d 0.0015: the two nodes below 0.004 date from 2026-12-06.)
   std::vector<double> a;
-  for (int k = 0; k <= 8; ++k) a.push_back(0.004 * std::pow(10.0, k / 4.0));
+  for (int k = -2; k <= 8; ++k) a.push_back(0.004 * std::pow(10.0, k / 4.0));
   const double u0 = std::sqrt(a.back());
   t.a_e = a;
   for (int j = 1; j <= 8; ++j) a.push_back(std::pow(u0 + 0.25 * j, 2));

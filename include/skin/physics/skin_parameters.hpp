@@ -138,8 +138,8 @@ struct Preset {
 };
 const std::vector<Preset>& presets();
 // The paper's six, the first rows of presets(). The transport tests and the golden outputs run
-// over these: they are on the skin table at every wavelength, while the tone presets' thinner
-// epidermis is solved in the frequency domain at most wavelengths (issue 31).
+// over these (the paper's geometry; every preset, the tone presets too, is read from the skin
+// table at every wavelength).
 std::span<const Preset> paper_presets();
 // The preset a command, a Python call or the web page starts from when none is named (its
 // parameters are a default-constructed SkinParameters').
