@@ -1614,7 +1614,9 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
     for (std::size_t i = 0; i < n_x; ++i) out[i] = fine[stride * i];
     return out;
   };
-  struct Job { int pair, corner; std::size_t k; };
+  // A top job whose pair-0 top row is held (copied from `reuse`) keeps it; it is solved only for
+  // the light from below.
+  struct Job { int pair, corner; std::size_t k; bool held = false; };
   std::vector<Job> top_jobs, low_jobs;
   // Per tau, a_e and a_d node, its index among the reused file's (new nodes, the offsets extended,
   // are solved).
@@ -1625,21 +1627,18 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
     reuse_e = node_indices(reuse->a_e, a_e);
     reuse_d = node_indices(reuse->a_d, a_d);
   }
-  // Per corner, its rows copied from `reuse`: (tau, a_e) top rows and (tau, a_e, a_d) rows.
-  std::array<std::vector<char>, kPairs * 4> held_top, held_low;
   for (int p = 0; p < kPairs; ++p)
     for (int c = 0; c < 4; ++c) {
       const auto pu = static_cast<std::size_t>(p), cu = static_cast<std::size_t>(c);
       c_top[pu][cu].assign(p == 0 ? n_t * n_e * n_x : 0, 0.0);
       c_low[pu][cu].assign(n_t * n_e * n_d * n_x, 0.0);
-      std::vector<char>&ht = held_top[pu * 4 + cu], &hl = held_low[pu * 4 + cu];
-      ht.assign(n_t * n_e, 0);
-      hl.assign(n_t * n_e * n_d, 0);
       const auto v = values(p, c);
       if (v[static_cast<std::size_t>(kPairAxes[pu][0])] == base[static_cast<std::size_t>(kPairAxes[pu][0])] ||
           v[static_cast<std::size_t>(kPairAxes[pu][1])] == base[static_cast<std::size_t>(kPairAxes[pu][1])])
         continue;  // an axis without nodes on that side: no term
       const bool solve = !solve_pairs || (*solve_pairs)[pu];
+      // The corner's rows copied from `reuse`: (tau, a_e) top rows and (tau, a_e, a_d) rows.
+      std::vector<char> ht(n_t * n_e, 0), hl(n_t * n_e * n_d, 0);
       if (reusable) {
         const std::size_t rn_t = reuse->tau.size(), rn_e = reuse->a_e.size(), rn_d = reuse->a_d.size();
         for (int rc = 0; rc < 4; ++rc) {
@@ -1675,7 +1674,7 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
       for (std::size_t k = 0; k < n_t * n_e; ++k) {
         bool needed = p == 0 && !ht[k];  // (pair 0's top term; every light from below subtracts its top layer's R(k))
         for (std::size_t i_d = 0; i_d < n_d; ++i_d) needed = needed || !hl[k * n_d + i_d];
-        if (needed) top_jobs.push_back({p, c, k});
+        if (needed) top_jobs.push_back({p, c, k, ht[k] != 0});
       }
       for (std::size_t k = 0; k < n_t * n_e * n_d; ++k)
         if (!hl[k]) low_jobs.push_back({p, c, k});
@@ -1699,7 +1698,7 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
     tops_k[q] = top_frequencies(geo, tau[i_t], a_e[i_e]);
     const Layer ab = absorber(geo);
     tops[q] = solve(geo, tau[i_t], a_e[i_e], &ab);
-    if (jb.pair == 0 && !held_top[static_cast<std::size_t>(jb.pair) * 4 + static_cast<std::size_t>(jb.corner)][jb.k]) {
+    if (jb.pair == 0 && !jb.held) {
       std::vector<double> top, low;
       predicted(v, tau[i_t], a_e[i_e], a_d.front(), top, low);
       const std::vector<double> d = top_offset(tops[q], top, coarse);
