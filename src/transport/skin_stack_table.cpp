@@ -245,11 +245,11 @@ void SkinStackTable::compute(const ProgressCallback& progress, const SkinStackTa
   // rows solved, with the top layer's R(k) solved again for them).
   std::vector<std::size_t> from(tau.size() * n_e, std::string::npos), from_d(n_d, std::string::npos);
   if (reuse) {
+    const std::vector<std::size_t> from_t = node_indices(reuse->tau, tau), from_e = node_indices(reuse->a_e, a_e);
     for (std::size_t i_t = 0; i_t < tau.size(); ++i_t)
-      for (std::size_t i_e = 0; i_e < n_e; ++i_e) {
-        const std::size_t r_t = node_index(reuse->tau, tau[i_t]), r_e = node_index(reuse->a_e, a_e[i_e]);
-        if (r_t != std::string::npos && r_e != std::string::npos) from[i_t * n_e + i_e] = r_t * reuse->a_e.size() + r_e;
-      }
+      for (std::size_t i_e = 0; i_e < n_e; ++i_e)
+        if (from_t[i_t] != std::string::npos && from_e[i_e] != std::string::npos)
+          from[i_t * n_e + i_e] = from_t[i_t] * reuse->a_e.size() + from_e[i_e];
     from_d = node_indices(reuse->a_d, a_d);
   }
   const bool every_a_d = std::find(from_d.begin(), from_d.end(), std::string::npos) == from_d.end();
