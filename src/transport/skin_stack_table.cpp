@@ -71,6 +71,21 @@ std::vector<double> floored_log(std::vector<double> R) {
   return R;
 }
 
+// The offsets and the cross terms stop at a lighter top layer than the table (their a_e nodes end
+// at kOffsetsDarkestTop, the table's at 9.78 since 2026-12-06) and beyond their last a_e node hold
+// its values (inside, 4-point Lagrange in sqrt a_e as the table). In a dark epidermis the top
+// layer's light is mostly scattered once, and at a fixed reduced scattering another g or index
+// changes its extinction and phase function by amounts that do not depend on sigma_a: its offset
+// varies little with a_e there (measured against the solver: docs/accurate-solver.md, sec. 4).
+constexpr double kOffsetsDarkestTop = 6.93;
+Lagrange4Stencil a_e_stencil_held(const std::vector<double>& nodes, double ae) {
+  if (ae <= nodes.back()) return lagrange4_stencil(mapped(nodes, sqrt_of), std::sqrt(ae));
+  Lagrange4Stencil s;
+  s.first = nodes.size() - 4;
+  s.weights = {0, 0, 0, 1};
+  return s;
+}
+
 }  // namespace
 
 SkinStackTable SkinStackTable::default_nodes() {
@@ -87,9 +102,10 @@ SkinStackTable SkinStackTable::default_nodes() {
   for (int j = 1; j <= 2; ++j) a.push_back(std::pow(u0 + 2.0 + 0.5 * j, 2));
   t.a_d = a;
   // The top layer twice as dense beyond 0.4 (0.125 apart in sqrt a, up to 6.93: every preset at
-  // 380-780 nm): a dark epidermis' far field is a sum of paths whose attenuation differs by
-  // several e-folds between nodes 0.25 apart (90 % off midway at a_e 0.57 with those).
-  for (int j = 1; j <= 16; ++j) t.a_e.push_back(std::pow(u0 + 0.125 * j, 2));
+  // 380-780 nm; up to 9.78 since 2026-12-06, with the offsets held beyond 6.93): a dark epidermis'
+  // far field is a sum of paths whose attenuation differs by several e-folds between nodes 0.25
+  // apart (90 % off midway at a_e 0.57 with those).
+  for (int j = 1; j <= 20; ++j) t.a_e.push_back(std::pow(u0 + 0.125 * j, 2));
   // The half-space: eight per decade from 1e-4 (alpha' 0.9999) to 1, then 0.125 apart in sqrt a
   // up to 25 (alpha' 0.038). (Four per decade and 0.25 were up to 26 % off the solver where R is
   // above 1e-4 of its value at x = 0.4, at alpha' 0.3-0.85; these 8.7 %, beyond x = 6 where the
@@ -440,13 +456,16 @@ const SkinStackTable& SkinStackTable::builtin() {
     for (std::size_t i = 0; ok && i < o.x.size(); ++i) ok = same_node(o.x[i], table.x[stride * i]);
     for (const auto& [coarse, fine] : {std::pair{&o.tau, &table.tau}, {&o.a_e, &table.a_e}, {&o.a_d, &table.a_d}})
       for (double v : *coarse) ok = ok && node_index(*fine, v) != std::string::npos;
+    // ... and span them (gap() asks the table's range: a read inside it is inside the offsets'),
+    // but for a_e, whose offsets may end darker than the table's and hold their values beyond.
+    auto spans = [](const std::vector<double>& own, const std::vector<double>& fine, bool held) {
+      return same_node(own.front(), fine.front()) && (same_node(own.back(), fine.back()) || (held && own.back() < fine.back()));
+    };
     for (int a = 0; a < SkinStackOffsets::kAxes; ++a)
-      for (const auto& [own, fine] : {std::pair{&o.a_e_of(a), &table.a_e}, {&o.a_d_of(a), &table.a_d}})
-        for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos && same_node(own->front(), fine->front()) &&
-                                    same_node(own->back(), fine->back());
-    // ... and span them (gap() asks the table's range: a read inside it is inside the offsets').
-    for (const auto& [coarse, fine] : {std::pair{&o.tau, &table.tau}, {&o.a_e, &table.a_e}, {&o.a_d, &table.a_d}})
-      ok = ok && same_node(coarse->front(), fine->front()) && same_node(coarse->back(), fine->back());
+      for (const auto& [own, fine, held] : {std::tuple{&o.a_e_of(a), &table.a_e, true}, {&o.a_d_of(a), &table.a_d, false}})
+        for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos && spans(*own, *fine, held);
+    for (const auto& [coarse, fine, held] : {std::tuple{&o.tau, &table.tau, false}, {&o.a_e, &table.a_e, true}, {&o.a_d, &table.a_d, false}})
+      ok = ok && spans(*coarse, *fine, held);
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
     o.settle(table);
     table.settle();  // (after the offsets')
@@ -791,7 +810,10 @@ SkinStackOffsets SkinStackOffsets::default_nodes(const SkinStackTable& table) {
     }
     return out;
   };
-  o.a_e = thin(table.a_e);
+  std::vector<double> table_a_e;  // up to kOffsetsDarkestTop (held beyond)
+  for (double v : table.a_e)
+    if (v <= kOffsetsDarkestTop * (1 + 1e-6)) table_a_e.push_back(v);
+  o.a_e = thin(table_a_e);
   o.a_d = thin(table.a_d);
   for (std::size_t i = 0; i < table.x.size(); i += 2) o.x.push_back(table.x[i]);
   // The dermis ratio's a_e and a_d: above 0.4 every other of the table's a_e and every a_d (0.25
@@ -800,10 +822,10 @@ SkinStackOffsets SkinStackOffsets::default_nodes(const SkinStackTable& table) {
   // solver across a_e 0.4 and 1.28, 0.04 with a node between; x 7.5, across a_d 0.4 and 1.28: 0.54,
   // 0.01; docs/accurate-solver.md, sec. 4).
   std::vector<double>&ratio_e = o.axis_a_e[2], &ratio_d = o.axis_a_d[2];
-  for (std::size_t i = 0, k = 0; i < table.a_e.size(); ++i) {
-    const bool log_part = table.a_e[i] <= 0.4 * (1 + 1e-9);
-    if (log_part ? std::find(o.a_e.begin(), o.a_e.end(), table.a_e[i]) != o.a_e.end() : ++k % 2 == 0 || i + 1 == table.a_e.size())
-      ratio_e.push_back(table.a_e[i]);
+  for (std::size_t i = 0, k = 0; i < table_a_e.size(); ++i) {
+    const bool log_part = table_a_e[i] <= 0.4 * (1 + 1e-9);
+    if (log_part ? std::find(o.a_e.begin(), o.a_e.end(), table_a_e[i]) != o.a_e.end() : ++k % 2 == 0 || i + 1 == table_a_e.size())
+      ratio_e.push_back(table_a_e[i]);
   }
   for (double v : table.a_d)
     if (v > 0.4 * (1 + 1e-9) || std::find(o.a_d.begin(), o.a_d.end(), v) != o.a_d.end()) ratio_d.push_back(v);
@@ -1392,7 +1414,7 @@ void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double et
     const auto au = static_cast<std::size_t>(a);
     if (v[a] == base[au]) continue;
     const std::size_t n_e = a_e_of(a).size(), n_d = a_d_of(a).size();
-    const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e_of(a), sqrt_of), std::sqrt(ae));
+    const Lagrange4Stencil se = a_e_stencil_held(a_e_of(a), ae);
     const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d_of(a), sqrt_of), std::sqrt(ad));
     // The axis' nodes and weights: the node itself where v is one, else 4-point Lagrange (linear
     // between two nodes on an axis of fewer than 4).
@@ -1857,7 +1879,7 @@ void SkinStackCross::add(double t, double ae, double ad, const std::array<double
   if (!any) return;
   const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
   const Lagrange4Stencil st = lagrange4_stencil(tau, t);
-  const Lagrange4Stencil se = lagrange4_stencil(mapped(a_e, sqrt_of), std::sqrt(ae));
+  const Lagrange4Stencil se = a_e_stencil_held(a_e, ae);
   const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
   // The terms, added to dt and dl at the end: beyond x = kCrossHeldFrom they keep their value
   // there. Farther out a bright dermis' tail at one node meets the floor at its neighbours (the
