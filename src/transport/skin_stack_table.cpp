@@ -72,18 +72,38 @@ std::vector<double> floored_log(std::vector<double> R) {
 }
 
 // The offsets and the cross terms stop at a lighter top layer than the table (their a_e nodes end
-// at kOffsetsDarkestTop, the table's at 9.78 since 2026-12-06) and beyond their last a_e node hold
+// at kOffsetsDarkestTop, the table's at 16.06 since 2026-12-06) and beyond their last a_e node hold
 // its values (inside, 4-point Lagrange in sqrt a_e as the table). In a dark epidermis the top
 // layer's light is mostly scattered once, and at a fixed reduced scattering another g or index
 // changes its extinction and phase function by amounts that do not depend on sigma_a: its offset
 // varies little with a_e there (measured against the solver: docs/accurate-solver.md, sec. 4).
 constexpr double kOffsetsDarkestTop = 6.93;
-Lagrange4Stencil a_e_stencil_held(const std::vector<double>& nodes, double ae) {
-  if (ae <= nodes.back()) return lagrange4_stencil(mapped(nodes, sqrt_of), std::sqrt(ae));
+// How far beyond it the held offsets are read (another g, index or dermis ratio; at the table's
+// own geometry the table's nodes, to 16.1): against the solver (above 1e-4 of R(0.02 mm) and 1e-6
+// of R(1 um), docs/accurate-solver.md, sec. 4), 34 random domain skins with a_e
+// 6.93-12 were median 2.3 %, one beyond 5 % (6.0 %); 14 with a_e 12-16 median 5.8 %, 9 beyond 5 %
+// (up to 11 %; 8 of the 9 with g below 0.8): the held offsets' shape drifts from the solver's.
+constexpr double kOffsetsHeldReach = 12.0;
+// The last node's values (a stencil of the last four nodes, all the weight on the last).
+Lagrange4Stencil last_node(std::size_t n) {
   Lagrange4Stencil s;
-  s.first = nodes.size() - 4;
+  s.first = n - 4;
   s.weights = {0, 0, 0, 1};
   return s;
+}
+Lagrange4Stencil a_e_stencil_held(const std::vector<double>& nodes, double ae) {
+  return ae <= nodes.back() ? lagrange4_stencil(mapped(nodes, sqrt_of), std::sqrt(ae)) : last_node(nodes.size());
+}
+// Likewise in tau beyond kOffsetsThickestTop, the offsets' last tau node (the table's reach
+// farther since 2026-12-06): as tau grows the top layer tends to a half-space, and its offsets
+// with it (at tau 4.5, 6.75 and 10.1, on five nodes, within 0.005 of each other out to x = 2.4,
+// 0.01-0.09 at x = 13); the light from below, whose offsets still move with tau there, has
+// crossed ten transport mean free paths of epidermis twice (docs/accurate-solver.md, sec. 4).
+// Inside, in ln tau (the top layer) or tau (the light from below) as the table.
+constexpr double kOffsetsThickestTop = 10.13;
+Lagrange4Stencil tau_stencil_held(const std::vector<double>& nodes, double t, bool in_log) {
+  if (t > nodes.back()) return last_node(nodes.size());
+  return in_log ? lagrange4_stencil(mapped(nodes, log_of), std::log(t)) : lagrange4_stencil(nodes, t);
 }
 
 }  // namespace
@@ -102,10 +122,10 @@ SkinStackTable SkinStackTable::default_nodes() {
   for (int j = 1; j <= 2; ++j) a.push_back(std::pow(u0 + 2.0 + 0.5 * j, 2));
   t.a_d = a;
   // The top layer twice as dense beyond 0.4 (0.125 apart in sqrt a, up to 6.93: every preset at
-  // 380-780 nm; up to 9.78 since 2026-12-06, with the offsets held beyond 6.93): a dark epidermis'
-  // far field is a sum of paths whose attenuation differs by several e-folds between nodes 0.25
+  // 380-780 nm; up to 16.06 since 2026-12-06, with the offsets held beyond 6.93: kOffsetsHeldReach):
+  // a dark epidermis' far field is a sum of paths whose attenuation differs by several e-folds between nodes 0.25
   // apart (90 % off midway at a_e 0.57 with those).
-  for (int j = 1; j <= 20; ++j) t.a_e.push_back(std::pow(u0 + 0.125 * j, 2));
+  for (int j = 1; j <= 27; ++j) t.a_e.push_back(std::pow(u0 + 0.125 * j, 2));
   // The half-space: eight per decade from 1e-4 (alpha' 0.9999) to 1, then 0.125 apart in sqrt a
   // up to 25 (alpha' 0.038). (Four per decade and 0.25 were up to 26 % off the solver where R is
   // above 1e-4 of its value at x = 0.4, at alpha' 0.3-0.85; these 8.7 %, beyond x = 6 where the
@@ -457,14 +477,14 @@ const SkinStackTable& SkinStackTable::builtin() {
     for (const auto& [coarse, fine] : {std::pair{&o.tau, &table.tau}, {&o.a_e, &table.a_e}, {&o.a_d, &table.a_d}})
       for (double v : *coarse) ok = ok && node_index(*fine, v) != std::string::npos;
     // ... and span them (gap() asks the table's range: a read inside it is inside the offsets'),
-    // but for a_e, whose offsets may end darker than the table's and hold their values beyond.
+    // but for a_e and tau, whose offsets may end short of the table's and hold their values beyond.
     auto spans = [](const std::vector<double>& own, const std::vector<double>& fine, bool held) {
       return same_node(own.front(), fine.front()) && (same_node(own.back(), fine.back()) || (held && own.back() < fine.back()));
     };
     for (int a = 0; a < SkinStackOffsets::kAxes; ++a)
       for (const auto& [own, fine, held] : {std::tuple{&o.a_e_of(a), &table.a_e, true}, {&o.a_d_of(a), &table.a_d, false}})
         for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos && spans(*own, *fine, held);
-    for (const auto& [coarse, fine, held] : {std::tuple{&o.tau, &table.tau, false}, {&o.a_e, &table.a_e, true}, {&o.a_d, &table.a_d, false}})
+    for (const auto& [coarse, fine, held] : {std::tuple{&o.tau, &table.tau, true}, {&o.a_e, &table.a_e, true}, {&o.a_d, &table.a_d, false}})
       ok = ok && spans(*coarse, *fine, held);
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
     o.settle(table);
@@ -528,6 +548,12 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
   if (!inside(tau, t)) return "sigma_s' d = " + format_number(t) + " is outside the skin table's [" + format_number(tau.front()) + ", " + format_number(tau.back()) + "]";
   if (!inside(a_e, ae)) return "top sigma_a / sigma_s' = " + format_number(ae) + " is outside the skin table's [" + format_number(a_e.front()) + ", " + format_number(a_e.back()) + "]";
   if (!inside(a_d, ad)) return "lower sigma_a / top sigma_s' = " + format_number(ad) + " is outside the skin table's [" + format_number(a_d.front()) + ", " + format_number(a_d.back()) + "]";
+  // Another g, index or dermis ratio over an epidermis darker than kOffsetsHeldReach: the
+  // offsets, held beyond their last a_e node (6.93), drift from the solver's there.
+  if (offsets && !(e.g == g && e.eta == eta && ratio == dermis_ratio) && ae > kOffsetsHeldReach)
+    return "top sigma_a / sigma_s' = " + format_number(ae) + " above " + format_number(kOffsetsHeldReach) +
+           " with another g, index or dermis scattering ratio than the skin table's (its offsets end at " +
+           format_number(kOffsetsDarkestTop) + ")";
   // Another dermis ratio with another g or index takes the cross terms, which miss a dark dermis'
   // far field: there the corners' solves are near their floor (~1e-9 of the peak), within reach
   // of a Monte Carlo (measured: index 1.49, ratio 2, g 0.7 with a_d 3.3 at 409 nm 39 % off the
@@ -795,9 +821,11 @@ SkinStackOffsets SkinStackOffsets::default_nodes(const SkinStackTable& table) {
   o.nodes[0] = {0.7, 0.8, 0.9, 0.95, 0.97};
   o.nodes[1] = {1.33, 1.4, 1.47, 1.55};
   o.nodes[2] = {0.2, 0.3, 0.5, 0.75, 1.0, 1.4, 2.0};
-  // Every tau node (a thin top layer's offsets change fast with its depth); a_e and a_d every
+  // Every tau node up to 10.1 (a thin top layer's offsets change fast with its depth; beyond, held:
+  // kOffsetsThickestTop) and a_e up to 6.93 (kOffsetsDarkestTop); a_e and a_d every
   // other up to 0.4, then 0.5 apart in sqrt a (and the last node); x every other (8 per decade).
-  o.tau = table.tau;
+  for (double v : table.tau)
+    if (v <= kOffsetsThickestTop) o.tau.push_back(v);
   auto thin = [](const std::vector<double>& v) {
     std::vector<double> out;
     double last_sqrt = -1;
@@ -1406,8 +1434,8 @@ void SkinStackOffsets::add(double t, double ae, double ad, double g_v, double et
                            const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low,
                            bool with_cross) const {
   const std::size_t n_x = x.size();
-  const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
-  const Lagrange4Stencil st = lagrange4_stencil(tau, t);
+  const Lagrange4Stencil st_top = tau_stencil_held(tau, t, true);
+  const Lagrange4Stencil st = tau_stencil_held(tau, t, false);
   std::vector<double> dt(n_x, 0.0), dl(n_x, 0.0);
   const double v[kAxes] = {g_v, eta_v, ratio_v};
   for (int a = 0; a < kAxes; ++a) {
@@ -1877,8 +1905,8 @@ void SkinStackCross::add(double t, double ae, double ad, const std::array<double
   bool any = false;
   for (const auto& [a, b] : kPairAxes) any = any || (w[static_cast<std::size_t>(a)] != 0 && w[static_cast<std::size_t>(b)] != 0);
   if (!any) return;
-  const Lagrange4Stencil st_top = lagrange4_stencil(mapped(tau, log_of), std::log(t));
-  const Lagrange4Stencil st = lagrange4_stencil(tau, t);
+  const Lagrange4Stencil st_top = tau_stencil_held(tau, t, true);
+  const Lagrange4Stencil st = tau_stencil_held(tau, t, false);
   const Lagrange4Stencil se = a_e_stencil_held(a_e, ae);
   const Lagrange4Stencil sd = lagrange4_stencil(mapped(a_d, sqrt_of), std::sqrt(ad));
   // The terms, added to dt and dl at the end: beyond x = kCrossHeldFrom they keep their value

@@ -344,16 +344,18 @@ TEST(SkinStackTable, LeastAbsorbingSkinProfilesMatchTheSolverBetweenNodes) {
 }
 
 // An epidermis darker than any preset's, between the a_e nodes the table gained on 2026-12-06
-// (7.60, 8.30, 9.03, 9.81; 6.93 was the last): african skin with 1.5-2.2 times its melanin at
-// 380-500 nm (a_e 7.0-9.5), at the paper's geometry (the table alone) and under another g, index
-// and dermis ratio, whose offsets and cross terms end at a_e 6.93 and hold their values beyond it.
+// (0.125 apart in sqrt a_e from 6.93, the last before, to 16.06): african skin with 1.5-2.8 times
+// its melanin at 380-500 nm (a_e 7.0-13.2), at the paper's geometry (the table alone) and under
+// another g, index and dermis ratio, whose offsets and cross terms end at a_e 6.93 and hold their
+// values beyond it, read so up to a_e 12 (beyond, such skin is solved: checked here).
 // Against FrequencyStack over 0.02-10 mm, where R is above 1e-4 of R(0.02 mm) and above 1e-6 of
 // R(1 um): a dark epidermis' profile falls so fast that 1e-4 of R(0.02 mm) lies below 1e-7 of
 // R(1 um), where the solver is not converged (checked below: against itself with half the node
 // spacing and twice the top frequency, within 0.5 % above 1e-6 of R(1 um), 5 % at 1e-7, up to 6x
-// below 1e-8). Measured 2026-12-06: at the paper's geometry 0.5-1.9 % (within 2.5 % here), under
-// another geometry 0.7-3.0 % (within 4 %); inside the offsets' a_e (african, 0.1 mm, g 0.75,
-// index 1.5, ratio 1.2 at 380 nm with 1.2 times its melanin, a_e 6.90) 0.9 %.
+// below 1e-8). Measured 2026-12-06: at the paper's geometry 0.5-1.9 % up to a_e 9.5 (within 2.5 %
+// here) and 3.0 % at 13.2 (within 4 %), under another geometry 0.7-3.4 % (within 4 %); inside the
+// offsets' a_e (african, 0.1 mm, g 0.75, index 1.5, ratio 1.2 at 380 nm with 1.2 times its
+// melanin, a_e 6.90) 0.9 %.
 TEST(SkinStackTable, DarkerEpidermisThanThePresetsMatchesTheSolver) {
   const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.001, 10.0, 111);
   std::size_t i0 = 0;
@@ -372,6 +374,8 @@ TEST(SkinStackTable, DarkerEpidermisThanThePresetsMatchesTheSolver) {
                                                     {1.5, 0.9, 1.4, 0.5, 0.05, 440.0, 0.025},
                                                     {2.2, 0.9, 1.4, 0.5, 0.25, 490.0, 0.025},
                                                     {2.0, 0.9, 1.4, 0.5, 0.1, 470.0, 0.025},
+                                                    {2.8, 0.9, 1.4, 0.5, 0.25, 460.0, 0.04},
+                                                    {2.6, 0.8, 1.4, 0.5, 0.1, 480.0, 0.04},
                                                     {1.8, 0.8, 1.33, 0.5, 0.25, 480.0, 0.04},
                                                     {2.2, 0.8, 1.4, 1.0, 0.1, 500.0, 0.04},
                                                     {1.6, 0.85, 1.45, 0.3, 0.15, 470.0, 0.04},
@@ -404,6 +408,12 @@ TEST(SkinStackTable, DarkerEpidermisThanThePresetsMatchesTheSolver) {
       EXPECT_LT(self, 0.01);
     }
   }
+  // Darker than a_e 12 under another g: solved.
+  skin::physics::SkinParameters p = skin::physics::find_preset("african").parameters;
+  p.melanin *= 2.8;
+  p.g = 0.8;
+  const std::string why = SkinStackTable::builtin().gap(skin::physics::skin_layer_stack(p, 460.0));
+  EXPECT_NE(why.find("above 12 with another g, index or dermis scattering ratio"), std::string::npos) << why;
 }
 
 // 2 pi int r R(r) dr over 1e-7-100 mm (log grid, 20000 points) is the adding-doubling R_d.
@@ -432,10 +442,11 @@ TEST(SkinStackTable, CoversLightSkinAndNamesWhatItDoesNot) {
   for (const auto& preset : skin::physics::presets())
     for (double lambda = 380; lambda <= 780; lambda += 10)
       EXPECT_EQ(t.gap(preset_stack(preset.name.c_str(), lambda)), "") << preset.name << ' ' << lambda;
-  // An epidermis darker than the last node (9.81 sigma_s'): african skin with twice its melanin.
+  // An epidermis darker than the last node (16.06 sigma_s'): african skin with three times its
+  // melanin.
   skin::physics::SkinParameters dark = skin::physics::find_preset("african").parameters;
-  dark.melanin = 1.0;
-  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(dark, 400)).find("is outside the skin table's [0.001264911, 9.81"),
+  dark.melanin = 1.5;
+  EXPECT_NE(t.gap(skin::physics::skin_layer_stack(dark, 400)).find("is outside the skin table's [0.001264911, 16.0"),
             std::string::npos)
       << t.gap(skin::physics::skin_layer_stack(dark, 400));
   // Another g, index or dermis ratio is read with the offsets inside their nodes' range.
