@@ -95,8 +95,8 @@ Lagrange4Stencil a_e_stencil_held(const std::vector<double>& nodes, double ae) {
   return ae <= nodes.back() ? lagrange4_stencil(mapped(nodes, sqrt_of), std::sqrt(ae)) : last_node(nodes.size());
 }
 // Likewise in tau beyond kOffsetsThickestTop, the offsets' last tau node (the table's reach
-// farther since 2026-12-06): as tau grows the top layer tends to a half-space, and its offsets
-// with it (at tau 4.5, 6.75 and 10.1, on five nodes, within 0.005 of each other out to x = 2.4,
+// farther, to 22.8, since 2026-12-06): as tau grows the top layer tends to a half-space, and its
+// offsets with it (at tau 4.5, 6.75 and 10.1, on five nodes, within 0.005 of each other out to x = 2.4,
 // 0.01-0.09 at x = 13); the light from below, whose offsets still move with tau there, has
 // crossed ten transport mean free paths of epidermis twice (docs/accurate-solver.md, sec. 4).
 // Inside, in ln tau (the top layer) or tau (the light from below) as the table.
@@ -110,7 +110,8 @@ Lagrange4Stencil tau_stencil_held(const std::vector<double>& nodes, double t, bo
 
 SkinStackTable SkinStackTable::default_nodes() {
   SkinStackTable t;
-  for (int k = -8; k <= 4; ++k) t.tau.push_back(2.0 * std::pow(1.5, k));
+  // tau 0.078-22.8 (the last two since 2026-12-06, the offsets held beyond 10.1: kOffsetsThickestTop).
+  for (int k = -8; k <= 6; ++k) t.tau.push_back(2.0 * std::pow(1.5, k));
   // a: four per decade from 0.00126 to 0.4, then evenly in sqrt(a) (0.25 apart, then 0.5). (The
   // skin domain's least absorbing skin, red light through the thinnest melanin and blood, reaches
   // a_e and a_d 0.0015: the two nodes below 0.004 date from 2026-12-06.)
@@ -122,9 +123,9 @@ SkinStackTable SkinStackTable::default_nodes() {
   for (int j = 1; j <= 2; ++j) a.push_back(std::pow(u0 + 2.0 + 0.5 * j, 2));
   t.a_d = a;
   // The top layer twice as dense beyond 0.4 (0.125 apart in sqrt a, up to 6.93: every preset at
-  // 380-780 nm; up to 16.06 since 2026-12-06, with the offsets held beyond 6.93: kOffsetsHeldReach):
-  // a dark epidermis' far field is a sum of paths whose attenuation differs by several e-folds between nodes 0.25
-  // apart (90 % off midway at a_e 0.57 with those).
+  // 380-780 nm; up to 16.06 since 2026-12-06, with the offsets held beyond 6.93 and read so up to
+  // kOffsetsHeldReach): a dark epidermis' far field is a sum of paths whose attenuation differs by
+  // several e-folds between nodes 0.25 apart (90 % off midway at a_e 0.57 with those).
   for (int j = 1; j <= 27; ++j) t.a_e.push_back(std::pow(u0 + 0.125 * j, 2));
   // The half-space: eight per decade from 1e-4 (alpha' 0.9999) to 1, then 0.125 apart in sqrt a
   // up to 25 (alpha' 0.038). (Four per decade and 0.25 were up to 26 % off the solver where R is

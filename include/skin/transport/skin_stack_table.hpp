@@ -26,9 +26,9 @@
 // of the first two nodes (single scattering's 1 / x) down to a tenth of it and is flat below;
 // beyond the last it falls exponentially in x; below 1e-12 of its peak it is 0. The interpolated
 // shape is scaled to integrate to the stack's adding-doubling R_d. Nodes: air over eta 1.4, g
-// 0.9, the dermis half as scattering; tau 0.078-10.1, a_e up to 16.06 (every preset at 380-780 nm
-// lies below 6.93, where the offsets' a_e nodes end: beyond it they hold their last node's values,
-// and gap() reads them only up to a_e 12).
+// 0.9, the dermis half as scattering; tau 0.078-22.8 (the offsets to 10.1, held beyond), a_e up
+// to 16.06 (every preset at 380-780 nm lies below 6.93, where the offsets' a_e nodes end: beyond
+// it they hold their last node's values, and gap() reads them only up to a_e 12).
 // The half-space (air over one semi-infinite layer of index eta and g): a = sigma_a / sigma_s'
 // from 1e-4 to 25 (alpha' 0.9999-0.038), R(r) = s^2 rho(x) with s its sigma_s', interpolated in
 // sqrt a like the top layer.
@@ -102,9 +102,10 @@ struct SkinStackCross;
 // than the table's own value, ln rho_top(value) - ln rho_top(table) and the same for the light
 // from below, computed as the table's parts are (FrequencyStack; the light from below on its own
 // since 2026-12-05: the nodes computed before hold it as the difference of two profiles) on a
-// coarse subset of the table's (tau, a_e, a_d) nodes, a_e only up to 6.93 (the dermis ratio's a_e
-// and a_d twice as fine above 0.4: axis_a_e, axis_a_d) and every other x node; beyond their last
-// a_e node they hold its values (the table's a_e nodes reach 16.06). They are interpolated like the table (4-point Lagrange in ln tau or
+// coarse subset of the table's (tau, a_e, a_d) nodes, tau only up to 10.1 and a_e up to 6.93 (the
+// dermis ratio's a_e and a_d twice as fine above 0.4: axis_a_e, axis_a_d) and every other x node;
+// beyond their last tau and a_e nodes they hold those nodes' values (the table's reach 22.8 and
+// 16.06). They are interpolated like the table (4-point Lagrange in ln tau or
 // tau, sqrt a_e, sqrt a_d, ln x) and across each axis' nodes (in ln(1 - g), eta and ln ratio),
 // and the axes' offsets are added. Where a part is below a threshold of its node's peak (the top
 // layer 1e-9: its inversion's noise, or the floor; the light from below 1e-14, smooth to ~1e-15
