@@ -483,8 +483,10 @@ const SkinStackTable& SkinStackTable::builtin() {
       return same_node(own.front(), fine.front()) && (same_node(own.back(), fine.back()) || (held && own.back() < fine.back()));
     };
     for (int a = 0; a < SkinStackOffsets::kAxes; ++a)
-      for (const auto& [own, fine, held] : {std::tuple{&o.a_e_of(a), &table.a_e, true}, {&o.a_d_of(a), &table.a_d, false}})
-        for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos && spans(*own, *fine, held);
+      for (const auto& [own, fine, held] : {std::tuple{&o.a_e_of(a), &table.a_e, true}, {&o.a_d_of(a), &table.a_d, false}}) {
+        ok = ok && spans(*own, *fine, held);
+        for (double v : *own) ok = ok && node_index(*fine, v) != std::string::npos;
+      }
     for (const auto& [coarse, fine, held] : {std::tuple{&o.tau, &table.tau, true}, {&o.a_e, &table.a_e, true}, {&o.a_d, &table.a_d, false}})
       ok = ok && spans(*coarse, *fine, held);
     if (!ok) throw std::logic_error("skin_stack_offsets.csv does not belong to skin_stack_profiles.csv");
