@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <limits>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <numbers>
 #include <sstream>
@@ -138,6 +139,18 @@ SkinStackTable SkinStackTable::default_nodes() {
 }
 
 namespace {
+// A ProfileSolver on these x nodes, one per thread and kept: its quadratures (the J0 weights of
+// the radii for a k_max, which depend on nothing else) are reused from one solve to the next
+// instead of being built again for each (a quarter of a thin row's time). The same numbers.
+ProfileSolver& solver_on(const std::vector<double>& x) {
+  thread_local std::vector<std::pair<std::vector<double>, std::unique_ptr<ProfileSolver>>> solvers;
+  for (auto& [nodes, solver] : solvers)
+    if (nodes == x) return *solver;
+  if (solvers.size() >= 4) solvers.erase(solvers.begin());
+  solvers.emplace_back(x, std::make_unique<ProfileSolver>(RadialGrid::from(x)));
+  return *solvers.back().second;
+}
+
 // rho at the x nodes of the table's geometry with this lower layer (FrequencyStack; in units of
 // s: k0 = 0.3 / 15, the resolution FrequencyStack has on the most scattering skin, 5 % at 10 mm
 // otherwise: its nodes are fixed in rad/mm, so in units of s = 1 /mm they would be those of a
@@ -150,8 +163,7 @@ std::vector<double> solve(const std::vector<double>& x, double eta, double g, do
   FrequencyProfileOptions o;
   o.k0 = 0.3 / 15.0;
   const FrequencyStack f(st, o);
-  ProfileSolver solver(RadialGrid::from(x));
-  return solver.profile(f);
+  return solver_on(x).profile(f);
 }
 std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, const Layer* below) {
   return solve(t.x, t.eta, t.g, tau_v, a_e_v, below);
@@ -198,8 +210,7 @@ std::vector<double> light_from_below(const SkinStackTable& t, double tau_v, doub
   std::vector<double> k = LightFromBelow::frequencies(tau_v);
   std::vector<double> R = frequency_response(stack_of(t, tau_v, a_e_v, dermis(t, a_d_v)), k);
   for (std::size_t j = 0; j < R.size(); ++j) R[j] -= R_top_k[j];
-  ProfileSolver solver(RadialGrid::from(t.x));
-  return solver.profile(LightFromBelow(std::move(k), std::move(R)));
+  return solver_on(t.x).profile(LightFromBelow(std::move(k), std::move(R)));
 }
 std::vector<double> top_frequencies(const SkinStackTable& t, double tau_v, double a_e_v) {
   return frequency_response(stack_of(t, tau_v, a_e_v, absorber(t)), LightFromBelow::frequencies(tau_v));
