@@ -523,6 +523,17 @@ namespace {
 constexpr double kCombinedDarkestDermis = 0.5;
 // ... unless the top layer is at least this thick (sigma_s' d).
 constexpr double kCombinedDarkDermisThinnest = 0.35;
+// Above g 0.9 the cross terms have no corners: the g 0.7 ones are continued through the base
+// (SkinStackCross::add). With another dermis ratio under a thin top layer that misses the
+// solver's profile (measured 2026-12-06 over random domain skins with tau 0.078-0.4, each read at
+// a fixed g, worst above 1e-4 of R(0.02 mm)): 14 skins at g 0.9 2.3 %, 0.93 4.0 %, 0.95 6.2 %
+// (ratio 0.2-0.27; the others 3.1 %), 0.96 8.7 %, 0.97 25 % (ratio 0.2-0.29 at 1.3-1.5 mm; the
+// others 6.2 %), and with tau 0.4-1.5 at g 0.97 4.3 %; 12 others, whose worst (ratio 0.24, tau
+// 0.096, index 1.55) grows with g: 2.9 % at 0.9, 4.1 % at 0.91, 5.2 % at 0.92, 7.5 % at 0.94, the
+// others at most 4.0 % up to g 0.95. Such skin is solved where g is above kMirroredGThin with the
+// ratio below kMirroredLowRatio, or above kMirroredGAllRatios with any other ratio, under tau
+// below kMirroredThinnest.
+constexpr double kMirroredGThin = 0.91, kMirroredGAllRatios = 0.955, kMirroredLowRatio = 0.35, kMirroredThinnest = 0.4;
 }  // namespace
 
 std::string SkinStackTable::gap(const LayerStack& stack) const {
@@ -583,6 +594,13 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
            "layer's sigma_s' = " + format_number(ad) + " above " + format_number(kCombinedDarkestDermis) +
            " under a top layer with sigma_s' d = " + format_number(t) + " below " + format_number(kCombinedDarkDermisThinnest) +
            " (the skin table's cross terms miss its far field)";
+  if (offsets && ratio != dermis_ratio && t < kMirroredThinnest &&
+      (e.g > kMirroredGAllRatios || (e.g > kMirroredGThin && ratio < kMirroredLowRatio)))
+    return "g = " + format_number(e.g) + " above " + format_number(e.g > kMirroredGAllRatios ? kMirroredGAllRatios : kMirroredGThin) +
+           " together with another dermis scattering ratio (" + format_number(ratio) +
+           (e.g > kMirroredGAllRatios ? "" : " below " + format_number(kMirroredLowRatio)) +
+           ") under a top layer with sigma_s' d = " + format_number(t) + " below " + format_number(kMirroredThinnest) +
+           " (the skin table has no cross terms for g above " + format_number(g) + ": continued from below, they miss such skin)";
   return {};
 }
 
