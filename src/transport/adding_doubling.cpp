@@ -445,7 +445,7 @@ LayerRT layer_rt(const Streams& st, const Layer& layer, int points, bool tabulat
     // (the first halving inside it) and double k times, instead of doubling from the diamond
     // layer (~log2(tau / kThinnest) doublings: a 0.4 mm epidermis at g 0.915 is tau ~ 400, 12
     // doublings at each wavelength of a spectrum; the domain's benchmark draw 2's R_d spectrum
-    // 57 -> 20 ms). Each doubling carries the table's interpolation error on, and a nearly
+    // 57 -> 16 ms). Each doubling carries the table's interpolation error on, and a nearly
     // conservative layer accumulates it, so the doublings are capped: against direct doubling
     // R_d within 3.8e-4, T_d 4e-3 (albedo 0.999; Limits.ThickSlabsFromTheTableMatchDirectDoubling),
     // the domain's thick skin within 9.5e-5 of R_d.
