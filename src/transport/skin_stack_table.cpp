@@ -529,10 +529,10 @@ constexpr double kCombinedDarkDermisThinnest = 0.35;
 // a fixed g, worst above 1e-4 of R(0.02 mm)): 14 skins at g 0.9 2.3 %, 0.93 4.0 %, 0.95 6.2 %
 // (ratio 0.2-0.27; the others 3.1 %), 0.96 8.7 %, 0.97 25 % (ratio 0.2-0.29 at 1.3-1.5 mm; the
 // others 6.2 %), and with tau 0.4-1.5 at g 0.97 4.3 %; 12 others, whose worst (ratio 0.24, tau
-// 0.096, index 1.55) grows with g: 2.9 % at 0.9, 4.1 % at 0.91, 5.2 % at 0.92, 7.5 % at 0.94, the
-// others at most 4.0 % up to g 0.95. Such skin is solved where g is above kMirroredGThin with the
-// ratio below kMirroredLowRatio, or above kMirroredGAllRatios with any other ratio, under tau
-// below kMirroredThinnest.
+// 0.096, index 1.55) grows with g: 2.9 % at 0.9, 4.1 % at 0.91, 5.2 % at 0.92, 6.3 % at 0.93,
+// 7.5 % at 0.94, the others at most 4.0 % up to g 0.95. Such skin is solved where g is above
+// kMirroredGThin with the ratio below kMirroredLowRatio, or above kMirroredGAllRatios with any
+// other ratio, under tau below kMirroredThinnest.
 constexpr double kMirroredGThin = 0.91, kMirroredGAllRatios = 0.955, kMirroredLowRatio = 0.35, kMirroredThinnest = 0.4;
 }  // namespace
 
