@@ -594,7 +594,9 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
            "layer's sigma_s' = " + format_number(ad) + " above " + format_number(kCombinedDarkestDermis) +
            " under a top layer with sigma_s' d = " + format_number(t) + " below " + format_number(kCombinedDarkDermisThinnest) +
            " (the skin table's cross terms miss its far field)";
-  if (offsets && ratio != dermis_ratio && t < kMirroredThinnest &&
+  // (Only where the cross terms are continued there: no corners above the table's g.)
+  const bool g_continued = offsets && offsets->cross && offsets->cross->ends[0][1] == offsets->cross->base[0];
+  if (g_continued && ratio != dermis_ratio && t < kMirroredThinnest &&
       (e.g > kMirroredGAllRatios || (e.g > kMirroredGThin && ratio < kMirroredLowRatio)))
     return "g = " + format_number(e.g) + " above " + format_number(e.g > kMirroredGAllRatios ? kMirroredGAllRatios : kMirroredGThin) +
            " together with another dermis scattering ratio (" + format_number(ratio) +
