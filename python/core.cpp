@@ -823,18 +823,25 @@ PYBIND11_MODULE(_core, m) {
        "time: a run over a week is refused (ValueError), one over an hour warned of "
        "(RuntimeWarning); Ctrl-C stops it (KeyboardInterrupt)." + params).c_str());
 
+  // The fits' parameter set, as `skin fit --model` (docs/fit.md).
+  static const std::string kModelDoc =
+      "model: 'paper' (C_m, beta_m, C_h; the default) or 'extended' (also epidermis_thickness, "
+      "oxygenation, scattering_scale, and for spectra beta_carotene, epidermal_hemoglobin; each "
+      "kept in its measured range with a weak prior; free= still chooses the list).";
+
   m.def(
       "fit_spectrum",
       [](const std::vector<double>& wavelength_nm, const py::object& R, const std::string& preset,
          const std::optional<std::vector<std::string>>& free, bool includes_specular,
          double fit_lambda_min, double fit_lambda_max,
          const std::map<std::string, std::pair<double, double>>& bounds, const std::string& solver,
-         const py::object& threads, const py::kwargs& kw) {
+         const std::string& model, const py::object& threads, const py::kwargs& kw) {
         const fit::ManyOptions many{thread_count(threads)};
         const Sets sets = parameter_sets(preset, kw);
         if (!sets.shape.empty()) throw InputError("fit_spectrum: the start is one parameter set (no arrays)");
         fit::SpectrumFitOptions opt;
         opt.start = sets.values.front();
+        fit::use_fit_model(opt, fit::parse_fit_model(model));
         opt.free = free_parameters(free, opt.free);
         opt.includes_specular = includes_specular;
         opt.lambda_min = fit_lambda_min;
@@ -888,11 +895,11 @@ PYBIND11_MODULE(_core, m) {
       "wavelength_nm"_a, "R"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "free"_a = py::none(),
       "includes_specular"_a = false, "fit_lambda_min"_a = 400.0, "fit_lambda_max"_a = 700.0,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
-      "threads"_a = py::int_(0),
+      "model"_a = std::string("paper"), "threads"_a = py::int_(0),
       ("`skin fit --spectrum`: the parameters whose R_d best matches a measured reflectance R "
        "(0-1) at wavelength_nm [nm] (increasing, covering 450-650 nm). free: parameter keys (or "
        "the paper's symbols) to fit (default melanin, melanin_blend, hemoglobin); the others keep the preset's or the "
-       "keywords' values (the start). bounds: {key or symbol: (lo, hi)}. includes_specular: the "
+       "keywords' values (the start). bounds: {key or symbol: (lo, hi)}. " + kModelDoc + " includes_specular: the "
        "measurement includes the surface reflection. Returns parameters, uncertainty (one sigma), "
        "at_bound, rms, fitted. "
        "R may hold N spectra, an array (N, len(wavelength_nm)) with one spectrum per row: they are "
@@ -906,10 +913,11 @@ PYBIND11_MODULE(_core, m) {
   auto color_fit_options = [](const Sets& sets, const std::optional<std::vector<std::string>>& free,
                               double prior, double weight,
                               const std::map<std::string, std::pair<double, double>>& bounds,
-                              const std::string& solver) {
+                              const std::string& solver, const std::string& model) {
     if (!sets.shape.empty()) throw InputError("the fixed parameters are one set (no arrays)");
     fit::ColorFitOptions opt;
     opt.start = sets.values.front();
+    fit::use_fit_model(opt, fit::parse_fit_model(model));
     opt.free = free_parameters(free, opt.free);
     opt.melanin_blend_prior = prior;
     opt.melanin_blend_weight = weight;
@@ -923,11 +931,12 @@ PYBIND11_MODULE(_core, m) {
       [color_fit_options](const py::object& hex, const py::object& srgb, const std::string& preset,
                           const std::optional<std::vector<std::string>>& free, double melanin_blend_prior,
                           double melanin_blend_weight, const std::map<std::string, std::pair<double, double>>& bounds,
-                          const std::string& solver, const py::object& threads, const py::kwargs& kw) {
+                          const std::string& solver, const std::string& model, const py::object& threads,
+                          const py::kwargs& kw) {
         const fit::ManyOptions many{thread_count(threads)};
         const ColorTargets targets = color_targets(hex, srgb);
         const fit::ColorFitOptions opt = color_fit_options(parameter_sets(preset, kw), free, melanin_blend_prior,
-                                                           melanin_blend_weight, bounds, solver);
+                                                           melanin_blend_weight, bounds, solver, model);
         const std::vector<fit::ColorFitResult> fits =
             interruptible([&] { return fit::fit_colors(fit::ColorFitter(opt), targets.rgb, many); });
         const auto document = [&](std::size_t i) {
@@ -965,11 +974,11 @@ PYBIND11_MODULE(_core, m) {
       py::kw_only(), "hex"_a = py::none(), "srgb"_a = py::none(), "preset"_a = std::string(kDefaultPreset),
       "free"_a = py::none(), "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
-      "threads"_a = py::int_(0),
+      "model"_a = std::string("paper"), "threads"_a = py::int_(0),
       ("`skin fit --hex/--srgb`: the parameters (melanin, melanin_blend, hemoglobin by default) "
        "whose colour matches an 8-bit sRGB colour: hex='a98f74', srgb='169,143,116' or srgb=(169, 143, 116). "
        "melanin_blend_prior, melanin_blend_weight [Lab units]: the weak prior that resolves "
-       "beta_m. Returns target, parameters, fitted, delta_e_2000 (lists for one colour). "
+       "beta_m (paper model only). " + kModelDoc + " Returns target, parameters, fitted, delta_e_2000 (lists for one colour). "
        "N colours: srgb an array of shape (N, 3) (or hex a sequence of N texts), fitted on all "
        "cores (threads: worker threads, 0 = all) with the GIL released, each result bit for bit "
        "the one of fit_color(srgb=srgb[i], ...); returned as one dict shaped like a single result "
@@ -984,9 +993,9 @@ PYBIND11_MODULE(_core, m) {
                           const std::optional<std::vector<std::string>>& free, double melanin_blend_prior,
                           double melanin_blend_weight,
                           const std::map<std::string, std::pair<double, double>>& bounds,
-                          const std::string& solver, const py::kwargs& kw) {
+                          const std::string& solver, const std::string& model, const py::kwargs& kw) {
         const fit::ColorFitOptions opt = color_fit_options(parameter_sets(preset, kw), free, melanin_blend_prior,
-                                                           melanin_blend_weight, bounds, solver);
+                                                           melanin_blend_weight, bounds, solver, model);
         image::Image img;
         // A file name: a text or a path object (pathlib.Path).
         py::object name = image;
@@ -1030,17 +1039,24 @@ PYBIND11_MODULE(_core, m) {
         d["error"] = plane(maps.error);
         py::dict axes;
         for (const char* k : {"melanin", "melanin_blend", "hemoglobin", "error"}) axes[k] = py::make_tuple("y", "x");
+        for (std::size_t k = 0; k < maps.more_parameters.size(); ++k) {
+          const std::string name(fit::key(maps.more_parameters[k]));
+          d[py::str(name)] = plane(maps.more[k]);
+          axes[py::str(name)] = py::make_tuple("y", "x");
+        }
         d["axes"] = axes;
         return d;
       },
       "image"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "free"_a = py::none(),
       "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
+      "model"_a = std::string("paper"),
       ("`skin fit --texture`: per-pixel parameter maps (float32, axes y, x) melanin, "
        "melanin_blend, hemoglobin and error (CIEDE2000) of an albedo texture: a file name (PNG, "
        "JPEG, ...; a text or a path object) or an array (height, width, 3) of linear sRGB in 0-1 "
        "(any numpy array of numbers, float32 or float64, any memory layout; copied as float32); on "
-       "all cores with the GIL released. "
+       "all cores with the GIL released. model='extended' adds a map per other free parameter "
+       "(epidermis_thickness, oxygenation, scattering_scale by default), named by its key. "
        "Options as fit_color(). " + solver_doc() + params).c_str());
 
   m.def(

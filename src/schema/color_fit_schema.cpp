@@ -66,11 +66,14 @@ json texture_fit_document(const fit::ParameterMaps& maps) {
   j["width"] = maps.width;
   j["height"] = maps.height;
   j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
+  for (fit::Parameter p : maps.more_parameters) j["channels"].push_back(std::string(fit::key(p)));
   j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
   // Outside the model's gamut: texels farther than fit::kGamutDeltaE; parameters on their bounds.
   j["outside_gamut"] = {{"fraction", 1.0 - maps.fraction_below_1}, {"mean_delta_e_2000", maps.mean_error_outside}};
   j["at_bound"] = {{"melanin", maps.at_bound[0]}, {"melanin_blend", maps.at_bound[1]},
                    {"hemoglobin", maps.at_bound[2]}, {"any", maps.any_at_bound}};
+  for (std::size_t k = 0; k < maps.more_parameters.size() && k < maps.more_at_bound.size(); ++k)
+    j["at_bound"][std::string(fit::key(maps.more_parameters[k]))] = maps.more_at_bound[k];
   return j;
 }
 
@@ -87,20 +90,25 @@ Result texture_fit_result(const fit::ParameterMaps& maps, const std::string& tex
                     {"error_delta_e_2000.mean", {maps.mean_error}, {}},
                     {"error_delta_e_2000.max", {maps.max_error}, {}},
                     {"error_delta_e_2000.fraction_below_1", {maps.fraction_below_1}, {}}};
+  std::string channels = "melanin, melanin_blend, hemoglobin, error", more_bounds;
+  for (std::size_t k = 0; k < maps.more_parameters.size(); ++k) {
+    channels += ", " + std::string(fit::key(maps.more_parameters[k]));
+    if (k < maps.more_at_bound.size())
+      more_bounds += ", " + std::string(fit::key(maps.more_parameters[k])) + " " + std::to_string(maps.more_at_bound[k]);
+  }
   char buf[256];
-  std::snprintf(buf, sizeof buf,
-                "wrote %s: %dx%d, channels melanin, melanin_blend, hemoglobin, error\n"
-                "colour error (dE2000): mean %.3g, max %.3g, %.3g of pixels below 1\n",
-                output.c_str(), maps.width, maps.height, maps.mean_error, maps.max_error,
-                maps.fraction_below_1);
-  result.table = buf;
+  std::snprintf(buf, sizeof buf, "wrote %s: %dx%d, channels ", output.c_str(), maps.width, maps.height);
+  result.table = buf + channels + "\n";
+  std::snprintf(buf, sizeof buf, "colour error (dE2000): mean %.3g, max %.3g, %.3g of pixels below 1\n",
+                maps.mean_error, maps.max_error, maps.fraction_below_1);
+  result.table += buf;
   std::snprintf(buf, sizeof buf,
                 "outside the gamut (> 1): %.3g of pixels, mean %.3g; at a bound: %.3g of pixels "
-                "(melanin %zu, melanin_blend %zu, hemoglobin %zu)\n",
+                "(melanin %zu, melanin_blend %zu, hemoglobin %zu",
                 1.0 - maps.fraction_below_1, maps.mean_error_outside,
                 maps.width > 0 ? static_cast<double>(maps.any_at_bound) / (static_cast<double>(maps.width) * maps.height) : 0.0,
                 maps.at_bound[0], maps.at_bound[1], maps.at_bound[2]);
-  result.table += buf;
+  result.table += buf + more_bounds + ")\n";
   return result;
 }
 

@@ -152,6 +152,31 @@ class SameAsTheCommand(unittest.TestCase):
         assert_same(self, py, js)
         self.assertEqual(ss.fit_color(srgb="169,143,116", solver="multipole"), py)
 
+    def test_fit_color_with_the_extended_model(self):
+        # model= is the command's --model: the same fit, free set, gamut distance and bounds.
+        js = cli("fit", "--hex", "c4a090", "--model", "extended")
+        py = ss.fit_color(hex="c4a090", model="extended")
+        assert_same(self, py, js)
+        self.assertEqual(py["model"], "extended")
+        self.assertIn("scattering_scale", py["free"])
+        with self.assertRaisesRegex(ValueError, "model = 'extend' is unknown: choose paper or extended"):
+            ss.fit_color(hex="c4a090", model="extend")
+        with self.assertRaisesRegex(ValueError, "model = 'extend' is unknown"):
+            ss.fit_spectrum([450.0, 550.0, 650.0], [0.3, 0.4, 0.5], model="extend")
+
+    def test_fit_texture_with_the_extended_model(self):
+        # The extended maps: one more map per other free parameter, named by its key, as the
+        # command's channels; a colour the model makes inside the measured ranges is reached.
+        target = ss.color(melanin=0.02, hemoglobin=0.02, epidermis_thickness=0.08, scattering_scale=1.3)
+        maps = ss.fit_texture(np.tile(target["color"]["srgb_linear"], (2, 3, 1)), model="extended")
+        self.assertEqual(maps["channels"], ["melanin", "melanin_blend", "hemoglobin", "error",
+                                            "epidermis_thickness", "oxygenation", "scattering_scale"])
+        for k in maps["channels"]:
+            self.assertEqual(maps[k].shape, (2, 3), k)
+            self.assertEqual(maps["axes"][k], ("y", "x"), k)
+        self.assertLess(maps["error_delta_e_2000"]["max"], 0.5)
+        self.assertTrue(np.all((maps["epidermis_thickness"] >= 0.04) & (maps["epidermis_thickness"] <= 0.15)))
+
     def test_fit_takes_the_papers_symbols(self):
         keys = ss.fit_color(hex="a98f74", solver="multipole", free=["melanin", "hemoglobin"],
                             bounds={"hemoglobin": (0.0, 0.05)})

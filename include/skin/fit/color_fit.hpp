@@ -119,6 +119,12 @@ struct ParameterMaps {
   // maps read from a file), and texels with any of them on a bound.
   std::array<std::size_t, 3> at_bound{};
   std::size_t any_at_bound = 0;
+  // Extended model (--model extended): the maps of the free parameters besides those three
+  // (epidermis_thickness, oxygenation, scattering_scale, ...), in the order fitted, written as
+  // more channels named by parameter key; and the texels with each of them on its bound.
+  std::vector<Parameter> more_parameters;
+  std::vector<std::vector<float>> more;
+  std::vector<std::size_t> more_at_bound;
   // Recomputes the three statistics from the error channel.
   void update_error_statistics();
 };
@@ -128,6 +134,11 @@ std::ostream& operator<<(std::ostream& os, const ParameterMaps& m);
 // objective above on the trilinearly interpolated table, solved per distinct pixel colour (in
 // parallel, TBB). The error map is measured against the interpolated model; the table's own
 // interpolation error is small against the exact model (tests/fit, docs/fit.md).
+// Extended model: a coarser table over every free parameter (multilinear), the extended colour
+// fit's objective (CIEDE2000 components and the prior terms) on it, solved twice per colour:
+// the second time with the table's colour shifted by the exact model's colour minus the table's
+// at the first solution, so that the parameters and the error map are the exact model's to
+// within ~0.1 dE2000 (docs/fit.md).
 class TextureFitter {
  public:
   explicit TextureFitter(ColorFitOptions options = {});
@@ -143,6 +154,9 @@ class TextureFitter {
   color::Lab lab(const physics::SkinParameters& p) const;
 
  private:
+  ParameterMaps fit_extended(int width, int height, const std::vector<std::uint32_t>& slot,
+                             const std::vector<std::uint64_t>& uniq, const std::vector<std::uint32_t>& count,
+                             const util::ProgressCallback& progress) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
