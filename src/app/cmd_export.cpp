@@ -1,5 +1,6 @@
 // skin export: this skin's parameters for other renderers and engines, each fitted through the
 // target's own model, with the fit's error beside the files (docs/export.md).
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -109,7 +110,11 @@ void register_export(CLI::App& app) {
     std::optional<exporting::ParameterMapsInput> maps;
     if (!o->maps.empty()) {
       exporting::require_textures(*chosen[0]);
-      const std::vector<std::string> keys = {"melanin", "melanin_blend", "hemoglobin"};
+      // The three maps of every fit and, from --model extended, the maps of its other free
+      // parameters (each named by its key): all of them vary per texel.
+      std::vector<std::string> keys = {"melanin", "melanin_blend", "hemoglobin"};
+      for (const std::string& k : physics::parameter_channels(image::exr_channel_names(o->maps, "parameter maps")))
+        if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
       image::Planes planes = image::read_exr_planes(o->maps, keys, "parameter maps");
       maps = exporting::ParameterMapsInput{o->maps, planes.width, planes.height, keys,
                                            std::move(planes.values)};

@@ -144,7 +144,7 @@ void run_color(const FitOpts& o) {
   o.out.write(schema::color_fit_result(r, target, o.blend_prior, o.blend_weight));
 }
 
-// The four maps side by side as a PNG, each on its own range: the parameters' from the 1st to
+// The maps side by side as a PNG (four, or seven under the extended model), each on its own range: the parameters' from the 1st to
 // the 99th percentile of their texels (a few texels at a bound would otherwise flatten the rest),
 // the error from 0 to its 99th percentile; values beyond take the ends' colours.
 void write_maps_preview(const fit::ParameterMaps& maps, const std::string& texture, const std::string& path) {
@@ -173,6 +173,10 @@ void write_maps_preview(const fit::ParameterMaps& maps, const std::string& textu
   panel("melanin_blend (beta_m)", maps.melanin_blend, false);
   panel("hemoglobin (C_h)", maps.hemoglobin, false);
   panel("error (CIEDE2000)", maps.error, true);
+  // The extended model's other maps (epidermis_thickness, ...) after them.
+  for (std::size_t k = 0; k < maps.more_parameters.size() && k < maps.more.size(); ++k)
+    panel(std::string(fit::key(maps.more_parameters[k])), maps.more[k], false);
+  if (sheet.panels.size() > 4) sheet.columns = 3;
   char note[160];
   std::snprintf(note, sizeof note, "mean error %.2f dE2000, %.1f %% of texels below 1; docs/parameter-maps.md",
                 maps.mean_error, 100.0 * maps.fraction_below_1);

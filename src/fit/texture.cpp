@@ -3,6 +3,8 @@
 #include "skin/image/image.hpp"
 #include "skin/util/error.hpp"
 
+#include <algorithm>
+
 namespace skin::fit {
 
 namespace {
@@ -28,8 +30,18 @@ void write_parameter_maps(const ParameterMaps& maps, const std::string& path) {
                           "parameter maps");
 }
 
+std::vector<std::string> extended_map_channels(const std::string& path) {
+  std::vector<std::string> more;
+  for (const std::string& name : physics::parameter_channels(image::exr_channel_names(path, "parameter maps")))
+    if (std::find(kChannels.begin(), kChannels.end(), name) == kChannels.end()) more.push_back(name);
+  return more;
+}
+
 ParameterMaps read_parameter_maps(const std::string& path) {
-  image::Planes planes = image::read_exr_planes(path, kChannels, "parameter maps");
+  std::vector<std::string> names = kChannels;
+  const std::vector<std::string> more = extended_map_channels(path);
+  names.insert(names.end(), more.begin(), more.end());
+  image::Planes planes = image::read_exr_planes(path, names, "parameter maps");
   ParameterMaps maps;
   maps.width = planes.width;
   maps.height = planes.height;
@@ -37,6 +49,11 @@ ParameterMaps read_parameter_maps(const std::string& path) {
   maps.melanin_blend = std::move(planes.values[1]);
   maps.hemoglobin = std::move(planes.values[2]);
   maps.error = std::move(planes.values[3]);
+  for (std::size_t k = 0; k < more.size(); ++k) {
+    maps.more_parameters.push_back(parse_parameter(more[k]));
+    maps.more.push_back(std::move(planes.values[4 + k]));
+  }
+  maps.more_at_bound.assign(more.size(), 0);
   maps.update_error_statistics();
   return maps;
 }

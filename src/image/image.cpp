@@ -581,4 +581,20 @@ Planes read_exr_planes(const std::string& path, const std::vector<std::string>& 
   }
 }
 
+std::vector<std::string> exr_channel_names(const std::string& path, const std::string& what) {
+  util::io::check_input_file(path, what);
+  check_exr(path, what);
+  try {
+    Imf::InputFile file(path.c_str(), 0);
+    std::vector<std::string> names;
+    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
+      names.emplace_back(it.name());
+    return names;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError("cannot read " + what + " '" + path + "': " + e.what());
+  }
+}
+
 }  // namespace skin::image

@@ -187,6 +187,14 @@ const ParameterInfo* find_parameter(std::string_view name) {
   return nullptr;
 }
 
+std::vector<std::string> parameter_channels(const std::vector<std::string>& names) {
+  std::vector<std::string> out;
+  for (const std::string& n : names)
+    for (const auto& p : kParameters)
+      if (p.key == n) out.push_back(n);
+  return out;
+}
+
 const ParameterInfo& parameter_info(std::string_view name, std::string_view what) {
   if (const ParameterInfo* p = find_parameter(name)) return *p;
   std::string known;

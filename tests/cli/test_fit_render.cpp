@@ -4,6 +4,8 @@
 // 1 dE2000 in the mean over the object's pixels (same seed: the difference is the parameters').
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <nlohmann/json.hpp>
 
 #include "cli_fixture.hpp"
@@ -62,6 +64,36 @@ TEST_F(Cli, FittedParameterMapsRenderLikeThePreset) {
   ASSERT_GT(n, 250);  // about 380 pixels inside radius 11
   EXPECT_LT(sum / n, 1.0) << "mean dE2000 over " << n << " pixels";
   std::printf("mean dE2000 %.3f over %d pixels\n", sum / n, n);
+}
+
+TEST_F(Cli, ExtendedMapsCarryTheirColourIntoTheExport) {
+  // fit -> export with the extended model: a texture of a photographed skin colour (#c4a090, a*
+  // 11, beyond the paper model's gamut) fitted with --model extended gives three more channels,
+  // and the export reads every one of them, so the exported skin's R_d is the texture's colour
+  // (within 0.3 dE2000); the paper model's maps of the same texture export the paper fit's
+  // colour, more than 1 dE2000 away. (Before, the export read the three named maps only.)
+  const skin::color::Rgb target = skin::color::Rgb{skin::color::srgb_decode(0xc4 / 255.0), skin::color::srgb_decode(0xa0 / 255.0),
+                                                   skin::color::srgb_decode(0x90 / 255.0)};
+  skin::image::Image tex(4, 4);
+  for (std::size_t i = 0; i < tex.rgb.size(); ++i) tex.rgb[i] = static_cast<float>(target[static_cast<int>(i % 3)]);
+  skin::image::write_image((dir_ / "albedo.png").string(), tex);
+  const skin::color::Colorimetry cm{skin::physics::WavelengthGrid{}};
+  const auto exported_delta_e = [&](const std::string& model) {
+    const CmdResult fit = run("fit --texture albedo.png --model " + model + " -o " + model + ".exr --format json");
+    EXPECT_EQ(fit.code, 0) << fit.err;
+    const json channels = json::parse(fit.out)["channels"];
+    EXPECT_EQ(channels.size(), model == "extended" ? 7u : 4u) << channels;
+    const CmdResult ex = run("export --target openpbr --parameter-maps " + model + ".exr -o " + model + ".mtlx");
+    EXPECT_EQ(ex.code, 0) << ex.err;
+    std::ifstream in(dir_ / (model + ".fit.json"));
+    const json r = json::parse(in)["R_d_ours"];
+    const skin::color::Rgb ours{r["r"].get<double>(), r["g"].get<double>(), r["b"].get<double>()};
+    return skin::color::delta_e_2000(skin::color::summarize_rgb(cm, ours).lab, skin::color::summarize_rgb(cm, target).lab);
+  };
+  const double extended = exported_delta_e("extended"), paper = exported_delta_e("paper");
+  EXPECT_LT(extended, 0.3);
+  EXPECT_GT(paper, 1.0);
+  std::printf("exported R_d to the texture: extended maps %.3f dE2000, paper maps %.3f\n", extended, paper);
 }
 
 TEST_F(Cli, ParameterMapChannelsByName) {

@@ -10,6 +10,7 @@
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
 #include "skin/util/error.hpp"
+#include "../temp_dir.hpp"
 
 using namespace skin::fit;
 using skin::physics::SkinParameters;
@@ -265,4 +266,14 @@ TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
   }
   EXPECT_EQ(maps.any_at_bound, any);
   std::printf("extended texture: worst |reported - exact| error %.3f dE2000\n", worst);
+  // The file keeps the other maps as channels named by key, and reads them back.
+  const skin::test::TempDir dir("extended_maps");
+  const std::string path = (dir.path() / "maps.exr").string();
+  write_parameter_maps(maps, path);
+  const ParameterMaps back = read_parameter_maps(path);
+  ASSERT_EQ(back.more_parameters, maps.more_parameters);  // epidermis_thickness, oxygenation, scattering_scale
+  EXPECT_EQ(extended_map_channels(path), (std::vector<std::string>{"epidermis_thickness", "oxygenation", "scattering_scale"}));
+  EXPECT_EQ(back.more, maps.more);
+  EXPECT_EQ(back.melanin, maps.melanin);
+  EXPECT_EQ(back.error, maps.error);
 }

@@ -69,6 +69,11 @@ export function readParameterMaps(buffer, name) {
   }
   const missing = MAP_CHANNELS.slice(0, 3).filter((c) => !channels.some((ch) => ch.name === c));
   if (missing.length) fail(`no ${missing.join(', ')} channel: the maps of skin fit --texture (channels ${MAP_CHANNELS.join(', ')}) are allowed`);
+  // Maps of the extended model (skin fit --model extended) carry a channel per other fitted
+  // parameter (epidermis_thickness, ...); this view's colour grid spans the three above only, so
+  // shading them would drop those maps silently.
+  const more = channels.filter((ch) => !MAP_CHANNELS.includes(ch.name)).map((ch) => ch.name);
+  if (more.length) fail(`channels ${more.join(', ')}: maps of the extended model are not shaded here (only ${MAP_CHANNELS.join(', ')}); fit with skin fit --model paper`);
   const comp = attribute('compression', 'compression');
   const code = bytes[comp.at];
   if (!(code in COMPRESSION)) fail(`compression ${code}: none, ZIP or ZIPS is allowed (skin fit --texture writes ZIP)`);

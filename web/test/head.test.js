@@ -24,7 +24,7 @@
 //   - parameter maps (skin fit --texture's .exr) through the picker shade the head: the maps of
 //     the preset's own colour leave it within 0.6 mean dE2000, those of the tanned preset's
 //     colour give the tanned head within 1; cleared, as before; a file that is not maps (garbage,
-//     truncated, an RGB image) gives one line.
+//     truncated, an RGB image, the extended model's maps) gives one line.
 // Run: node web/test/head.test.js (after scripts/web.sh and npm ci in web/).
 'use strict';
 const fs = require('fs');
@@ -312,8 +312,10 @@ async function main() {
       const badMaps = [];
       // An image of RGB channels (skin render's), not maps.
       require('child_process').execFileSync(SKIN, ['render', '--resolution', '8x8', '--spp', '1', '-o', path.join(dir, 'render.exr')], { stdio: 'pipe' });
+      // Maps of the extended model: more channels than the view's grid spans (refused, not dropped).
+      require('child_process').execFileSync(SKIN, ['fit', '--texture', path.join(dir, 'tanned.png'), '--model', 'extended', '-o', path.join(dir, 'extended.exr')], { stdio: 'pipe' });
       const cases = { 'garbage.exr': Buffer.from('not an exr at all'), 'truncated.exr': fs.readFileSync(path.join(dir, 'tanned.exr')).subarray(0, 400),
-        'render.exr': fs.readFileSync(path.join(dir, 'render.exr')) };
+        'render.exr': fs.readFileSync(path.join(dir, 'render.exr')), 'extended.exr': fs.readFileSync(path.join(dir, 'extended.exr')) };
       for (const [name, bytes] of Object.entries(cases)) {
         const r = await page.evaluate(async (name, b64) => {
           const bytes = Uint8Array.from(atob(b64), (ch) => ch.charCodeAt(0));

@@ -164,7 +164,11 @@ class TextureFitter {
 // Writes the maps as a multi-channel 32-bit float OpenEXR (channels melanin, melanin_blend,
 // hemoglobin, error; see docs/parameter-maps.md), atomically. Throws InputError on failure.
 void write_parameter_maps(const ParameterMaps& maps, const std::string& path);
-// Reads such a file back (all four channels required). Throws InputError.
+// Reads such a file back (all four channels required; the extended model's other channels,
+// those named by a parameter key, into `more`). Throws InputError.
 ParameterMaps read_parameter_maps(const std::string& path);
+// The channels of a parameter-maps file beyond the four, each named by a parameter key (the
+// extended model's maps: epidermis_thickness, ...), in the file's order.
+std::vector<std::string> extended_map_channels(const std::string& path);
 
 }  // namespace skin::fit

@@ -93,5 +93,8 @@ void write_exr_planes(const std::string& path, int width, int height, const std:
 // file and the first missing channel.
 Planes read_exr_planes(const std::string& path, const std::vector<std::string>& names,
                        const std::string& what);
+// The names of an OpenEXR file's channels (in the file's order: alphabetical); InputError if it
+// cannot be read.
+std::vector<std::string> exr_channel_names(const std::string& path, const std::string& what);
 
 }  // namespace skin::image
