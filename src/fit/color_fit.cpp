@@ -567,8 +567,17 @@ struct TextureFitter::Impl {
         up[k] += 1e-5, um[k] -= 1e-5;
         Jr(3 + static_cast<Eigen::Index>(j), k) = (prior_r(up, j) - prior_r(um, j)) / 2e-5;
       }
-      const XMat A = Jr.transpose() * Jr;
-      const XVec g = Jr.transpose() * r;
+      XMat A = Jr.transpose() * Jr;
+      XVec g = Jr.transpose() * r;
+      // Parameters on a bound that the gradient pushes outward stay there this step (projected
+      // LM: otherwise the clipped step leaves the descent direction and the solve crawls).
+      for (Eigen::Index k = 0; k < n; ++k)
+        if ((u[k] <= 0.0 && g[k] > 0) || (u[k] >= hi[k] && g[k] < 0)) {
+          A.row(k).setZero();
+          A.col(k).setZero();
+          A(k, k) = 1;
+          g[k] = 0;
+        }
       bool accepted = false;
       for (int tries = 0; tries < 10 && !accepted; ++tries) {
         XMat M = A;
