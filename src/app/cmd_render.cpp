@@ -32,6 +32,7 @@ constexpr const char* kHeadTexture = "Map-COL.jpg";
 struct RenderOpts {
   std::string scene, output, resolution, mesh, reference, tone_map;
   int spp = 0, max_depth = -1, figure = 0;
+  std::string figure_name;  // skin figure's positional: a number, or tones
   RunOptions run;
   double time_budget = 0, exposure = 0, target_error = 0, point_spacing = 0, point_solid_angle = -1;
   std::string subsurface;
@@ -233,9 +234,11 @@ void register_render(CLI::App& app) {
   CLI::App* fig = app.add_subcommand(
       "figure",
       "Render a figure of the paper: the parameter sweeps of Figs 3-8 as close-ups of the Lee Perry-Smith "
-      "face (cheek and nose, one crop per parameter set), Fig. 10 as its four views of the head; "
+      "face (cheek and nose, one crop per parameter set; Fig. 8 with three tone presets below the paper's "
+      "skin types), Fig. 10 as its four views of the head; or tones: the head per tone preset; "
       "spheres when the mesh is absent");
-  fig->add_option("number", f->figure, "Figure number: 3, 4, 5, 6, 7, 8 or 10")
+  fig->add_option("number", f->figure_name,
+                  "Figure number: 3, 4, 5, 6, 7, 8 or 10; or tones (a face per tone preset, monk-01 ... monk-10)")
       ->check(CLI::Validator(
           [](std::string& v) -> std::string {
             std::string allowed;
@@ -243,7 +246,8 @@ void register_render(CLI::App& app) {
               if (v == std::to_string(n)) return {};
               allowed += (allowed.empty() ? "" : ", ") + std::to_string(n);
             }
-            return v + " is out of range: must be one of " + allowed;
+            if (v == "tones") return {};
+            return v + " is out of range: must be one of " + allowed + ", tones";
           },
           "FIGURE"))
       ->required();
@@ -253,7 +257,7 @@ void register_render(CLI::App& app) {
       "Start every cell from this parameter set (parameter flags and --params then change it); the "
       "swept parameters keep the paper's values of their cells");
   fig->add_option("--resolution", f->resolution,
-                  "Size of one cell WxH (default 128x128; 160x160 for Fig. 7, 192x192 for Fig. 10)");
+                  "Size of one cell WxH (default 128x128; 160x160 for Fig. 7, 192x192 for Fig. 10 and tones)");
   fig->add_option("--mesh", f->mesh,
                   std::string("The face mesh (OBJ, glTF, GLB; framed by its bounding box as the Lee Perry-Smith "
                               "head) (default: ") + kDefaultHeadMesh + " from the current directory, spheres if absent)");
@@ -277,13 +281,14 @@ void register_render(CLI::App& app) {
                      kDefaultHeadMesh);
       }
     }
-    // Fig. 10's faces wear the colour texture beside the mesh, when there is one.
+    // Fig. 10's faces and the tone figure's wear the colour texture beside the mesh, when there is one.
     std::string texture;
     if (!mesh.empty()) {
       const std::filesystem::path t = std::filesystem::path(mesh).parent_path() / kHeadTexture;
       std::error_code ec;
       if (std::filesystem::is_regular_file(t, ec)) texture = t.string();
     }
+    f->figure = f->figure_name == "tones" ? render::kTonesFigure : std::stoi(f->figure_name);
     render::FigureDescription description = render::describe_figure(f->figure, mesh, texture, change);
     for (auto& cell : description.cells) {
       if (fig->count("--solver") > 0) cell.set_solver(f->solver.model());

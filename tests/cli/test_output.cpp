@@ -115,7 +115,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCount{"render --spp 0 -o x.png", "--spp: 0 is out of range"},
         BadCount{"render --spp -4 -o x.png", "--spp: -4 is out of range"},
         BadCount{"render --max-depth -1 -o x.png", "--max-depth: -1 is out of range"},
-        BadCount{"figure 9 -o x.png", "9 is out of range: must be one of 3, 4, 5, 6, 7, 8, 10"},
+        BadCount{"figure 9 -o x.png", "9 is out of range: must be one of 3, 4, 5, 6, 7, 8, 10, tones"},
         BadCount{"tabulate-random-walk --photons -1 -o t.csv", "--photons: -1 is out of range"},
         BadCount{"tabulate-skin-profiles --cross --cross-pairs g:x -o t.csv",
                  "--cross-pairs: 'g:x' is not one of g:eta, g:dermis_ratio, eta:dermis_ratio"},

@@ -71,10 +71,12 @@ TEST(Figure, CellsCarryThePapersParameters) {
   for (int n : figure_numbers()) {
     const FigureLayout f = figure_layout(n);
     const auto want = paper_cells(n);
-    ASSERT_EQ(f.parameters.size(), want.size()) << "Fig. " << n;
-    ASSERT_EQ(f.labels.size(), want.size()) << "Fig. " << n;
-    EXPECT_GE(f.rows * f.columns, static_cast<int>(want.size()));
-    EXPECT_LT(f.columns * (f.rows - 1), static_cast<int>(want.size())) << "no empty row";
+    // Fig. 8 shows three tone presets after the paper's three (checked in the test below).
+    const std::size_t cells = want.size() + (n == 8 ? 3 : 0);
+    ASSERT_EQ(f.parameters.size(), cells) << "Fig. " << n;
+    ASSERT_EQ(f.labels.size(), cells) << "Fig. " << n;
+    EXPECT_GE(f.rows * f.columns, static_cast<int>(cells));
+    EXPECT_LT(f.columns * (f.rows - 1), static_cast<int>(cells)) << "no empty row";
     for (std::size_t i = 0; i < want.size(); ++i) {
       SCOPED_TRACE("Fig. " + std::to_string(n) + ", cell " + f.labels[i]);
       EXPECT_DOUBLE_EQ(f.parameters[i].melanin, want[i].C_m);
@@ -147,11 +149,32 @@ void expect_tiny_render(int number, const std::string& mesh) {
 
 TEST(Figure, EveryFigureRendersOnSpheres) {
   for (int n : figure_numbers()) expect_tiny_render(n, "");
+  expect_tiny_render(kTonesFigure, "");
 }
 
 TEST(Figure, EveryFigureRendersOnTheHead) {
   if (!std::filesystem::exists(kHead)) GTEST_SKIP() << "no head mesh at " << kHead;
   for (int n : figure_numbers()) expect_tiny_render(n, kHead);
+  expect_tiny_render(kTonesFigure, kHead);
+}
+
+TEST(Figure, Fig8ShowsThePapersTypesAboveToneRangeAndTonesFigureTheTenPresets) {
+  // Fig. 8: the paper's three skin types (as the paper gives them), then three tone presets of the
+  // same span; the tones figure: monk-01 ... monk-10, their committed values, two rows of five.
+  const FigureLayout f = figure_layout(8);
+  ASSERT_EQ(f.labels, (std::vector<std::string>{"caucasian", "asian", "african", "monk-02", "monk-06", "monk-10"}));
+  EXPECT_EQ(f.columns, 3);
+  EXPECT_EQ(f.rows, 2);
+  for (std::size_t i = 0; i < f.labels.size(); ++i)
+    EXPECT_DOUBLE_EQ(f.parameters[i].melanin, skin::physics::find_preset(f.labels[i]).parameters.melanin) << f.labels[i];
+  const FigureLayout t = figure_layout(kTonesFigure);
+  ASSERT_EQ(t.labels.size(), 10u);
+  EXPECT_EQ(t.labels.front(), "monk-01");
+  EXPECT_EQ(t.labels.back(), "monk-10");
+  EXPECT_EQ(t.columns, 5);
+  EXPECT_EQ(t.rows, 2);
+  for (std::size_t i = 0; i < t.labels.size(); ++i)
+    EXPECT_DOUBLE_EQ(t.parameters[i].hemoglobin, skin::physics::find_preset(t.labels[i]).parameters.hemoglobin) << t.labels[i];
 }
 
 // Without ../shared/data (a fresh directory), `skin figure` renders spheres and says so in one

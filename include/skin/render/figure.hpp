@@ -25,11 +25,16 @@ struct FigureLayout {
 
 // The figures there are: 3, 4, 5, 6, 7, 8, 10.
 const std::vector<int>& figure_numbers();
+// Not one of the paper's: `skin figure tones`, a face per tone preset (monk-01 ... monk-10, the
+// Monk Skin Tone scale fitted under D65; docs/tone-presets.md), in two rows of five. Its number
+// for figure_layout() and describe_figure().
+inline constexpr int kTonesFigure = 0;
 
 // The cells of figure `number` with the paper's parameters. `change` (optional; the CLI's
 // --preset and parameter flags) changes each cell's set; a sweep's own parameter then keeps the
 // paper's value of the cell (so `--preset african` sweeps oiliness on African skin). Throws
-// InputError for a number not in figure_numbers().
+// InputError for a number not in figure_numbers() or kTonesFigure. Fig. 8 shows the paper's three
+// skin types above three tone presets spanning the same range (monk-02, monk-06, monk-10).
 FigureLayout figure_layout(int number, const std::function<physics::SkinParameters(const physics::SkinParameters&)>& change = {});
 
 // The scenes of a figure, one per cell of its layout.
