@@ -607,14 +607,22 @@ struct TextureFitter::Impl {
   // The table's colour is ~0.5 dE2000 off the exact model (typically; a few units at worst), so
   // each colour is solved twice: on the table, then again with the table's colour shifted by the
   // exact model's colour minus the table's at the first solution (the exact colour: R_d every
-  // 10 nm, as the table's nodes). The shift varies slowly with the parameters, so the second
-  // solution's exact colour is the shifted table colour to within ~0.1 dE2000 (tested). One
-  // model evaluation per colour, and the answer depends on the colour alone.
+  // 10 nm, as the table's nodes). The shift varies slowly with the parameters, so where the
+  // second solution stays within kSameShift (in node spacings) of the first, its shifted table
+  // colour is its exact colour to ~0.1 dE2000 (tested); where it moved farther, the exact colour
+  // is evaluated there and reported instead. One or two model evaluations per colour (two for a
+  // quarter of the Lee Perry-Smith albedo's colours), and the answer depends on the colour alone.
+  static constexpr double kSameShift = 0.05;
   XSolved xsolve_exact(const color::Lab& target) const {
     const XSolved first = xsolve(target, Eigen::Vector3d::Zero());
     const color::Lab e = coarse_lab(xparams(first.u));
     const Eigen::Vector3d shift = Eigen::Vector3d(e.L, e.a, e.b) - first.lab;
-    return xsolve(target, shift, &first.u);
+    XSolved s = xsolve(target, shift, &first.u);
+    if ((s.u - first.u).cwiseAbs().maxCoeff() > kSameShift) {
+      const color::Lab moved = coarse_lab(xparams(s.u));
+      s.lab = Eigen::Vector3d(moved.L, moved.a, moved.b);
+    }
+    return s;
   }
   unsigned bound_bits_x(const XVec& u) const {
     unsigned bits = 0;

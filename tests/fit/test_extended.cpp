@@ -11,6 +11,7 @@
 #include "skin/fit/fit.hpp"
 #include "skin/util/error.hpp"
 #include "../temp_dir.hpp"
+#include "test_support.hpp"
 
 using namespace skin::fit;
 using skin::physics::SkinParameters;
@@ -205,6 +206,12 @@ TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
   constexpr double kErrorTolerance = 0.15;
   ColorFitOptions o;
   use_fit_model(o, FitModel::extended);
+  // Under the sanitizers three of the six (a table of 288 nodes, not 6 912: each node is 31
+  // adding-doubling solves, ~10x slower there); the Release suite fits the six.
+  if (skin::test::kUnderSanitizers) o.free = {Parameter::melanin, Parameter::hemoglobin, Parameter::epidermis_thickness};
+  const std::vector<std::string> more = skin::test::kUnderSanitizers
+                                            ? std::vector<std::string>{"epidermis_thickness"}
+                                            : std::vector<std::string>{"epidermis_thickness", "oxygenation", "scattering_scale"};
   const TextureFitter fitter(o);
   const ColorFitter exact(o);
   // Model colours at random parameters inside the prior ranges, and photographed skin colours
@@ -234,7 +241,7 @@ TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
       for (int c = 0; c < 3; ++c)
         img.rgb[(static_cast<std::size_t>(y) * w + x) * 3 + c] = static_cast<float>(colours[x][c]);
   const ParameterMaps maps = fitter.fit(img);
-  ASSERT_EQ(maps.more_parameters.size(), 3u);  // epidermis_thickness, oxygenation, scattering_scale
+  ASSERT_EQ(maps.more_parameters.size(), more.size());
   std::size_t any = 0;
   double worst = 0;
   for (int x = 0; x < w; ++x) {
@@ -271,8 +278,8 @@ TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
   const std::string path = (dir.path() / "maps.exr").string();
   write_parameter_maps(maps, path);
   const ParameterMaps back = read_parameter_maps(path);
-  ASSERT_EQ(back.more_parameters, maps.more_parameters);  // epidermis_thickness, oxygenation, scattering_scale
-  EXPECT_EQ(extended_map_channels(path), (std::vector<std::string>{"epidermis_thickness", "oxygenation", "scattering_scale"}));
+  ASSERT_EQ(back.more_parameters, maps.more_parameters);
+  EXPECT_EQ(extended_map_channels(path), more);
   EXPECT_EQ(back.more, maps.more);
   EXPECT_EQ(back.melanin, maps.melanin);
   EXPECT_EQ(back.error, maps.error);

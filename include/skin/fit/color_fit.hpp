@@ -137,8 +137,8 @@ std::ostream& operator<<(std::ostream& os, const ParameterMaps& m);
 // Extended model: a coarser table over every free parameter (multilinear), the extended colour
 // fit's objective (CIEDE2000 components and the prior terms) on it, solved twice per colour:
 // the second time with the table's colour shifted by the exact model's colour minus the table's
-// at the first solution, so that the parameters and the error map are the exact model's to
-// within ~0.1 dE2000 (docs/fit.md).
+// at the first solution (and the exact colour evaluated again where the solution moved), so
+// that the error map is the exact model's to within ~0.1 dE2000 (docs/fit.md).
 class TextureFitter {
  public:
   explicit TextureFitter(ColorFitOptions options = {});
