@@ -479,25 +479,24 @@ struct TextureFitter::Impl {
     std::array<double, 16> w{};
     for (std::size_t c = 0; c < (std::size_t(1) << n); ++c) {
       std::size_t at = base;
-      for (std::size_t k = 0; k < n; ++k) {
+      bool corner = true;  // a one-node axis has no upper corner
+      for (std::size_t k = 0; k < n && corner; ++k) {
         const bool up = ((c >> k) & 1u) != 0;
-        if (up && xaxis[k].n == 1) goto next;  // a one-node axis has no upper corner
+        corner = !(up && xaxis[k].n == 1);
         w[k] = xaxis[k].n == 1 ? 1.0 : (up ? f[k] : 1.0 - f[k]);
         if (up) at += xstride[k];
       }
-      {
-        pre[0] = 1;
-        for (std::size_t k = 0; k < n; ++k) pre[k + 1] = pre[k] * w[k];
-        const Eigen::Vector3d& node = xlab[at];
-        v += pre[n] * node;
-        if (J) {
-          suf[n] = 1;
-          for (std::size_t k = n; k-- > 0;) suf[k] = suf[k + 1] * w[k];
-          for (std::size_t k = 0; k < n; ++k)
-            if (xaxis[k].n > 1) J->col(static_cast<Eigen::Index>(k)) += (((c >> k) & 1u) ? 1.0 : -1.0) * pre[k] * suf[k + 1] * node;
-        }
+      if (!corner) continue;
+      pre[0] = 1;
+      for (std::size_t k = 0; k < n; ++k) pre[k + 1] = pre[k] * w[k];
+      const Eigen::Vector3d& node = xlab[at];
+      v += pre[n] * node;
+      if (J) {
+        suf[n] = 1;
+        for (std::size_t k = n; k-- > 0;) suf[k] = suf[k + 1] * w[k];
+        for (std::size_t k = 0; k < n; ++k)
+          if (xaxis[k].n > 1) J->col(static_cast<Eigen::Index>(k)) += (((c >> k) & 1u) ? 1.0 : -1.0) * pre[k] * suf[k + 1] * node;
       }
-    next:;
     }
     return v;
   }
@@ -958,24 +957,20 @@ ParameterMaps TextureFitter::fit_extended(int width, int height, const std::vect
   });
   const std::size_t total = uniq.size();
   std::atomic<std::size_t> done{0};
-  struct Out {
-    std::vector<float> v;  // per free parameter
-    float e = 0;
-    unsigned bound = 0;
-  };
-  std::vector<Out> solved(uniq.size());
+  // Per distinct colour: its free parameters (nfree values, flat), error and bound bits.
+  std::vector<float> value(uniq.size() * nfree), error(uniq.size());
+  std::vector<unsigned> bound(uniq.size());
   // Batches of colours in parallel; progress reported between batches from this thread.
   for (std::size_t start = 0; start < total; start += 4096) {
     const std::size_t end = std::min(total, start + 4096);
     tbb::parallel_for(start, end, [&](std::size_t q) {
-    if (util::cancel::requested()) return;  // thrown below, after the batch
-    const auto s = m.xsolve_exact(target[q]);
-    Out& o = solved[q];
-    o.v.resize(nfree);
-    for (std::size_t k = 0; k < nfree; ++k) o.v[k] = static_cast<float>(m.xaxis[k].value(s.u[static_cast<Eigen::Index>(k)]));
-    o.e = static_cast<float>(color::delta_e_2000(target[q], {s.lab[0], s.lab[1], s.lab[2]}));
-    o.bound = m.bound_bits_x(s.u);
-    ++done;
+      if (util::cancel::requested()) return;  // thrown below, after the batch
+      const auto s = m.xsolve_exact(target[q]);
+      for (std::size_t k = 0; k < nfree; ++k)
+        value[q * nfree + k] = static_cast<float>(m.xaxis[k].value(s.u[static_cast<Eigen::Index>(k)]));
+      error[q] = static_cast<float>(color::delta_e_2000(target[q], {s.lab[0], s.lab[1], s.lab[2]}));
+      bound[q] = m.bound_bits_x(s.u);
+      ++done;
     });
     util::cancel::check();
     if (progress) progress(done.load(), total);
@@ -1001,13 +996,13 @@ ParameterMaps TextureFitter::fit_extended(int width, int height, const std::vect
   for (std::size_t k = 0, j = 0; k < nfree; ++k) plane[k] = named_of[k] >= 0 ? planes3[named_of[k]] : &maps.more[j++];
   maps.error.resize(npix);
   tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
-    const Out& r = solved[slot[i]];
-    for (std::size_t k = 0; k < nfree; ++k) (*plane[k])[i] = r.v[k];
-    maps.error[i] = r.e;
+    const std::size_t q = slot[i];
+    for (std::size_t k = 0; k < nfree; ++k) (*plane[k])[i] = value[q * nfree + k];
+    maps.error[i] = error[q];
   });
   maps.update_error_statistics();
   for (std::size_t q = 0; q < uniq.size(); ++q) {
-    const unsigned b = solved[q].bound;
+    const unsigned b = bound[q];
     for (std::size_t k = 0, j = 0; k < nfree; ++k) {
       const bool on = ((b >> k) & 1u) != 0;
       if (named_of[k] >= 0) {
