@@ -918,6 +918,11 @@ PYBIND11_MODULE(_core, m) {
     fit::ColorFitOptions opt;
     opt.start = sets.values.front();
     fit::use_fit_model(opt, fit::parse_fit_model(model));
+    // As the command: the extended model's priors are the parameter table's, so a beta_m prior
+    // other than the defaults would be dropped without a word.
+    if (opt.fit_model == fit::FitModel::extended && (prior != 0.7 || weight != 0.2))
+      throw InputError("melanin_blend_prior, melanin_blend_weight: not used by model = 'extended', whose priors "
+                       "are the parameter table's (docs/fit.md)");
     opt.free = free_parameters(free, opt.free);
     opt.melanin_blend_prior = prior;
     opt.melanin_blend_weight = weight;

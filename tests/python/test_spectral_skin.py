@@ -163,6 +163,8 @@ class SameAsTheCommand(unittest.TestCase):
             ss.fit_color(hex="c4a090", model="extend")
         with self.assertRaisesRegex(ValueError, "model = 'extend' is unknown"):
             ss.fit_spectrum([450.0, 550.0, 650.0], [0.3, 0.4, 0.5], model="extend")
+        with self.assertRaisesRegex(ValueError, "melanin_blend_prior, melanin_blend_weight: not used by model = 'extended'"):
+            ss.fit_color(hex="c4a090", model="extended", melanin_blend_prior=0.5)
 
     def test_fit_texture_with_the_extended_model(self):
         # The extended maps: one more map per other free parameter, named by its key, as the
