@@ -144,9 +144,10 @@ void run_color(const FitOpts& o) {
   o.out.write(schema::color_fit_result(r, target, o.blend_prior, o.blend_weight));
 }
 
-// The maps side by side as a PNG (four, or seven under the extended model), each on its own range: the parameters' from the 1st to
-// the 99th percentile of their texels (a few texels at a bound would otherwise flatten the rest),
-// the error from 0 to its 99th percentile; values beyond take the ends' colours.
+// The maps side by side as a PNG (the four, then the extended model's others), each on its own
+// range: the parameters' from the 1st to the 99th percentile of their texels (a few texels at a
+// bound would otherwise flatten the rest), the error from 0 to its 99th percentile; values
+// beyond take the ends' colours.
 void write_maps_preview(const fit::ParameterMaps& maps, const std::string& texture, const std::string& path) {
   plot::MapSheet sheet;
   sheet.title = "skin fit --texture " + std::filesystem::path(texture).filename().string() + ": parameter maps (" +
