@@ -10,6 +10,7 @@
 #include <sys/wait.h>
 
 #include "../temp_dir.hpp"
+#include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
 #include "skin/image/image.hpp"
 #include <stb_image_write.h>
@@ -84,7 +85,7 @@ TEST(CliFit, SpectrumJson) {
 // (drawn at the texture's own 32 pixels, top left) rises from its dark blue end to its yellow
 // end along a row. A preview that is not .png, or --preview without --texture, is refused before
 // any work (exit 2, nothing written).
-TEST(CliFit, TexturePreviewDrawsTheFourMaps) {
+TEST(CliFit, TexturePreviewDrawsEveryMap) {
   const int w = 32, h = 16;
   std::vector<unsigned char> px(static_cast<std::size_t>(w * h * 3));
   for (int y = 0; y < h; ++y)
@@ -114,6 +115,15 @@ TEST(CliFit, TexturePreviewDrawsTheFourMaps) {
   EXPECT_FALSE(fs::exists(exr));
   EXPECT_FALSE(fs::exists(svg));
   EXPECT_EQ(run("--hex c0a090 --preview " + png).code, 2);
+  // The extended model's maps follow the four: with the thickness free as well, five panels in
+  // three columns (two rows). Three free parameters keep the table small (288 nodes).
+  fs::remove(png);
+  ASSERT_EQ(run("--texture " + tex + " --model extended --free melanin,hemoglobin,epidermis-thickness -o " + exr +
+                " --preview " + png).code, 0);
+  const skin::image::Image ext = skin::image::read_image(png, false);
+  EXPECT_EQ(ext.width, 12 + 3 * (360 + 16));  // three columns
+  EXPECT_GT(ext.height, 2 * (22 + h + 34));
+  EXPECT_EQ(skin::fit::read_parameter_maps(exr).more_parameters.size(), 1u);  // epidermis_thickness
 }
 
 TEST(CliFit, BadInputExitsTwoAndWritesNothing) {
