@@ -85,10 +85,8 @@ BENCHMARK(BM_SrgbFit)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTim
 // Whole texture fit, table included (what `skin fit --texture` does after reading the PNG).
 // Args: {size}, {0 = multipole, 1 = accurate}.
 static Image benchmark_texture(int n);
-static void BM_Texture(benchmark::State& state) {
-  const int n = static_cast<int>(state.range(0));
-  ColorFitOptions o;
-  o.model = forward_model(solver_name(static_cast<int>(state.range(1))));
+// The timed loop of both texture benchmarks: a fitter (its table) and the fit of an n x n texture.
+static void time_texture_fit(benchmark::State& state, const ColorFitOptions& o, int n) {
   const Image img = benchmark_texture(n);
   double mean = 0;
   for (auto _ : state) {
@@ -99,24 +97,20 @@ static void BM_Texture(benchmark::State& state) {
   state.SetLabel("mean dE2000 " + std::to_string(mean));
   state.SetItemsProcessed(state.iterations() * n * n);
 }
+static void BM_Texture(benchmark::State& state) {
+  ColorFitOptions o;
+  o.model = forward_model(solver_name(static_cast<int>(state.range(1))));
+  time_texture_fit(state, o, static_cast<int>(state.range(0)));
+}
 BENCHMARK(BM_Texture)->Args({256, 0})->Args({1024, 0})->Args({1024, 1})->Args({4096, 1})->Unit(benchmark::kMillisecond)
     ->UseRealTime()->Iterations(1);
 
-// The same under the extended model (six free parameters, accurate solver: the table and one
-// exact evaluation per distinct colour). Arg: size.
+// The same under the extended model (six free parameters, accurate solver: the table and one or
+// two exact evaluations per distinct colour). Arg: size.
 static void BM_TextureExtended(benchmark::State& state) {
-  const int n = static_cast<int>(state.range(0));
   ColorFitOptions o;
   use_fit_model(o, FitModel::extended);
-  const Image img = benchmark_texture(n);
-  double mean = 0;
-  for (auto _ : state) {
-    const TextureFitter fitter(o);
-    const ParameterMaps maps = fitter.fit(img);
-    mean = maps.mean_error;
-  }
-  state.SetLabel("mean dE2000 " + std::to_string(mean));
-  state.SetItemsProcessed(state.iterations() * n * n);
+  time_texture_fit(state, o, static_cast<int>(state.range(0)));
 }
 BENCHMARK(BM_TextureExtended)->Arg(256)->Arg(1024)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
