@@ -308,6 +308,26 @@ void register_fit(CLI::App& app) {
   });
 }
 
+// `skin tabulate-color-table`: the built-in table of the extended texture fit.
+void register_color_table(CLI::App& app) {
+  auto out = std::make_shared<std::string>();
+  CLI::App* sub = app.add_subcommand(
+      "tabulate-color-table",
+      "Tabulate the extended model's texture table (the colour at every node over the six default free "
+      "parameters): the data file data/extended_color_table.csv that `skin fit --texture --model extended` "
+      "reads (36 864 nodes, about 7 s on 2 cores)");
+  sub->add_option("-o,--output", *out, "Output CSV file (written atomically)")->required();
+  sub->callback([out] {
+    fit::ColorFitOptions opt;
+    fit::use_fit_model(opt, fit::FitModel::extended);
+    const fit::TextureFitter fitter(opt, false);
+    const fit::ExtendedColorTable& t = fitter.extended_table();
+    util::io::write_file_atomic(*out, t.to_csv("skin tabulate-color-table (" + std::string(transport::kDefaultModel) + " solver)"));
+    std::cout << "wrote " << *out << ": " << t.lab.size() << " nodes\n";
+  });
+}
+
 SKIN_REGISTER_COMMAND(80, register_fit);
+SKIN_REGISTER_COMMAND(81, register_color_table);
 
 }  // namespace skin::cli

@@ -199,11 +199,13 @@ Imf::Slice float_slice(float* data, const Imath::Box2i& dw, std::size_t xs, std:
 // failed late (a full disk) never passes for a complete file.
 // OpenEXR compresses blocks of scanlines in parallel on its own thread pool, which is empty
 // unless given threads: a 4096 x 4096 map of four float channels took 2.2 s to write on one
-// thread of this project's 2-core machine. The bytes written do not depend on it. (Readers
-// below pass 0 threads explicitly.)
+// thread of this project's 2-core machine. Twice as many threads as cores keep the cores busy
+// while the writing thread waits on the file: seven such channels (the extended model's maps,
+// 173 MB) took 6.7 s on one thread, 4.3 s on two, 3.6 s on four. The bytes written do not
+// depend on it. (Readers below pass 0 threads explicitly.)
 void use_exr_threads() {
   static std::once_flag once;
-  std::call_once(once, [] { Imf::setGlobalThreadCount(static_cast<int>(std::max(1u, std::thread::hardware_concurrency()))); });
+  std::call_once(once, [] { Imf::setGlobalThreadCount(static_cast<int>(2 * std::max(1u, std::thread::hardware_concurrency()))); });
 }
 
 void write_exr_file(const std::string& tmp, const std::string& shown, const Imf::Header& header,
@@ -555,6 +557,10 @@ void write_exr_planes(const std::string& path, int width, int height, const std:
   if (!consistent) throw InputError(what + ": inconsistent sizes for " + path);
   util::io::write_via_temporary(path, [&](const std::string& tmp) {
     Imf::Header header(width, height);
+    // ZIP at zlib's fastest level: the extended model's seven 4096 x 4096 float maps compress
+    // in 5.1 s of one core instead of 6.7 s at OpenEXR's default level 4, into a file 6 % larger
+    // (183 MB, not 173); any EXR reader inflates either.
+    header.zipCompressionLevel() = 1;
     for (const auto& v : planes) header.channels().insert(v.name, Imf::Channel(Imf::FLOAT));
     for (const auto& [name, text] : attributes) header.insert(name, Imf::StringAttribute(text));
     Imf::FrameBuffer fb;

@@ -130,18 +130,41 @@ struct ParameterMaps {
 };
 std::ostream& operator<<(std::ostream& os, const ParameterMaps& m);
 
+// The extended texture fit's table: the model's colour as the texture tables hold it
+// (TextureFitter::node_lab) at every node of a grid over the free parameters (per parameter,
+// `nodes` values evenly spaced over its bounds, in log(value) where the prior is logarithmic),
+// row-major with the last free parameter fastest. The built-in one,
+// data/extended_color_table.csv (`skin tabulate-color-table`), serves the default extended
+// texture fit; any other set of free parameters, bounds or fixed values builds its own.
+struct ExtendedColorTable {
+  std::vector<Parameter> free;
+  std::vector<Bounds> bounds;  // per free parameter
+  std::vector<int> nodes;      // per free parameter
+  std::vector<color::Lab> lab;
+  physics::SkinParameters fixed;  // the other parameters' values (the free ones' are unused)
+  // CSV text: "# key: value" lines (free, lo, hi, nodes, the fixed parameters, provenance), then
+  // L,a,b per node, every number round-trip exact.
+  std::string to_csv(std::string_view provenance) const;
+  // Throws InputError naming `source` on a malformed file or a node count that does not match.
+  static ExtendedColorTable parse(std::string_view text, const std::string& source);
+};
+
 // Texture fit: a dense table of the model's Lab over (log C_m, beta_m, log C_h), the per-pixel
 // objective above on the trilinearly interpolated table, solved per distinct pixel colour (in
 // parallel, TBB). The error map is measured against the interpolated model; the table's own
 // interpolation error is small against the exact model (tests/fit, docs/fit.md).
-// Extended model: a coarser table over every free parameter (multilinear), the extended colour
-// fit's objective (CIEDE2000 components and the prior terms) on it, solved twice per colour:
-// the second time with the table's colour shifted by the exact model's colour minus the table's
-// at the first solution (and the exact colour evaluated again where the solution moved), so
-// that the error map is the exact model's to within ~0.1 dE2000 (docs/fit.md).
+// Extended model: a table over every free parameter (ExtendedColorTable), the extended colour
+// fit's objective (CIEDE2000 components and the prior terms) on its multilinear interpolation,
+// solved twice per colour: the second time with the table's colour shifted by the table's
+// piecewise-cubic interpolation minus its multilinear one at the first solution; the colour
+// reported is the cubic interpolation's at the second, within ~0.1 dE2000 of the exact model
+// (docs/fit.md).
 class TextureFitter {
  public:
-  explicit TextureFitter(ColorFitOptions options = {});
+  // built_in_table: the extended model may read the built-in table where it is the one these
+  // options need (same free parameters, bounds and fixed values, and a few of its nodes computed
+  // again agree); false always builds it (`skin tabulate-color-table`).
+  explicit TextureFitter(ColorFitOptions options = {}, bool built_in_table = true);
   ~TextureFitter();
   TextureFitter(TextureFitter&&) noexcept;
   TextureFitter& operator=(TextureFitter&&) noexcept;
@@ -152,6 +175,12 @@ class TextureFitter {
   ColorFitResult fit_color(const color::Rgb& srgb_linear) const;
   // The interpolated model colour for a parameter set (for tests against ColorFitter::lab).
   color::Lab lab(const physics::SkinParameters& p) const;
+  // The colour a table node holds: R_d every 10 nm (and at the grid's ends), linearly
+  // interpolated to the colour grid, weighted as `skin color` does.
+  color::Lab node_lab(const physics::SkinParameters& p) const;
+  // Extended model: the table (built, or the built-in one), and whether it is the built-in one.
+  const ExtendedColorTable& extended_table() const;
+  bool uses_built_in_table() const;
 
  private:
   ParameterMaps fit_extended(int width, int height, const std::vector<std::uint32_t>& slot,
