@@ -998,7 +998,8 @@ PYBIND11_MODULE(_core, m) {
                           const std::optional<std::vector<std::string>>& free, double melanin_blend_prior,
                           double melanin_blend_weight,
                           const std::map<std::string, std::pair<double, double>>& bounds,
-                          const std::string& solver, const std::string& model, const py::kwargs& kw) {
+                          const std::string& solver, const std::string& model, bool uncertainty,
+                          const py::kwargs& kw) {
         const fit::ColorFitOptions opt = color_fit_options(parameter_sets(preset, kw), free, melanin_blend_prior,
                                                            melanin_blend_weight, bounds, solver, model);
         image::Image img;
@@ -1031,7 +1032,7 @@ PYBIND11_MODULE(_core, m) {
           std::copy(a.data(), a.data() + a.size(), img.rgb.begin());
         }
         python::check_linear_rgb(img.rgb, static_cast<std::size_t>(img.width));
-        const fit::ParameterMaps maps = interruptible([&] { return fit::TextureFitter(opt).fit(img); });
+        const fit::ParameterMaps maps = interruptible([&] { return fit::TextureFitter(opt).fit(img, {}, uncertainty); });
         const Shape hw{maps.height, maps.width};
         auto plane = [&](const std::vector<float>& v) {
           return make_array<float>(hw, [&](float* o) { std::copy(v.begin(), v.end(), o); });
@@ -1049,20 +1050,27 @@ PYBIND11_MODULE(_core, m) {
           d[py::str(name)] = plane(maps.more[k]);
           axes[py::str(name)] = py::make_tuple("y", "x");
         }
+        // The channels' names: "uncertainty.<key>".
+        for (std::size_t k = 0; k < maps.uncertainty_parameters.size(); ++k) {
+          const std::string name = "uncertainty." + std::string(fit::key(maps.uncertainty_parameters[k]));
+          d[py::str(name)] = plane(maps.uncertainty[k]);
+          axes[py::str(name)] = py::make_tuple("y", "x");
+        }
         d["axes"] = axes;
         return d;
       },
       "image"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "free"_a = py::none(),
       "melanin_blend_prior"_a = 0.7, "melanin_blend_weight"_a = 0.2,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
-      "model"_a = std::string("paper"),
+      "model"_a = std::string("paper"), "uncertainty"_a = false,
       ("`skin fit --texture`: per-pixel parameter maps (float32, axes y, x) melanin, "
        "melanin_blend, hemoglobin and error (CIEDE2000) of an albedo texture: a file name (PNG, "
        "JPEG, ...; a text or a path object) or an array (height, width, 3) of linear sRGB in 0-1 "
        "(any numpy array of numbers, float32 or float64, any memory layout; copied as float32); on "
        "all cores with the GIL released. model='extended' adds a map per other free parameter "
        "(epidermis_thickness, oxygenation, scattering_scale by default), named by its key. "
-       "Options as fit_color(). " + solver_doc() + params).c_str());
+       "uncertainty=True adds one standard deviation per free parameter and texel, "
+       "'uncertainty.<key>' (as fit_color()'s uncertainty). Options as fit_color(). " + solver_doc() + params).c_str());
 
   m.def(
       "export",

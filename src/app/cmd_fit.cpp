@@ -36,7 +36,7 @@ struct FitOpts {
   std::string model = "paper";
   SolverOption solver;
   std::vector<std::string> bounds;
-  bool includes_specular = false;
+  bool includes_specular = false, uncertainty = false;
   double lambda_min = 400, lambda_max = 700;
   double blend_prior = 0.7, blend_weight = 0.2;
 };
@@ -199,7 +199,7 @@ void run_texture(const FitOpts& o) {
   const ProgressCallback bar = progress_bar("distinct colours");  // empty unless on a terminal
   if (bar) std::cerr << "skin fit: building the colour table...\r" << std::flush;
   fitter.prepare();
-  const fit::ParameterMaps maps = fitter.fit(img, bar);
+  const fit::ParameterMaps maps = fitter.fit(img, bar, o.uncertainty);
   fit::write_parameter_maps(maps, o.out.output);
   if (!o.preview.empty()) write_maps_preview(maps, o.texture, o.preview);
   // -o is the EXR: the summary goes to standard output in --format (table on a terminal).
@@ -287,6 +287,11 @@ void register_fit(CLI::App& app) {
                                     "Texture fit: also draw the four maps in false colour, side by side, to FILE.png")
                         ->group("Output");
   o_preview->needs(o_tex);
+  sub->add_flag("--uncertainty", o->uncertainty,
+                "Texture fit: also write one standard deviation per free parameter and texel, the channels "
+                "uncertainty.<key> (docs/parameter-maps.md)")
+      ->group("Output")
+      ->needs(o_tex);
 
   // Options that only make sense for one kind of input are rejected elsewhere, before any work.
   for (auto* opt : {o_col, o_specular, o_lmin, o_lmax, o_plot, o_fitted}) opt->needs(o_spec);

@@ -395,7 +395,25 @@ struct Axis {
     if (n == 1) return 0;
     return (t(v) - t(lo)) / (t(hi) - t(lo)) * (n - 1);
   }
+  // d value / d u at u.
+  double slope(double u) const {
+    if (n == 1) return 0;
+    const double dt = (t(hi) - t(lo)) / (n - 1);
+    return log ? (value(u) + c0) * dt : dt;
+  }
 };
+// CIEDE2000's three components by CIELAB at l (central differences).
+Eigen::Matrix3d delta_e_2000_jacobian(const color::Lab& target, const Eigen::Vector3d& l) {
+  Eigen::Matrix3d D;
+  for (int c = 0; c < 3; ++c) {
+    Eigen::Vector3d lp = l, lm = l;
+    lp[c] += 1e-4, lm[c] -= 1e-4;
+    const auto a = color::delta_e_2000_components(target, {lp[0], lp[1], lp[2]});
+    const auto b = color::delta_e_2000_components(target, {lm[0], lm[1], lm[2]});
+    for (int q = 0; q < 3; ++q) D(q, c) = (a[q] - b[q]) / 2e-4;
+  }
+  return D;
+}
 }  // namespace
 
 // The extended table's vectors and matrices: at most 16 free parameters and their prior rows,
@@ -828,6 +846,60 @@ struct TextureFitter::Impl {
     s.lab = xcubic(s.u);
     return s;
   }
+  // One standard deviation per free parameter at the solution u of `target` (parameter units):
+  // the residuals' Jacobian from the cubic table (central differences in u, one-sided at a
+  // bound) and the prior rows, through standard_errors_scaled as the colour fit does.
+  std::vector<double> xuncertainty(const color::Lab& target, const XVec& u) const {
+    const auto n = static_cast<Eigen::Index>(xfree.size());
+    std::vector<Eigen::Index> prior_k;
+    for (Eigen::Index k = 0; k < n; ++k)
+      if (has_prior_centre(xfree[static_cast<std::size_t>(k)])) prior_k.push_back(k);
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3 + static_cast<Eigen::Index>(prior_k.size()), n);
+    Eigen::Matrix<double, 3, Eigen::Dynamic> Jc(3, n);
+    constexpr double h = 1e-3;
+    for (Eigen::Index k = 0; k < n; ++k) {
+      const double top = xaxis[static_cast<std::size_t>(k)].n - 1;
+      XVec up = u, um = u;
+      up[k] = std::min(u[k] + h, top);
+      um[k] = std::max(u[k] - h, 0.0);
+      Jc.col(k) = (xcubic(up) - xcubic(um)) / (up[k] - um[k]);
+    }
+    J.topRows(3) = delta_e_2000_jacobian(target, xcubic(u)) * Jc;
+    for (std::size_t j = 0; j < prior_k.size(); ++j) {
+      const auto k = static_cast<std::size_t>(prior_k[j]);
+      XVec up = u, um = u;
+      up[prior_k[j]] += 1e-5, um[prior_k[j]] -= 1e-5;
+      J(3 + static_cast<Eigen::Index>(j), prior_k[j]) =
+          xprior_affine[k] ? xprior_b[k] : (prior_residual(up, k) - prior_residual(um, k)) / 2e-5;
+    }
+    const Eigen::VectorXd se = detail::standard_errors_scaled(J, 1.0);
+    std::vector<double> sd(xfree.size());
+    for (std::size_t k = 0; k < xfree.size(); ++k)
+      sd[k] = se[static_cast<Eigen::Index>(k)] * std::abs(xaxis[k].slope(u[static_cast<Eigen::Index>(k)]));
+    return sd;
+  }
+  // The paper model's: Lab residuals and the beta_m prior row, the trilinear table's derivatives;
+  // for the free ones of (melanin, melanin_blend, hemoglobin), in that order.
+  std::vector<double> uncertainty(const Eigen::Vector3d& u) const {
+    const auto& opt = exact.options();
+    Eigen::Matrix3d Jl;
+    eval(u, &Jl);
+    std::vector<int> free;
+    for (int k = 0; k < 3; ++k)
+      if (axis[k].n > 1) free.push_back(k);
+    const bool reg = axis[1].n > 1;
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3 + (reg ? 1 : 0), static_cast<Eigen::Index>(free.size()));
+    for (std::size_t j = 0; j < free.size(); ++j) {
+      const auto c = static_cast<Eigen::Index>(j);
+      J.block(0, c, 3, 1) = Jl.col(free[j]);
+      if (reg && free[j] == 1) J(3, c) = opt.melanin_blend_weight * (axis[1].hi - axis[1].lo) / (axis[1].n - 1);
+    }
+    const Eigen::VectorXd se = detail::standard_errors_scaled(J, 1.0);
+    std::vector<double> sd;
+    for (std::size_t j = 0; j < free.size(); ++j)
+      sd.push_back(se[static_cast<Eigen::Index>(j)] * std::abs(axis[free[j]].slope(u[free[j]])));
+    return sd;
+  }
   unsigned bound_bits_x(const XVec& u) const {
     unsigned bits = 0;
     for (std::size_t k = 0; k < xfree.size(); ++k)
@@ -1024,6 +1096,7 @@ ColorFitResult TextureFitter::fit_color(const color::Rgb& rgb) const {
     r.free = m.xfree;
     const unsigned bits = m.bound_bits_x(s.u);
     for (std::size_t k = 0; k < m.xfree.size(); ++k) r.at_bound.push_back(((bits >> k) & 1u) != 0);
+    r.uncertainty = m.xuncertainty(t, s.u);
     return r;
   }
   const auto s = impl_->solve({t.L, t.a, t.b});
@@ -1033,13 +1106,16 @@ ColorFitResult TextureFitter::fit_color(const color::Rgb& rgb) const {
   r.fitted = {s.lab[0], s.lab[1], s.lab[2]};
   r.delta_e = color::delta_e_2000(r.target, r.fitted);
   r.iterations = s.iterations;
-  r.free = {Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin};
+  r.free.clear();
+  const Parameter ps[3] = {Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin};
   const unsigned char bits = impl_->bound_bits(s.u);
-  for (int k = 0; k < 3; ++k) r.at_bound.push_back(((bits >> k) & 1u) != 0);
+  for (int k = 0; k < 3; ++k)
+    if (impl_->axis[k].n > 1) r.free.push_back(ps[k]), r.at_bound.push_back(((bits >> k) & 1u) != 0);
+  r.uncertainty = impl_->uncertainty(s.u);
   return r;
 }
 
-ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progress) const {
+ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progress, bool uncertainty) const {
   if (img.width <= 0 || img.height <= 0 || img.rgb.size() != static_cast<std::size_t>(img.width) * img.height * 3)
     throw InputError("texture: expected an RGB image, got " + std::to_string(img.width) + "x" +
                      std::to_string(img.height) + " with " + std::to_string(img.rgb.size()) + " values");
@@ -1106,13 +1182,17 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
       ++count[last_slot];
     }
   }
-  if (impl_->ext) return fit_extended(img.width, img.height, slot, uniq, count, progress);
+  if (impl_->ext) return fit_extended(img.width, img.height, slot, uniq, count, progress, uncertainty);
   struct Out {
     float m, b, h, e;
     unsigned char bound;  // bit k: parameter k (melanin, melanin_blend, hemoglobin) on its bound
   };
   std::vector<Out> solved(uniq.size());
   const Impl& m = *impl_;
+  std::vector<Parameter> free;  // the free ones of the three, in that order
+  for (int k = 0; k < 3; ++k)
+    if (m.axis[k].n > 1) free.push_back(std::array{Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin}[static_cast<std::size_t>(k)]);
+  std::vector<float> sd(uncertainty ? uniq.size() * free.size() : 0);
   std::atomic<std::size_t> done{0};
   const std::size_t chunk = 256;
   const std::size_t nchunks = (uniq.size() + chunk - 1) / chunk;
@@ -1133,6 +1213,10 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
         const unsigned char bound = m.bound_bits(s.u);
         solved[q] = {static_cast<float>(p.melanin), static_cast<float>(p.melanin_blend),
                      static_cast<float>(p.hemoglobin), static_cast<float>(e), bound};
+        if (uncertainty) {
+          const std::vector<double> u = m.uncertainty(s.u);
+          for (std::size_t j = 0; j < free.size(); ++j) sd[q * free.size() + j] = static_cast<float>(u[j]);
+        }
       }
       done += chunk;
     });
@@ -1147,12 +1231,17 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
   maps.melanin_blend.resize(npix);
   maps.hemoglobin.resize(npix);
   maps.error.resize(npix);
+  if (uncertainty) {
+    maps.uncertainty_parameters = free;
+    maps.uncertainty.assign(free.size(), std::vector<float>(npix));
+  }
   tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
     const Out& r = solved[slot[i]];
     maps.melanin[i] = r.m;
     maps.melanin_blend[i] = r.b;
     maps.hemoglobin[i] = r.h;
     maps.error[i] = r.e;
+    for (std::size_t k = 0; k < maps.uncertainty.size(); ++k) maps.uncertainty[k][i] = sd[slot[i] * free.size() + k];
   });
   maps.update_error_statistics();
   for (std::size_t q = 0; q < uniq.size(); ++q) {
@@ -1167,7 +1256,7 @@ ParameterMaps TextureFitter::fit(const Image& img, const ProgressCallback& progr
 ParameterMaps TextureFitter::fit_extended(int width, int height, const std::vector<std::uint32_t>& slot,
                                           const std::vector<std::uint64_t>& uniq,
                                           const std::vector<std::uint32_t>& count,
-                                          const ProgressCallback& progress) const {
+                                          const ProgressCallback& progress, bool uncertainty) const {
   const Impl& m = *impl_;
   const std::size_t nfree = m.xfree.size();
   // The distinct colours' CIELAB.
@@ -1181,6 +1270,7 @@ ParameterMaps TextureFitter::fit_extended(int width, int height, const std::vect
   std::atomic<std::size_t> done{0};
   // Per distinct colour: its free parameters (nfree values, flat), error and bound bits.
   std::vector<float> value(uniq.size() * nfree), error(uniq.size());
+  std::vector<float> sd(uncertainty ? uniq.size() * nfree : 0);
   std::vector<unsigned> bound(uniq.size());
   // Batches of colours in parallel; progress reported between batches from this thread.
   for (std::size_t start = 0; start < total; start += 4096) {
@@ -1192,6 +1282,10 @@ ParameterMaps TextureFitter::fit_extended(int width, int height, const std::vect
         value[q * nfree + k] = static_cast<float>(m.xaxis[k].value(s.u[static_cast<Eigen::Index>(k)]));
       error[q] = static_cast<float>(color::delta_e_2000(target[q], {s.lab[0], s.lab[1], s.lab[2]}));
       bound[q] = m.bound_bits_x(s.u);
+      if (uncertainty) {
+        const std::vector<double> u = m.xuncertainty(target[q], s.u);
+        for (std::size_t k = 0; k < nfree; ++k) sd[q * nfree + k] = static_cast<float>(u[k]);
+      }
       ++done;
     });
     util::cancel::check();
@@ -1217,10 +1311,22 @@ ParameterMaps TextureFitter::fit_extended(int width, int height, const std::vect
   maps.more_at_bound.assign(maps.more_parameters.size(), 0);
   for (std::size_t k = 0, j = 0; k < nfree; ++k) plane[k] = named_of[k] >= 0 ? planes3[named_of[k]] : &maps.more[j++];
   maps.error.resize(npix);
+  // The uncertainty maps in the maps' order: the three named ones that are free, then `more`'s.
+  std::vector<std::size_t> sd_of;  // the free parameter of each uncertainty map
+  if (uncertainty) {
+    for (int c = 0; c < 3; ++c)
+      for (std::size_t k = 0; k < nfree; ++k)
+        if (named_of[k] == c) sd_of.push_back(k);
+    for (std::size_t k = 0; k < nfree; ++k)
+      if (named_of[k] < 0) sd_of.push_back(k);
+    for (std::size_t k : sd_of) maps.uncertainty_parameters.push_back(m.xfree[k]);
+    maps.uncertainty.assign(nfree, std::vector<float>(npix));
+  }
   tbb::parallel_for(std::size_t(0), npix, [&](std::size_t i) {
     const std::size_t q = slot[i];
     for (std::size_t k = 0; k < nfree; ++k) (*plane[k])[i] = value[q * nfree + k];
     maps.error[i] = error[q];
+    for (std::size_t j = 0; j < sd_of.size(); ++j) maps.uncertainty[j][i] = sd[q * nfree + sd_of[j]];
   });
   maps.update_error_statistics();
   for (std::size_t q = 0; q < uniq.size(); ++q) {

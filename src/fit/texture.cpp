@@ -4,11 +4,13 @@
 #include "skin/util/error.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace skin::fit {
 
 namespace {
 const std::vector<std::string> kChannels = {"melanin", "melanin_blend", "hemoglobin", "error"};
+const std::string kUncertainty = "uncertainty.";
 }
 
 void write_parameter_maps(const ParameterMaps& maps, const std::string& path) {
@@ -19,14 +21,21 @@ void write_parameter_maps(const ParameterMaps& maps, const std::string& path) {
   // The extended model's other free parameters, named by key (read by a scene's
   // parameter_maps like the three above).
   std::vector<std::string> names;
+  names.reserve(maps.more_parameters.size() + maps.uncertainty_parameters.size());  // (views hold pointers)
   for (Parameter p : maps.more_parameters) names.emplace_back(key(p));
   for (std::size_t k = 0; k < maps.more.size() && k < names.size(); ++k) planes.push_back({names[k], &maps.more[k]});
+  // One standard deviation per free parameter: the layer "uncertainty".
+  const std::size_t first = names.size();
+  for (Parameter p : maps.uncertainty_parameters) names.push_back(kUncertainty + std::string(key(p)));
+  for (std::size_t k = 0; k < maps.uncertainty.size() && first + k < names.size(); ++k)
+    planes.push_back({names[first + k], &maps.uncertainty[k]});
   image::write_exr_planes(path, maps.width, maps.height, planes,
                           {{"skin_layout",
                             "Spectral Skin parameter maps v1: melanin (C_m), melanin_blend "
                             "(beta_m), hemoglobin (C_h), error (CIEDE2000), and under the extended "
-                            "model one channel per other free parameter, named by its key; "
-                            "docs/parameter-maps.md"}},
+                            "model one channel per other free parameter, named by its key; with "
+                            "--uncertainty one standard deviation per free parameter, "
+                            "uncertainty.<key>; docs/parameter-maps.md"}},
                           "parameter maps");
 }
 
@@ -41,6 +50,19 @@ ParameterMaps read_parameter_maps(const std::string& path) {
   std::vector<std::string> names = kChannels;
   const std::vector<std::string> more = extended_map_channels(path);
   names.insert(names.end(), more.begin(), more.end());
+  // The uncertainty channels in the maps' order: melanin, melanin_blend, hemoglobin, then the
+  // other channels' (the file lists its channels alphabetically).
+  std::vector<Parameter> found;
+  for (const std::string& n : image::exr_channel_names(path, "parameter maps"))
+    if (const physics::ParameterInfo* info = n.rfind(kUncertainty, 0) == 0 ? physics::find_parameter(n.substr(kUncertainty.size())) : nullptr;
+        info && std::isfinite(info->fit_min))
+      found.push_back(parse_parameter(n.substr(kUncertainty.size())));
+  std::vector<Parameter> order = {Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin}, sd;
+  for (const std::string& m : more) order.push_back(parse_parameter(m));
+  for (Parameter p : found)
+    if (std::find(order.begin(), order.end(), p) == order.end()) order.push_back(p);
+  for (Parameter p : order)
+    if (std::find(found.begin(), found.end(), p) != found.end()) sd.push_back(p), names.push_back(kUncertainty + std::string(key(p)));
   image::Planes planes = image::read_exr_planes(path, names, "parameter maps");
   ParameterMaps maps;
   maps.width = planes.width;
@@ -54,6 +76,8 @@ ParameterMaps read_parameter_maps(const std::string& path) {
     maps.more.push_back(std::move(planes.values[4 + k]));
   }
   maps.more_at_bound.assign(more.size(), 0);
+  maps.uncertainty_parameters = sd;
+  for (std::size_t k = 0; k < sd.size(); ++k) maps.uncertainty.push_back(std::move(planes.values[4 + more.size() + k]));
   maps.update_error_statistics();
   return maps;
 }

@@ -67,6 +67,7 @@ json texture_fit_document(const fit::ParameterMaps& maps) {
   j["height"] = maps.height;
   j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
   for (fit::Parameter p : maps.more_parameters) j["channels"].push_back(std::string(fit::key(p)));
+  for (fit::Parameter p : maps.uncertainty_parameters) j["channels"].push_back("uncertainty." + std::string(fit::key(p)));
   j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
   // Outside the model's gamut: texels farther than fit::kGamutDeltaE; parameters on their bounds.
   j["outside_gamut"] = {{"fraction", 1.0 - maps.fraction_below_1}, {"mean_delta_e_2000", maps.mean_error_outside}};
@@ -96,6 +97,7 @@ Result texture_fit_result(const fit::ParameterMaps& maps, const std::string& tex
     if (k < maps.more_at_bound.size())
       more_bounds += ", " + std::string(fit::key(maps.more_parameters[k])) + " " + std::to_string(maps.more_at_bound[k]);
   }
+  for (fit::Parameter p : maps.uncertainty_parameters) channels += ", uncertainty." + std::string(fit::key(p));
   char buf[256];
   std::snprintf(buf, sizeof buf, "wrote %s: %dx%d, channels ", output.c_str(), maps.width, maps.height);
   result.table = buf + channels + "\n";

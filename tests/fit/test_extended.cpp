@@ -305,8 +305,8 @@ TEST(ExtendedTexture, CubicTableIsTheModelsColour) {
 TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
   // The extended texture path (a table over the free parameters, each colour solved on its
   // multilinear interpolation, then again shifted onto its cubic one, which gives the colour
-  // reported): 1) every texel carries its own colour's single fit through
-  // that path, bit for bit, with the bound counts adding up; 2) the error it reports is the
+  // reported): 1) every texel carries its own colour's single fit through that path, bit for
+  // bit (its uncertainty too), with the bound counts adding up; 2) the error it reports is the
   // exact model's (the colour of the texel's parameters by R_d on the whole 2 nm grid, the
   // colour `skin color` prints): within kErrorTolerance dE2000 of it; 3) colours the model makes
   // inside the measured ranges are reached within 1 dE2000 by the exact model.
@@ -347,10 +347,12 @@ TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
     for (int x = 0; x < w; ++x)
       for (int c = 0; c < 3; ++c)
         img.rgb[(static_cast<std::size_t>(y) * w + x) * 3 + c] = static_cast<float>(colours[x][c]);
-  const ParameterMaps maps = fitter.fit(img);
+  const ParameterMaps maps = fitter.fit(img, {}, true);
   ASSERT_EQ(maps.more_parameters.size(), more.size());
+  ASSERT_EQ(maps.uncertainty_parameters, o.free);  // (the free parameters are in the maps' order here)
   std::size_t any = 0;
-  double worst = 0;
+  double worst = 0, worst_sd = 0;
+  int compared = 0;
   for (int x = 0; x < w; ++x) {
     // The texture path reads 16-bit channels.
     skin::color::Rgb q;
@@ -364,6 +366,21 @@ TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
       for (std::size_t k = 0; k < maps.more.size(); ++k)
         ASSERT_EQ(maps.more[k][i], static_cast<float>(get(r.parameters, maps.more_parameters[k]))) << x;
       ASSERT_EQ(maps.error[i], static_cast<float>(r.delta_e)) << x;
+      for (std::size_t k = 0; k < o.free.size(); ++k)
+        ASSERT_EQ(maps.uncertainty[k][i], static_cast<float>(r.uncertainty[k])) << x;
+    }
+    // The uncertainty from the table's derivatives against the exact colour fit's (its LM
+    // Jacobian on the model itself) for five colours it reaches with no parameter on a bound:
+    // within 5 % (3.3 % at worst over nine colours when this was written).
+    bool on_bound = false;
+    for (bool b : r.at_bound) on_bound = on_bound || b;
+    if (made[static_cast<std::size_t>(x)] && !on_bound && compared < 5) {
+      ++compared;
+      const ColorFitResult e = exact.fit(q);
+      for (std::size_t k = 0; k < o.free.size(); ++k) {
+        EXPECT_NEAR(r.uncertainty[k] / e.uncertainty[k], 1.0, 0.05) << x << " " << key(o.free[k]);
+        worst_sd = std::max(worst_sd, std::abs(r.uncertainty[k] / e.uncertainty[k] - 1));
+      }
     }
     bool on = false;
     for (bool b : r.at_bound) on = on || b;
@@ -379,7 +396,9 @@ TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
     }
   }
   EXPECT_EQ(maps.any_at_bound, any);
-  std::printf("extended texture: worst |reported - exact| error %.3f dE2000\n", worst);
+  std::printf("extended texture: worst |reported - exact| error %.3f dE2000; uncertainty within %.1f %% of the colour fit's "
+              "(%d colours)\n", worst, 100 * worst_sd, compared);
+  EXPECT_GE(compared, 3);
   // The file keeps the other maps as channels named by key, and reads them back.
   const skin::test::TempDir dir("extended_maps");
   const std::string path = (dir.path() / "maps.exr").string();
@@ -388,6 +407,8 @@ TEST(ExtendedTexture, TexelsGetTheirColoursFitAndTheErrorIsTheExactModels) {
   ASSERT_EQ(back.more_parameters, maps.more_parameters);
   EXPECT_EQ(extended_map_channels(path), more);
   EXPECT_EQ(back.more, maps.more);
+  EXPECT_EQ(back.uncertainty_parameters, maps.uncertainty_parameters);
+  EXPECT_EQ(back.uncertainty, maps.uncertainty);
   EXPECT_EQ(back.melanin, maps.melanin);
   EXPECT_EQ(back.error, maps.error);
 }

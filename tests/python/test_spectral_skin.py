@@ -178,6 +178,16 @@ class SameAsTheCommand(unittest.TestCase):
             self.assertEqual(maps["axes"][k], ("y", "x"), k)
         self.assertLess(maps["error_delta_e_2000"]["max"], 0.5)
         self.assertTrue(np.all((maps["epidermis_thickness"] >= 0.04) & (maps["epidermis_thickness"] <= 0.15)))
+        # uncertainty=True: one standard deviation per free parameter and texel, the command's
+        # channels uncertainty.<key>; from the table's derivatives, within 5 % of the exact
+        # colour fit's uncertainty for the same colour.
+        withsd = ss.fit_texture(np.tile(target["color"]["srgb_linear"], (2, 3, 1)), model="extended", uncertainty=True)
+        single = ss.fit_color(srgb=target["color"]["srgb8"], model="extended")
+        for k in ["melanin", "melanin_blend", "hemoglobin", "epidermis_thickness", "oxygenation", "scattering_scale"]:
+            self.assertIn("uncertainty." + k, withsd["channels"])
+            np.testing.assert_array_equal(withsd[k], maps[k])
+            self.assertEqual(withsd["uncertainty." + k].shape, (2, 3))
+            np.testing.assert_allclose(withsd["uncertainty." + k], single["uncertainty"][k], rtol=0.05)
 
     def test_fit_takes_the_papers_symbols(self):
         keys = ss.fit_color(hex="a98f74", solver="multipole", free=["melanin", "hemoglobin"],

@@ -72,7 +72,8 @@ export function readParameterMaps(buffer, name) {
   // Maps of the extended model (skin fit --model extended) carry a channel per other fitted
   // parameter (epidermis_thickness, ...); this view's colour grid spans the three above only, so
   // shading them would drop those maps silently.
-  const more = channels.filter((ch) => !MAP_CHANNELS.includes(ch.name)).map((ch) => ch.name);
+  // (The layer "uncertainty." of skin fit --uncertainty describes the maps; it is not one.)
+  const more = channels.filter((ch) => !MAP_CHANNELS.includes(ch.name) && !ch.name.startsWith('uncertainty.')).map((ch) => ch.name);
   if (more.length) fail(`channels ${more.join(', ')}: maps of the extended model are not shaded here (only ${MAP_CHANNELS.join(', ')}); fit with skin fit --model paper`);
   const comp = attribute('compression', 'compression');
   const code = bytes[comp.at];

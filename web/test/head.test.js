@@ -285,7 +285,9 @@ async function main() {
           return c.toDataURL('image/png').split(',')[1];
         }, colours[name].hex);
         fs.writeFileSync(path.join(dir, `${name}.png`), Buffer.from(png, 'base64'));
-        require('child_process').execFileSync(SKIN, ['fit', '--texture', path.join(dir, `${name}.png`), '-o', path.join(dir, `${name}.exr`)], { stdio: 'pipe' });
+        // (The tanned maps with their uncertainty layer, which the view reads past.)
+        require('child_process').execFileSync(SKIN, ['fit', '--texture', path.join(dir, `${name}.png`), '-o', path.join(dir, `${name}.exr`),
+          ...(name === 'tanned' ? ['--uncertainty'] : [])], { stdio: 'pipe' });
       }
       await page.click('#presets button[data-preset="caucasian"]');
       await ready(page);

@@ -125,6 +125,14 @@ struct ParameterMaps {
   std::vector<Parameter> more_parameters;
   std::vector<std::vector<float>> more;
   std::vector<std::size_t> more_at_bound;
+  // With TextureFitter::fit(..., uncertainty = true): one standard deviation per free parameter
+  // and texel, in the parameter's unit, as ColorFitResult::uncertainty defines it (a target known
+  // to one unit per residual: Lab units for the paper model, CIEDE2000 for the extended one;
+  // infinity where the colour and the prior leave a direction free); written as the channels
+  // "uncertainty.<key>" (an EXR layer). In the order of uncertainty_parameters (the fit's free
+  // parameters).
+  std::vector<Parameter> uncertainty_parameters;
+  std::vector<std::vector<float>> uncertainty;
   // Recomputes the three statistics from the error channel.
   void update_error_statistics();
 };
@@ -170,8 +178,11 @@ class TextureFitter {
   TextureFitter& operator=(TextureFitter&&) noexcept;
   void prepare() const;  // builds the table (otherwise the first fit does)
   // progress(distinct colours done, distinct colours) after each batch (may be empty).
-  ParameterMaps fit(const Image& linear_srgb, const util::ProgressCallback& progress = {}) const;
-  // One colour through the texture path (interpolated table), for tests.
+  // uncertainty: also the maps of one standard deviation per free parameter (ParameterMaps).
+  ParameterMaps fit(const Image& linear_srgb, const util::ProgressCallback& progress = {},
+                    bool uncertainty = false) const;
+  // One colour through the texture path (interpolated table), for tests; with its uncertainty
+  // (the texel's, from the table's derivatives at the solution).
   ColorFitResult fit_color(const color::Rgb& srgb_linear) const;
   // The interpolated model colour for a parameter set (for tests against ColorFitter::lab).
   color::Lab lab(const physics::SkinParameters& p) const;
@@ -185,7 +196,7 @@ class TextureFitter {
  private:
   ParameterMaps fit_extended(int width, int height, const std::vector<std::uint32_t>& slot,
                              const std::vector<std::uint64_t>& uniq, const std::vector<std::uint32_t>& count,
-                             const util::ProgressCallback& progress) const;
+                             const util::ProgressCallback& progress, bool uncertainty) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
@@ -194,7 +205,8 @@ class TextureFitter {
 // hemoglobin, error; see docs/parameter-maps.md), atomically. Throws InputError on failure.
 void write_parameter_maps(const ParameterMaps& maps, const std::string& path);
 // Reads such a file back (all four channels required; the extended model's other channels,
-// those named by a parameter key, into `more`). Throws InputError.
+// those named by a parameter key, into `more`; "uncertainty.<key>" channels into `uncertainty`).
+// Throws InputError.
 ParameterMaps read_parameter_maps(const std::string& path);
 // The channels of a parameter-maps file beyond the four, each named by a parameter key (the
 // extended model's maps: epidermis_thickness, ...), in the file's order.
