@@ -196,10 +196,12 @@ void run_texture(const FitOpts& o) {
   const fit::ColorFitOptions opt = color_fit_options(o);
   const image::Image img = image::read_image(o.texture);
   const fit::TextureFitter fitter(opt);
-  const ProgressCallback bar = progress_bar("distinct colours");  // empty unless on a terminal
-  if (bar) std::cerr << "skin fit: building the colour table...\r" << std::flush;
-  fitter.prepare();
-  const fit::ParameterMaps maps = fitter.fit(img, bar, o.uncertainty);
+  // The bars are empty unless stderr is a terminal; each starts its clock when made. (A table
+  // read, not built, reports no nodes.)
+  const ProgressCallback nodes = progress_bar("table nodes");
+  if (nodes) std::cerr << "skin fit: building the colour table...\r" << std::flush;
+  fitter.prepare(nodes);
+  const fit::ParameterMaps maps = fitter.fit(img, progress_bar("distinct colours"), o.uncertainty);
   fit::write_parameter_maps(maps, o.out.output);
   if (!o.preview.empty()) write_maps_preview(maps, o.texture, o.preview);
   // -o is the EXR: the summary goes to standard output in --format (table on a terminal).

@@ -589,7 +589,7 @@ struct TextureFitter::Impl {
     return true;
   }
   static constexpr std::string_view kBuiltInTable = "extended_color_table.csv";
-  void build_extended() const {
+  void build_extended(const ProgressCallback& progress) const {
     built_in = allow_built_in && read_built_in();
     if (!built_in) {
       const std::size_t total = xtotal();
@@ -599,11 +599,16 @@ struct TextureFitter::Impl {
       xtable.nodes.clear();
       for (const Axis& a : xaxis) xtable.bounds.push_back({a.lo, a.hi}), xtable.nodes.push_back(a.n);
       xtable.lab.resize(total);
-      tbb::parallel_for(std::size_t(0), total, [&](std::size_t e) {
-        if (util::cancel::requested()) return;
-        xtable.lab[e] = coarse_lab(xparams(xnode(e)));
-      });
-      util::cancel::check();
+      // In batches, progress reported between them from this thread.
+      for (std::size_t start = 0; start < total; start += 2048) {
+        const std::size_t end = std::min(total, start + 2048);
+        tbb::parallel_for(start, end, [&](std::size_t e) {
+          if (util::cancel::requested()) return;
+          xtable.lab[e] = coarse_lab(xparams(xnode(e)));
+        });
+        util::cancel::check();
+        if (progress) progress(end, total);
+      }
     }
     xlab.resize(xtable.lab.size());
     for (std::size_t e = 0; e < xlab.size(); ++e) xlab[e] = {xtable.lab[e].L, xtable.lab[e].a, xtable.lab[e].b};
@@ -907,9 +912,9 @@ struct TextureFitter::Impl {
         bits |= 1u << k;
     return bits;
   }
-  void build() const {
+  void build(const ProgressCallback& progress) const {
     if (ext) {
-      build_extended();
+      build_extended(progress);
       return;
     }
     const std::size_t total = static_cast<std::size_t>(axis[0].n) * axis[1].n * axis[2].n;
@@ -1048,7 +1053,9 @@ TextureFitter::TextureFitter(ColorFitOptions options, bool built_in_table) {
 TextureFitter::~TextureFitter() = default;
 TextureFitter::TextureFitter(TextureFitter&&) noexcept = default;
 TextureFitter& TextureFitter::operator=(TextureFitter&&) noexcept = default;
-void TextureFitter::prepare() const { std::call_once(impl_->once, [this] { impl_->build(); }); }
+void TextureFitter::prepare(const ProgressCallback& progress) const {
+  std::call_once(impl_->once, [this, &progress] { impl_->build(progress); });
+}
 
 color::Lab TextureFitter::lab(const SkinParameters& p) const {
   prepare();

@@ -176,7 +176,9 @@ class TextureFitter {
   ~TextureFitter();
   TextureFitter(TextureFitter&&) noexcept;
   TextureFitter& operator=(TextureFitter&&) noexcept;
-  void prepare() const;  // builds the table (otherwise the first fit does)
+  // Builds the table (otherwise the first fit does); progress(nodes done, nodes) between batches
+  // where the extended model's table is built, not read (may be empty).
+  void prepare(const util::ProgressCallback& progress = {}) const;
   // progress(distinct colours done, distinct colours) after each batch (may be empty).
   // uncertainty: also the maps of one standard deviation per free parameter (ParameterMaps).
   ParameterMaps fit(const Image& linear_srgb, const util::ProgressCallback& progress = {},
