@@ -313,7 +313,7 @@ std::string shortest(double v) {
 std::string ExtendedColorTable::to_csv(std::string_view provenance) const {
   std::string out =
       "# Spectral Skin: the extended texture fit's colour table (skin fit --texture --model extended): CIELAB\n"
-      "# under D65 of R_d by the accurate solver every 10 nm, linearly interpolated to 400-700 nm every 2 nm\n"
+      "# under D65 of R_d (the provenance names the solver) every 10 nm, linearly interpolated to 400-700 nm every 2 nm\n"
       "# (TextureFitter::node_lab), at every node of a grid over the free parameters: per parameter `nodes`\n"
       "# values evenly spaced from lo to hi (in log(value) where its prior is logarithmic), row-major, the\n"
       "# last free parameter fastest; the other parameters at the fixed.* values. include/skin/fit/color_fit.hpp,\n"
@@ -498,10 +498,11 @@ struct TextureFitter::Impl {
   // Nodes per free parameter of the extended table: melanin and blood span 3 and 1.5 decades,
   // the epidermis' thickness acts together with melanin (its absorbance is their product), the
   // others span a factor 2-4 or are a weak lever (oxygenation). With these, the table's
-  // piecewise-cubic interpolation (xcubic) is the model's colour to 0.006 dE2000 (median), 0.11
-  // (99th percentile) over 400 random sets of the six default free parameters inside their
-  // measured ranges, the worst (0.18) at L* < 12, darker than skin (tests/fit; the
-  // multilinear one: 0.25 median, 1.7 at the 99th percentile).
+  // piecewise-cubic interpolation (xcubic) is the model's colour to 0.0056 dE2000 (median over
+  // 200 random sets of the six default free parameters inside their measured ranges), worst
+  // 0.32 at L* 6, darker than skin; 0.14 at worst where L* > 15
+  // (ExtendedTexture.CubicTableIsTheModelsColour; the multilinear one: 0.25 median, 1.7 at the
+  // 99th percentile).
   static int extended_nodes(Parameter p) {
     if (p == Parameter::melanin) return 16;
     if (p == Parameter::hemoglobin) return 8;
