@@ -847,10 +847,19 @@ struct TextureFitter::Impl {
   // the second solution. No model evaluation per colour.
   XSolved xsolve_refined(const color::Lab& target) const {
     const XSolved first = xsolve(target, Eigen::Vector3d::Zero());
-    const Eigen::Vector3d shift = xcubic(first.u) - first.lab;
+    const Eigen::Vector3d shift = xreference(first.u) - first.lab;
     XSolved s = xsolve(target, shift, &first.u);
-    s.lab = xcubic(s.u);
+    s.lab = xreference(s.u);
     return s;
+  }
+  // The model's colour at u: the cubic interpolation, or where its stencil reaches a node the
+  // model cannot evaluate (NaN: outside a solver's validated range, e.g. the multipole's thin
+  // epidermis), the model itself.
+  Eigen::Vector3d xreference(const XVec& u) const {
+    const Eigen::Vector3d c = xcubic(u);
+    if (c.allFinite()) return c;
+    const color::Lab e = coarse_lab(xparams(u));
+    return {e.L, e.a, e.b};
   }
   // One standard deviation per free parameter at the solution u of `target` (parameter units):
   // the residuals' Jacobian from the cubic table (central differences in u, one-sided at a
@@ -868,9 +877,9 @@ struct TextureFitter::Impl {
       XVec up = u, um = u;
       up[k] = std::min(u[k] + h, top);
       um[k] = std::max(u[k] - h, 0.0);
-      Jc.col(k) = (xcubic(up) - xcubic(um)) / (up[k] - um[k]);
+      Jc.col(k) = (xreference(up) - xreference(um)) / (up[k] - um[k]);
     }
-    J.topRows(3) = delta_e_2000_jacobian(target, xcubic(u)) * Jc;
+    J.topRows(3) = delta_e_2000_jacobian(target, xreference(u)) * Jc;
     for (std::size_t j = 0; j < prior_k.size(); ++j) {
       const auto k = static_cast<std::size_t>(prior_k[j]);
       XVec up = u, um = u;
@@ -1064,7 +1073,7 @@ color::Lab TextureFitter::lab(const SkinParameters& p) const {
     XVec u(static_cast<Eigen::Index>(impl_->xfree.size()));
     for (std::size_t k = 0; k < impl_->xfree.size(); ++k)
       u[static_cast<Eigen::Index>(k)] = impl_->xaxis[k].index(get(p, impl_->xfree[k]));
-    const Eigen::Vector3d l = impl_->xcubic(u);
+    const Eigen::Vector3d l = impl_->xreference(u);
     return {l[0], l[1], l[2]};
   }
   const Eigen::Vector3d u(impl_->axis[0].index(p.melanin), impl_->axis[1].index(p.melanin_blend),

@@ -5,11 +5,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <random>
 
 #include "skin/color/color.hpp"
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/transport/model.hpp"
 #include "skin/util/error.hpp"
 #include "../temp_dir.hpp"
 #include "test_support.hpp"
@@ -266,6 +268,46 @@ TEST(ExtendedTexture, AnotherModelOrFreeSetBuildsItsOwnTable) {
   // Bad table files are refused with the file's name.
   EXPECT_THROW(ExtendedColorTable::parse("# free: melanin\n# lo: 0.1\n# hi: 0.2\n# nodes: 3\nL,a,b\n1,2,3\n", "bad.csv"),
                skin::util::InputError);
+}
+
+TEST(ExtendedTexture, NodesTheModelCannotEvaluateAreKeptOut) {
+  // A forward model that cannot evaluate part of the box returns NaN there (a solver outside
+  // its validated range: the multipole's epidermis thinner than its transport length); here an
+  // epidermis thinner than 0.07 mm. The table's nodes there are NaN; the solves stay out of
+  // them, and where the cubic stencil reaches one the model itself gives the colour: every
+  // texel finite, its thickness >= 0.07 mm, a colour the model makes there reached within 1
+  // dE2000 and its reported error the model's. (Before, every texel's error was NaN.)
+  ColorFitOptions o;
+  use_fit_model(o, FitModel::extended);
+  o.free = {Parameter::melanin, Parameter::hemoglobin, Parameter::epidermis_thickness};
+  const ForwardModel accurate = forward_model(skin::transport::kDefaultModel);
+  o.model = [accurate](const SkinParameters& p, double l) {
+    return p.epidermis_thickness < 0.07 ? std::numeric_limits<double>::quiet_NaN() : accurate(p, l);
+  };
+  const TextureFitter fitter(o);
+  const ColorFitter exact(o);
+  std::vector<skin::color::Rgb> colours;
+  for (double th : {0.075, 0.1, 0.14}) {
+    SkinParameters p = o.start;
+    p.melanin = 0.03, p.hemoglobin = 0.02, p.epidermis_thickness = th;
+    colours.push_back(linear_srgb(exact.lab(p)));
+  }
+  colours.push_back(parse_hex("c89682"));  // photographed skin, beyond the gamut
+  Image img(static_cast<int>(colours.size()), 1);
+  for (std::size_t x = 0; x < colours.size(); ++x)
+    for (int c = 0; c < 3; ++c) img.rgb[x * 3 + static_cast<std::size_t>(c)] = static_cast<float>(colours[x][c]);
+  const ParameterMaps maps = fitter.fit(img, {}, true);
+  for (std::size_t x = 0; x < colours.size(); ++x) {
+    ASSERT_TRUE(std::isfinite(maps.error[x])) << x;
+    EXPECT_GE(maps.more[0][x], 0.07f) << x;
+    for (const auto& u : maps.uncertainty) EXPECT_FALSE(std::isnan(u[x])) << x;
+    SkinParameters p = o.start;
+    p.melanin = maps.melanin[x], p.hemoglobin = maps.hemoglobin[x], p.epidermis_thickness = maps.more[0][x];
+    EXPECT_NEAR(maps.error[x], skin::color::delta_e_2000(fitter.fit_color(colours[x]).target, exact.lab(p)), 0.15) << x;
+    if (x < 3) {
+      EXPECT_LT(maps.error[x], 1.0) << x;
+    }
+  }
 }
 
 TEST(ExtendedTexture, CubicTableIsTheModelsColour) {
