@@ -177,7 +177,10 @@ void write_maps_preview(const fit::ParameterMaps& maps, const std::string& textu
   // The extended model's other maps (epidermis_thickness, ...) after them.
   for (std::size_t k = 0; k < maps.more_parameters.size() && k < maps.more.size(); ++k)
     panel(std::string(fit::key(maps.more_parameters[k])), maps.more[k], false);
-  if (sheet.panels.size() > 4) sheet.columns = 3;
+  // With --uncertainty, one standard deviation of each free parameter (from 0).
+  for (std::size_t k = 0; k < maps.uncertainty_parameters.size() && k < maps.uncertainty.size(); ++k)
+    panel("uncertainty." + std::string(fit::key(maps.uncertainty_parameters[k])) + " (1 sd)", maps.uncertainty[k], true);
+  if (sheet.panels.size() > 4) sheet.columns = sheet.panels.size() > 9 ? 4 : 3;
   char note[160];
   std::snprintf(note, sizeof note, "mean error %.2f dE2000, %.1f %% of texels below 1; docs/parameter-maps.md",
                 maps.mean_error, 100.0 * maps.fraction_below_1);
