@@ -1050,9 +1050,8 @@ PYBIND11_MODULE(_core, m) {
           d[py::str(name)] = plane(maps.more[k]);
           axes[py::str(name)] = py::make_tuple("y", "x");
         }
-        // The channels' names: "uncertainty.<key>".
         for (std::size_t k = 0; k < maps.uncertainty_parameters.size(); ++k) {
-          const std::string name = "uncertainty." + std::string(fit::key(maps.uncertainty_parameters[k]));
+          const std::string name = fit::uncertainty_channel(maps.uncertainty_parameters[k]);
           d[py::str(name)] = plane(maps.uncertainty[k]);
           axes[py::str(name)] = py::make_tuple("y", "x");
         }

@@ -179,7 +179,7 @@ void write_maps_preview(const fit::ParameterMaps& maps, const std::string& textu
     panel(std::string(fit::key(maps.more_parameters[k])), maps.more[k], false);
   // With --uncertainty, one standard deviation of each free parameter (from 0).
   for (std::size_t k = 0; k < maps.uncertainty_parameters.size() && k < maps.uncertainty.size(); ++k)
-    panel("uncertainty." + std::string(fit::key(maps.uncertainty_parameters[k])) + " (1 sd)", maps.uncertainty[k], true);
+    panel(fit::uncertainty_channel(maps.uncertainty_parameters[k]) + " (1 sd)", maps.uncertainty[k], true);
   if (sheet.panels.size() > 4) sheet.columns = sheet.panels.size() > 9 ? 4 : 3;
   char note[160];
   std::snprintf(note, sizeof note, "mean error %.2f dE2000, %.1f %% of texels below 1; docs/parameter-maps.md",
@@ -325,7 +325,7 @@ void register_color_table(CLI::App& app) {
       "tabulate-color-table",
       "Tabulate the extended model's texture table (the colour at every node over the six default free "
       "parameters): the data file data/extended_color_table.csv that `skin fit --texture --model extended` "
-      "reads (36 864 nodes, about 7 s on 2 cores)");
+      "reads (36 864 nodes, about 9 s on 2 cores)");
   sub->add_option("-o,--output", *out, "Output CSV file (written atomically)")->required();
   sub->callback([out] {
     fit::ColorFitOptions opt;

@@ -539,9 +539,11 @@ struct TextureFitter::Impl {
     xprior_a.assign(xfree.size(), 0.0);
     xprior_b.assign(xfree.size(), 0.0);
     xprior_affine.assign(xfree.size(), false);
+    xprior_k.clear();
     for (std::size_t k = 0; k < xfree.size(); ++k) {
       const Parameter p = xfree[k];
       const Axis& a = xaxis[k];
+      if (has_prior_centre(p)) xprior_k.push_back(static_cast<Eigen::Index>(k));
       if (!has_prior_centre(p) || a.n < 2) continue;
       const auto r = [&](double u) {
         return kColorPriorWeight * (prior_coordinate(p, a.value(u)) - prior_coordinate(p, p.info().prior_centre));
@@ -554,6 +556,7 @@ struct TextureFitter::Impl {
   }
   std::vector<double> xprior_a, xprior_b;
   std::vector<bool> xprior_affine;
+  std::vector<Eigen::Index> xprior_k;  // the free parameters with a prior term, in order
   SkinParameters xparams(const XVec& u) const {
     SkinParameters p = exact.options().start;
     for (std::size_t k = 0; k < xfree.size(); ++k) set(p, xfree[k], xaxis[k].value(u[static_cast<Eigen::Index>(k)]));
@@ -573,6 +576,9 @@ struct TextureFitter::Impl {
   // one, differs far more).
   bool read_built_in() const {
     if (!(exact.options().grid == physics::WavelengthGrid())) return false;
+    // (Its free parameters first, from the header: another set skips parsing 2 MB of rows.)
+    const auto meta = util::csv_metadata(util::data::embedded(kBuiltInTable));
+    if (const auto it = meta.find("free"); it == meta.end() || parse_parameter_list(it->second) != xfree) return false;
     const ExtendedColorTable t = ExtendedColorTable::parse(util::data::embedded(kBuiltInTable), std::string(kBuiltInTable));
     if (t.free != xfree) return false;
     for (std::size_t k = 0; k < xfree.size(); ++k)
@@ -743,9 +749,7 @@ struct TextureFitter::Impl {
   };
   XSolved xsolve(const color::Lab& target, const Eigen::Vector3d& shift, const XVec* start = nullptr) const {
     const auto n = static_cast<Eigen::Index>(xfree.size());
-    std::vector<Eigen::Index> prior_k;
-    for (Eigen::Index k = 0; k < n; ++k)
-      if (has_prior_centre(xfree[static_cast<std::size_t>(k)])) prior_k.push_back(k);
+    const std::vector<Eigen::Index>& prior_k = xprior_k;
     const auto m = 3 + static_cast<Eigen::Index>(prior_k.size());
     auto prior_r = [&](const XVec& u, std::size_t j) { return prior_residual(u, static_cast<std::size_t>(prior_k[j])); };
     auto residual = [&](const XVec& u, const Eigen::Vector3d& l, XVec& r) {
@@ -866,9 +870,7 @@ struct TextureFitter::Impl {
   // bound) and the prior rows, through standard_errors_scaled as the colour fit does.
   std::vector<double> xuncertainty(const color::Lab& target, const XVec& u) const {
     const auto n = static_cast<Eigen::Index>(xfree.size());
-    std::vector<Eigen::Index> prior_k;
-    for (Eigen::Index k = 0; k < n; ++k)
-      if (has_prior_centre(xfree[static_cast<std::size_t>(k)])) prior_k.push_back(k);
+    const std::vector<Eigen::Index>& prior_k = xprior_k;
     Eigen::MatrixXd J = Eigen::MatrixXd::Zero(3 + static_cast<Eigen::Index>(prior_k.size()), n);
     Eigen::Matrix<double, 3, Eigen::Dynamic> Jc(3, n);
     constexpr double h = 1e-3;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace skin::fit {
 
@@ -13,22 +14,26 @@ const std::vector<std::string> kChannels = {"melanin", "melanin_blend", "hemoglo
 const std::string kUncertainty = "uncertainty.";
 }
 
-void write_parameter_maps(const ParameterMaps& maps, const std::string& path) {
-  std::vector<image::PlaneView> planes = {{kChannels[0], &maps.melanin},
-                                          {kChannels[1], &maps.melanin_blend},
-                                          {kChannels[2], &maps.hemoglobin},
-                                          {kChannels[3], &maps.error}};
+std::string uncertainty_channel(Parameter p) { return kUncertainty + std::string(key(p)); }
+
+std::vector<std::string> ParameterMaps::channel_names() const {
+  std::vector<std::string> names = kChannels;
   // The extended model's other free parameters, named by key (read by a scene's
-  // parameter_maps like the three above).
-  std::vector<std::string> names;
-  names.reserve(maps.more_parameters.size() + maps.uncertainty_parameters.size());  // (views hold pointers)
-  for (Parameter p : maps.more_parameters) names.emplace_back(key(p));
-  for (std::size_t k = 0; k < maps.more.size() && k < names.size(); ++k) planes.push_back({names[k], &maps.more[k]});
-  // One standard deviation per free parameter: the layer "uncertainty".
-  const std::size_t first = names.size();
-  for (Parameter p : maps.uncertainty_parameters) names.push_back(kUncertainty + std::string(key(p)));
-  for (std::size_t k = 0; k < maps.uncertainty.size() && first + k < names.size(); ++k)
-    planes.push_back({names[first + k], &maps.uncertainty[k]});
+  // parameter_maps like the three above), then one standard deviation per free parameter.
+  for (Parameter p : more_parameters) names.emplace_back(key(p));
+  for (Parameter p : uncertainty_parameters) names.push_back(uncertainty_channel(p));
+  return names;
+}
+
+void write_parameter_maps(const ParameterMaps& maps, const std::string& path) {
+  if (maps.more.size() != maps.more_parameters.size() || maps.uncertainty.size() != maps.uncertainty_parameters.size())
+    throw std::logic_error("write_parameter_maps: a map per parameter named");
+  const std::vector<std::string> names = maps.channel_names();
+  std::vector<const std::vector<float>*> values = {&maps.melanin, &maps.melanin_blend, &maps.hemoglobin, &maps.error};
+  for (const auto& v : maps.more) values.push_back(&v);
+  for (const auto& v : maps.uncertainty) values.push_back(&v);
+  std::vector<image::PlaneView> planes;
+  for (std::size_t k = 0; k < names.size(); ++k) planes.push_back({names[k], values[k]});
   image::write_exr_planes(path, maps.width, maps.height, planes,
                           {{"skin_layout",
                             "Spectral Skin parameter maps v1: melanin (C_m), melanin_blend "
@@ -62,7 +67,7 @@ ParameterMaps read_parameter_maps(const std::string& path) {
   for (Parameter p : found)
     if (std::find(order.begin(), order.end(), p) == order.end()) order.push_back(p);
   for (Parameter p : order)
-    if (std::find(found.begin(), found.end(), p) != found.end()) sd.push_back(p), names.push_back(kUncertainty + std::string(key(p)));
+    if (std::find(found.begin(), found.end(), p) != found.end()) sd.push_back(p), names.push_back(uncertainty_channel(p));
   image::Planes planes = image::read_exr_planes(path, names, "parameter maps");
   ParameterMaps maps;
   maps.width = planes.width;

@@ -65,9 +65,7 @@ json texture_fit_document(const fit::ParameterMaps& maps) {
   json j;
   j["width"] = maps.width;
   j["height"] = maps.height;
-  j["channels"] = {"melanin", "melanin_blend", "hemoglobin", "error"};
-  for (fit::Parameter p : maps.more_parameters) j["channels"].push_back(std::string(fit::key(p)));
-  for (fit::Parameter p : maps.uncertainty_parameters) j["channels"].push_back("uncertainty." + std::string(fit::key(p)));
+  j["channels"] = maps.channel_names();
   j["error_delta_e_2000"] = {{"mean", maps.mean_error}, {"max", maps.max_error}, {"fraction_below_1", maps.fraction_below_1}};
   // Outside the model's gamut: texels farther than fit::kGamutDeltaE; parameters on their bounds.
   j["outside_gamut"] = {{"fraction", 1.0 - maps.fraction_below_1}, {"mean_delta_e_2000", maps.mean_error_outside}};
@@ -91,13 +89,10 @@ Result texture_fit_result(const fit::ParameterMaps& maps, const std::string& tex
                     {"error_delta_e_2000.mean", {maps.mean_error}, {}},
                     {"error_delta_e_2000.max", {maps.max_error}, {}},
                     {"error_delta_e_2000.fraction_below_1", {maps.fraction_below_1}, {}}};
-  std::string channels = "melanin, melanin_blend, hemoglobin, error", more_bounds;
-  for (std::size_t k = 0; k < maps.more_parameters.size(); ++k) {
-    channels += ", " + std::string(fit::key(maps.more_parameters[k]));
-    if (k < maps.more_at_bound.size())
-      more_bounds += ", " + std::string(fit::key(maps.more_parameters[k])) + " " + std::to_string(maps.more_at_bound[k]);
-  }
-  for (fit::Parameter p : maps.uncertainty_parameters) channels += ", uncertainty." + std::string(fit::key(p));
+  std::string channels, more_bounds;
+  for (const std::string& c : maps.channel_names()) channels += (channels.empty() ? "" : ", ") + c;
+  for (std::size_t k = 0; k < maps.more_parameters.size() && k < maps.more_at_bound.size(); ++k)
+    more_bounds += ", " + std::string(fit::key(maps.more_parameters[k])) + " " + std::to_string(maps.more_at_bound[k]);
   char buf[256];
   std::snprintf(buf, sizeof buf, "wrote %s: %dx%d, channels ", output.c_str(), maps.width, maps.height);
   result.table = buf + channels + "\n";

@@ -133,10 +133,14 @@ struct ParameterMaps {
   // parameters).
   std::vector<Parameter> uncertainty_parameters;
   std::vector<std::vector<float>> uncertainty;
+  // The file's channels in the maps' order: the four, `more`'s keys, then the uncertainty layer.
+  std::vector<std::string> channel_names() const;
   // Recomputes the three statistics from the error channel.
   void update_error_statistics();
 };
 std::ostream& operator<<(std::ostream& os, const ParameterMaps& m);
+// The channel of a parameter's uncertainty map: "uncertainty.<key>".
+std::string uncertainty_channel(Parameter p);
 
 // The extended texture fit's table: the model's colour as the texture tables hold it
 // (TextureFitter::node_lab) at every node of a grid over the free parameters (per parameter,
