@@ -318,21 +318,26 @@ void register_fit(CLI::App& app) {
   });
 }
 
-// `skin tabulate-color-table`: the built-in table of the extended texture fit.
+// `skin tabulate-color-table`: the built-in tables of the texture fits.
 void register_color_table(CLI::App& app) {
   auto out = std::make_shared<std::string>();
+  auto model = std::make_shared<std::string>("extended");
   CLI::App* sub = app.add_subcommand(
       "tabulate-color-table",
-      "Tabulate the extended model's texture table (the colour at every node over the six default free "
-      "parameters): the data file data/extended_color_table.csv that `skin fit --texture --model extended` "
-      "reads (36 864 nodes, about 9 s on 2 cores)");
+      "Tabulate a texture fit's colour table (the colour at every node over the model's default free "
+      "parameters): the data file that `skin fit --texture` reads, data/extended_color_table.csv (36 864 "
+      "nodes, about 9 s on 2 cores) or with --model paper data/paper_color_table.csv (9 600 nodes, about 3 s)");
   sub->add_option("-o,--output", *out, "Output CSV file (written atomically)")->required();
-  sub->callback([out] {
+  sub->add_option("--model", *model, "paper or extended (default extended)");
+  sub->callback([out, model] {
     fit::ColorFitOptions opt;
-    fit::use_fit_model(opt, fit::FitModel::extended);
+    const fit::FitModel m = fit::parse_fit_model(*model);
+    fit::use_fit_model(opt, m);
     const fit::TextureFitter fitter(opt, false);
-    const fit::ExtendedColorTable& t = fitter.extended_table();
-    util::io::write_file_atomic(*out, t.to_csv("skin tabulate-color-table (" + std::string(transport::kDefaultModel) + " solver)"));
+    fitter.prepare(progress_bar("table nodes"));
+    const fit::ColorTable& t = fitter.color_table();
+    util::io::write_file_atomic(*out, t.to_csv("skin tabulate-color-table --model " + std::string(m == fit::FitModel::extended ? "extended" : "paper") +
+                                               " (" + std::string(transport::kDefaultModel) + " solver)"));
     std::cout << "wrote " << *out << ": " << t.lab.size() << " nodes\n";
   });
 }

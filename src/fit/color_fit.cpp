@@ -310,24 +310,27 @@ std::string shortest(double v) {
 }
 }  // namespace
 
-std::string ExtendedColorTable::to_csv(std::string_view provenance) const {
+std::string ColorTable::to_csv(std::string_view provenance) const {
   std::string out =
-      "# Spectral Skin: the extended texture fit's colour table (skin fit --texture --model extended): CIELAB\n"
-      "# under D65 of R_d (the provenance names the solver) every 10 nm, linearly interpolated to 400-700 nm every 2 nm\n"
+      "# Spectral Skin: a texture fit's colour table (skin fit --texture; the provenance names the model and\n"
+      "# solver): CIELAB under D65 of R_d every 10 nm, linearly interpolated to 400-700 nm every 2 nm\n"
       "# (TextureFitter::node_lab), at every node of a grid over the free parameters: per parameter `nodes`\n"
-      "# values evenly spaced from lo to hi (in log(value) where its prior is logarithmic), row-major, the\n"
-      "# last free parameter fastest; the other parameters at the fixed.* values. include/skin/fit/color_fit.hpp,\n"
-      "# docs/fit.md.\n";
+      "# values evenly spaced from lo to hi (in log(value + offset) where log is 1, else in the value),\n"
+      "# row-major, the last free parameter fastest; the other parameters at the fixed.* values.\n"
+      "# include/skin/fit/color_fit.hpp, docs/fit.md.\n";
   out += "# provenance: " + std::string(provenance) + "\n";
-  std::string keys, lo, hi, n;
+  std::string keys, lo, hi, n, lg, off;
   for (std::size_t k = 0; k < free.size(); ++k) {
-    if (k) keys += ',', lo += ',', hi += ',', n += ',';
+    if (k) keys += ',', lo += ',', hi += ',', n += ',', lg += ',', off += ',';
     keys += key(free[k]);
     lo += shortest(bounds[k].lo);
     hi += shortest(bounds[k].hi);
     n += std::to_string(nodes[k]);
+    lg += log[k] ? '1' : '0';
+    off += shortest(offset[k]);
   }
-  out += "# free: " + keys + "\n# lo: " + lo + "\n# hi: " + hi + "\n# nodes: " + n + "\n";
+  out += "# free: " + keys + "\n# lo: " + lo + "\n# hi: " + hi + "\n# nodes: " + n + "\n# log: " + lg +
+         "\n# offset: " + off + "\n";
   for (const physics::ParameterInfo& row : physics::parameter_table())
     if (std::find_if(free.begin(), free.end(), [&](Parameter p) { return &p.info() == &row; }) == free.end())
       out += "# fixed." + std::string(row.key) + ": " + shortest(fixed.*(row.member)) + "\n";
@@ -338,22 +341,30 @@ std::string ExtendedColorTable::to_csv(std::string_view provenance) const {
   return out;
 }
 
-ExtendedColorTable ExtendedColorTable::parse(std::string_view text, const std::string& source) {
+ColorTable ColorTable::parse(std::string_view text, const std::string& source) {
   const auto meta = util::csv_metadata(text);
   const auto it = meta.find("free");
   if (it == meta.end()) throw InputError(source + ": missing the '# free:' line");
-  ExtendedColorTable t;
+  ColorTable t;
   t.free = parse_parameter_list(it->second);
   const auto lo = util::metadata_numbers(meta, "lo", source), hi = util::metadata_numbers(meta, "hi", source),
-             n = util::metadata_numbers(meta, "nodes", source);
-  if (lo.size() != t.free.size() || hi.size() != t.free.size() || n.size() != t.free.size())
-    throw InputError(source + ": lo, hi and nodes need one value per free parameter (" + std::to_string(t.free.size()) + ")");
+             n = util::metadata_numbers(meta, "nodes", source), lg = util::metadata_numbers(meta, "log", source),
+             off = util::metadata_numbers(meta, "offset", source);
+  for (const auto* v : {&lo, &hi, &n, &lg, &off})
+    if (v->size() != t.free.size())
+      throw InputError(source + ": lo, hi, nodes, log and offset need one value per free parameter (" +
+                       std::to_string(t.free.size()) + ")");
   std::size_t total = 1;
   for (std::size_t k = 0; k < t.free.size(); ++k) {
     if (!(n[k] >= 1 && n[k] <= 64 && n[k] == std::floor(n[k])) || !(lo[k] <= hi[k]))
       throw InputError(source + ": free parameter " + std::string(key(t.free[k])) + ": nodes must be a whole number 1-64 and lo <= hi");
+    if (!(lg[k] == 0 || lg[k] == 1) || !(off[k] >= 0) || (lg[k] == 1 && !(lo[k] + off[k] > 0)))
+      throw InputError(source + ": free parameter " + std::string(key(t.free[k])) +
+                       ": log must be 0 or 1 and offset >= 0, with lo + offset > 0 where log is 1");
     t.bounds.push_back({lo[k], hi[k]});
     t.nodes.push_back(static_cast<int>(n[k]));
+    t.log.push_back(lg[k] == 1);
+    t.offset.push_back(off[k]);
     total *= static_cast<std::size_t>(n[k]);
   }
   for (const physics::ParameterInfo& row : physics::parameter_table())
@@ -433,8 +444,8 @@ struct TextureFitter::Impl {
   std::vector<Parameter> xfree;
   std::vector<Axis> xaxis;
   std::vector<std::size_t> xstride;
-  mutable std::vector<Eigen::Vector3d> xlab;  // xtable's colours, as vectors
-  mutable ExtendedColorTable xtable;
+  mutable std::vector<Eigen::Vector3d> xlab;  // table's colours, as vectors
+  mutable ColorTable table;  // either model's (the paper model's also as `lab`)
   bool allow_built_in = true;
   mutable bool built_in = false;
 
@@ -570,55 +581,76 @@ struct TextureFitter::Impl {
     return u;
   }
   std::size_t xtotal() const { return xstride.empty() ? 1 : xstride[0] * static_cast<std::size_t>(xaxis[0].n); }
-  // The built-in table, where it is the one these options need: the same free parameters,
-  // bounds, nodes, fixed values and colour grid, and five of its nodes (both ends, three inside)
-  // computed again by this fitter's model agree to 1e-6 (another transport model, or a changed
-  // one, differs far more).
-  bool read_built_in() const {
+  // The built-in table `name`, where it is the one these options need: the same free
+  // parameters, nodes, spacing, bounds, fixed values and colour grid, and five of its nodes (both
+  // ends, three inside) computed again by this fitter's model agree to 1e-6 (another transport
+  // model, or a changed one, differs far more). node(e): the parameters at flat node index e.
+  template <class Node>
+  bool read_built_in(std::string_view name, const std::vector<Parameter>& free, const std::vector<Axis>& axes,
+                     const Node& node) const {
     if (!(exact.options().grid == physics::WavelengthGrid())) return false;
-    // (Its free parameters first, from the header: another set skips parsing 2 MB of rows.)
-    const auto meta = util::csv_metadata(util::data::embedded(kBuiltInTable));
-    if (const auto it = meta.find("free"); it == meta.end() || parse_parameter_list(it->second) != xfree) return false;
-    const ExtendedColorTable t = ExtendedColorTable::parse(util::data::embedded(kBuiltInTable), std::string(kBuiltInTable));
-    if (t.free != xfree) return false;
-    for (std::size_t k = 0; k < xfree.size(); ++k)
-      if (t.nodes[k] != xaxis[k].n || t.bounds[k].lo != xaxis[k].lo || t.bounds[k].hi != xaxis[k].hi) return false;
+    // (Its free parameters first, from the header: another set skips parsing its rows.)
+    const auto meta = util::csv_metadata(util::data::embedded(name));
+    if (const auto it = meta.find("free"); it == meta.end() || parse_parameter_list(it->second) != free) return false;
+    ColorTable t = ColorTable::parse(util::data::embedded(name), std::string(name));
+    if (t.free != free) return false;
+    for (std::size_t k = 0; k < free.size(); ++k)
+      if (t.nodes[k] != axes[k].n || t.bounds[k].lo != axes[k].lo || t.bounds[k].hi != axes[k].hi ||
+          t.log[k] != axes[k].log || t.offset[k] != axes[k].c0)
+        return false;
     SkinParameters fixed = exact.options().start;
-    for (Parameter p : xfree) set(fixed, p, get(t.fixed, p));
+    for (Parameter p : free) set(fixed, p, get(t.fixed, p));
     if (!(fixed == t.fixed)) return false;
-    const std::size_t total = xtotal();
+    const std::size_t total = t.lab.size();
     for (std::size_t e : {std::size_t(0), total - 1, total / 3, total / 2, (2 * total) / 3 + 7}) {
-      const color::Lab l = coarse_lab(xparams(xnode(e % total)));
+      const color::Lab l = coarse_lab(node(e % total));
       const color::Lab& b = t.lab[e % total];
       if (!(std::abs(l.L - b.L) < 1e-6 && std::abs(l.a - b.a) < 1e-6 && std::abs(l.b - b.b) < 1e-6)) return false;
     }
-    xtable = t;
+    table = std::move(t);
     return true;
   }
-  static constexpr std::string_view kBuiltInTable = "extended_color_table.csv";
-  void build_extended(const ProgressCallback& progress) const {
-    built_in = allow_built_in && read_built_in();
-    if (!built_in) {
-      const std::size_t total = xtotal();
-      xtable.free = xfree;
-      xtable.fixed = exact.options().start;
-      xtable.bounds.clear();
-      xtable.nodes.clear();
-      for (const Axis& a : xaxis) xtable.bounds.push_back({a.lo, a.hi}), xtable.nodes.push_back(a.n);
-      xtable.lab.resize(total);
-      // In batches, progress reported between them from this thread.
-      for (std::size_t start = 0; start < total; start += 2048) {
-        const std::size_t end = std::min(total, start + 2048);
-        tbb::parallel_for(start, end, [&](std::size_t e) {
-          if (util::cancel::requested()) return;
-          xtable.lab[e] = coarse_lab(xparams(xnode(e)));
-        });
-        util::cancel::check();
-        if (progress) progress(end, total);
-      }
+  // An empty table over these free parameters and axes (its colours to be computed).
+  ColorTable table_frame(const std::vector<Parameter>& free, const std::vector<Axis>& axes) const {
+    ColorTable t;
+    t.free = free;
+    t.fixed = exact.options().start;
+    std::size_t total = 1;
+    for (const Axis& a : axes) {
+      t.bounds.push_back({a.lo, a.hi});
+      t.nodes.push_back(a.n);
+      t.log.push_back(a.log);
+      t.offset.push_back(a.c0);
+      total *= static_cast<std::size_t>(a.n);
     }
-    xlab.resize(xtable.lab.size());
-    for (std::size_t e = 0; e < xlab.size(); ++e) xlab[e] = {xtable.lab[e].L, xtable.lab[e].a, xtable.lab[e].b};
+    t.lab.resize(total);
+    return t;
+  }
+  // Computes every node's colour, in batches, progress reported between them from this thread.
+  template <class Node>
+  void compute_table(const Node& node, const ProgressCallback& progress) const {
+    const std::size_t total = table.lab.size();
+    for (std::size_t start = 0; start < total; start += 2048) {
+      const std::size_t end = std::min(total, start + 2048);
+      tbb::parallel_for(start, end, [&](std::size_t e) {
+        if (util::cancel::requested()) return;  // thrown below (out of call_once: built again next time)
+        table.lab[e] = coarse_lab(node(e));
+      });
+      util::cancel::check();
+      if (progress) progress(end, total);
+    }
+  }
+  static constexpr std::string_view kPaperTable = "paper_color_table.csv";
+  static constexpr std::string_view kExtendedTable = "extended_color_table.csv";
+  void build_extended(const ProgressCallback& progress) const {
+    const auto node = [this](std::size_t e) { return xparams(xnode(e)); };
+    built_in = allow_built_in && read_built_in(kExtendedTable, xfree, xaxis, node);
+    if (!built_in) {
+      table = table_frame(xfree, xaxis);
+      compute_table(node, progress);
+    }
+    xlab.resize(table.lab.size());
+    for (std::size_t e = 0; e < xlab.size(); ++e) xlab[e] = {table.lab[e].L, table.lab[e].a, table.lab[e].b};
     // The starts: every other node on the axes with six or more (the start only needs the
     // right basin), in arrays of their own, each with its prior terms' sum of squares.
     xstart_L.clear(), xstart_a.clear(), xstart_b.clear(), xstart_prior.clear(), xstart_node.clear();
@@ -929,10 +961,9 @@ struct TextureFitter::Impl {
       build_extended(progress);
       return;
     }
-    const std::size_t total = static_cast<std::size_t>(axis[0].n) * axis[1].n * axis[2].n;
-    lab.resize(total);
-    tbb::parallel_for(std::size_t(0), total, [&](std::size_t e) {
-      if (util::cancel::requested()) return;  // thrown below (out of call_once: built again next time)
+    static const std::vector<Parameter> kFree = {Parameter::melanin, Parameter::melanin_blend, Parameter::hemoglobin};
+    const std::vector<Axis> axes(std::begin(axis), std::end(axis));
+    const auto node = [this](std::size_t e) {
       const int k = static_cast<int>(e % axis[2].n);
       const int j = static_cast<int>((e / axis[2].n) % axis[1].n);
       const int i = static_cast<int>(e / (static_cast<std::size_t>(axis[2].n) * axis[1].n));
@@ -940,10 +971,15 @@ struct TextureFitter::Impl {
       p.melanin = axis[0].value(i);
       p.melanin_blend = axis[1].value(j);
       p.hemoglobin = axis[2].value(k);
-      const color::Lab l = coarse_lab(p);
-      lab[e] = {l.L, l.a, l.b};
-    });
-    util::cancel::check();
+      return p;
+    };
+    built_in = allow_built_in && read_built_in(kPaperTable, kFree, axes, node);
+    if (!built_in) {
+      table = table_frame(kFree, axes);
+      compute_table(node, progress);
+    }
+    lab.resize(table.lab.size());
+    for (std::size_t e = 0; e < lab.size(); ++e) lab[e] = {table.lab[e].L, table.lab[e].a, table.lab[e].b};
   }
   // Trilinear interpolation at index coordinates u, with the derivative per coordinate.
   Eigen::Vector3d eval(const Eigen::Vector3d& u, Eigen::Matrix3d* J) const {
@@ -1086,14 +1122,12 @@ color::Lab TextureFitter::lab(const SkinParameters& p) const {
 
 color::Lab TextureFitter::node_lab(const SkinParameters& p) const { return impl_->coarse_lab(p); }
 
-const ExtendedColorTable& TextureFitter::extended_table() const {
-  if (!impl_->ext) throw std::logic_error("extended_table: the texture fitter is not the extended model's");
+const ColorTable& TextureFitter::color_table() const {
   prepare();
-  return impl_->xtable;
+  return impl_->table;
 }
 
 bool TextureFitter::uses_built_in_table() const {
-  if (!impl_->ext) return false;
   prepare();
   return impl_->built_in;
 }

@@ -119,7 +119,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCount{"tabulate-random-walk --photons -1 -o t.csv", "--photons: -1 is out of range"},
         BadCount{"tabulate-skin-profiles --cross --cross-pairs g:x -o t.csv",
                  "--cross-pairs: 'g:x' is not one of g:eta, g:dermis_ratio, eta:dermis_ratio"},
-        BadCount{"tabulate-skin-profiles --offsets --cross-pairs g:eta -o t.csv", "--cross-pairs is for --cross"}));
+        BadCount{"tabulate-skin-profiles --offsets --cross-pairs g:eta -o t.csv", "--cross-pairs is for --cross"},
+        BadCount{"tabulate-color-table --model x -o t.csv", "model = 'x' is unknown: choose paper or extended"}));
 }  // namespace
 
 namespace {

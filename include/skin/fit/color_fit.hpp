@@ -142,30 +142,33 @@ std::ostream& operator<<(std::ostream& os, const ParameterMaps& m);
 // The channel of a parameter's uncertainty map: "uncertainty.<key>".
 std::string uncertainty_channel(Parameter p);
 
-// The extended texture fit's table: the model's colour as the texture tables hold it
+// A texture fit's colour table: the model's colour as the texture tables hold it
 // (TextureFitter::node_lab) at every node of a grid over the free parameters (per parameter,
-// `nodes` values evenly spaced over its bounds, in log(value) where the prior is logarithmic),
-// row-major with the last free parameter fastest. The built-in one,
-// data/extended_color_table.csv (`skin tabulate-color-table`), serves the default extended
-// texture fit; any other set of free parameters, bounds or fixed values builds its own.
-struct ExtendedColorTable {
+// `nodes` values evenly spaced over its bounds: in log(value + offset) where `log`, else in the
+// value), row-major with the last free parameter fastest. The built-in ones,
+// data/paper_color_table.csv and data/extended_color_table.csv (`skin tabulate-color-table`),
+// serve the default paper and extended texture fits; any other set of free parameters, bounds,
+// fixed values or forward model builds its own.
+struct ColorTable {
   std::vector<Parameter> free;
   std::vector<Bounds> bounds;  // per free parameter
   std::vector<int> nodes;      // per free parameter
+  std::vector<bool> log;       // per free parameter: nodes even in log(value + offset)
+  std::vector<double> offset;  // per free parameter (0 where not log)
   std::vector<color::Lab> lab;
   physics::SkinParameters fixed;  // the other parameters' values (the free ones' are unused)
-  // CSV text: "# key: value" lines (free, lo, hi, nodes, the fixed parameters, provenance), then
-  // L,a,b per node, every number round-trip exact.
+  // CSV text: "# key: value" lines (free, lo, hi, nodes, log, offset, the fixed parameters,
+  // provenance), then L,a,b per node, every number round-trip exact.
   std::string to_csv(std::string_view provenance) const;
   // Throws InputError naming `source` on a malformed file or a node count that does not match.
-  static ExtendedColorTable parse(std::string_view text, const std::string& source);
+  static ColorTable parse(std::string_view text, const std::string& source);
 };
 
 // Texture fit: a dense table of the model's Lab over (log C_m, beta_m, log C_h), the per-pixel
 // objective above on the trilinearly interpolated table, solved per distinct pixel colour (in
 // parallel, TBB). The error map is measured against the interpolated model; the table's own
 // interpolation error is small against the exact model (tests/fit, docs/fit.md).
-// Extended model: a table over every free parameter (ExtendedColorTable), the extended colour
+// Extended model: a table over every free parameter (ColorTable), the extended colour
 // fit's objective (CIEDE2000 components and the prior terms) on its multilinear interpolation,
 // solved twice per colour: the second time with the table's colour shifted by the table's
 // piecewise-cubic interpolation minus its multilinear one at the first solution; the colour
@@ -173,15 +176,15 @@ struct ExtendedColorTable {
 // (docs/fit.md).
 class TextureFitter {
  public:
-  // built_in_table: the extended model may read the built-in table where it is the one these
-  // options need (same free parameters, bounds and fixed values, and a few of its nodes computed
-  // again agree); false always builds it (`skin tabulate-color-table`).
+  // built_in_table: the fit may read its model's built-in table where it is the one these
+  // options need (same free parameters, nodes, bounds and fixed values, and a few of its nodes
+  // computed again agree); false always builds it (`skin tabulate-color-table`).
   explicit TextureFitter(ColorFitOptions options = {}, bool built_in_table = true);
   ~TextureFitter();
   TextureFitter(TextureFitter&&) noexcept;
   TextureFitter& operator=(TextureFitter&&) noexcept;
   // Builds the table (otherwise the first fit does); progress(nodes done, nodes) between batches
-  // where the extended model's table is built, not read (may be empty).
+  // where the table is built, not read (may be empty).
   void prepare(const util::ProgressCallback& progress = {}) const;
   // progress(distinct colours done, distinct colours) after each batch (may be empty).
   // uncertainty: also the maps of one standard deviation per free parameter (ParameterMaps).
@@ -195,8 +198,8 @@ class TextureFitter {
   // The colour a table node holds: R_d every 10 nm (and at the grid's ends), linearly
   // interpolated to the colour grid, weighted as `skin color` does.
   color::Lab node_lab(const physics::SkinParameters& p) const;
-  // Extended model: the table (built, or the built-in one), and whether it is the built-in one.
-  const ExtendedColorTable& extended_table() const;
+  // The table (built, or the built-in one), and whether it is the built-in one.
+  const ColorTable& color_table() const;
   bool uses_built_in_table() const;
 
  private:
