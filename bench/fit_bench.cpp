@@ -105,8 +105,8 @@ static void BM_Texture(benchmark::State& state) {
 BENCHMARK(BM_Texture)->Args({256, 0})->Args({1024, 0})->Args({1024, 1})->Args({4096, 1})->Unit(benchmark::kMillisecond)
     ->UseRealTime()->Iterations(1);
 
-// The same under the extended model (six free parameters, accurate solver: the table and one or
-// two exact evaluations per distinct colour). Arg: size.
+// The same under the extended model (seven free parameters, accurate solver: the built-in table,
+// two table solves and two piecewise-polynomial evaluations per distinct colour). Arg: size.
 static void BM_TextureExtended(benchmark::State& state) {
   ColorFitOptions o;
   use_fit_model(o, FitModel::extended);

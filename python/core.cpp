@@ -825,9 +825,9 @@ PYBIND11_MODULE(_core, m) {
 
   // The fits' parameter set, as `skin fit --model` (docs/fit.md).
   static const std::string kModelDoc =
-      "model: 'paper' (C_m, beta_m, C_h; the default) or 'extended' (also epidermis_thickness, "
-      "oxygenation, scattering_scale, and for spectra beta_carotene, epidermal_hemoglobin; each "
-      "kept in its measured range with a weak prior; free= still chooses the list).";
+      "model: 'paper' (C_m, beta_m, C_h; the default) or 'extended' (also oxygenation, "
+      "epidermis_thickness, dermis_scattering_scale, scattering_scale, and for spectra beta_carotene, "
+      "epidermal_hemoglobin; each kept in its range with a weak prior; free= still chooses the list).";
 
   m.def(
       "fit_spectrum",
@@ -1067,7 +1067,7 @@ PYBIND11_MODULE(_core, m) {
        "JPEG, ...; a text or a path object) or an array (height, width, 3) of linear sRGB in 0-1 "
        "(any numpy array of numbers, float32 or float64, any memory layout; copied as float32); on "
        "all cores with the GIL released. model='extended' adds a map per other free parameter "
-       "(epidermis_thickness, oxygenation, scattering_scale by default), named by its key. "
+       "(oxygenation, epidermis_thickness, dermis_scattering_scale, scattering_scale by default), named by its key. "
        "uncertainty=True adds one standard deviation per free parameter and texel, "
        "'uncertainty.<key>' (as fit_color()'s uncertainty). Options as fit_color(). " + solver_doc() + params).c_str());
 

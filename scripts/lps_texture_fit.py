@@ -95,6 +95,8 @@ def main():
     parser.add_argument("--model", default="paper", choices=["paper", "extended"])
     parser.add_argument("--free", default=None, help="comma-separated parameter keys (default: the model's)")
     parser.add_argument("--mask-png", default=None, help="also write the skin mask as a PNG")
+    parser.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                        help="a fixed parameter's value (e.g. dermis_scattering_scale=1); repeatable")
     a = parser.parse_args()
     texture = os.path.join(a.data_dir, "Map-COL.jpg")
     mesh = os.path.join(a.data_dir, "LeePerrySmith.glb")
@@ -104,6 +106,9 @@ def main():
     options = {"model": a.model}
     if a.free:
         options["free"] = a.free.split(",")
+    for item in a.set:
+        key, _, value = item.partition("=")
+        options[key] = float(value)
     start = time.time()
     maps = ss.fit_texture(texture, **options)
     seconds = time.time() - start
@@ -113,7 +118,8 @@ def main():
         import matplotlib.pyplot as plt
         plt.imsave(a.mask_png, mask, cmap="gray")
     error = maps["error"][mask]
-    print(f"model {a.model}, free {','.join(options.get('free', [])) or 'default'}: fit {seconds:.1f} s")
+    print(f"model {a.model}, free {','.join(options.get('free', [])) or 'default'}"
+          f"{''.join(', ' + item for item in a.set)}: fit {seconds:.1f} s")
     print(f"skin texels (covered by the mesh's triangles): {mask.sum()} of {mask.size} ({mask.mean():.1%})")
     print(f"within 1 dE2000: {np.mean(error < 1):.1%} of skin texels (all texels {maps['error_delta_e_2000']['fraction_below_1']:.1%})")
     print(f"dE2000 over skin texels: median {np.median(error):.2f}, mean {error.mean():.2f}, "

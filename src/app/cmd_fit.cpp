@@ -258,15 +258,15 @@ void register_fit(CLI::App& app) {
 
   auto* g_fit = "Fit";
   auto* o_model = sub->add_option("--model", o->model,
-                  "Parameter set: paper (C_m, beta_m, C_h; the default) or extended (+ epidermis thickness, "
-                  "oxygenation, scattering scale; spectra also beta-carotene, epidermal blood), each kept in "
-                  "its measured range with a weak prior (docs/fit.md)")
+                  "Parameter set: paper (C_m, beta_m, C_h; the default) or extended (+ oxygenation, epidermis "
+                  "thickness, the dermis' and both layers' scattering scales; spectra also beta-carotene, "
+                  "epidermal blood), each kept in its range with a weak prior (docs/fit.md)")
       ->capture_default_str()->group(g_fit);
   sub->add_option("--free", o->free,
                   "Parameters to fit, comma-separated names or the paper's symbols (default "
                   "melanin,melanin-blend,hemoglobin); "
                   "extended: epidermal-hemoglobin, beta-carotene, bilirubin, epidermis-thickness, "
-                  "oxygenation, scattering-scale")
+                  "dermis-scattering-scale, oxygenation, scattering-scale")
       ->group(g_fit);
   auto* o_specular = sub->add_flag("--includes-specular", o->includes_specular,
                 "The measurement includes the surface reflection: add rho_s F (F = Fresnel at normal "
@@ -325,8 +325,8 @@ void register_color_table(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "tabulate-color-table",
       "Tabulate a texture fit's colour table (the colour at every node over the model's default free "
-      "parameters): the data file that `skin fit --texture` reads, data/extended_color_table.csv (36 864 "
-      "nodes, about 9 s on 2 cores) or with --model paper data/paper_color_table.csv (9 600 nodes, about 3 s)");
+      "parameters): the data file that `skin fit --texture` reads, data/extended_color_table.csv (147 456 "
+      "nodes, about 32 s on 2 cores) or with --model paper data/paper_color_table.csv (9 600 nodes, about 3 s)");
   sub->add_option("-o,--output", *out, "Output CSV file (written atomically)")->required();
   sub->add_option("--model", *model, "paper or extended (default extended)");
   sub->callback([out, model] {

@@ -96,9 +96,10 @@ FitModel parse_fit_model(std::string_view n) {
 }
 
 std::vector<Parameter> extended_model_free(bool spectrum) {
-  std::vector<Parameter> v = {Parameter::melanin,           Parameter::melanin_blend,
-                              Parameter::hemoglobin,        Parameter::epidermis_thickness,
-                              Parameter::oxygenation,       Parameter::scattering_scale};
+  // (In the parameter table's order, the order the maps' channels are read back in.)
+  std::vector<Parameter> v = {Parameter::melanin,     Parameter::melanin_blend,           Parameter::hemoglobin,
+                              Parameter::oxygenation, Parameter::epidermis_thickness,     Parameter::dermis_scattering_scale,
+                              Parameter::scattering_scale};
   if (spectrum) {
     v.push_back(Parameter::beta_carotene);
     v.push_back(Parameter::epidermal_hemoglobin);

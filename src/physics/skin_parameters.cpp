@@ -44,7 +44,12 @@ double geometric_middle(double lo, double hi) { return std::sqrt(lo * hi); }
 // the cellular epidermis, 57-82 um (Acta Derm Venereol 83:410); beta_m centre 0.74, the eumelanin
 // share Del Bino et al. 2015 measured in epidermis of every pigmentation (Pigment Cell Melanoma
 // Res 28:707). No measured source was found for beta_m's lower end 0.3, oxygenation's 0.6 and
-// centre 0.75 (the paper's), or the scattering factor 0.5-2 (the presets' choices).
+// centre 0.75 (the paper's), or the scattering factor 0.5-2 (the presets' choices). The dermis'
+// scattering relative to the epidermis' (extended fit since 2026-12-06; the tone presets were
+// fitted before, at the paper's 0.5): centre 1, the in vivo model of "Absorption and reduced
+// scattering coefficients in epidermis and dermis from a Swedish cohort study" (J Biomed Opt
+// 28:115001, 2023; 3809 subjects: one sigma_s' for all layers, 3.22 /mm at 475 nm to 1.20 at
+// 850 nm); range 0.5 (the paper's) to 2 (the skin domain's top; no measured bound found).
 const ParameterInfo kParameters[] = {
     {"melanin", "C_m", "1", 0, 1, false, false,
      "melanin volume fraction of the epidermis", &SkinParameters::melanin, /*domain*/ 0, 0.5, 0.0, 0.5,
@@ -64,7 +69,8 @@ const ParameterInfo kParameters[] = {
      &SkinParameters::epidermis_thickness, /*domain*/ 0.02, 0.5, 0.02, 0.5,
      /*prior*/ 0.04, 0.15, geometric_middle(0.04, 0.15), true},
     {"dermis_scattering_scale", "", "1", 0, kInf, true, true,
-     "dermis sigma_s_prime relative to the epidermis'", &SkinParameters::dermis_scattering_scale, /*domain*/ 0.2, 2},
+     "dermis sigma_s_prime relative to the epidermis'", &SkinParameters::dermis_scattering_scale, /*domain*/ 0.2, 2,
+     0.2, 2.0, /*prior*/ 0.5, 2.0, 1.0, true},
     {"eta", "", "1", 1, 3, false, false, "refractive index of both layers", &SkinParameters::eta, /*domain*/ 1.33, 1.55},
     {"roughness", "", "1", 0, kInf, true, true, "Beckmann RMS slope of the surface",
      &SkinParameters::roughness, /*domain*/ 0.1, 0.6},
@@ -189,9 +195,8 @@ const ParameterInfo* find_parameter(std::string_view name) {
 
 std::vector<std::string> parameter_channels(const std::vector<std::string>& names) {
   std::vector<std::string> out;
-  for (const std::string& n : names)
-    for (const auto& p : kParameters)
-      if (p.key == n) out.push_back(n);
+  for (const auto& p : kParameters)
+    if (std::find(names.begin(), names.end(), p.key) != names.end()) out.emplace_back(p.key);
   return out;
 }
 

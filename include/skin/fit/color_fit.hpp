@@ -120,7 +120,7 @@ struct ParameterMaps {
   std::array<std::size_t, 3> at_bound{};
   std::size_t any_at_bound = 0;
   // Extended model (--model extended): the maps of the free parameters besides those three
-  // (epidermis_thickness, oxygenation, scattering_scale, ...), in the order fitted, written as
+  // (oxygenation, epidermis_thickness, dermis_scattering_scale, scattering_scale, ...), in the order fitted, written as
   // more channels named by parameter key; and the texels with each of them on its bound.
   std::vector<Parameter> more_parameters;
   std::vector<std::vector<float>> more;

@@ -30,7 +30,8 @@ class Parameter {
   bool operator==(const Parameter&) const = default;
   // The rows the fit's own code names (each has a fit interval; all_parameters() lists them all).
   static const Parameter melanin, melanin_blend, hemoglobin, oiliness, oxygenation,
-      epidermis_thickness, epidermal_hemoglobin, beta_carotene, bilirubin, scattering_scale;
+      epidermis_thickness, epidermal_hemoglobin, beta_carotene, bilirubin, scattering_scale,
+      dermis_scattering_scale;
 
  private:
   constexpr explicit Parameter(double physics::SkinParameters::*member) : member_(member) {}
@@ -46,6 +47,7 @@ inline constexpr Parameter Parameter::epidermal_hemoglobin{&physics::SkinParamet
 inline constexpr Parameter Parameter::beta_carotene{&physics::SkinParameters::beta_carotene};
 inline constexpr Parameter Parameter::bilirubin{&physics::SkinParameters::bilirubin};
 inline constexpr Parameter Parameter::scattering_scale{&physics::SkinParameters::scattering_scale};
+inline constexpr Parameter Parameter::dermis_scattering_scale{&physics::SkinParameters::dermis_scattering_scale};
 
 std::string_view key(Parameter p);   // "melanin_blend"
 std::string flag(Parameter p);       // "melanin-blend"
@@ -87,8 +89,8 @@ std::string_view name(FitModel m);  // "paper", "extended"
 // Throws InputError "model = '<name>' is unknown: choose paper or extended".
 FitModel parse_fit_model(std::string_view name);
 // The extended model's free parameters. Colour (three numbers): melanin, melanin_blend,
-// hemoglobin, epidermis_thickness, oxygenation, scattering_scale (the tone presets' set,
-// scripts/fit_tone_presets.py); spectrum: those and beta_carotene, epidermal_hemoglobin.
+// hemoglobin, oxygenation, epidermis_thickness, dermis_scattering_scale, scattering_scale (the
+// parameter table's order); spectrum: those and beta_carotene, epidermal_hemoglobin.
 std::vector<Parameter> extended_model_free(bool spectrum);
 // Search interval under the extended model: the prior range where the table has one, else
 // default_bounds.

@@ -102,7 +102,8 @@ const ParameterInfo* find_parameter(std::string_view name);
 // The same; throws InputError "<what> '<name>' is unknown: known parameters are ..." otherwise.
 const ParameterInfo& parameter_info(std::string_view name, std::string_view what = "parameter");
 // Of some channel names (an OpenEXR file's), those that are a parameter's key exactly (a map of
-// that parameter, as skin fit --texture writes them), in their order.
+// that parameter, as skin fit --texture writes them), in the parameter table's order (the
+// extended model's free parameters' order; an OpenEXR file lists its channels alphabetically).
 std::vector<std::string> parameter_channels(const std::vector<std::string>& names);
 // The parameters named by one source (a parameter file's keys, a table's columns): each name
 // resolved as parameter_info(name, what) does, and a second name for a parameter already named
