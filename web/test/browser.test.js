@@ -198,11 +198,22 @@ async function main() {
         images: window.skinState.export.images,
       }));
       for (const name of names) await page.click(`#export-files a[download="${name}"]`);
+      // A file is read once the download has settled: it exists, no .crdownload beside it, and
+      // the same non-zero size on two looks 100 ms apart. (Reading it as soon as it existed once
+      // found it empty: Chromium had made the file but not yet written it; a CI run failed so.)
       const files = {};
       for (const name of names) {
         const file = path.join(downloads, name);
         const t0 = Date.now();
-        while (!fs.existsSync(file) && Date.now() - t0 < 20000) await new Promise((r) => setTimeout(r, 50));
+        let last = -1;
+        while (Date.now() - t0 < 20000) {
+          if (fs.existsSync(file) && !fs.existsSync(`${file}.crdownload`)) {
+            const size = fs.statSync(file).size;
+            if (size > 0 && size === last) break;
+            last = size;
+          }
+          await new Promise((r) => setTimeout(r, 100));
+        }
         if (fs.existsSync(file)) files[name] = fs.readFileSync(file);
       }
       const s = await shown();
