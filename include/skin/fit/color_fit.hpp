@@ -120,8 +120,9 @@ struct ParameterMaps {
   std::array<std::size_t, 3> at_bound{};
   std::size_t any_at_bound = 0;
   // Extended model (--model extended): the maps of the free parameters besides those three
-  // (oxygenation, epidermis_thickness, dermis_scattering_scale, scattering_scale, ...), in the order fitted, written as
-  // more channels named by parameter key; and the texels with each of them on its bound.
+  // (oxygenation, epidermis_thickness, dermis_scattering_scale, scattering_scale, ...), in the
+  // order fitted, written as more channels named by parameter key; and the texels with each of
+  // them on its bound.
   std::vector<Parameter> more_parameters;
   std::vector<std::vector<float>> more;
   std::vector<std::size_t> more_at_bound;
@@ -171,9 +172,9 @@ struct ColorTable {
 // Extended model: a table over every free parameter (ColorTable), the extended colour
 // fit's objective (CIEDE2000 components and the prior terms) on its multilinear interpolation,
 // solved twice per colour: the second time with the table's colour shifted by the table's
-// piecewise-cubic interpolation minus its multilinear one at the first solution; the colour
-// reported is the cubic interpolation's at the second, within ~0.1 dE2000 of the exact model
-// (docs/fit.md).
+// piecewise-polynomial (mostly cubic) interpolation minus its multilinear one at the first
+// solution; the colour reported is that interpolation's at the second, within ~0.1 dE2000 of
+// the exact model (docs/fit.md).
 class TextureFitter {
  public:
   // built_in_table: the fit may read its model's built-in table where it is the one these
