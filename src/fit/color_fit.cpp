@@ -682,7 +682,8 @@ struct TextureFitter::Impl {
     // Sorted by L* (then by node, the scan's order), those the model cannot evaluate left out:
     // the search for the best start scans outward from the target's L* and stops where the
     // lightness difference alone exceeds the best cost (the other terms are >= 0), the same
-    // start as a scan of all of them (18 432 with seven free parameters) in a few hundred.
+    // start as a scan of all of them (18 432 with seven free parameters) in a few hundred. (The
+    // plain scan made the 4096 x 4096 Lee Perry-Smith fit 10 % slower: paired runs, 2026-12-07.)
     xstart_fallback = xstart_node.empty() ? 0 : xstart_node.front();
     std::vector<std::size_t> order;
     for (std::size_t i = 0; i < xstart_L.size(); ++i)
