@@ -23,7 +23,8 @@ timed "install dependencies" bash scripts/install-deps.sh
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$PWD}"
 export CCACHE_NOHASHDIR=1  # (the sanitizer build's debug info then names the first checkout)
 if [ "${1:-}" = "--sanitize" ]; then
-  # Release only (each 70-130 s under ASan at -j2, ~500 CPU-s together; their physics is the
+  # Release only (each 70-130 s under ASan at -j2 before UBSan skipped Eigen's code on 2026-12-07,
+  # ~500 CPU-s together; their physics is the
   # Release suite's, and the same frequency-domain code runs under the sanitizers in the other
   # accurate_test and skin_stack_table_test cases): Golden.FrequencyDomainProfilesUnchanged (over
   # 10 min under ASan), and five accuracy sweeps of the frequency-domain solver. Since 2026-12-04
