@@ -282,34 +282,35 @@ LayerStack skin_layer_stack(const SkinParameters& p, double lambda) {
 
 namespace {
 // The tone presets' fitted values: scripts/fit_tone_presets.py (PYTHONPATH=build/python
-// /usr/bin/python3 scripts/fit_tone_presets.py) printed these rows; docs/tone-presets.md has the
-// ranges, the fit and its result. Free: melanin [0.0005, 0.5], melanin_blend [0.3, 1],
-// hemoglobin [0.002, 0.07], epidermis_thickness [0.04, 0.15] mm, oxygenation [0.6, 0.9],
-// scattering_scale [0.5, 2]; the rest are the defaults. gap: the CIEDE2000 distance (D65) of the
-// fitted colour from the target, the target's distance from the model's gamut where > 1.
+// /usr/bin/python3 scripts/fit_tone_presets.py) printed these rows, each the extended colour fit
+// of its swatch (`skin fit --hex RRGGBB --model extended`: the priors of docs/fit.md), rounded to
+// 4 significant digits; docs/tone-presets.md has the result. The rest are the defaults. gap: the
+// CIEDE2000 distance (D65) of the preset's colour from the target, the target's distance from the
+// model's gamut where > 1.
 struct ToneRow {
   const char* name;
   const char* target;
   double gap;
-  double melanin, melanin_blend, hemoglobin, epidermis_thickness, oxygenation, scattering_scale;
+  double melanin, melanin_blend, hemoglobin, oxygenation, epidermis_thickness, dermis_scattering_scale,
+      scattering_scale;
 };
 constexpr ToneRow kMonk[] = {
-    {"monk-01", "f6ede4", 6.79, 0.0005, 0.3, 0.002, 0.15, 0.8304, 2},
-    {"monk-02", "f3e7db", 6.03, 0.0005, 0.3, 0.002, 0.15, 0.834, 2},
-    {"monk-03", "f7ead0", 8.85, 0.001292, 0.3, 0.002, 0.04, 0.6, 2},
-    {"monk-04", "eadaba", 7.17, 0.009166, 0.3, 0.002, 0.04, 0.6, 2},
-    {"monk-05", "d7bd96", 4.02, 0.03143, 0.3, 0.002, 0.04, 0.6, 2},
-    {"monk-06", "a07e56", 0.01, 0.08652, 0.5047, 0.00244, 0.05659, 0.7495, 1.138},
-    {"monk-07", "825c43", 0.00, 0.08336, 0.7386, 0.01071, 0.09609, 0.7458, 1.205},
-    {"monk-08", "604134", 0.01, 0.1243, 0.8119, 0.03954, 0.1161, 0.7483, 1.3},
-    {"monk-09", "3a312a", 0.97, 0.2734, 1, 0.07, 0.15, 0.6, 2},
-    {"monk-10", "292420", 2.13, 0.4598, 1, 0.07, 0.15, 0.696, 2},
+    {"monk-01", "f6ede4", 2.98, 0.0005, 0.3, 0.002, 0.9, 0.04, 2, 2},
+    {"monk-02", "f3e7db", 2.48, 0.00134, 0.3, 0.002669, 0.9, 0.04, 2, 2},
+    {"monk-03", "f7ead0", 4.72, 0.00963, 0.3, 0.002, 0.6, 0.04, 2, 2},
+    {"monk-04", "eadaba", 3.27, 0.01995, 0.3, 0.002, 0.6, 0.04, 2, 2},
+    {"monk-05", "d7bd96", 0.95, 0.0466, 0.3, 0.002, 0.9, 0.04058, 2, 2},
+    {"monk-06", "a07e56", 0.01, 0.06996, 0.7548, 0.002934, 0.7433, 0.06988, 1.052, 0.9328},
+    {"monk-07", "825c43", 0.01, 0.08429, 0.7844, 0.01568, 0.7475, 0.1017, 0.9316, 1.26},
+    {"monk-08", "604134", 0.01, 0.1217, 0.8684, 0.05309, 0.7505, 0.1188, 0.8013, 1.292},
+    {"monk-09", "3a312a", 0.97, 0.2729, 1, 0.07, 0.6, 0.15, 0.5, 2},
+    {"monk-10", "292420", 2.13, 0.4595, 1, 0.07, 0.6966, 0.15, 0.5, 2},
 };
 constexpr const char* kPaperSource =
     "Donner & Jensen 2006: the paper's values, tuned by eye under its multipole model";
 constexpr const char* kMonkSource =
     "Monk Skin Tone scale (E. Monk 2019-2023; Google, skintone.google): published sRGB swatch; fitted "
-    "with the accurate solver under D65 (scripts/fit_tone_presets.py)";
+    "by the extended model with the accurate solver under D65 (scripts/fit_tone_presets.py)";
 }  // namespace
 
 const std::vector<Preset>& presets() {
@@ -343,8 +344,9 @@ const std::vector<Preset>& presets() {
       p.melanin = r.melanin;
       p.melanin_blend = r.melanin_blend;
       p.hemoglobin = r.hemoglobin;
-      p.epidermis_thickness = r.epidermis_thickness;
       p.oxygenation = r.oxygenation;
+      p.epidermis_thickness = r.epidermis_thickness;
+      p.dermis_scattering_scale = r.dermis_scattering_scale;
       p.scattering_scale = r.scattering_scale;
       std::string d = "Monk Skin Tone " + std::to_string(i + 1) + " (#" + r.target + "), fitted";
       d += r.gap <= 1 ? " to " + format_number(r.gap) + " dE2000"

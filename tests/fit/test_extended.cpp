@@ -11,6 +11,7 @@
 #include "skin/color/color.hpp"
 #include "skin/fit/color_fit.hpp"
 #include "skin/fit/fit.hpp"
+#include "skin/physics/skin_parameters.hpp"
 #include "skin/transport/model.hpp"
 #include "skin/util/error.hpp"
 #include "../temp_dir.hpp"
@@ -169,6 +170,25 @@ TEST(ExtendedModel, PriorsPullAnUnderdeterminedColourFitToTheirCentres) {
   }
   EXPECT_NEAR(r.parameters.melanin, 0.03, 0.003);
   for (std::size_t j = 0; j < r.free.size(); ++j) EXPECT_FALSE(r.at_bound[j]) << key(r.free[j]);
+}
+
+// Each tone preset is the extended colour fit of its Monk swatch (`skin fit --hex RRGGBB --model
+// extended`: scripts/fit_tone_presets.py) to the preset table's 4 significant digits (half a unit
+// of the 4th: 5e-4 relative), so that the presets and the inverse model are one: monk-06 (every
+// parameter inside its range) and monk-01 (outside the gamut, every parameter on a bound). (The
+// first only under the sanitizers.)
+TEST(ExtendedModel, TonePresetsAreTheFitsOfTheirSwatches) {
+  ColorFitOptions o;
+  use_fit_model(o, FitModel::extended);
+  const ColorFitter f(o);
+  for (const char* name : skin::test::sanitized<const char*>({"monk-06", "monk-01"})) {
+    const skin::physics::Preset& preset = skin::physics::find_preset(name);
+    const ColorFitResult r = f.fit(parse_hex(preset.target_hex));
+    for (Parameter p : extended_model_free(false)) {
+      const double fitted = get(r.parameters, p), committed = get(preset.parameters, p);
+      EXPECT_NEAR(committed, fitted, 5e-4 * std::abs(fitted) + 1e-12) << name << ' ' << key(p);
+    }
+  }
 }
 
 TEST(ExtendedModel, OutOfGamutColourReportsDistanceAndBounds) {
