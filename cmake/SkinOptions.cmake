@@ -22,11 +22,17 @@ if(SKIN_SANITIZE OR SKIN_FUZZ)
   target_compile_options(skin_sanitize INTERFACE -fsanitize=${skin_sanitizers}
     -fno-sanitize-recover=all -fno-omit-frame-pointer ${skin_debug_info})
   if(CMAKE_CXX_COMPILER_ID MATCHES "Clang")
-    # UBSan's checks skip Eigen's own code (the file says why). ccache 4.7 does not hash the
-    # list's content, so its hash is part of the command line.
+    # UBSan's checks skip Eigen's own code (the file says why). ccache 4.7 neither hashes the
+    # list's content (so its hash is part of the command line) nor rewrites the option's path
+    # under its base directory: with Ninja, which compiles from the build directory, the path is
+    # relative to it, so that a fresh clone elsewhere (CI) hits the same cache entries.
     set(skin_ubsan_ignorelist ${CMAKE_CURRENT_LIST_DIR}/ubsan-ignorelist.txt)
     file(SHA1 ${skin_ubsan_ignorelist} skin_ubsan_ignorelist_sha1)
-    target_compile_options(skin_sanitize INTERFACE -fsanitize-ignorelist=${skin_ubsan_ignorelist})
+    set(skin_ubsan_ignorelist_arg ${skin_ubsan_ignorelist})
+    if(CMAKE_GENERATOR MATCHES "Ninja")
+      file(RELATIVE_PATH skin_ubsan_ignorelist_arg ${CMAKE_BINARY_DIR} ${skin_ubsan_ignorelist})
+    endif()
+    target_compile_options(skin_sanitize INTERFACE -fsanitize-ignorelist=${skin_ubsan_ignorelist_arg})
     target_compile_definitions(skin_sanitize INTERFACE SKIN_UBSAN_IGNORELIST=${skin_ubsan_ignorelist_sha1})
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${skin_ubsan_ignorelist})
   endif()
