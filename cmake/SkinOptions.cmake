@@ -32,8 +32,12 @@ if(SKIN_SANITIZE OR SKIN_FUZZ)
     if(CMAKE_GENERATOR MATCHES "Ninja")
       file(RELATIVE_PATH skin_ubsan_ignorelist_arg ${CMAKE_BINARY_DIR} ${skin_ubsan_ignorelist})
     endif()
-    target_compile_options(skin_sanitize INTERFACE -fsanitize-ignorelist=${skin_ubsan_ignorelist_arg})
-    target_compile_definitions(skin_sanitize INTERFACE SKIN_UBSAN_IGNORELIST=${skin_ubsan_ignorelist_sha1})
+    # (The project's own compilations only: the installed package's consumers compile their own
+    # code, from their own build directories.)
+    target_compile_options(skin_sanitize INTERFACE
+      $<BUILD_INTERFACE:-fsanitize-ignorelist=${skin_ubsan_ignorelist_arg}>)
+    target_compile_definitions(skin_sanitize INTERFACE
+      $<BUILD_INTERFACE:SKIN_UBSAN_IGNORELIST=${skin_ubsan_ignorelist_sha1}>)
     set_property(DIRECTORY APPEND PROPERTY CMAKE_CONFIGURE_DEPENDS ${skin_ubsan_ignorelist})
   endif()
   target_link_options(skin_sanitize INTERFACE -fsanitize=address,undefined)
