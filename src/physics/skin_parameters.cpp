@@ -45,8 +45,8 @@ double geometric_middle(double lo, double hi) { return std::sqrt(lo * hi); }
 // share Del Bino et al. 2015 measured in epidermis of every pigmentation (Pigment Cell Melanoma
 // Res 28:707). No measured source was found for beta_m's lower end 0.3, oxygenation's 0.6 and
 // centre 0.75 (the paper's), or the scattering factor 0.5-2 (the presets' choices). The dermis'
-// scattering relative to the epidermis' (extended fit since 2026-12-06; the tone presets were
-// fitted before, at the paper's 0.5): centre 1, the in vivo model of "Absorption and reduced
+// scattering relative to the epidermis' (extended fit since 2026-12-06, the tone presets since
+// 2026-12-07): centre 1, the in vivo model of "Absorption and reduced
 // scattering coefficients in epidermis and dermis from a Swedish cohort study" (J Biomed Opt
 // 28:115001, 2023; 3809 subjects: one sigma_s' for all layers, 3.22 /mm at 475 nm to 1.20 at
 // 850 nm); range 0.5 (the paper's) to 2 (the skin domain's top; no measured bound found).
