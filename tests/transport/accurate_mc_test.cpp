@@ -359,6 +359,23 @@ TEST(DarkSkinFarField, UnderAScatteringDermisBothSolversWithinFivePercentAndThre
   expect_annuli_within(run_mc(st, 10000000, 2026, 0.8, 8), 0.8, 8, 0.2, 0.8, {{"table", &acc}, {"solver", &sfd}});
 }
 
+// The thinnest epidermis with another g and dermis ratio, near the beam: a 0.066 mm epidermis
+// with s 1.19 /mm (tau 0.078, a_e 2.8; over a dermis with a_d 0.10; g 0.76, index 1.41, ratio
+// 0.26: a domain skin at 717 nm), where the skin table's nodes end. Read from the table with the
+// g and dermis-ratio cross terms it was +28 % off the solver at 0.017 mm and +34 % off 4 x 10^6
+// photons at 0.015-0.02 mm (5 % + 3 SE allow 10.6 %): at the thinnest tau nodes the solves' split
+// into the two parts rings within about tau of the beam, and the cross terms turned that into a
+// bump. Since 2026-12-07 such skin is solved under tau below 0.117 (SkinStackTable::gap). 10^6
+// photons (~1.5 s), 5 um annuli over 0.01-0.06 mm: standard errors 1.5-3 %.
+TEST(ThinnestEpidermis, AnotherGAndDermisRatioNearTheBeamWithinFivePercentAndThreeSE) {
+  const double s = 1.19;
+  LayerStack st;
+  st.layers = {Layer{2.8129 * s, s, 0.0781 / s, 1.4148, 0.7607}, Layer{0.1004 * s, 0.2614 * s, skin::physics::kInfinity, 1.4148, 0.7607}};
+  const skin::transport::accurate::AccurateStack acc(st);
+  EXPECT_FALSE(acc.skin_table());
+  expect_annuli_within(run_mc(st, 2000000, 2026, 0.1, 10), 0.1, 10, 0.01, 0.06, {{"accurate", &acc}});
+}
+
 // Half-spaces of skin's index and g under air (the half-space part of the skin table): the same
 // pointwise check, over 0.1-5 transport mean free paths (sigma_t' = 1/mm).
 TEST(HalfSpaceProfiles, WithinFivePercentAndThreeSEOfMonteCarlo) {

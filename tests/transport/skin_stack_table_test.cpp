@@ -1197,8 +1197,13 @@ TEST(SkinStackCross, GAboveTheCornersWithAnotherRatioUnderAThinTopIsSolved) {
   EXPECT_NE(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.93, 1.55, 0.24)).find("below 0.35"), std::string::npos);
   EXPECT_NE(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.96, 1.55, 1.44)), "");  // any other ratio above 0.955
   EXPECT_EQ(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.93, 1.55, 0.5)), "");   // the table's ratio: offsets alone
-  EXPECT_EQ(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.93, 1.55, 0.8)), "");   // g 0.91-0.955, ratio 0.35 or more
-  EXPECT_EQ(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.91, 1.55, 0.24)), "");  // up to g 0.91
+  EXPECT_EQ(t.gap(stack(1.2, 0.13, 3.188, 0.029, 0.93, 1.55, 0.8)), "");   // g 0.91-0.955, ratio 0.35 or more
+  EXPECT_EQ(t.gap(stack(1.2, 0.13, 3.188, 0.029, 0.91, 1.55, 0.24)), "");  // up to g 0.91
+  // Another g with another ratio under the thinnest epidermis (tau below 0.117) is solved at any g
+  // (ThinnestEpidermis in accurate_mc_test); at the table's g, or ratio, it is read.
+  EXPECT_NE(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.91, 1.55, 0.24)).find("ring near the beam"), std::string::npos);
+  EXPECT_NE(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.8, 1.55, 1.44)).find("ring near the beam"), std::string::npos);
+  EXPECT_EQ(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.8, 1.55, 0.5)), "");
   EXPECT_EQ(t.gap(stack(5.0, 0.796, 1.215, 0.084, 0.97, 1.55, 0.2)), "");   // tau 0.4 or more
   if (skin::test::kUnderSanitizers) return;
   const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);
