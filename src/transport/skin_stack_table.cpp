@@ -533,8 +533,13 @@ constexpr double kCombinedGRatioThinnest = 0.117;
 // others 6.2 %), and with tau 0.4-1.5 at g 0.97 4.3 %; 12 others, whose worst (ratio 0.24, tau
 // 0.096, index 1.55) grows with g: 2.9 % at 0.9, 4.1 % at 0.91, 5.2 % at 0.92, 6.3 % at 0.93,
 // 7.5 % at 0.94, the others at most 4.0 % up to g 0.95. Such skin is solved where g is above
-// kMirroredGThin with the ratio below kMirroredLowRatio, or above kMirroredGAllRatios with any
-// other ratio, under tau below kMirroredThinnest.
+// kMirroredGThin with the ratio below kMirroredLowRatio under tau below kMirroredThinnest, and
+// (since 2026-12-07) wherever g is above kMirroredGAllRatios with any other ratio: under thicker
+// top layers too such reads missed a Monte Carlo (2e6 photons, docs/accurate-solver.md, sec. 4):
+// tau 0.40, a_e 0.33, a_d 0.084, g 0.97, index 1.40, ratio 0.23 (s 20 /mm, 476 nm) -75 % at
+// 1.4 mm, 5.6 times what 5 % + 3 SE allow (the solver 0.34 of it); tau 0.48, g 0.97, index 1.55,
+// ratio 2, 1.15 times; 6 of 19 random such skins with tau 0.4-1.8 were 5-15 % off the solver
+// above 1e-4 of R(0.02 mm).
 constexpr double kMirroredGThin = 0.91, kMirroredGAllRatios = 0.955, kMirroredLowRatio = 0.35, kMirroredThinnest = 0.4;
 }  // namespace
 
@@ -598,12 +603,13 @@ std::string SkinStackTable::gap(const LayerStack& stack) const {
            " (the skin table's cross terms miss its far field)";
   // (Only where the cross terms are continued there: no corners above the table's g.)
   const bool g_continued = offsets && offsets->cross && offsets->cross->ends[0][1] == offsets->cross->base[0];
-  if (g_continued && ratio != dermis_ratio && t < kMirroredThinnest &&
-      (e.g > kMirroredGAllRatios || (e.g > kMirroredGThin && ratio < kMirroredLowRatio)))
+  if (g_continued && ratio != dermis_ratio &&
+      (e.g > kMirroredGAllRatios || (e.g > kMirroredGThin && ratio < kMirroredLowRatio && t < kMirroredThinnest)))
     return "g = " + format_number(e.g) + " above " + format_number(e.g > kMirroredGAllRatios ? kMirroredGAllRatios : kMirroredGThin) +
            " together with another dermis scattering ratio (" + format_number(ratio) +
-           (e.g > kMirroredGAllRatios ? "" : " below " + format_number(kMirroredLowRatio)) +
-           ") under a top layer with sigma_s' d = " + format_number(t) + " below " + format_number(kMirroredThinnest) +
+           (e.g > kMirroredGAllRatios ? ")"
+                                      : " below " + format_number(kMirroredLowRatio) + ") under a top layer with sigma_s' d = " +
+                                            format_number(t) + " below " + format_number(kMirroredThinnest)) +
            " (the skin table has no cross terms for g above " + format_number(g) + ": continued from below, they miss such skin)";
   // Another dermis ratio together with another g under the thinnest epidermis: within about tau
   // of the beam the solves' split into the two parts rings at the thinnest tau nodes, and the g
