@@ -365,8 +365,9 @@ TEST(DarkSkinFarField, UnderAScatteringDermisBothSolversWithinFivePercentAndThre
 // g and dermis-ratio cross terms it was +28 % off the solver at 0.017 mm and +34 % off 4 x 10^6
 // photons at 0.015-0.02 mm (5 % + 3 SE allow 10.6 %): at the thinnest tau nodes the solves' split
 // into the two parts rings within about tau of the beam, and the cross terms turned that into a
-// bump. Since 2026-12-07 such skin is solved under tau below 0.117 (SkinStackTable::gap). 10^6
-// photons (~1.5 s), 5 um annuli over 0.01-0.06 mm: standard errors 1.5-3 %.
+// bump. Since 2026-12-07 such skin is solved under tau below 0.117 (SkinStackTable::gap). 2 x 10^6
+// photons (~2.5 s with the solve), 10 um annuli over 0.01-0.06 mm, those with a standard error
+// below 3 % checked.
 TEST(ThinnestEpidermis, AnotherGAndDermisRatioNearTheBeamWithinFivePercentAndThreeSE) {
   const double s = 1.19;
   LayerStack st;
