@@ -359,6 +359,23 @@ TEST(DarkSkinFarField, UnderAScatteringDermisBothSolversWithinFivePercentAndThre
   expect_annuli_within(run_mc(st, 10000000, 2026, 0.8, 8), 0.8, 8, 0.2, 0.8, {{"table", &acc}, {"solver", &sfd}});
 }
 
+// A two-layer skin stack in the skin table's reduced units (the epidermis' sigma_s' s per mm, tau =
+// s d, a_e and a_d over s, g, index, dermis ratio), which the accurate model must solve rather
+// than read (AccurateStack::skin_table() false), held like expect_annuli_within to a Monte Carlo
+// of `photons` over annuli of r_max / bins within [r_lo, r_hi].
+struct ReducedSkin {
+  double s, tau, a_e, a_d, g, eta, ratio;
+};
+void expect_solved_within_monte_carlo(const ReducedSkin& c, std::uint64_t photons, double r_max, std::size_t bins,
+                                      double r_lo, double r_hi) {
+  LayerStack st;
+  st.layers = {Layer{c.a_e * c.s, c.s, c.tau / c.s, c.eta, c.g},
+               Layer{c.a_d * c.s, c.ratio * c.s, skin::physics::kInfinity, c.eta, c.g}};
+  const skin::transport::accurate::AccurateStack acc(st);
+  EXPECT_FALSE(acc.skin_table());
+  expect_annuli_within(run_mc(st, photons, 2026, r_max, bins), r_max, bins, r_lo, r_hi, {{"accurate", &acc}});
+}
+
 // The thinnest epidermis with another g and dermis ratio, near the beam: a 0.066 mm epidermis
 // with s 1.19 /mm (tau 0.078, a_e 2.8; over a dermis with a_d 0.10; g 0.76, index 1.41, ratio
 // 0.26: a domain skin at 717 nm), where the skin table's nodes end. Read from the table with the
@@ -369,12 +386,7 @@ TEST(DarkSkinFarField, UnderAScatteringDermisBothSolversWithinFivePercentAndThre
 // photons (~2.5 s with the solve), 10 um annuli over 0.01-0.06 mm, those with a standard error
 // below 3 % checked.
 TEST(ThinnestEpidermis, AnotherGAndDermisRatioNearTheBeamWithinFivePercentAndThreeSE) {
-  const double s = 1.19;
-  LayerStack st;
-  st.layers = {Layer{2.8129 * s, s, 0.0781 / s, 1.4148, 0.7607}, Layer{0.1004 * s, 0.2614 * s, skin::physics::kInfinity, 1.4148, 0.7607}};
-  const skin::transport::accurate::AccurateStack acc(st);
-  EXPECT_FALSE(acc.skin_table());
-  expect_annuli_within(run_mc(st, 2000000, 2026, 0.1, 10), 0.1, 10, 0.01, 0.06, {{"accurate", &acc}});
+  expect_solved_within_monte_carlo({1.19, 0.0781, 2.8129, 0.1004, 0.7607, 1.4148, 0.2614}, 2000000, 0.1, 10, 0.01, 0.06);
 }
 
 // g above 0.955 with another dermis ratio over a thicker epidermis: a bright domain skin at
@@ -385,12 +397,7 @@ TEST(ThinnestEpidermis, AnotherGAndDermisRatioNearTheBeamWithinFivePercentAndThr
 // any epidermis (it was read under tau 0.4 or more). 5 x 10^5 photons, 0.1 mm annuli over 0.5-2
 // mm. Release only (scripts/test.sh: the solve at g 0.97 takes 16 directions per panel).
 TEST(ThickerEpidermis, GAbove0955WithAnotherDermisRatioWithinFivePercentAndThreeSE) {
-  const double s = 20.1;
-  LayerStack st;
-  st.layers = {Layer{0.3288 * s, s, 0.4022 / s, 1.3958, 0.97}, Layer{0.0844 * s, 0.2308 * s, skin::physics::kInfinity, 1.3958, 0.97}};
-  const skin::transport::accurate::AccurateStack acc(st);
-  EXPECT_FALSE(acc.skin_table());
-  expect_annuli_within(run_mc(st, 500000, 2026, 2.0, 20), 2.0, 20, 0.5, 2.0, {{"accurate", &acc}});
+  expect_solved_within_monte_carlo({20.1, 0.4022, 0.3288, 0.0844, 0.97, 1.3958, 0.2308}, 500000, 2.0, 20, 0.5, 2.0);
 }
 
 // Half-spaces of skin's index and g under air (the half-space part of the skin table): the same
