@@ -284,8 +284,9 @@ void register_skin_table_command(CLI::App& app) {
   sub->add_option("--offset-nodes", o->axes,
                   "With --offsets: only these nodes, as AXIS=VALUE (g=0.8, eta=1.47, dermis_ratio=2); default: all");
   sub->add_option("--cross-pairs", o->pairs,
-                  "With --cross: solve only these pairs of axes (g:eta, g:dermis_ratio, eta:dermis_ratio), leaving "
-                  "the others' corners 0; default: all. With --reuse, the corners it holds are copied in every case");
+                  "With --cross: solve only these pairs of axes (g:eta, g:dermis_ratio, eta:dermis_ratio); default: all. "
+                  "With --reuse, the corners it holds are copied in every case, and the other pairs' corners on a side "
+                  "where it had none are its other side's continued through the base (reads as before); others 0");
   sub->add_option("--rebase-from", o->rebase_from,
                   "With --cross --reuse: the offsets file the reused terms were computed against; writes those "
                   "terms rebased onto the built-in offsets (each corner's term changes by the offsets' change "

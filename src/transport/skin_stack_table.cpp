@@ -1727,6 +1727,12 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
   // the light from below.
   struct Job { int pair, corner; std::size_t k; bool held = false; };
   std::vector<Job> top_jobs, low_jobs;
+  // Top jobs by their top layer's (g, eta) and (tau, a_e) node, and the (pair, corner, node)s that
+  // use another corner's.
+  std::map<std::pair<std::array<double, 2>, std::size_t>, std::size_t> top_shared;
+  std::map<std::array<std::size_t, 3>, std::size_t> top_alias;
+  // Corners neither solved nor held from `reuse`.
+  std::vector<std::array<int, 2>> unsolved;
   // Per tau, a_e and a_d node, its index among the reused file's (new nodes, the offsets extended,
   // are solved).
   const bool reusable = reuse && reuse->base == base && same_nodes(reuse->x, x);
@@ -1778,12 +1784,29 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
           break;
         }
       }
-      // Not asked for: what `reuse` holds (a new node's rows 0), or 0.
-      if (!solve) continue;
+      // Not asked for: what `reuse` holds (a new node's rows 0), or continued (below), or 0.
+      if (!solve) {
+        bool any_held = false;
+        for (char h : hl) any_held = any_held || h != 0;
+        if (!any_held) unsolved.push_back({p, c});
+        continue;
+      }
       for (std::size_t k = 0; k < n_t * n_e; ++k) {
         bool needed = p == 0 && !ht[k];  // (pair 0's top term; every light from below subtracts its top layer's R(k))
         for (std::size_t i_d = 0; i_d < n_d; ++i_d) needed = needed || !hl[k * n_d + i_d];
-        if (needed) top_jobs.push_back({p, c, k, ht[k] != 0});
+        if (!needed) continue;
+        // A top layer another corner solves already (the dermis ratio's two ends share theirs):
+        // solved once.
+        const std::array<double, 2> top_geo{v[0], v[1]};
+        if (p != 0) {
+          const auto same = top_shared.find({top_geo, k});
+          if (same != top_shared.end()) {
+            top_alias[{static_cast<std::size_t>(p), static_cast<std::size_t>(c), k}] = same->second;
+            continue;
+          }
+          top_shared[{top_geo, k}] = top_jobs.size();
+        }
+        top_jobs.push_back({p, c, k, ht[k] != 0});
       }
       for (std::size_t k = 0; k < n_t * n_e * n_d; ++k)
         if (!hl[k]) low_jobs.push_back({p, c, k});
@@ -1817,7 +1840,7 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
   });
   util::cancel::check();
   // Each (pair, corner, tau, a_e)'s top job.
-  std::map<std::array<std::size_t, 3>, std::size_t> top_of;
+  std::map<std::array<std::size_t, 3>, std::size_t> top_of = top_alias;
   for (std::size_t q = 0; q < top_jobs.size(); ++q)
     top_of[{static_cast<std::size_t>(top_jobs[q].pair), static_cast<std::size_t>(top_jobs[q].corner), top_jobs[q].k}] = q;
   tbb::parallel_for(std::size_t{0}, low_jobs.size(), [&](std::size_t q) {
@@ -1835,6 +1858,25 @@ void SkinStackCross::compute(const SkinStackTable& table, const ProgressCallback
     tick();
   });
   util::cancel::check();
+  // A corner neither solved nor held, on a side of an axis that `reuse` had no corners on (it
+  // continued the other side's through the base): the other side's corner continued to this end,
+  // so that its reads stay what they were (the term is linear in the position in both cases).
+  for (const auto& [p, c] : unsolved) {
+    const auto pu = static_cast<std::size_t>(p), cu = static_cast<std::size_t>(c);
+    for (int which = 0; which < 2 && reuse; ++which) {
+      const auto axis = static_cast<std::size_t>(kPairAxes[pu][static_cast<std::size_t>(which)]);
+      const std::size_t side = which == 0 ? cu / 2 : cu % 2;
+      if (reuse->ends[axis][side] != reuse->base[axis] || ends[axis][1 - side] == base[axis]) continue;
+      const std::size_t other = which == 0 ? (cu ^ 2U) : (cu ^ 1U);
+      const double f = position(static_cast<int>(axis), 1 - side, ends[axis][side]);
+      for (std::size_t i = 0; i < c_top[pu][cu].size(); ++i) c_top[pu][cu][i] = f * c_top[pu][other][i];
+      for (std::size_t i = 0; i < c_low[pu][cu].size(); ++i) c_low[pu][cu][i] = f * c_low[pu][other][i];
+      provenance += "; " + std::string(kCrossPairNames[pu]) + " at (" + format_number(values(p, c)[static_cast<std::size_t>(kPairAxes[pu][0])]) +
+                    ", " + format_number(values(p, c)[static_cast<std::size_t>(kPairAxes[pu][1])]) + ") continued from the other side of " +
+                    SkinStackOffsets::kAxisNames[axis];
+      break;
+    }
+  }
 }
 
 std::string SkinStackCross::to_csv() const {

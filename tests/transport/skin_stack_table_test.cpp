@@ -1220,6 +1220,50 @@ TEST(SkinStackCross, GAboveTheCornersWithAnotherRatioUnderAThinTopIsSolved) {
   }
 }
 
+// Corners neither solved nor held (pairs left out of --cross-pairs), on a side where the reused
+// terms had none: the reused file's other side is continued to the new end, so that those pairs
+// read as they did, with the term linear in the position both ways. Here terms without corners
+// above g 0.9 (the built-in file before 2026-12-07) are given new g ends at the offsets' last g
+// node, nothing solved: the g x index and g x dermis ratio corners there are the g 0.7 ones times
+// the position of that end below the base, and a read anywhere between is unchanged.
+TEST(SkinStackCross, CornersNotSolvedAreContinuedFromTheOtherSide) {
+  const SkinStackTable& t = SkinStackTable::builtin();
+  using skin::transport::accurate::SkinStackCross;
+  SkinStackCross reuse = *t.offsets->cross;
+  reuse.ends[0][1] = reuse.base[0];  // no corners above the table's g
+  for (std::size_t p = 0; p < 2; ++p)
+    for (std::size_t k = 2; k < 4; ++k) {
+      std::fill(reuse.c_top[p][k].begin(), reuse.c_top[p][k].end(), 0.0);
+      std::fill(reuse.c_low[p][k].begin(), reuse.c_low[p][k].end(), 0.0);
+    }
+  SkinStackCross c = SkinStackCross::default_nodes(*t.offsets);
+  ASSERT_GT(c.ends[0][1], c.base[0]);
+  const std::array<bool, SkinStackCross::kPairs> none{false, false, false};
+  c.compute(t, {}, &reuse, &none);
+  EXPECT_NE(c.provenance.find("continued from the other side of g"), std::string::npos) << c.provenance;
+  const double f = c.position(0, 0, c.ends[0][1]);
+  EXPECT_LT(f, -0.5);
+  for (std::size_t p = 0; p < SkinStackCross::kPairs; ++p)
+    for (std::size_t k = 0; k < 4; ++k) {
+      const bool continued = p < 2 && k >= 2;
+      const std::size_t from = continued ? k - 2 : k;
+      ASSERT_EQ(c.c_low[p][k].size(), reuse.c_low[p][from].size());
+      for (std::size_t i = 0; i < c.c_low[p][k].size(); ++i)
+        ASSERT_DOUBLE_EQ(c.c_low[p][k][i], (continued ? f : 1.0) * reuse.c_low[p][from][i]) << p << ' ' << k;
+      for (std::size_t i = 0; i < c.c_top[p][k].size(); ++i)
+        ASSERT_DOUBLE_EQ(c.c_top[p][k][i], (continued ? f : 1.0) * reuse.c_top[p][from][i]) << p << ' ' << k;
+    }
+  for (const std::array<double, 3>& v : {std::array<double, 3>{0.93, 1.5, 1.0}, {0.95, 1.35, 0.3}, {0.96, 1.4, 2.0}}) {
+    std::vector<double> dt0(c.x.size(), 0.0), dl0 = dt0, dt1 = dt0, dl1 = dt0;
+    reuse.add(0.5, 0.3, 0.05, v, dt0, dl0);
+    c.add(0.5, 0.3, 0.05, v, dt1, dl1);
+    for (std::size_t m = 0; m < c.x.size(); ++m) {
+      EXPECT_NEAR(dt1[m], dt0[m], 1e-12) << v[0];
+      EXPECT_NEAR(dl1[m], dl0[m], 1e-12) << v[0];
+    }
+  }
+}
+
 // Rebased cross terms: terms computed against other offsets become those of the given ones by
 // each corner's change of the two axes' offsets, row by row. With the g 0.7 node's light from
 // below raised by 0.1 and its top layer's by 0.05 in the offsets they were computed against, the

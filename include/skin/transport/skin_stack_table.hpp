@@ -204,7 +204,10 @@ struct SkinStackCross {
   // not used). progress(done, total) as SkinStackTable::compute; cancellable. With `reuse` (the
   // same base and nodes), the corners it holds with the same two values are copied (to solve a
   // corner again, leave it out of `reuse`). With `solve_pairs`, only the marked pairs' other
-  // corners are solved; the other pairs' are 0.
+  // corners are solved; the other pairs' are 0, but for a corner on a side of an axis where
+  // `reuse` had none (it continued the other side's through the base): that other side's corner
+  // times the new end's position on it, so that the pair reads as before. Corners with the same top
+  // layer (the dermis ratio's two ends) share its solve.
   void compute(const SkinStackTable& table, const util::ProgressCallback& progress = {},
                const SkinStackCross* reuse = nullptr, const std::array<bool, kPairs>* solve_pairs = nullptr);
   std::string to_csv() const;
