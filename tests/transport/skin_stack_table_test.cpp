@@ -560,9 +560,11 @@ TEST(SkinStackOffsets, GBeyondItsLastNodeContinuesLinearlyInOneMinusG) {
   const std::size_t n_top = 4 * 4 * 5, n_low = 4 * 4 * 4 * 5;
   o.d_top = {std::vector<std::vector<double>>{std::vector<double>(n_top, 0.25), {}, std::vector<double>(n_top, 0.1)}, {{}}, {{}}};
   o.d_low = {std::vector<std::vector<double>>{std::vector<double>(n_low, -0.5), {}, std::vector<double>(n_low, 0.2)}, {{}}, {{}}};
+  SkinStackTable on_x;  // (only its x: the same as the offsets')
+  on_x.x = o.x;
   auto read = [&](double g) {
     std::vector<double> top(5, 0.0), low(5, 0.0);
-    o.add(2.5, 0.3, 0.3, g, 1.4, 0.5, o.x, top, low, false);
+    o.add(2.5, 0.3, 0.3, g, 1.4, 0.5, on_x, top, low, false);
     return std::pair{top, low};
   };
   for (const auto& [g, f] : {std::pair{0.95, 1.0}, std::pair{0.96, 1.2}, std::pair{0.97, 1.4}}) {
@@ -948,7 +950,7 @@ TEST(SkinStackCross, OnlyThePairsAskedForAreSolvedAtTheOffsetsNodes) {
   const std::vector<double> solved = corner.solve_low(c.tau[0], c.a_e[0], c.a_d[0]);
   std::vector<double> top, low;
   t.ln_parts_at(c.tau[0], c.a_e[0], c.a_d[0], top, low);
-  o.add(c.tau[0], c.a_e[0], c.a_d[0], 0.7, o.base[1], 2.0, t.x, top, low, false);
+  o.add(c.tau[0], c.a_e[0], c.a_d[0], 0.7, o.base[1], 2.0, t, top, low, false);
   const std::size_t stride = (t.x.size() - 1) / (n_x - 1);
   for (std::size_t m = 0; m < n_x; ++m) {
     if (c.x[m] >= 0.1 && c.x[m] <= 3) {
@@ -1007,7 +1009,7 @@ TEST(SkinStackCross, OnlyThePairsAskedForAreSolvedAtTheOffsetsNodes) {
     }
   const std::vector<double> solved_2 = corner.solve_low(o.tau[8], c.a_e[0], c.a_d[0]);
   t.ln_parts_at(o.tau[8], c.a_e[0], c.a_d[0], top, low);
-  o.add(o.tau[8], c.a_e[0], c.a_d[0], 0.7, o.base[1], 2.0, t.x, top, low, false);
+  o.add(o.tau[8], c.a_e[0], c.a_d[0], 0.7, o.base[1], 2.0, t, top, low, false);
   for (std::size_t m = 0; m < n_x; ++m) {
     if (c.x[m] >= 0.1 && c.x[m] <= 3) {
       EXPECT_NEAR(low[stride * m] + longer.c_low[1][1][rows + m], solved_2[stride * m], 1e-9) << "tau 2, x = " << c.x[m];
@@ -1177,46 +1179,93 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
   }
 }
 
-// Above g 0.9 the cross terms have no corners (the g 0.7 ones are continued through the base), and
-// with another dermis ratio under a thin top layer (tau below 0.4) that missed the solver: a
-// 0.13 mm-thick epidermis of tau 0.129 with g 0.97, index 1.55 and ratio 0.2 at 740 nm (domain
-// skin, seed 33) read 21.5 % low at 1.46 mm; a tau-0.096 one with ratio 0.24 7.5 % off at g 0.94,
-// 5.2 % at 0.92, 2.9 % at 0.9. Such skin is solved now (g above 0.91 with a ratio below 0.35, or
-// above 0.955 with any other ratio; since 2026-12-07 the latter under any epidermis); the same
-// skin at g 0.9, or at g 0.93 under tau 0.8, is read within 5 % above 1e-4 of R(0.02 mm).
-TEST(SkinStackCross, GAboveTheCornersWithAnotherRatioUnderAThinTopIsSolved) {
+// Another dermis ratio with g above 0.91 under a thin top layer with a low ratio is solved: the
+// read missed a Monte Carlo there even with the g 0.95 corners (tau 0.12, g 0.97, ratio 0.24: -20 %
+// at 1.5 mm, 1.44 times what 5 % + 3 SE allow; SkinStackTable::gap). Under thicker top layers,
+// and with the ratio 0.35 or more, g up to 0.97 is read since the g 0.95 corners (2026-12-07):
+// the skin at g 0.97 and ratio 0.2 under tau 0.8 within 5 % of the solver above 1e-4 of R(0.02
+// mm). A table whose cross terms have no corners above g 0.9 (the built-in one before) still
+// solves g above 0.955 with any other ratio: continued from below, those terms missed such skin.
+TEST(SkinStackCross, GAboveTheTableWithALowRatioUnderAThinTopIsSolved) {
   const SkinStackTable& t = SkinStackTable::builtin();
   auto stack = [](double s, double tau, double a_e, double a_d, double g, double eta, double ratio) {
     skin::physics::LayerStack st;
     st.layers = {{a_e * s, s, tau / s, eta, g}, {a_d * s, ratio * s, skin::physics::kInfinity, eta, g}};
     return st;
   };
-  const std::string why = t.gap(stack(1.0, 0.129, 2.694, 0.051, 0.97, 1.55, 0.2));
-  EXPECT_NE(why.find("no cross terms for g above 0.9"), std::string::npos) << why;
-  EXPECT_NE(why.find("g = 0.97 above 0.955"), std::string::npos) << why;
-  EXPECT_NE(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.93, 1.55, 0.24)).find("below 0.35"), std::string::npos);
-  EXPECT_NE(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.96, 1.55, 1.44)), "");  // any other ratio above 0.955
-  EXPECT_EQ(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.93, 1.55, 0.5)), "");   // the table's ratio: offsets alone
-  EXPECT_EQ(t.gap(stack(1.2, 0.13, 3.188, 0.029, 0.93, 1.55, 0.8)), "");   // g 0.91-0.955, ratio 0.35 or more
-  EXPECT_EQ(t.gap(stack(1.2, 0.13, 3.188, 0.029, 0.91, 1.55, 0.24)), "");  // up to g 0.91
+  ASSERT_GT(t.offsets->cross->ends[0][1], t.offsets->cross->base[0]);  // corners above g 0.9
+  const std::string why = t.gap(stack(5.96, 0.1192, 1.8132, 0.495, 0.97, 1.5315, 0.2437));
+  EXPECT_NE(why.find("g = 0.97 above 0.91"), std::string::npos) << why;
+  EXPECT_NE(why.find("below 0.35"), std::string::npos) << why;
+  EXPECT_NE(why.find("below 0.45"), std::string::npos) << why;
+  EXPECT_NE(t.gap(stack(20.1, 0.4022, 0.3288, 0.0844, 0.97, 1.3958, 0.2308)), "");  // tau 0.40: solved
+  EXPECT_NE(t.gap(stack(1.2, 0.2, 3.188, 0.029, 0.93, 1.55, 0.24)).find("below 0.35"), std::string::npos);
+  EXPECT_EQ(t.gap(stack(1.2, 0.2, 3.188, 0.029, 0.93, 1.55, 0.5)), "");   // the table's ratio: offsets alone
+  EXPECT_EQ(t.gap(stack(1.2, 0.2, 3.188, 0.029, 0.93, 1.55, 0.8)), "");   // ratio 0.35 or more
+  EXPECT_EQ(t.gap(stack(1.2, 0.2, 3.188, 0.029, 0.97, 1.55, 1.44)), "");  // the same at g 0.97
+  EXPECT_EQ(t.gap(stack(1.2, 0.2, 3.188, 0.029, 0.91, 1.55, 0.24)), "");  // up to g 0.91
   // Another g with another ratio under the thinnest epidermis (tau below 0.117) is solved at any g
   // (ThinnestEpidermis in accurate_mc_test); at the table's g, or ratio, it is read.
   EXPECT_NE(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.91, 1.55, 0.24)).find("ring near the beam"), std::string::npos);
   EXPECT_NE(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.8, 1.55, 1.44)).find("ring near the beam"), std::string::npos);
   EXPECT_EQ(t.gap(stack(1.2, 0.096, 3.188, 0.029, 0.8, 1.55, 0.5)), "");
-  EXPECT_EQ(t.gap(stack(5.0, 0.796, 1.215, 0.084, 0.93, 1.55, 0.2)), "");   // tau 0.4 or more below g 0.955
-  // Above g 0.955 with another ratio under any epidermis (since 2026-12-07; ThickerEpidermis in
-  // accurate_mc_test); with the table's ratio it is read.
-  EXPECT_NE(t.gap(stack(5.0, 0.796, 1.215, 0.084, 0.97, 1.55, 0.2)).find("g = 0.97 above 0.955"), std::string::npos);
-  EXPECT_EQ(t.gap(stack(5.0, 0.796, 1.215, 0.084, 0.97, 1.55, 0.5)), "");
+  EXPECT_EQ(t.gap(stack(5.0, 0.796, 1.215, 0.084, 0.97, 1.55, 0.2)), "");  // tau 0.45 or more
+  // Without corners above the table's g.
+  SkinStackTable bare = t;
+  SkinStackOffsets bare_offsets = *t.offsets;
+  skin::transport::accurate::SkinStackCross bare_cross = *t.offsets->cross;
+  bare_cross.ends[0][1] = bare_cross.base[0];
+  bare_offsets.cross = &bare_cross;
+  bare.offsets = &bare_offsets;
+  const std::string bare_why = bare.gap(stack(5.0, 0.796, 1.215, 0.084, 0.97, 1.55, 0.2));
+  EXPECT_NE(bare_why.find("no cross terms for g above 0.9"), std::string::npos) << bare_why;
+  EXPECT_EQ(bare.gap(stack(5.0, 0.796, 1.215, 0.084, 0.95, 1.55, 0.2)), "");
+  EXPECT_EQ(bare.gap(stack(5.0, 0.796, 1.215, 0.084, 0.97, 1.55, 0.5)), "");
   if (skin::test::kUnderSanitizers) return;
   const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);
   for (const auto& [name, st] : {std::pair{"g 0.9, ratio 0.24, tau 0.096", stack(1.2, 0.096, 3.188, 0.029, 0.9, 1.55, 0.24)},
-                                 std::pair{"g 0.93, ratio 0.2, tau 0.8", stack(5.0, 0.796, 1.215, 0.084, 0.93, 1.55, 0.2)}}) {
+                                 std::pair{"g 0.97, ratio 0.2, tau 0.8", stack(5.0, 0.796, 1.215, 0.084, 0.97, 1.55, 0.2)}}) {
     ASSERT_EQ(t.gap(st), "") << name;
     const auto [worst4, worst5] = read_against_the_solver(t, st, radii);
     std::cout << name << ": worst " << 100 * worst4 << " % above 1e-4, " << 100 * worst5 << " % above 1e-5\n";
     EXPECT_LT(worst4, 0.05) << name;
+  }
+}
+
+// The far field of a dermis less scattering than the table's (ratio 0.23; s 20.1 /mm, tau 0.40,
+// a_e 0.33, a_d 0.084 between the ratio offsets' a_d nodes 0.04 and 0.126: a skin at 476 nm) falls
+// more slowly than the table's rows, which reach the solver's floor (~1e-9 of their peak) at x = r
+// s ~ 20, where this skin is still 3e-5 of R(0.02 mm). There the ratio's offsets take it from
+// their node solves, and another g's offsets hold (SkinStackOffsets::add). Against the solver at
+// 80 radii over 0.02-10 mm: at the table's g 4.8 % above 1e-5 of R(0.02 mm) and 6.7 % above 1e-6
+// (out to 1.5 mm; 43 % before, the read 0.6 of the solver's at 1.5 mm); at the corners' g 0.95
+// 4.2 % and 7.6 % (77 % before).
+TEST(SkinStackOffsets, ALessScatteringDermisFarFieldFollowsTheSolver) {
+  if (skin::test::kUnderSanitizers) GTEST_SKIP() << "two solves of ~2-5 s in Release";
+  const SkinStackTable& t = SkinStackTable::builtin();
+  const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);
+  skin::transport::ProfileSolver ps(radii);
+  for (double g : {0.9, 0.95}) {
+    const double s = 20.1;
+    skin::physics::LayerStack st;
+    st.layers = {{0.3288 * s, s, 0.4022 / s, 1.3958, g}, {0.0844 * s, 0.2308 * s, skin::physics::kInfinity, 1.3958, g}};
+    const skin::transport::accurate::FrequencyStack solved(st);
+    const skin::transport::accurate::SkinStackProfile read(t, st, solved.total());
+    const std::vector<double> b = ps.profile(solved);
+    double worst5 = 0, worst6 = 0, farthest = 0;
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const double e = std::abs(read(radii.r[i]) / b[i] - 1);
+      if (b[i] > 1e-5 * b[0]) worst5 = std::max(worst5, e);
+      if (b[i] > 1e-6 * b[0]) {
+        worst6 = std::max(worst6, e);
+        farthest = radii.r[i];
+      }
+    }
+    std::cout << "g " << g << ": worst " << 100 * worst5 << " % above 1e-5 of R(0.02 mm), " << 100 * worst6
+              << " % above 1e-6 (out to " << farthest << " mm)\n";
+    EXPECT_GT(farthest, 1.4) << g;
+    EXPECT_LT(worst5, 0.06) << g;
+    EXPECT_LT(worst6, 0.10) << g;
   }
 }
 

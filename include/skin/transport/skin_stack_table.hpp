@@ -160,11 +160,13 @@ struct SkinStackOffsets {
 
   // Why (g, eta, dermis_ratio) is not covered (empty when it is).
   std::string gap(double g, double eta, double dermis_ratio) const;
-  // Adds the offsets at (tau, a_e, a_d) to the table's parts at the table's x nodes (`table_x`:
-  // this table's x are every k-th of them), with the cross terms when there are any and
-  // `with_cross`.
+  // Adds the offsets at (tau, a_e, a_d) to `table`'s parts read there (`top`, `low`, at the
+  // table's x nodes: this table's x are every k-th of them). With `with_cross`: the cross terms
+  // when there are any, and with another dermis ratio the far field's rules (g and index offsets
+  // held where the table's rows are near the solver's floor, the ratio's read from its node solves
+  // there; docs/accurate-solver.md, sec. 4).
   void add(double t, double ae, double ad, double g, double eta, double dermis_ratio,
-           const std::vector<double>& table_x, std::vector<double>& top, std::vector<double>& low,
+           const SkinStackTable& table, std::vector<double>& top, std::vector<double>& low,
            bool with_cross = true) const;
 };
 
