@@ -1111,15 +1111,13 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
   //   split of the light into the two parts rings out to ~0.3 tau of the beam: with the light
   //   from below held within 0.3 tau 3.8 and 3.2 % off, within 0.1 tau 7.8 and 9.9 % (+8.6 % off
   //   a 4e6-photon Monte Carlo at 0.02-0.03 mm where 7.7 % is allowed);
-  // - g 0.93 with ratio 0.2 (index 1.41 at 489 nm; a 0.029 mm epidermis, tau 0.45): above g 0.9
-  //   there are no corners and the g 0.7 ones are continued through the base: 1.6 % off. Under a
-  //   0.022 mm epidermis (tau 0.34) it read 3.2 % off (6.7 % with the terms 0 there) and is solved
-  //   since 2026-12-06 (GAboveTheCornersWithAnotherRatioUnderAThinTopIsSolved: other such skin
-  //   under tau below 0.4 read up to 7.5 % off at g 0.94);
-  // - g 0.95 (index 1.33, ratio 1.26, a 0.039 mm epidermis at 684 nm), the g 0.7 corners continued
-  //   through the base: 1.1 % off (2026-12-07). At g 0.97, the domain's edge, the same skin read
-  //   2.3 % off, but with another ratio g above 0.955 is solved since 2026-12-07: such reads missed
-  //   a Monte Carlo (ThickerEpidermis in accurate_mc_test).
+  // - g 0.93 with ratio 0.2 (index 1.41 at 489 nm; a 0.029 mm epidermis, tau 0.45): with the g
+  //   0.7 corners continued through the base (the built-in terms until 2026-12-07) 1.6 % off;
+  //   with the g 0.95 corners 1.3 % above 1e-4 and 3.6 % above 1e-5. Under a 0.022 mm epidermis
+  //   (tau 0.34) it read 3.2 % off (6.7 % with the terms 0 there) and is solved since 2026-12-06
+  //   (GAboveTheTableWithALowRatioUnderAThinTopIsSolved);
+  // - g 0.95 (index 1.33, ratio 1.26, a 0.039 mm epidermis at 684 nm): 1.1 % off with the g 0.7
+  //   corners continued, 0.5 % at the g 0.95 corners (2026-12-07).
   struct Reduced { const char* name; double s, tau, a_e, a_d, g, eta, ratio; };
   if (!skin::test::kUnderSanitizers)
     for (const Reduced& c : {Reduced{"domain draw 23", 15.79, 0.60978693833287512, 0.71012474244275126, 0.20319374564149284,
