@@ -538,7 +538,7 @@ constexpr double kCombinedGRatioThinnest = 0.117;
 // ratio: tau 0.12, g 0.97, ratio 0.24 -20 % at 1.5 mm (1.44 times what 5 % + 3 SE allow); tau
 // 0.22, g 0.954, ratio 0.24, +15 % at 1.9 mm (1.25); tau 0.38, g 0.946, ratio 0.29, +20 % at 0.58
 // mm (1.47); tau 0.40, g 0.97, ratio 0.23 +13 % at 1.4 mm (1.04; -75 %, 5.6 times, before
-// those rules); seven with tau 0.43-0.69 and ratio 0.20-0.28 passed (0.29-0.87). Such skin is
+// those rules); eight with tau 0.43-0.69 and ratio 0.20-0.28 passed (0.29-0.87). Such skin is
 // solved: g above kMirroredGThin with the ratio below kMirroredLowRatio under tau below
 // kMirroredThinnest; and without corners above the table's g, g above kMirroredGAllRatios with any
 // other ratio (under thicker top layers too such reads missed the Monte Carlo: tau 0.48, g 0.97,
