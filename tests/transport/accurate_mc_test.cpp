@@ -366,11 +366,15 @@ TEST(DarkSkinFarField, UnderAScatteringDermisBothSolversWithinFivePercentAndThre
 struct ReducedSkin {
   double s, tau, a_e, a_d, g, eta, ratio;
 };
-void expect_solved_within_monte_carlo(const ReducedSkin& c, std::uint64_t photons, double r_max, std::size_t bins,
-                                      double r_lo, double r_hi) {
+LayerStack stack_of(const ReducedSkin& c) {
   LayerStack st;
   st.layers = {Layer{c.a_e * c.s, c.s, c.tau / c.s, c.eta, c.g},
                Layer{c.a_d * c.s, c.ratio * c.s, skin::physics::kInfinity, c.eta, c.g}};
+  return st;
+}
+void expect_solved_within_monte_carlo(const ReducedSkin& c, std::uint64_t photons, double r_max, std::size_t bins,
+                                      double r_lo, double r_hi) {
+  const LayerStack st = stack_of(c);
   const skin::transport::accurate::AccurateStack acc(st);
   EXPECT_FALSE(acc.skin_table());
   expect_annuli_within(run_mc(st, photons, 2026, r_max, bins), r_max, bins, r_lo, r_hi, {{"accurate", &acc}});
@@ -409,10 +413,7 @@ TEST(ThickerEpidermis, GAbove0955WithAnotherDermisRatioWithinFivePercentAndThree
 // noise of the table's rows, near the solver's floor; with them 0.39 times. 10^6 photons, 0.05 mm
 // annuli over 0.2-1 mm (1e-3 to 1e-6 of R(0.02 mm)).
 TEST(GAboveTheTable, ALowDermisRatioFarFieldReadWithinFivePercentAndThreeSE) {
-  const ReducedSkin c{23.2, 0.464, 1.8386, 0.3802, 0.97, 1.4685, 0.2};
-  LayerStack st;
-  st.layers = {Layer{c.a_e * c.s, c.s, c.tau / c.s, c.eta, c.g},
-               Layer{c.a_d * c.s, c.ratio * c.s, skin::physics::kInfinity, c.eta, c.g}};
+  const LayerStack st = stack_of({23.2, 0.464, 1.8386, 0.3802, 0.97, 1.4685, 0.2});
   const skin::transport::accurate::AccurateStack acc(st);
   ASSERT_TRUE(acc.skin_table());
   expect_annuli_within(run_mc(st, 1000000, 2026, 1.2, 24), 1.2, 24, 0.2, 1.0, {{"accurate", &acc}});

@@ -222,6 +222,13 @@ std::pair<double, double> read_against_the_solver(const SkinStackTable& t, const
   skin::transport::ProfileSolver ps(radii);
   return worst_relative(table_R, ps.profile(solved));
 }
+// A two-layer stack in the skin table's reduced units: the top layer's sigma_s' s [1/mm], tau = s d,
+// a_e and a_d over s, g, index and the lower layer's sigma_s' over the top's.
+skin::physics::LayerStack reduced_stack(double s, double tau, double a_e, double a_d, double g, double eta, double ratio) {
+  skin::physics::LayerStack st;
+  st.layers = {{a_e * s, s, tau / s, eta, g}, {a_d * s, ratio * s, skin::physics::kInfinity, eta, g}};
+  return st;
+}
 // The index of the node of v nearest to x.
 std::size_t nearest_index(const std::vector<double>& v, double x) {
   return static_cast<std::size_t>(std::min_element(v.begin(), v.end(), [x](double p, double q) { return std::abs(p - x) < std::abs(q - x); }) - v.begin());
@@ -1186,11 +1193,7 @@ TEST(SkinStackCross, CombinedAxesMatchTheSolver) {
 // solves g above 0.955 with any other ratio: continued from below, those terms missed such skin.
 TEST(SkinStackCross, GAboveTheTableWithALowRatioUnderAThinTopIsSolved) {
   const SkinStackTable& t = SkinStackTable::builtin();
-  auto stack = [](double s, double tau, double a_e, double a_d, double g, double eta, double ratio) {
-    skin::physics::LayerStack st;
-    st.layers = {{a_e * s, s, tau / s, eta, g}, {a_d * s, ratio * s, skin::physics::kInfinity, eta, g}};
-    return st;
-  };
+  const auto stack = reduced_stack;
   ASSERT_GT(t.offsets->cross->ends[0][1], t.offsets->cross->base[0]);  // corners above g 0.9
   const std::string why = t.gap(stack(5.96, 0.1192, 1.8132, 0.495, 0.97, 1.5315, 0.2437));
   EXPECT_NE(why.find("g = 0.97 above 0.91"), std::string::npos) << why;
@@ -1237,11 +1240,7 @@ TEST(SkinStackCross, GAboveTheTableWithALowRatioUnderAThinTopIsSolved) {
 // they are read (at most 4.1 % and 3.5 % off on the same grid).
 TEST(SkinStackOffsets, HighGUnderADarkTopIsSolved) {
   const SkinStackTable& t = SkinStackTable::builtin();
-  auto stack = [](double s, double tau, double a_e, double a_d, double g, double eta, double ratio) {
-    skin::physics::LayerStack st;
-    st.layers = {{a_e * s, s, tau / s, eta, g}, {a_d * s, ratio * s, skin::physics::kInfinity, eta, g}};
-    return st;
-  };
+  const auto stack = reduced_stack;
   const std::string why = t.gap(stack(11.72, 1.8854, 3.473, 4.077, 0.97, 1.5385, 0.2076));  // the domain draw
   EXPECT_NE(why.find("g = 0.97 above 0.94"), std::string::npos) << why;
   EXPECT_NE(why.find("above 2.8"), std::string::npos) << why;
@@ -1272,9 +1271,7 @@ TEST(SkinStackOffsets, ALessScatteringDermisFarFieldFollowsTheSolver) {
   const skin::transport::RadialGrid radii = skin::transport::RadialGrid::logarithmic(0.02, 10.0, 80);
   skin::transport::ProfileSolver ps(radii);
   for (double g : {0.9, 0.95}) {
-    const double s = 20.1;
-    skin::physics::LayerStack st;
-    st.layers = {{0.3288 * s, s, 0.4022 / s, 1.3958, g}, {0.0844 * s, 0.2308 * s, skin::physics::kInfinity, 1.3958, g}};
+    const skin::physics::LayerStack st = reduced_stack(20.1, 0.4022, 0.3288, 0.0844, g, 1.3958, 0.2308);
     const skin::transport::accurate::FrequencyStack solved(st);
     const skin::transport::accurate::SkinStackProfile read(t, st, solved.total());
     const std::vector<double> b = ps.profile(solved);
