@@ -827,7 +827,7 @@ PYBIND11_MODULE(_core, m) {
   static const std::string kModelDoc =
       "model: 'paper' (C_m, beta_m, C_h; the default) or 'extended' (also oxygenation, "
       "epidermis_thickness, dermis_scattering_scale, scattering_scale, and for spectra beta_carotene, "
-      "epidermal_hemoglobin; each kept in its range with a weak prior; free= still chooses the list).";
+      "epidermal_hemoglobin, blood_vessel_radius; each kept in its range with a weak prior; free= still chooses the list).";
 
   m.def(
       "fit_spectrum",

@@ -103,6 +103,7 @@ std::vector<Parameter> extended_model_free(bool spectrum) {
   if (spectrum) {
     v.push_back(Parameter::beta_carotene);
     v.push_back(Parameter::epidermal_hemoglobin);
+    v.push_back(Parameter::blood_vessel_radius);
   }
   return v;
 }

@@ -90,6 +90,15 @@ const ParameterInfo kParameters[] = {
     {"scattering_scale", "", "1", 1e-6, 10, false, false,
      "extended model: factor on sigma_s_prime of both layers", &SkinParameters::scattering_scale, /*domain*/ 0.25, 4,
      0.25, 4.0, /*prior*/ 0.5, 2.0, 1.0, true},
+    // Vessel packaging (extended model, spectrum fits since 2026-12-07; docs/fit.md): fit
+    // interval 0-0.05 mm, no prior centre. No measured range of the effective radius was found
+    // to cite; 0.05 mm is above the fits of the measured light and intermediate spectra
+    // (0.015-0.05 mm in the prototype, scripts/light_bins_prototype.py) and within the skin
+    // domain's 0-0.1 mm. Not drawn by sample_skin_domain (it only lowers the dermis' absorption).
+    {"blood_vessel_radius", "", "mm", 0, 1, false, false,
+     "extended model: mean radius of the dermis' blood vessels (packaging; 0 = blood spread evenly)",
+     &SkinParameters::blood_vessel_radius, /*domain*/ 0, 0.1, 0.0, 0.05,
+     /*prior*/ 0.0, 0.05, kNaN, false, /*sampled*/ false},
 };
 
 std::string unit_suffix(std::string_view unit) {
@@ -143,6 +152,7 @@ std::vector<SkinParameters> sample_skin_domain(std::size_t n, std::uint64_t seed
   std::vector<SkinParameters> out(n);
   for (auto& p : out) {
     for (const auto& info : kParameters) {
+      if (!info.sampled) continue;
       const double lo = info.domain_min, hi = info.domain_max;
       const double edge = uniform(), u = uniform();
       double v;
@@ -262,10 +272,19 @@ LayerCoefficients epidermis_coefficients(const SkinParameters& p, double lambda)
   return {sigma_a, p.scattering_scale * sigma_s_prime_epidermis(lambda)};
 }
 
+double vessel_packaging(double sigma_a_blood, double radius) {
+  const double x = 2.0 * sigma_a_blood * radius;
+  // -expm1(-x) / x: no cancellation for small x; exactly 1 at x = 0 (no packaging).
+  return x > 0 ? -std::expm1(-x) / x : 1.0;
+}
+
 LayerCoefficients dermis_coefficients(const SkinParameters& p, double lambda) {
   using namespace chromophores;
-  // eq 7 (+ bilirubin in the extended model) and sec 3.5's halved scattering.
-  double sigma_a = p.hemoglobin * blood(p, lambda) + (1.0 - p.hemoglobin) * sigma_a_baseline(lambda);
+  // eq 7 (+ bilirubin and vessel packaging in the extended model) and sec 3.5's halved
+  // scattering (scaled by dermis_scattering_scale).
+  const double sigma_a_blood = blood(p, lambda);
+  double sigma_a = p.hemoglobin * sigma_a_blood * vessel_packaging(sigma_a_blood, p.blood_vessel_radius) +
+                   (1.0 - p.hemoglobin) * sigma_a_baseline(lambda);
   if (p.bilirubin > 0) sigma_a += p.bilirubin * sigma_a_bilirubin_per_uM(lambda);
   return {sigma_a, p.dermis_scattering_scale * p.scattering_scale * sigma_s_prime_epidermis(lambda)};
 }

@@ -35,6 +35,7 @@ SkinParameters truth() {
   p.dermis_scattering_scale = 1.0;
   p.beta_carotene = 20;
   p.epidermal_hemoglobin = 0.01;
+  p.blood_vessel_radius = 0.02;  // packaging (free in spectrum fits since 2026-12-07)
   return p;
 }
 MeasuredSpectrum synthetic(const SkinParameters& p, double noise, unsigned seed) {
@@ -82,11 +83,12 @@ TEST(ExtendedModel, SpectrumRecoversKnownParameters) {
   const SkinParameters t = truth();
   for (Parameter p : r.free) {
     const double want = get(t, p), got = get(r.parameters, p);
-    // 6 % of the value, or 3 umol/L of beta-carotene. (With the dermis' scattering free, nine
-    // parameters: its direction is nearly flat with the scattering scale, the melanin blend and the
-    // thickness, which the weak priors settle; measured 4.9 % for melanin_blend, 3.2 % for the
-    // thickness, the others within 1.5 %. With eight free, before, all were within 3 %.)
-    EXPECT_NEAR(got, want, p == Parameter::beta_carotene ? 0.3 * 10 : 0.06 * want) << key(p);
+    // 12 % of the value, or 3 umol/L of beta-carotene. With ten free (vessel packaging since
+    // 2026-12-07), the flat directions the weak priors settle widen: measured 10.7 % for
+    // melanin_blend, 6.5 % for the thickness, 6.4 % for hemoglobin, 5.8 % for the dermis'
+    // scattering, the vessel radius 2.2 %, the others within 4.3 % and 1.0 umol/L. (Nine free,
+    // before: within 4.9 %; eight: within 3 %.)
+    EXPECT_NEAR(got, want, p == Parameter::beta_carotene ? 0.3 * 10 : 0.12 * want) << key(p);
   }
 }
 

@@ -31,7 +31,7 @@ class Parameter {
   // The rows the fit's own code names (each has a fit interval; all_parameters() lists them all).
   static const Parameter melanin, melanin_blend, hemoglobin, oiliness, oxygenation,
       epidermis_thickness, epidermal_hemoglobin, beta_carotene, bilirubin, scattering_scale,
-      dermis_scattering_scale;
+      dermis_scattering_scale, blood_vessel_radius;
 
  private:
   constexpr explicit Parameter(double physics::SkinParameters::*member) : member_(member) {}
@@ -48,6 +48,7 @@ inline constexpr Parameter Parameter::beta_carotene{&physics::SkinParameters::be
 inline constexpr Parameter Parameter::bilirubin{&physics::SkinParameters::bilirubin};
 inline constexpr Parameter Parameter::scattering_scale{&physics::SkinParameters::scattering_scale};
 inline constexpr Parameter Parameter::dermis_scattering_scale{&physics::SkinParameters::dermis_scattering_scale};
+inline constexpr Parameter Parameter::blood_vessel_radius{&physics::SkinParameters::blood_vessel_radius};
 
 std::string_view key(Parameter p);   // "melanin_blend"
 std::string flag(Parameter p);       // "melanin-blend"
@@ -90,7 +91,8 @@ std::string_view name(FitModel m);  // "paper", "extended"
 FitModel parse_fit_model(std::string_view name);
 // The extended model's free parameters. Colour (three numbers): melanin, melanin_blend,
 // hemoglobin, oxygenation, epidermis_thickness, dermis_scattering_scale, scattering_scale (the
-// parameter table's order); spectrum: those and beta_carotene, epidermal_hemoglobin.
+// parameter table's order); spectrum: those and beta_carotene, epidermal_hemoglobin,
+// blood_vessel_radius (vessel packaging, since 2026-12-07).
 std::vector<Parameter> extended_model_free(bool spectrum);
 // Search interval under the extended model: the prior range where the table has one, else
 // default_bounds.

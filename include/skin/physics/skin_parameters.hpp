@@ -35,6 +35,9 @@ struct SkinParameters {
   double beta_carotene = 0.0;         // beta-carotene in the epidermis [umol/L], [0, 1000]
   double bilirubin = 0.0;             // bilirubin in the dermis [umol/L], [0, 1000]
   double scattering_scale = 1.0;      // multiplies sigma_s' of both layers, (0, 10]
+  // Mean radius of the dermis' blood vessels [mm], [0, 1]: blood confined to vessels absorbs
+  // less than the same blood spread evenly (vessel packaging). 0: spread evenly (the paper's).
+  double blood_vessel_radius = 0.0;
 
   // Throws InputError naming the parameter (with its CLI spelling), value and range.
   void validate() const;
@@ -73,6 +76,9 @@ struct ParameterInfo {
   double prior_max = std::numeric_limits<double>::quiet_NaN();
   double prior_centre = std::numeric_limits<double>::quiet_NaN();
   bool prior_log = false;
+  // Whether sample_skin_domain draws it (false: it keeps its default there; the domain still
+  // bounds it for outside_skin_domain).
+  bool sampled = true;
 
   std::string flag() const;        // the CLI spelling: key with dashes ("melanin-blend")
   std::string label() const;       // for messages: "melanin-blend (beta_m)"
@@ -95,7 +101,10 @@ std::vector<std::string> outside_skin_domain(const SkinParameters& p);
 // sets for the same seed on every platform). Each parameter independently: with probability
 // 1/8 its lower edge, 1/8 its upper edge, otherwise uniform over the domain (uniform in the
 // logarithm when the domain spans more than a factor of 4 above 0: epidermis thickness and the
-// scattering scales), so that samples reach the domain's edges and corners.
+// scattering scales), so that samples reach the domain's edges and corners. Rows with
+// `sampled` false keep their default (blood_vessel_radius: packaging only lowers the dermis'
+// absorption, a range the sampled blood fraction already spans; the sets of a seed are those
+// drawn before it was added).
 std::vector<SkinParameters> sample_skin_domain(std::size_t n, std::uint64_t seed);
 // By key, key with dashes, or paper symbol; nullptr if unknown.
 const ParameterInfo* find_parameter(std::string_view name);
@@ -126,6 +135,11 @@ struct LayerCoefficients {
 };
 LayerCoefficients epidermis_coefficients(const SkinParameters& p, double lambda);
 LayerCoefficients dermis_coefficients(const SkinParameters& p, double lambda);
+// Vessel packaging (Svaasand et al. 1995, Lasers Med Sci 10:55; in the form of van Veen,
+// Verkruysse & Sterenborg 2002, Opt Lett 27:246): blood of absorption `sigma_a_blood` [1/mm] in
+// vessels of radius `radius` [mm] absorbs as the same blood spread evenly times
+// (1 - exp(-2 sigma_a_blood radius)) / (2 sigma_a_blood radius); 1 at radius 0.
+double vessel_packaging(double sigma_a_blood, double radius);
 
 // Epidermis (finite) over semi-infinite dermis, air above, at one wavelength.
 LayerStack skin_layer_stack(const SkinParameters& p, double lambda);
