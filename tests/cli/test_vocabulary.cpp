@@ -21,7 +21,7 @@ json parse(const CmdResult& r) {
 
 TEST_F(Cli, ParametersListsEveryKeyAndEachWorksAsFlagAndSymbol) {
   const json table = parse(run("parameters --format json"));
-  ASSERT_EQ(table.size(), 14u);  // every member of SkinParameters (tests/physics checks the count)
+  ASSERT_EQ(table.size(), 15u);  // every member of SkinParameters (tests/physics checks the count)
   const json defaults = parse(run("spectrum --format json --lambda-step 100"))["parameters"];
   for (const auto& row : table) {
     for (const char* k : {"key", "symbol", "unit", "min", "max", "default", "help"})
@@ -96,7 +96,7 @@ TEST_F(Cli, ParametersCsvAndTableHaveOneRowPerParameter) {
   const CmdResult csv = run("parameters --format csv");
   ASSERT_EQ(csv.code, 0);
   EXPECT_EQ(csv.out.find("key,flag,symbol,unit,min,max"), 0u);
-  EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 15);
+  EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 16);
   const CmdResult table = run("parameters --format table");
   EXPECT_NE(table.out.find("melanin_blend            beta_m"), std::string::npos) << table.out;
 }
