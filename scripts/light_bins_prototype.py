@@ -17,6 +17,10 @@ and the nine extended parameters are fitted by scipy's least_squares within the 
 (13 spectra).
 
     PYTHONPATH=build/python /usr/bin/python3 scripts/light_bins_prototype.py [--no-pack] [--no-power] [NAME ...]
+
+Vessel packaging has been part of the model since 2026-12-07 (`blood_vessel_radius`, freed by the
+extended spectrum fit). The start fit below therefore includes it; the refit keeps the prototype's
+own packaging term and leaves the model's at 0.
 """
 import argparse
 import csv

@@ -55,7 +55,7 @@ void write_tone_bins(std::ostream& md, const std::vector<MeasuredEntry>& entries
      << "Each measured spectrum's colour (D65, `skin color`'s grid) gives its Individual Typology "
         "Angle ITA = atan((L* - 50) / b*); bins: very light > 55, light 41-55, intermediate 28-41, "
         "tan 10-28, brown -30-10, dark < -30 degrees. **paper**: C_m, beta_m, C_h; **extended**: "
-        "`skin fit --model extended` (docs/fit.md: nine parameters, measured ranges and priors). "
+        "`skin fit --model extended` (docs/fit.md: ten parameters, measured ranges and priors). "
         "At bound: free parameters that ended on a bound, summed over the bin's fits.\n\n"
      << "| bin | n | model | median RMS | worst RMS | median dE2000 | at bound | parameter range (min-max) |\n"
      << "|---|---:|---|---:|---:|---:|---:|---|\n";
