@@ -139,7 +139,7 @@ TEST_F(Cli, SceneTakesEveryParameterKeyAndSymbol) {
 // parameter (so the key is read and checked), and the symbol works as well as the key.
 TEST_F(Cli, EveryParameterIsASceneKey) {
   const json table = json::parse(run("parameters --format json").out);
-  ASSERT_EQ(table.size(), 14u);
+  ASSERT_EQ(table.size(), 15u);
   for (const auto& row : table) {
     const std::string key = row["key"];
     const double bad = row["max"].is_null() ? row["min"].get<double>() - 1.0 : row["max"].get<double>() + 1.0;
