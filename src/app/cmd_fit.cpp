@@ -266,7 +266,7 @@ void register_fit(CLI::App& app) {
                   "Parameters to fit, comma-separated names or the paper's symbols (default "
                   "melanin,melanin-blend,hemoglobin); "
                   "extended: epidermal-hemoglobin, beta-carotene, bilirubin, epidermis-thickness, "
-                  "dermis-scattering-scale, oxygenation, scattering-scale")
+                  "dermis-scattering-scale, oxygenation, scattering-scale, blood-vessel-radius")
       ->group(g_fit);
   auto* o_specular = sub->add_flag("--includes-specular", o->includes_specular,
                 "The measurement includes the surface reflection: add rho_s F (F = Fresnel at normal "
