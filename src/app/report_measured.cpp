@@ -166,7 +166,7 @@ void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& e
      << "- **+rho_s**: the four parameters, rho_s through a constant specular term rho_s F, F = 0.028 "
         "(the measurement including the surface reflection);\n"
      << "- **extended**: +rho_s and the extended terms epidermal blood, beta-carotene, bilirubin, "
-        "epidermis thickness, oxygenation and a scale of sigma_s'.\n\n"
+        "epidermis thickness, oxygenation, a scale of sigma_s' and the dermis' vessel radius (packaging).\n\n"
      << "RMS in reflectance units over the measured samples in 400-700 nm. Spectra marked * are the "
         "four the paper compares against (Fig. 9: Vrhel 82, 95, 110, 117).\n\n";
   md << "| spectrum | description | RMS paper | RMS +rho_s | RMS extended | paper fit | extended fit |\n"

@@ -23,7 +23,8 @@ using skin::util::InputError;
 const std::vector<Parameter>& extended_parameters() {
   static const std::vector<Parameter> v = {
       Parameter::epidermal_hemoglobin, Parameter::beta_carotene, Parameter::bilirubin,
-      Parameter::epidermis_thickness,  Parameter::oxygenation,   Parameter::scattering_scale};
+      Parameter::epidermis_thickness,  Parameter::oxygenation,   Parameter::scattering_scale,
+      Parameter::blood_vessel_radius};
   return v;
 }
 
