@@ -92,9 +92,8 @@ const ParameterInfo kParameters[] = {
      0.25, 4.0, /*prior*/ 0.5, 2.0, 1.0, true},
     // Vessel packaging (extended model, spectrum fits since 2026-12-07; docs/fit.md): fit
     // interval 0-0.05 mm, no prior centre. No measured range of the effective radius was found
-    // to cite; 0.05 mm is above the fits of the measured light and intermediate spectra
-    // (0.015-0.05 mm in the prototype, scripts/light_bins_prototype.py) and within the skin
-    // domain's 0-0.1 mm. Not drawn by sample_skin_domain (it only lowers the dermis' absorption).
+    // to cite; the extended fits of the measured light and intermediate spectra choose 0.012-0.05
+    // mm (docs/fit.md, some at the top); the skin domain allows 0-0.1 mm. Not drawn by sample_skin_domain (it only lowers the dermis' absorption).
     {"blood_vessel_radius", "", "mm", 0, 1, false, false,
      "extended model: mean radius of the dermis' blood vessels (packaging; 0 = blood spread evenly)",
      &SkinParameters::blood_vessel_radius, /*domain*/ 0, 0.1, 0.0, 0.05,

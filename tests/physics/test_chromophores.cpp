@@ -143,7 +143,7 @@ TEST(SkinModel, ExtendedTermsAreOffByDefaultAndRaiseAbsorption) {
 
 // Vessel packaging: the factor is the mean transmission of blood along a path of length 2R,
 // (1 / 2R) int_0^2R exp(-mu s) ds (Svaasand et al. 1995; van Veen et al. 2002), here by a
-// midpoint sum of 200 000 steps (relative error ~1e-11 for mu R <= 5), against the closed form;
+// midpoint sum of 200 000 steps (relative error below 1e-10 for mu R <= 5), against the closed form;
 // with its limits (1 at R = 0, 1 / (2 mu R) far into the blood) and its effect on the dermis:
 // only the blood's term shrinks, the Soret band (415 nm, blood's mu ~ 280 /mm) far more than red
 // light (650 nm, ~0.65 /mm).
