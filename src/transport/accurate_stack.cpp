@@ -1,6 +1,8 @@
 // AccurateStack: adding-doubling totals; profiles from the table of frequency-domain skin
 // profiles or from radiative transfer in the spatial-frequency domain (docs/accurate-solver.md,
 // sec. 3-5).
+#include <algorithm>
+#include <cmath>
 #include <ostream>
 
 #include "skin/transport/accurate.hpp"
@@ -22,7 +24,26 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options, co
   }
   FrequencyProfileOptions o;
   o.transport.totals = options;
+  if (hides_below(stack)) {
+    // Nothing that reaches below the top layer comes back measurably: its half-space.
+    LayerStack top;
+    top.eta_above = stack.eta_above;
+    top.layers = {stack.layers.front()};
+    top.layers.front().thickness = physics::kInfinity;
+    frequency_ = std::make_unique<FrequencyStack>(top, o, cache);
+    top_as_half_space_ = true;
+    return;
+  }
   frequency_ = std::make_unique<FrequencyStack>(stack, o, cache);
+}
+
+bool AccurateStack::hides_below(const LayerStack& stack) {
+  if (stack.layers.size() < 2) return false;
+  const physics::Layer& t = stack.layers.front();
+  if (t.semi_infinite() || !(t.thickness > 0) || !(t.sigma_a >= 0) || !(t.sigma_s_prime >= 0)) return false;
+  const double straight = (t.sigma_s_prime + t.sigma_a) * t.thickness;
+  const double diffusive = std::sqrt(3.0 * t.sigma_a * (t.sigma_s_prime + t.sigma_a)) * t.thickness;
+  return std::min(straight, diffusive) >= kHiddenBelowEfolds;
 }
 
 AccurateStack::~AccurateStack() = default;
@@ -41,7 +62,7 @@ double AccurateStack::residual_k(double k) const {
 
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s) {
   return os << "AccurateStack{" << s.totals()
-            << (s.skin_table() ? ", skin table" : ", frequency domain") << '}';
+            << (s.skin_table() ? ", skin table" : s.top_as_half_space() ? ", frequency domain, top as half-space" : ", frequency domain") << '}';
 }
 
 }  // namespace skin::transport::accurate
