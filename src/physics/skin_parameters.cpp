@@ -93,7 +93,8 @@ const ParameterInfo kParameters[] = {
     // Vessel packaging (extended model, spectrum fits since 2026-12-07; docs/fit.md): fit
     // interval 0-0.05 mm, no prior centre. No measured range of the effective radius was found
     // to cite; the extended fits of the measured light and intermediate spectra choose 0.012-0.05
-    // mm (docs/fit.md, some at the top); the skin domain allows 0-0.1 mm. Not drawn by sample_skin_domain (it only lowers the dermis' absorption).
+    // mm (docs/fit.md, some at the top); the skin domain allows 0-0.1 mm. Not drawn by
+    // sample_skin_domain (it only lowers the dermis' absorption).
     {"blood_vessel_radius", "", "mm", 0, 1, false, false,
      "extended model: mean radius of the dermis' blood vessels (packaging; 0 = blood spread evenly)",
      &SkinParameters::blood_vessel_radius, /*domain*/ 0, 0.1, 0.0, 0.05,
