@@ -1,7 +1,7 @@
 #pragma once
 // Reference numerics shared by the test suites (the test targets link skin_test_support):
-// Chandrasekhar's H-function by brute force, the chi-square tests of samplers, and which cases a
-// test runs under the sanitizers.
+// Chandrasekhar's H-function by brute force, the chi-square tests of samplers, which cases a
+// test runs under the sanitizers, and the two-layer stack of the skin table's reduced units.
 #include <boost/math/distributions/chi_squared.hpp>
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <initializer_list>
 #include <vector>
 
+#include "skin/physics/layer.hpp"
 #include "skin/util/quadrature.hpp"
 
 namespace skin::test {
@@ -105,6 +106,15 @@ inline double chi_square_p(const std::vector<double>& observed, const std::vecto
   }
   if (dof < 1) return 1.0;
   return boost::math::cdf(boost::math::complement(boost::math::chi_squared(dof), stat));
+}
+
+// A two-layer stack in the skin table's reduced units: the top layer's sigma_s' s [1/mm], tau = s d,
+// a_e and a_d over s, g, index and the lower layer's sigma_s' over the top's.
+inline physics::LayerStack reduced_stack(double s, double tau, double a_e, double a_d, double g, double eta,
+                                         double ratio) {
+  physics::LayerStack st;
+  st.layers = {{a_e * s, s, tau / s, eta, g}, {a_d * s, ratio * s, physics::kInfinity, eta, g}};
+  return st;
 }
 
 }  // namespace skin::test

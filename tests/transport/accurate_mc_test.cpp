@@ -367,10 +367,7 @@ struct ReducedSkin {
   double s, tau, a_e, a_d, g, eta, ratio;
 };
 LayerStack stack_of(const ReducedSkin& c) {
-  LayerStack st;
-  st.layers = {Layer{c.a_e * c.s, c.s, c.tau / c.s, c.eta, c.g},
-               Layer{c.a_d * c.s, c.ratio * c.s, skin::physics::kInfinity, c.eta, c.g}};
-  return st;
+  return skin::test::reduced_stack(c.s, c.tau, c.a_e, c.a_d, c.g, c.eta, c.ratio);
 }
 void expect_solved_within_monte_carlo(const ReducedSkin& c, std::uint64_t photons, double r_max, std::size_t bins,
                                       double r_lo, double r_hi) {

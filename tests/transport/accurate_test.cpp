@@ -766,11 +766,8 @@ TEST(FrequencyStack, SingleScatteringOfALayerCutInTwoIsTheWhole) {
 TEST(AccurateStack, ATopLayerThatHidesTheRestIsSolvedAsItsHalfSpace) {
   using skin::transport::accurate::AccurateStack;
   using skin::transport::accurate::FrequencyStack;
-  const double s = 10.0;  // [1/mm]; the reduced parameters below are in units of s
-  auto stack = [&](double tau, double a_e, double a_d, double g, double eta, double ratio) {
-    LayerStack st;
-    st.layers = {Layer{a_e * s, s, tau / s, eta, g}, Layer{a_d * s, ratio * s, skin::physics::kInfinity, eta, g}};
-    return st;
+  auto stack = [](double tau, double a_e, double a_d, double g, double eta, double ratio) {
+    return skin::test::reduced_stack(10.0, tau, a_e, a_d, g, eta, ratio);  // s = 10 /mm
   };
   EXPECT_FALSE(AccurateStack::hides_below(stack(0.396, 17.28, 2.083, 0.763, 1.45, 1.49)));
   EXPECT_FALSE(AccurateStack::hides_below(stack(20.0, 0.01, 0.01, 0.9, 1.4, 0.5)));

@@ -222,13 +222,7 @@ std::pair<double, double> read_against_the_solver(const SkinStackTable& t, const
   skin::transport::ProfileSolver ps(radii);
   return worst_relative(table_R, ps.profile(solved));
 }
-// A two-layer stack in the skin table's reduced units: the top layer's sigma_s' s [1/mm], tau = s d,
-// a_e and a_d over s, g, index and the lower layer's sigma_s' over the top's.
-skin::physics::LayerStack reduced_stack(double s, double tau, double a_e, double a_d, double g, double eta, double ratio) {
-  skin::physics::LayerStack st;
-  st.layers = {{a_e * s, s, tau / s, eta, g}, {a_d * s, ratio * s, skin::physics::kInfinity, eta, g}};
-  return st;
-}
+using skin::test::reduced_stack;
 // The index of the node of v nearest to x.
 std::size_t nearest_index(const std::vector<double>& v, double x) {
   return static_cast<std::size_t>(std::min_element(v.begin(), v.end(), [x](double p, double q) { return std::abs(p - x) < std::abs(q - x); }) - v.begin());
