@@ -285,7 +285,7 @@ TEST(MeasuredSpectra, VesselPackagingLowersTheResidualOfLightSkin) {
   std::erase(without.free, Parameter::blood_vessel_radius);
   ASSERT_EQ(without.free.size() + 1, with.free.size());
   const SpectrumFitter f_with(with), f_without(without);
-  for (const std::string col : skin::test::sanitized<std::string>({"vrhel_089", "vrhel_096", "vrhel_081"})) {
+  for (const std::string& col : skin::test::sanitized<std::string>({"vrhel_089", "vrhel_096", "vrhel_081"})) {
     const MeasuredSpectrum m = read_spectrum(path, col);
     const FitResult a = f_without.fit(m), b = f_with.fit(m);
     SCOPED_TRACE(::testing::Message() << col << " without " << a.rms << " with " << b.rms << " radius "
