@@ -2,12 +2,14 @@
 // skin tabulate-skin-profiles): skin::transport::accurate::SkinStackTable::parse, then the profile of a stack
 // inside it (two layers and, if it has half-space nodes, a half-space). Invariants: a table that parses, written out (to_csv) and parsed again, writes the
 // same text; the profile of a stack it covers is finite and >= 0 at every radius. The same input
-// is also read as the table's offsets and their cross terms (below).
+// is also read as the table's offsets and their cross terms, and as the half-space table
+// (data/half_space_profiles.csv) (below).
 #include <array>
 #include <cmath>
 #include <vector>
 
 #include "fuzz_support.hpp"
+#include "skin/transport/half_space_table.hpp"
 #include "skin/transport/skin_stack_table.hpp"
 
 namespace {
@@ -65,6 +67,27 @@ void cross(const std::uint8_t* data, std::size_t size) {
   for (std::size_t i = 0; i < dt.size(); ++i)
     if (!std::isfinite(dt[i]) || !std::isfinite(dl[i])) fuzz::finding("the cross terms added are not finite");
 }
+// The same input read as the half-space table: what parses writes out and reads back the same,
+// and the profile of a half-space in the middle of its ranges is finite and >= 0.
+void half_spaces(const std::uint8_t* data, std::size_t size) {
+  using skin::transport::accurate::HalfSpaceTable;
+  namespace fuzz = skin::fuzz;
+  HalfSpaceTable t;
+  if (!fuzz::accepts([&] { t = HalfSpaceTable::parse(fuzz::text(data, size), "fuzz.csv"); })) return;
+  const std::string csv = t.to_csv();
+  HalfSpaceTable again;
+  if (!fuzz::accepts([&] { again = HalfSpaceTable::parse(csv, "re-written"); }))
+    fuzz::finding("the re-written half-space table does not parse");
+  if (again.to_csv() != csv) fuzz::finding("the re-written half-space table reads differently");
+  auto mid = [](const std::vector<double>& v) { return 0.5 * (v.front() + v.back()); };
+  const double a = std::sqrt(t.a.front() * t.a.back()), g = mid(t.g), eta = mid(t.eta), s = 5.0;
+  if (!t.gap(a, g, eta).empty()) return;
+  const skin::transport::accurate::SkinStackProfile profile(t.x, t.ln_rho_at(a, g, eta), s, 0.5);
+  for (double r = 0; r < 100; r = r == 0 ? 1e-6 : r * 1.7) {
+    const double v = profile(r);
+    if (!std::isfinite(v) || v < 0) fuzz::finding("the profile of a covered half-space is not finite and >= 0");
+  }
+}
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -72,6 +95,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   namespace fuzz = skin::fuzz;
   offsets(data, size);
   cross(data, size);
+  half_spaces(data, size);
   SkinStackTable table;
   if (!fuzz::accepts([&] { table = SkinStackTable::parse(fuzz::text(data, size), "fuzz.csv"); })) return 0;
   const std::string csv = table.to_csv();

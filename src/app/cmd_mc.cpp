@@ -14,6 +14,7 @@
 #include "skin/util/atomic_file.hpp"
 #include "skin/mc/mc.hpp"
 #include "skin/mc/tabulate.hpp"
+#include "skin/transport/half_space_table.hpp"
 #include "skin/transport/skin_stack_table.hpp"
 #include "skin/mc/validation.hpp"
 #include "skin/util/error.hpp"
@@ -261,7 +262,7 @@ void register_random_walk_command(CLI::App& app) {
 void register_skin_table_command(CLI::App& app) {
   struct Opts {
     std::string out, reuse, rebase_from;
-    bool offsets = false, cross = false;
+    bool offsets = false, cross = false, half_spaces = false;
     std::vector<std::string> axes, pairs;
   };
   auto o = std::make_shared<Opts>();
@@ -281,6 +282,11 @@ void register_skin_table_command(CLI::App& app) {
                 "Tabulate instead the cross terms of the built-in offsets, for two of g, index and dermis ratio "
                 "off the table's at once (data/skin_stack_cross.csv; on the offsets' nodes, ~15 min per corner on 2 cores, g 0.97 several times more; with --reuse only the corners it lacks, or only the new nodes of the reused corners)")
       ->excludes("--offsets");
+  sub->add_flag("--half-spaces", o->half_spaces,
+                "Tabulate instead the profiles of absorbing half-spaces over sigma_a / sigma_s', g and index "
+                "(data/half_space_profiles.csv: what a top layer that hides the rest is read as; about 40 min on 2 cores)")
+      ->excludes("--offsets")
+      ->excludes("--cross");
   sub->add_option("--offset-nodes", o->axes,
                   "With --offsets: only these nodes, as AXIS=VALUE (g=0.8, eta=1.47, dermis_ratio=2); default: all");
   sub->add_option("--cross-pairs", o->pairs,
@@ -292,6 +298,20 @@ void register_skin_table_command(CLI::App& app) {
                   "terms rebased onto the built-in offsets (each corner's term changes by the offsets' change "
                   "there), nothing solved");
   sub->callback([o] {
+    if (o->half_spaces) {
+      namespace acc = transport::accurate;
+      if (!o->axes.empty() || !o->pairs.empty() || !o->rebase_from.empty())
+        throw util::InputError("--half-spaces takes only --output and --reuse");
+      acc::HalfSpaceTable table = acc::HalfSpaceTable::default_nodes();
+      table.provenance = "skin tabulate-skin-profiles --half-spaces (FrequencyStack, k0 = 0.02 s)";
+      std::optional<acc::HalfSpaceTable> reuse;
+      if (!o->reuse.empty()) reuse = acc::HalfSpaceTable::parse(util::io::read_file(o->reuse, "reuse", std::uintmax_t{64} << 20), o->reuse);
+      table.compute(progress_bar("half-spaces"), reuse ? &*reuse : nullptr);
+      util::io::write_file_atomic(o->out, table.to_csv());
+      std::cout << "wrote " << o->out << ": " << table.g.size() * table.eta.size() * table.a.size() << " half-spaces, "
+                << table.x.size() << " radii each\n";
+      return;
+    }
     if (!o->rebase_from.empty() && (!o->cross || o->reuse.empty()))
       throw util::InputError("--rebase-from is for --cross with --reuse (the terms to rebase)");
     if (o->cross) {

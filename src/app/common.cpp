@@ -155,7 +155,7 @@ void note_profile_solves(std::size_t solves, std::size_t wavelengths, const std:
   const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   const double seconds = static_cast<double>(solves) / (kFrequencySolvesPerSecond * threads);
   std::cerr << "skin: note: " << solves << " of " << wavelengths << " " << what
-            << " are off the skin table and solved in the frequency domain: about "
+            << " are off the skin and half-space tables and solved in the frequency domain: about "
             << format_number(std::round(seconds)) << " s on " << threads
             << " threads; Ctrl-C stops it without writing anything\n";
 }

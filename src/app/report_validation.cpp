@@ -525,14 +525,14 @@ std::size_t write_domain_report(std::ostream& md, const ValidationRun& run,
   std::vector<const char*> route;
   std::size_t read = 0;
   for (const CaseResult& c : run.cases) {
-    const bool table = transport::accurate::AccurateStack::reads_skin_table(c.c.stack);
+    const bool table = transport::accurate::AccurateStack::reads_table(c.c.stack);
     read += table ? 1 : 0;
     route.push_back(!accurate ? "-" : table ? "table" : "solved");
   }
   md << "## Every case\n\n`worst / allowed`: the case's largest |R - MC| / (5 % + 3 SE) over its annuli "
         "and |R_d - MC| / (0.5 % + 3 SE); it passes where this is at most 1 (the maps' colours).";
   if (accurate)
-    md << " `profile`: read from the skin table or solved in the frequency domain (" << read << " of "
+    md << " `profile`: read from the skin or half-space table or solved in the frequency domain (" << read << " of "
        << run.cases.size() << " read).";
   md << "\n\n| case | parameters | profile | annuli | beyond 5 % + 3 SE | worst (r mm) | worst / allowed | MC R_d | "
      << run.solver_names[main] << " R_d - MC |\n|---|---|---|---|---|---|---|---|---|\n";

@@ -6,6 +6,7 @@
 #include <ostream>
 
 #include "skin/transport/accurate.hpp"
+#include "skin/transport/half_space_table.hpp"
 #include "skin/transport/skin_stack_table.hpp"
 
 namespace skin::transport::accurate {
@@ -20,6 +21,16 @@ AccurateStack::AccurateStack(const LayerStack& stack, const Options& options, co
   if (reads_skin_table(stack)) {
     // The two-layer skin geometry: the frequency-domain profile, tabulated.
     skin_ = std::make_unique<SkinStackProfile>(SkinStackTable::builtin(), stack, totals_.R_d);
+    return;
+  }
+  if (reads_half_space_table(stack)) {
+    // A lone half-space, or a top layer that hides the rest, of the skin domain's media: read.
+    const physics::Layer& t = stack.layers.front();
+    const HalfSpaceTable& h = HalfSpaceTable::builtin();
+    skin_ = std::make_unique<SkinStackProfile>(h.x, h.ln_rho_at(t.sigma_a / t.sigma_s_prime, t.g, t.eta), t.sigma_s_prime,
+                                               totals_.R_d);
+    top_as_half_space_ = stack.layers.size() > 1;
+    half_space_table_ = true;
     return;
   }
   FrequencyProfileOptions o;
@@ -52,6 +63,12 @@ bool AccurateStack::reads_skin_table(const LayerStack& stack) {
   return SkinStackTable::builtin().gap(stack).empty();
 }
 
+bool AccurateStack::reads_half_space_table(const LayerStack& stack) {
+  return HalfSpaceTable::builtin().gap(stack).empty();
+}
+
+bool AccurateStack::reads_table(const LayerStack& stack) { return reads_skin_table(stack) || reads_half_space_table(stack); }
+
 double AccurateStack::singular(double r) const {
   return skin_ ? (*skin_)(r) : frequency_->singular(r);
 }
@@ -62,7 +79,10 @@ double AccurateStack::residual_k(double k) const {
 
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s) {
   return os << "AccurateStack{" << s.totals()
-            << (s.skin_table() ? ", skin table" : s.top_as_half_space() ? ", frequency domain, top as half-space" : ", frequency domain") << '}';
+            << (s.half_space_table() ? (s.top_as_half_space() ? ", half-space table, top as half-space" : ", half-space table")
+            : s.skin_table()     ? ", skin table"
+            : s.top_as_half_space() ? ", frequency domain, top as half-space"
+                                    : ", frequency domain") << '}';
 }
 
 }  // namespace skin::transport::accurate

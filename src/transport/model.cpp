@@ -116,7 +116,7 @@ class Accurate final : public AddingDoublingModel {
     return std::make_unique<accurate::AccurateStack>(stack, accurate::Options{}, cache_);
   }
   bool response_is_solved(const LayerStack& stack) const override {
-    return !accurate::AccurateStack::reads_skin_table(stack);
+    return !accurate::AccurateStack::reads_table(stack);
   }
 };
 

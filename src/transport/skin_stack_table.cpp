@@ -21,6 +21,7 @@
 #include "skin/util/interpolation.hpp"
 #include "skin/util/table.hpp"
 #include "ad_core.hpp"
+#include "skin_tables_core.hpp"
 
 namespace skin::transport::accurate {
 
@@ -41,20 +42,59 @@ using skin::physics::Layer;
 using skin::physics::LayerStack;
 using skin::physics::kInfinity;
 
-namespace {
+namespace tables {
 
-constexpr double kFloor = 1e-13;  // of a node's peak
-// A table's ln rho (rho in units of s^2) lies within kMaxLnRho of 0 (the built-in table's within
-// -31.9 and 2.8), and each row within -ln kFloor = 29.93 of its own peak: parse() refuses other
-// values. Interpolated values are clamped to kMaxLnRho + kOvershoot, so that exp() of them is finite
-// whatever the weights (4-point Lagrange weights grow without bound on nodes nearly together): a
-// table that parses gives a finite, non-negative profile by construction. Neither bound is reached
-// by interpolation between real nodes (an overshoot of 30 e-folds is not a smooth profile's).
-constexpr double kMaxLnRho = 100, kOvershoot = 30, kMaxRowSpan = 29.94;
 double clamp_ln(double v) {
   constexpr double lim = kMaxLnRho + kOvershoot;
   return std::isnan(v) ? -lim : std::clamp(v, -lim, lim);
 }
+
+std::vector<double> floored_log(std::vector<double> R) {
+  const double peak = *std::max_element(R.begin(), R.end());
+  for (double& v : R) v = std::log(std::max(v, kFloor * peak));
+  return R;
+}
+
+bool same_node(double a, double b) { return std::abs(a - b) <= 1e-6 * std::abs(b); }
+bool same_nodes(const std::vector<double>& a, const std::vector<double>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), same_node);
+}
+
+namespace {
+// A ProfileSolver on these x nodes, one per thread and kept: its quadratures (the J0 weights of
+// the radii for a k_max, which depend on nothing else) are reused from one solve to the next
+// instead of being built again for each (a quarter of a thin row's time). The same numbers.
+ProfileSolver& solver_on(const std::vector<double>& x) {
+  thread_local std::vector<std::pair<std::vector<double>, std::unique_ptr<ProfileSolver>>> solvers;
+  for (auto& [nodes, solver] : solvers)
+    if (nodes == x) return *solver;
+  if (solvers.size() >= 4) solvers.erase(solvers.begin());
+  solvers.emplace_back(x, std::make_unique<ProfileSolver>(RadialGrid::from(x)));
+  return *solvers.back().second;
+}
+
+}  // namespace
+
+// rho at the x nodes of one layer over this lower layer (FrequencyStack; in units of
+// s: k0 = 0.3 / 15, the resolution FrequencyStack has on the most scattering skin, 5 % at 10 mm
+// otherwise: its nodes are fixed in rad/mm, so in units of s = 1 /mm they would be those of a
+// stack with s = 1 /mm, and the skin's s is 4-15 /mm).
+std::vector<double> solve(const std::vector<double>& x, double eta, double g, double tau_v, double a_v,
+                          const Layer* below) {
+  LayerStack st;
+  st.eta_above = 1.0;
+  st.layers.push_back({a_v, 1.0, tau_v, eta, g});
+  if (below) st.layers.push_back(*below);
+  FrequencyProfileOptions o;
+  o.k0 = 0.3 / 15.0;
+  const FrequencyStack f(st, o);
+  return solver_on(x).profile(f);
+}
+}  // namespace tables
+
+using namespace tables;
+
+namespace {
 
 std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
   std::vector<double> out(v.size());
@@ -65,12 +105,6 @@ double log_of(double v) { return std::log(v); }
 double sqrt_of(double v) { return std::sqrt(v); }
 // ln(e^a + e^b)
 double log_sum(double a, double b) { return std::max(a, b) + std::log1p(std::exp(-std::abs(a - b))); }
-// ln R, floored at kFloor of its peak (the table's values).
-std::vector<double> floored_log(std::vector<double> R) {
-  const double peak = *std::max_element(R.begin(), R.end());
-  for (double& v : R) v = std::log(std::max(v, kFloor * peak));
-  return R;
-}
 
 // The offsets and the cross terms stop at a lighter top layer than the table (their a_e nodes end
 // at kOffsetsDarkestTop, the table's at 16.06 since 2026-12-06) and beyond their last a_e node hold
@@ -139,34 +173,8 @@ SkinStackTable SkinStackTable::default_nodes() {
 }
 
 namespace {
-// A ProfileSolver on these x nodes, one per thread and kept: its quadratures (the J0 weights of
-// the radii for a k_max, which depend on nothing else) are reused from one solve to the next
-// instead of being built again for each (a quarter of a thin row's time). The same numbers.
-ProfileSolver& solver_on(const std::vector<double>& x) {
-  thread_local std::vector<std::pair<std::vector<double>, std::unique_ptr<ProfileSolver>>> solvers;
-  for (auto& [nodes, solver] : solvers)
-    if (nodes == x) return *solver;
-  if (solvers.size() >= 4) solvers.erase(solvers.begin());
-  solvers.emplace_back(x, std::make_unique<ProfileSolver>(RadialGrid::from(x)));
-  return *solvers.back().second;
-}
-
-// rho at the x nodes of the table's geometry with this lower layer (FrequencyStack; in units of
-// s: k0 = 0.3 / 15, the resolution FrequencyStack has on the most scattering skin, 5 % at 10 mm
-// otherwise: its nodes are fixed in rad/mm, so in units of s = 1 /mm they would be those of a
-// stack with s = 1 /mm, and the skin's s is 4-15 /mm).
-std::vector<double> solve(const std::vector<double>& x, double eta, double g, double tau_v, double a_e_v, const Layer* below) {
-  LayerStack st;
-  st.eta_above = 1.0;
-  st.layers.push_back({a_e_v, 1.0, tau_v, eta, g});
-  if (below) st.layers.push_back(*below);
-  FrequencyProfileOptions o;
-  o.k0 = 0.3 / 15.0;
-  const FrequencyStack f(st, o);
-  return solver_on(x).profile(f);
-}
 std::vector<double> solve(const SkinStackTable& t, double tau_v, double a_e_v, const Layer* below) {
-  return solve(t.x, t.eta, t.g, tau_v, a_e_v, below);
+  return tables::solve(t.x, t.eta, t.g, tau_v, a_e_v, below);
 }
 // The top layer over an index-matched absorber (sigma_a = 1, sigma_s' = 1e-9 in units of s: no
 // light comes back from below).
@@ -259,8 +267,6 @@ std::vector<double> SkinStackTable::solve_half_space(double a_v) const {
 }
 
 namespace {
-// Node values equal to a relative 1e-6 (a table read back holds 7 digits).
-bool same_node(double a, double b) { return std::abs(a - b) <= 1e-6 * std::abs(b); }
 // Index of v among nodes, or npos.
 std::size_t node_index(const std::vector<double>& nodes, double v) {
   for (std::size_t i = 0; i < nodes.size(); ++i)
@@ -273,9 +279,6 @@ std::vector<std::size_t> node_indices(const std::vector<double>& in, const std::
   out.reserve(nodes.size());
   for (double v : nodes) out.push_back(node_index(in, v));
   return out;
-}
-bool same_nodes(const std::vector<double>& a, const std::vector<double>& b) {
-  return std::equal(a.begin(), a.end(), b.begin(), b.end(), same_node);
 }
 // The lower layer's sigma_s' over the top layer's, the table's own where within 1e-9 of it.
 double ratio_of(const SkinStackTable& t, const Layer& e, const Layer& d) {
@@ -722,7 +725,7 @@ void hold_low_near_beam(const std::vector<double>& x, double t, std::vector<doub
 }  // namespace
 
 SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack& stack, double R_d)
-    : table_(&table) {
+    : x_(&table.x) {
   const Layer& e = stack.layers.at(0);
   s_ = e.sigma_s_prime;
   if (stack.layers.size() == 1) {
@@ -740,7 +743,17 @@ SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack
     }
     ln_rho_ = added(std::move(top), low);
   }
-  ln_x_ = mapped(table.x, log_of);
+  scale_to(R_d);
+}
+
+SkinStackProfile::SkinStackProfile(const std::vector<double>& x, std::vector<double> ln_rho, double s, double R_d)
+    : x_(&x), s_(s), ln_rho_(std::move(ln_rho)) {
+  scale_to(R_d);
+}
+
+void SkinStackProfile::scale_to(double R_d) {
+  const std::vector<double>& xs = *x_;
+  ln_x_ = mapped(xs, log_of);
   const std::size_t n = ln_x_.size();
   h_ = (ln_x_.back() - ln_x_.front()) / static_cast<double>(n - 1);
   cutoff_ = *std::max_element(ln_rho_.begin(), ln_rho_.end()) + std::log(10 * kFloor);
@@ -748,8 +761,8 @@ SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack
   // first two nodes down to a tenth of the first x node, flat below.
   power_ = std::clamp((ln_rho_[1] - ln_rho_[0]) / h_, -1.9, 0.0);
   // Beyond the last node: ln rho linear in x, falling (0 if it does not fall).
-  const double x1 = table.x[n - 1];
-  decay_ = std::max(0.0, -(ln_rho_[n - 1] - ln_rho_[n - 2]) / (x1 - table.x[n - 2]));
+  const double x1 = xs[n - 1];
+  decay_ = std::max(0.0, -(ln_rho_[n - 1] - ln_rho_[n - 2]) / (x1 - xs[n - 2]));
   // 2 pi int x rho dx of exactly what operator() returns: Simpson on the even ln x grid (as
   // 2 pi int x^2 rho d(ln x)), the power law and the flat disc below it, the exponential beyond.
   double sum = 0;
@@ -758,7 +771,7 @@ SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack
     sum += ((i == 0 || i == n - 1) ? 1.0 : (i % 2 == 1 ? 4.0 : 2.0)) * f;
   }
   double integral = 2 * std::numbers::pi * sum * h_ / 3.0;
-  const double x0 = table.x.front(), xf = x0 / 10, rho0 = std::exp(ln_rho_[0]);
+  const double x0 = xs.front(), xf = x0 / 10, rho0 = std::exp(ln_rho_[0]);
   const double rho_f = rho0 * std::pow(0.1, power_);
   integral += 2 * std::numbers::pi * rho0 * std::pow(x0, -power_) *
               (std::pow(x0, 2 + power_) - std::pow(xf, 2 + power_)) / (2 + power_);
@@ -771,12 +784,12 @@ SkinStackProfile::SkinStackProfile(const SkinStackTable& table, const LayerStack
 
 double SkinStackProfile::operator()(double r) const {
   const std::size_t n = ln_x_.size();
-  const double x = r * s_, x0 = table_->x.front();
+  const double x = r * s_, x0 = (*x_).front();
   if (x < x0) return scale_ * std::exp(ln_rho_[0]) * std::pow(std::max(x, x0 / 10) / x0, power_);
   const double lx = std::log(x);
   if (lx >= ln_x_.back()) {
     if (decay_ == 0 || ln_rho_[n - 1] < cutoff_) return 0.0;
-    return scale_ * std::exp(ln_rho_[n - 1] - decay_ * (x - table_->x[n - 1]));
+    return scale_ * std::exp(ln_rho_[n - 1] - decay_ * (x - (*x_)[n - 1]));
   }
   const double u = (lx - ln_x_.front()) / h_;
   const std::size_t i = std::min(static_cast<std::size_t>(u), n - 2);

@@ -450,6 +450,21 @@ TEST(HalfSpaceProfiles, WithinFivePercentAndThreeSEOfMonteCarlo) {
   }
 }
 
+// A dark epidermis that hides the dermis (AccurateStack::hides_below; the skin domain's sample,
+// seed 7: a_e 15.45, g 0.763, index 1.45, tau 0.625, here at s = 2 /mm), read from the half-space
+// table as its half-space: every 10 um annulus over 0.02-0.3 mm whose standard error is below 3 %
+// within 5 % + 3 SE of 2 x 10^7 photons (~1.2 s on 2 cores; 5 x 10^6 under the sanitizers), out to
+// 0.11 mm, ~3e-3 of R(0.02 mm). Measured: within -2.0 to +2.6 % there, as the whole stack solved
+// (within 0.2 % of the read); at s = 10 /mm against 3 x 10^8 photons the read is within 1 SE out to
+// 0.08 mm (~1e-5 of R(0.02 mm)), where the solved stack rings (+16 % to +430 % beyond 0.075 mm).
+TEST(HalfSpaceTable, ADarkEpidermisReadWithinFivePercentAndThreeSEOfMonteCarlo) {
+  const LayerStack st = skin::test::reduced_stack(2.0, 0.625, 15.45, 0.343, 0.763, 1.45, 1.49);
+  const skin::transport::accurate::AccurateStack acc(st);
+  ASSERT_TRUE(acc.half_space_table());
+  expect_annuli_within(run_mc(st, skin::test::kUnderSanitizers ? 5000000 : 20000000, 2026, 0.3, 30), 0.3, 30, 0.02, 0.3,
+                       {{"half-space table", &acc}});
+}
+
 // Skin of another anisotropy or dermis scattering, read from the skin table with its offsets
 // (docs/accurate-solver.md, sec. 4; until 2026-12-04 solved in the frequency domain), against
 // the Monte Carlo. The top-layer tables these stacks read before that solver (removed) were 3-11 %

@@ -81,7 +81,8 @@ TEST(ModelValidity, SkinPresetsAreInsideBothModels) {
 }
 
 // Off the skin table and its offsets (g or a dermis scattering outside the skin domain, dark
-// over bright, a half-space with another g) the accurate model's profile is the frequency-domain
+// over bright, a half-space with another g brighter than the half-space table's, a = 0.025) the
+// accurate model's profile is the frequency-domain
 // solver's, the same numbers as `sfd`, and it stays inside its validated range: no table with a
 // narrower range is read.
 TEST(ModelValidity, AccurateOffTheSkinTableIsTheFrequencyDomainProfile) {
@@ -96,7 +97,7 @@ TEST(ModelValidity, AccurateOffTheSkinTableIsTheFrequencyDomainProfile) {
     EXPECT_TRUE(skin::model::skin_validity(*p, grid, transport::find_model("multipole")).ok());
   }
   LayerStack half_space;
-  half_space.layers = {Layer{0.2, 0.8, kInfinity, 1.4, 0.8}};
+  half_space.layers = {Layer{0.02, 0.8, kInfinity, 1.4, 0.8}};
   const auto& acc = transport::find_model("accurate");
   const auto& sfd = transport::find_model("sfd");
   skin::transport::ProfileSolver ps(skin::transport::RadialGrid::logarithmic(0.01, 10, 12));

@@ -187,8 +187,12 @@ class FrequencyStack final : public RadialResponse {
 //   default g, index and dermis scattering, every preset at 380-780 nm): FrequencyStack's
 //   profile, tabulated over the stack's three reduced parameters and interpolated (read, not
 //   solved; within 0.1-0.4 % of the solver on light skin, a few per cent on the darkest);
+// - a half-space, or a stack whose top layer hides what lies below it (hides_below), of g
+//   0.7-0.97, index 1.33-1.55 and sigma_a / sigma_s' 0.0625-42.25 under air: the half-space's
+//   profile read from the built-in HalfSpaceTable (half_space_table.hpp; FrequencyStack's,
+//   tabulated);
 // - every other stack: FrequencyStack, solved (its cost: docs/benchmarks.md); a stack whose top
-//   layer hides what lies below it (hides_below) as that layer's half-space, ~2.4 times faster.
+//   layer hides what lies below it as that layer's half-space, ~2.4 times faster.
 class AccurateStack final : public RadialResponse {
  public:
   explicit AccurateStack(const physics::LayerStack& stack, const Options& options = {});
@@ -204,12 +208,16 @@ class AccurateStack final : public RadialResponse {
   double T_d() const { return totals_.T_d; }
   double R_specular() const { return totals_.R_specular; }
   const Totals& totals() const { return totals_; }
-  // True when the profile is read from the built-in SkinStackTable (FrequencyStack's, tabulated;
-  // otherwise it is solved).
+  // True when the profile is read from a table, the built-in SkinStackTable or HalfSpaceTable
+  // (FrequencyStack's, tabulated; otherwise it is solved).
   bool skin_table() const { return skin_ != nullptr; }
-  // Whether AccurateStack(stack) reads the table (the one routing rule; the model registry asks
-  // it before building a response).
+  // True when it is read from the HalfSpaceTable.
+  bool half_space_table() const { return half_space_table_; }
+  // Whether AccurateStack(stack) reads a table: the skin table, or failing it the half-space
+  // table (the one routing rule; the model registry asks it before building a response).
+  static bool reads_table(const physics::LayerStack& stack);
   static bool reads_skin_table(const physics::LayerStack& stack);
+  static bool reads_half_space_table(const physics::LayerStack& stack);
   // Whether the top layer of a stack of two or more layers hides the rest: light that reaches
   // its bottom and returns is attenuated by at least kHiddenBelowEfolds e-folds each way, by the
   // smaller of (sigma_s' + sigma_a) d (the straight path) and sqrt(3 sigma_a (sigma_s' +
@@ -219,14 +227,14 @@ class AccurateStack final : public RadialResponse {
   // 1e-6 at 10.3 e-folds; 6 % above 1e-6 at 7.2 (docs/accurate-solver.md sec. 5).
   static bool hides_below(const physics::LayerStack& stack);
   static constexpr double kHiddenBelowEfolds = 10.0;
-  // True when the profile is the top layer's half-space (hides_below).
+  // True when the profile is the top layer's half-space (hides_below), read or solved.
   bool top_as_half_space() const { return top_as_half_space_; }
 
  private:
   Totals totals_;
   std::unique_ptr<FrequencyStack> frequency_;  // set outside the skin table
   std::unique_ptr<SkinStackProfile> skin_;     // set for the skin geometry
-  bool top_as_half_space_ = false;
+  bool top_as_half_space_ = false, half_space_table_ = false;
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);
 

@@ -245,10 +245,15 @@ struct SkinStackCross {
 class SkinStackProfile {
  public:
   SkinStackProfile(const SkinStackTable& table, const physics::LayerStack& stack, double R_d);
+  // A profile read from another table of the same kind (HalfSpaceTable): ln rho at the x nodes
+  // `x` (odd in number, evenly spaced in ln x; kept by reference: the table's), in units of s
+  // [1/mm], scaled to integrate to R_d.
+  SkinStackProfile(const std::vector<double>& x, std::vector<double> ln_rho, double s, double R_d);
   double operator()(double r) const;
 
  private:
-  const SkinStackTable* table_;
+  void scale_to(double R_d);
+  const std::vector<double>* x_;
   double s_ = 1, scale_ = 1;  // s [1/mm]; R(r) = scale_ exp(ln_rho(r s))
   double h_ = 1, cutoff_ = 0, power_ = -1, decay_ = 0;
   std::vector<double> ln_x_, ln_rho_;
