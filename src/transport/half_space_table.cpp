@@ -81,7 +81,7 @@ void HalfSpaceTable::compute(const util::ProgressCallback& progress, const HalfS
   // keep both cores busy.
   std::vector<std::size_t> order(n);
   for (std::size_t k = 0; k < n; ++k) order[k] = n - 1 - k;
-  tbb::parallel_for(std::size_t{0}, n, std::size_t{1}, [&](std::size_t o) {
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t o) {
     if (util::cancel::requested()) return;  // thrown below
     const std::size_t k = order[o], i_a = k % n_a, i_e = (k / n_a) % n_e, i_g = k / (n_a * n_e);
     double* out = ln_rho.data() + k * n_x;
