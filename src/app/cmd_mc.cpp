@@ -284,7 +284,7 @@ void register_skin_table_command(CLI::App& app) {
       ->excludes("--offsets");
   sub->add_flag("--half-spaces", o->half_spaces,
                 "Tabulate instead the profiles of absorbing half-spaces over sigma_a / sigma_s', g and index "
-                "(data/half_space_profiles.csv: what a top layer that hides the rest is read as; about 40 min on 2 cores)")
+                "(data/half_space_profiles.csv: what a top layer that hides the rest is read as; about 50 min on 2 cores)")
       ->excludes("--offsets")
       ->excludes("--cross");
   sub->add_option("--offset-nodes", o->axes,

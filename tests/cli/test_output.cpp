@@ -120,6 +120,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadCount{"tabulate-skin-profiles --cross --cross-pairs g:x -o t.csv",
                  "--cross-pairs: 'g:x' is not one of g:eta, g:dermis_ratio, eta:dermis_ratio"},
         BadCount{"tabulate-skin-profiles --offsets --cross-pairs g:eta -o t.csv", "--cross-pairs is for --cross"},
+        BadCount{"tabulate-skin-profiles --half-spaces --offset-nodes g=0.8 -o t.csv",
+                 "--half-spaces takes only --output and --reuse"},
+        BadCount{"tabulate-skin-profiles --half-spaces --offsets -o t.csv", "--offsets excludes --half-spaces"},
         BadCount{"tabulate-color-table --model x -o t.csv", "model = 'x' is unknown: choose paper or extended"}));
 }  // namespace
 
