@@ -61,7 +61,7 @@ TEST(HalfSpaceTable, NodesAreTheSolversProfile) {
 // Between nodes, against the solver at the same point, where rho is above 1e-4 of its peak: all
 // three axes at a node interval's middle (measured 2026-12-07: 0.06 % and 0.08 % for the first
 // two; the criterion the reads serve is 5 % + 3 SE of a Monte Carlo).
-TEST(HalfSpaceTable, BetweenNodesWithinOnePercentOfTheSolver) {
+TEST(HalfSpaceTable, BetweenNodesWithinTheStatedToleranceOfTheSolver) {
   struct Case {
     double a, g, eta, tolerance;
   };
