@@ -13,6 +13,13 @@
 #include "skin/transport/skin_stack_table.hpp"
 
 namespace {
+// A covered stack's profile: finite and >= 0 at every radius, or a finding named `what`.
+void check_profile(const skin::transport::accurate::SkinStackProfile& profile, const char* what) {
+  for (double r = 0; r < 100; r = r == 0 ? 1e-6 : r * 1.7) {
+    const double v = profile(r);
+    if (!std::isfinite(v) || v < 0) skin::fuzz::finding(what);
+  }
+}
 // The same input read as the table's offsets (data/skin_stack_offsets.csv): what parses writes
 // out and reads back the same; with the built-in table, when its x nodes pair with the table's,
 // the profile of skin of another g, index and dermis ratio inside its ranges is finite and >= 0.
@@ -41,11 +48,8 @@ void offsets(const std::uint8_t* data, std::size_t size) {
   stack.layers = {skin::physics::Layer{a_e * s, s, tau / s, eta, g},
                   skin::physics::Layer{a_d * s, ratio * s, skin::physics::kInfinity, eta, g}};
   if (!table.gap(stack).empty()) return;
-  const skin::transport::accurate::SkinStackProfile profile(table, stack, 0.5);
-  for (double r = 0; r < 100; r = r == 0 ? 1e-6 : r * 1.7) {
-    const double v = profile(r);
-    if (!std::isfinite(v) || v < 0) fuzz::finding("the profile of a covered stack with offsets is not finite and >= 0");
-  }
+  check_profile(skin::transport::accurate::SkinStackProfile(table, stack, 0.5),
+                "the profile of a covered stack with offsets is not finite and >= 0");
 }
 // The same input read as the offsets' cross terms (data/skin_stack_cross.csv): what parses
 // writes out and reads back the same, and the terms added in the middle of the ranges are finite.
@@ -82,11 +86,8 @@ void half_spaces(const std::uint8_t* data, std::size_t size) {
   auto mid = [](const std::vector<double>& v) { return 0.5 * (v.front() + v.back()); };
   const double a = std::sqrt(t.a.front() * t.a.back()), g = mid(t.g), eta = mid(t.eta), s = 5.0;
   if (!t.gap(a, g, eta).empty()) return;
-  const skin::transport::accurate::SkinStackProfile profile(t.x, t.ln_rho_at(a, g, eta), s, 0.5);
-  for (double r = 0; r < 100; r = r == 0 ? 1e-6 : r * 1.7) {
-    const double v = profile(r);
-    if (!std::isfinite(v) || v < 0) fuzz::finding("the profile of a covered half-space is not finite and >= 0");
-  }
+  check_profile(skin::transport::accurate::SkinStackProfile(t.x, t.ln_rho_at(a, g, eta), s, 0.5),
+                "the profile of a covered half-space is not finite and >= 0");
 }
 }  // namespace
 
@@ -112,10 +113,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
                   skin::physics::Layer{a_d * s, table.dermis_ratio * s, skin::physics::kInfinity, table.eta, table.g}};
   if (!(table.eta >= 1 && table.eta <= 3 && std::abs(table.g) < 1 && table.dermis_ratio > 0)) return 0;
   auto check = [](const skin::transport::accurate::SkinStackProfile& profile) {
-    for (double r = 0; r < 100; r = r == 0 ? 1e-6 : r * 1.7) {
-      const double v = profile(r);
-      if (!std::isfinite(v) || v < 0) fuzz::finding("the profile of a covered stack is not finite and >= 0");
-    }
+    check_profile(profile, "the profile of a covered stack is not finite and >= 0");
   };
   if (table.gap(stack).empty()) check(skin::transport::accurate::SkinStackProfile(table, stack, 0.5));
   // The half-space in the middle of its range, when the table has one.

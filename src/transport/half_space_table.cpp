@@ -27,14 +27,7 @@ using skin::util::format_number_list;
 using namespace tables;
 
 namespace {
-std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
-  std::vector<double> out(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) out[i] = f(v[i]);
-  return out;
-}
-double sqrt_of(double v) { return std::sqrt(v); }
 double minus_ln_one_minus(double v) { return -std::log(1 - v); }  // increasing in g
-double same(double v) { return v; }
 // A node's values count down to this share of its peak (at the first x node); below, the
 // solve's inversion is near its noise (its floor kFloor is 1e-13).
 constexpr double kReliable = 1e-10;
@@ -156,11 +149,7 @@ HalfSpaceTable HalfSpaceTable::parse(std::string_view text, std::string_view sou
         throw InputError(src + ": '" + ax.key + "' must lie within [" + format_number(ax.lo) + ", " +
                          format_number(ax.hi) + "] and increase");
   }
-  // Simpson's rule and the cubic in ln x need an odd number of x nodes, evenly spaced in ln x.
-  const double h = std::log(t.x.back() / t.x.front()) / static_cast<double>(t.x.size() - 1);
-  for (std::size_t i = 1; i < t.x.size(); ++i)
-    if (t.x.size() % 2 == 0 || !(std::abs(std::log(t.x[i] / t.x[i - 1]) / h - 1) <= 1e-5))
-      throw InputError(src + ": 'x' must be an odd number of nodes evenly spaced in ln x");
+  check_x_nodes(t.x, src);
   const util::Table data = util::parse_csv(text, src);
   const std::size_t n_x = t.x.size(), n_a = t.a.size(), n_e = t.eta.size(), rows = t.g.size() * n_e * n_a;
   if (data.columns.size() != 3 + n_x)
@@ -175,17 +164,8 @@ HalfSpaceTable HalfSpaceTable::parse(std::string_view text, std::string_view sou
         throw InputError(src + ": row " + std::to_string(r + 1) + " is not node (g, eta, a) = (" + format_number(want[0]) +
                          ", " + format_number(want[1]) + ", " + format_number(want[2]) + ")");
     double* out = t.ln_rho.data() + r * n_x;
-    for (std::size_t i = 0; i < n_x; ++i) {
-      const double v = data.data[3 + i][r];
-      if (!(std::abs(v) <= kMaxLnRho))
-        throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[3 + i] + " = " +
-                         format_number(v) + " is not a finite number within " + format_number(kMaxLnRho) + " of 0 (ln rho)");
-      out[i] = v;
-    }
-    const auto [lo, hi] = std::minmax_element(out, out + n_x);
-    if (!(*hi - *lo <= kMaxRowSpan))
-      throw InputError(src + ": row " + std::to_string(r + 1) + " spans " + format_number(*hi - *lo) +
-                       " in ln rho; allowed: at most " + format_number(kMaxRowSpan) + " (the table's floor, 1e-13 of a row's peak)");
+    for (std::size_t i = 0; i < n_x; ++i) out[i] = data.data[3 + i][r];
+    check_row(out, n_x, src, r + 1, data.columns);
   }
   return t;
 }
@@ -222,7 +202,7 @@ std::string HalfSpaceTable::gap(const LayerStack& stack) const {
 std::vector<double> HalfSpaceTable::ln_rho_at(double a_v, double g_v, double eta_v) const {
   const util::Lagrange4Stencil sa = util::lagrange4_stencil(mapped(a, sqrt_of), std::sqrt(a_v));
   const util::Lagrange4Stencil sg = util::lagrange4_stencil(mapped(g, minus_ln_one_minus), -std::log(1 - g_v));
-  const util::Lagrange4Stencil se = util::lagrange4_stencil(mapped(eta, same), eta_v);
+  const util::Lagrange4Stencil se = util::lagrange4_stencil(eta, eta_v);
   const std::size_t n_x = x.size(), n_a = a.size(), n_e = eta.size();
   std::vector<double> out(n_x, 0.0);
   std::size_t reliable = n_x;  // the first x node where a node of the stencil nears its floor

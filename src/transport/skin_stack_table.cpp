@@ -55,6 +55,35 @@ std::vector<double> floored_log(std::vector<double> R) {
   return R;
 }
 
+std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
+  std::vector<double> out(v.size());
+  for (std::size_t i = 0; i < v.size(); ++i) out[i] = f(v[i]);
+  return out;
+}
+double log_of(double v) { return std::log(v); }
+double sqrt_of(double v) { return std::sqrt(v); }
+
+void check_x_nodes(const std::vector<double>& x, const std::string& src) {
+  const double h = std::log(x.back() / x.front()) / static_cast<double>(x.size() - 1);
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (x.size() % 2 == 0 || !(std::abs(std::log(x[i] / x[i - 1]) / h - 1) <= 1e-5))
+      throw InputError(src + ": 'x' must be an odd number of nodes evenly spaced in ln x");
+}
+
+void check_row(const double* out, std::size_t n_x, const std::string& src, std::size_t r,
+               const std::vector<std::string>& columns) {
+  for (std::size_t i = 0; i < n_x; ++i)
+    if (!(std::abs(out[i]) <= kMaxLnRho))
+      throw InputError(src + ": row " + std::to_string(r) + ", column " + columns[3 + i] + " = " +
+                       format_number(out[i]) + " is not a finite number within " + format_number(kMaxLnRho) +
+                       " of 0 (ln rho)");
+  const auto [lo, hi] = std::minmax_element(out, out + n_x);
+  if (!(*hi - *lo <= kMaxRowSpan))
+    throw InputError(src + ": row " + std::to_string(r) + " spans " + format_number(*hi - *lo) +
+                     " in ln rho; allowed: at most " + format_number(kMaxRowSpan) +
+                     " (the table's floor, 1e-13 of a row's peak)");
+}
+
 bool same_node(double a, double b) { return std::abs(a - b) <= 1e-6 * std::abs(b); }
 bool same_nodes(const std::vector<double>& a, const std::vector<double>& b) {
   return std::equal(a.begin(), a.end(), b.begin(), b.end(), same_node);
@@ -96,13 +125,6 @@ using namespace tables;
 
 namespace {
 
-std::vector<double> mapped(const std::vector<double>& v, double (*f)(double)) {
-  std::vector<double> out(v.size());
-  for (std::size_t i = 0; i < v.size(); ++i) out[i] = f(v[i]);
-  return out;
-}
-double log_of(double v) { return std::log(v); }
-double sqrt_of(double v) { return std::sqrt(v); }
 // ln(e^a + e^b)
 double log_sum(double a, double b) { return std::max(a, b) + std::log1p(std::exp(-std::abs(a - b))); }
 
@@ -428,11 +450,7 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
           (i > 0 && !(std::sqrt((*v)[i]) > std::sqrt((*v)[i - 1]) && std::log((*v)[i]) > std::log((*v)[i - 1]))))
         throw InputError(src + ": '" + key + "' must lie within [1e-9, 1e9] and increase");
   }
-  // Simpson's rule and the cubic in ln x need an odd number of x nodes, evenly spaced in ln x.
-  const double h = std::log(t.x.back() / t.x.front()) / static_cast<double>(t.x.size() - 1);
-  for (std::size_t i = 1; i < t.x.size(); ++i)
-    if (t.x.size() % 2 == 0 || !(std::abs(std::log(t.x[i] / t.x[i - 1]) / h - 1) <= 1e-5))
-      throw InputError(src + ": 'x' must be an odd number of nodes evenly spaced in ln x");
+  check_x_nodes(t.x, src);
   const Table data = parse_csv(text, src);
   const std::size_t n_x = t.x.size(), n_d = t.a_d.size();
   const std::size_t skin_rows = t.tau.size() * t.a_e.size() * (n_d + 1);
@@ -463,19 +481,8 @@ SkinStackTable SkinStackTable::parse(std::string_view text, std::string_view sou
     double* out = half     ? t.ln_rho_half.data() + i_h * n_x
                   : j == 0 ? t.ln_rho_top.data() + (i_t * t.a_e.size() + i_e) * n_x
                            : t.ln_rho.data() + ((i_t * t.a_e.size() + i_e) * n_d + j - 1) * n_x;
-    for (std::size_t i = 0; i < n_x; ++i) {
-      const double v = data.data[3 + i][r];
-      if (!(std::abs(v) <= kMaxLnRho))
-        throw InputError(src + ": row " + std::to_string(r + 1) + ", column " + data.columns[3 + i] + " = " +
-                         format_number(v) + " is not a finite number within " + format_number(kMaxLnRho) +
-                         " of 0 (ln rho)");
-      out[i] = v;
-    }
-    const auto [lo, hi] = std::minmax_element(out, out + n_x);
-    if (!(*hi - *lo <= kMaxRowSpan))
-      throw InputError(src + ": row " + std::to_string(r + 1) + " spans " + format_number(*hi - *lo) +
-                       " in ln rho; allowed: at most " + format_number(kMaxRowSpan) +
-                       " (the table's floor, 1e-13 of a row's peak)");
+    for (std::size_t i = 0; i < n_x; ++i) out[i] = data.data[3 + i][r];
+    check_row(out, n_x, src, r + 1, data.columns);
   }
   return t;
 }
