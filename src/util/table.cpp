@@ -25,8 +25,10 @@ std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
   return s;
 }
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> out;
+// The fields of a line into `out` (cleared first; reused across lines, so that parsing a table
+// allocates per column, not per line).
+void split_into(std::string_view line, std::vector<std::string_view>& out) {
+  out.clear();
   std::size_t start = 0;
   for (;;) {
     std::size_t p = line.find(',', start);
@@ -34,6 +36,10 @@ std::vector<std::string_view> split(std::string_view line) {
     if (p == std::string_view::npos) break;
     start = p + 1;
   }
+}
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> out;
+  split_into(line, out);
   return out;
 }
 }  // namespace
@@ -69,6 +75,10 @@ Table parse_csv(std::string_view text, const std::string& source) {
   if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   std::size_t pos = 0, line_no = 0;
   bool have_header = false;
+  // Rows are at most the lines: the columns are reserved once (the skin tables hold 10^5-10^6
+  // numbers per column), not grown by doubling.
+  const std::size_t max_rows = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+  std::vector<std::string_view> fields;
   while (pos <= text.size()) {
     std::size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
@@ -79,7 +89,7 @@ Table parse_csv(std::string_view text, const std::string& source) {
       if (end == text.size()) break;
       continue;
     }
-    auto fields = split(line);
+    split_into(line, fields);
     if (!have_header) {
       // A file without its header line would lose its first row as column names.
       if (std::all_of(fields.begin(), fields.end(), is_number))
@@ -88,6 +98,7 @@ Table parse_csv(std::string_view text, const std::string& source) {
                          "columns");
       for (auto f : fields) t.columns.emplace_back(f);
       t.data.resize(t.columns.size());
+      for (auto& column : t.data) column.reserve(max_rows - line_no);
       have_header = true;
     } else {
       if (fields.size() != t.columns.size())
