@@ -4,7 +4,7 @@
 # its seed corpus fuzz/corpus/<target>/ (never modified: new inputs go to
 # build-fuzz/fuzz-corpus/<target>/).
 #   bash scripts/fuzz.sh [SECONDS] [TARGET...]
-#   SKIN_FUZZ_DIR=build-asan bash scripts/fuzz.sh 5   the harnesses of the sanitizer build
+#   SKIN_FUZZ_DIR=build-asan bash scripts/fuzz.sh 3   the harnesses of the sanitizer build
 #       instead (coverage of the harnesses' own code only; CI's short run, scripts/test.sh)
 # A crash, hang (> 10 s on one input), out-of-memory (> 2 GB) or sanitizer report stops that
 # target and leaves its input in build-fuzz/fuzz-findings/; the script then exits 1. At the end it

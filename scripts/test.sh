@@ -5,7 +5,7 @@
 #   bash scripts/test.sh --sanitize   the same suite under AddressSanitizer +
 #       UndefinedBehaviorSanitizer (clang, build-asan/, scripts/configure-asan.sh), then a short
 #       run of every fuzz harness built there (scripts/fuzz.sh, SKIN_FUZZ_SECONDS per target,
-#       default 5; the campaigns' fully instrumented build-fuzz/ is not built).
+#       default 3; the campaigns' fully instrumented build-fuzz/ is not built).
 # CI (.ci/run) runs both.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -40,7 +40,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     LSAN_OPTIONS=print_suppressions=0 \
     timed "sanitizer suite" ctest --test-dir build-asan --output-on-failure -j 2 -E "$release_only"
-  SKIN_FUZZ_DIR=build-asan timed "fuzz smoke" bash scripts/fuzz.sh "${SKIN_FUZZ_SECONDS:-5}"
+  SKIN_FUZZ_DIR=build-asan timed "fuzz smoke" bash scripts/fuzz.sh "${SKIN_FUZZ_SECONDS:-3}"
   exit 0
 fi
 dir=build
