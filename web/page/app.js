@@ -920,5 +920,9 @@ createSkinModule().then((module) => {
   }
   watchPlotWidths();
   restoreFromUrl();
+  // A link into this page pasted into its own tab differs in its fragment only, and the browser
+  // does not load the page again: its state is applied as on load. (The page's own writes use
+  // history.replaceState, which fires no hashchange.)
+  window.addEventListener('hashchange', restoreFromUrl);
   window.skinReady = true;
 }).catch((e) => { $('status').textContent = 'The model failed to load: ' + e; $('status').className = 'error'; });
