@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Builds the browser page (web/): the model compiled to WebAssembly with Debian's Emscripten
-# into one static folder, build-web/site (index.html, skin.js with the .wasm inside, app.js,
+# into one static folder, build-web/site (index.html, skin.js and skin.wasm, skin-file.js, app.js,
 # style.css; no network access at run time). `scripts/web.sh --serve [PORT]` also serves it at
 # http://localhost:PORT/ (default 8000) until interrupted.
 set -euo pipefail

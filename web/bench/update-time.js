@@ -7,6 +7,7 @@
 // alone, JSON.parse) and the load average.
 // Run: node web/bench/update-time.js [CALLS]  (after scripts/web.sh)
 'use strict';
+const fs = require('fs');
 const os = require('os');
 const path = require('path');
 const { performance } = require('perf_hooks');
@@ -20,7 +21,7 @@ function stats(a) {
 }
 const show = (s) => `median ${s.median.toFixed(2)} ms (10-90% ${s.p10.toFixed(2)}-${s.p90.toFixed(2)}, min ${s.min.toFixed(2)}, max ${s.max.toFixed(2)})`;
 
-require(path.join(SITE, 'skin.js'))().then((m) => {
+require(path.join(SITE, 'skin.js'))({ wasmBinary: fs.readFileSync(path.join(SITE, 'skin.wasm')) }).then((m) => {
   const request = (i) => JSON.stringify({ preset: 'caucasian', solver: 'accurate', params: { melanin: 0.01 + 0.002 * (i % 100) } });
   const time = (f) => {
     const cpu = [], wall = [];

@@ -10,7 +10,7 @@
 const fs = require('fs');
 const os = require('os');
 const path = require('path');
-const { ROOT, SPECTRA, TMP, cli, cliExport, compareExport, compare, fail, openPage } = require('./common');
+const { ROOT, SITE, SPECTRA, TMP, cli, cliExport, compareExport, compare, fail, openPage } = require('./common');
 
 const SHOTS = path.join(ROOT, 'build-web', 'screenshots');
 
@@ -43,6 +43,7 @@ async function main() {
     await page.goto(url);
     await page.waitForFunction('window.skinReady === true', { timeout: 120000 });
     await page.waitForFunction('window.skinState.updates >= 1');
+    const firstHex = await page.evaluate(() => document.getElementById('hex').textContent);
     // The coefficient table is collapsed as the page opens (and filled only while open).
     if (await page.evaluate(() => document.querySelectorAll('#coefficients tr').length) !== 0) fail(['the coefficient table was filled while collapsed'], 'collapsed table');
     await page.click('#coefficients-details summary');
@@ -259,6 +260,24 @@ async function main() {
     }
     const outside = requests.filter((u) => !u.startsWith(`http://127.0.0.1:${server.address().port}/`) && !u.startsWith('blob:') && !u.startsWith('data:'));
     fail(outside.map((u) => `request to ${u}`), 'network access outside the local server');
+    // Opened from the file system (index.html as a file): the module with the WebAssembly inside
+    // (skin-file.js), since the page may read no other file; the same colour as over http.
+    {
+      const filePage = await browser.newPage();
+      const fileRequests = [];
+      filePage.on('request', (r) => fileRequests.push(r.url()));
+      filePage.on('pageerror', (e) => fail([String(e)], 'page error (file://)'));
+      await filePage.goto('file://' + path.join(SITE, 'index.html'));
+      await filePage.waitForFunction('window.skinReady === true && window.skinState.updates >= 1', { timeout: 120000 });
+      const hex = await filePage.evaluate(() => document.getElementById('hex').textContent);
+      const f = [];
+      if (hex !== firstHex) f.push(`hex ${hex}, over http ${firstHex}`);
+      if (!fileRequests.some((u) => u.endsWith('/skin-file.js'))) f.push('skin-file.js not loaded');
+      if (fileRequests.some((u) => u.endsWith('/skin.wasm') || u.endsWith('/skin.js'))) f.push('skin.js or skin.wasm requested');
+      fail(f, 'opened from the file system');
+      console.log(`from the file system: skin-file.js loaded, ${hex} as over http`);
+      await filePage.close();
+    }
     console.log(`screenshots: ${SHOTS}`);
   } finally {
     await close();

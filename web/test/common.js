@@ -89,7 +89,7 @@ function check(a, b, tol, where, abs_floor, out) {
 const CHROMIUM = process.env.CHROMIUM || '/usr/bin/chromium';
 function serve() {
   const http = require('http');
-  const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css' };
+  const types = { '.html': 'text/html', '.js': 'text/javascript', '.css': 'text/css', '.wasm': 'application/wasm' };
   const server = http.createServer((req, res) => {
     const file = path.join(SITE, path.normalize(decodeURIComponent(req.url.split('?')[0])).replace(/^(\.\.[/\\])+/, '') || 'index.html');
     const target = fs.existsSync(file) && fs.statSync(file).isDirectory() ? path.join(file, 'index.html') : file;

@@ -22,7 +22,7 @@ const TOL = 1e-9;
 const PROFILE_FLOOR = 1e-6;
 const PROFILE_TOL = 1e-8;
 
-require(path.join(SITE, 'skin.js'))().then(async (m) => {
+require(path.join(SITE, 'skin.js'))({ wasmBinary: fs.readFileSync(path.join(SITE, 'skin.wasm')) }).then(async (m) => {
   const run = (command, request) => {
     const text = m.run(command, JSON.stringify(request));
     const doc = JSON.parse(text);
