@@ -75,9 +75,11 @@ Table parse_csv(std::string_view text, const std::string& source) {
   if (text.starts_with("\xEF\xBB\xBF")) text.remove_prefix(3);
   std::size_t pos = 0, line_no = 0;
   bool have_header = false;
-  // Rows are at most the lines: the columns are reserved once (the skin tables hold 10^5-10^6
-  // numbers per column), not grown by doubling.
-  const std::size_t max_rows = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
+  // The columns are reserved once (the skin tables hold 10^5-10^6 numbers per column), not grown by
+  // doubling: for at most as many rows as the text has lines, and as a row of n columns takes at
+  // least n bytes (n - 1 commas and its end), for at most size / n rows, so that what is reserved
+  // stays within 8 times the text's size whatever the header claims.
+  const std::size_t lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
   std::vector<std::string_view> fields;
   while (pos <= text.size()) {
     std::size_t end = text.find('\n', pos);
@@ -98,7 +100,8 @@ Table parse_csv(std::string_view text, const std::string& source) {
                          "columns");
       for (auto f : fields) t.columns.emplace_back(f);
       t.data.resize(t.columns.size());
-      for (auto& column : t.data) column.reserve(max_rows - line_no);
+      const std::size_t rows = std::min(lines - line_no, text.size() / t.columns.size());
+      for (auto& column : t.data) column.reserve(rows);
       have_header = true;
     } else {
       if (fields.size() != t.columns.size())
