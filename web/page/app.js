@@ -922,7 +922,11 @@ createSkinModule().then((module) => {
   restoreFromUrl();
   // A link into this page pasted into its own tab differs in its fragment only, and the browser
   // does not load the page again: its state is applied as on load. (The page's own writes use
-  // history.replaceState, which fires no hashchange.)
-  window.addEventListener('hashchange', restoreFromUrl);
+  // history.replaceState, which fires no hashchange.) Like a user's change, it ends the last fit's
+  // bound markers.
+  window.addEventListener('hashchange', () => {
+    clearUserErrors();
+    restoreFromUrl();
+  });
   window.skinReady = true;
 }).catch((e) => { $('status').textContent = 'The model failed to load: ' + e; $('status').className = 'error'; });
