@@ -6,6 +6,7 @@
 // (data/half_space_profiles.csv) (below).
 #include <array>
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "fuzz_support.hpp"
@@ -20,6 +21,18 @@ void check_profile(const skin::transport::accurate::SkinStackProfile& profile, c
     if (!std::isfinite(v) || v < 0) skin::fuzz::finding(what);
   }
 }
+// The input parsed as a T (a table kind with parse() and to_csv()), or false when refused; what
+// parses, written out and parsed again, must write the same text (else a finding naming `what`).
+template <class T>
+bool round_trip(const std::uint8_t* data, std::size_t size, T& out, const std::string& what) {
+  namespace fuzz = skin::fuzz;
+  if (!fuzz::accepts([&] { out = T::parse(fuzz::text(data, size), "fuzz.csv"); })) return false;
+  const std::string csv = out.to_csv();
+  T again;
+  if (!fuzz::accepts([&] { again = T::parse(csv, "re-written"); })) fuzz::finding("the re-written " + what + ": not parsed again");
+  if (again.to_csv() != csv) fuzz::finding("the re-written " + what + ": read differently");
+  return true;
+}
 // The same input read as the table's offsets (data/skin_stack_offsets.csv): what parses writes
 // out and reads back the same; with the built-in table, when its x nodes pair with the table's,
 // the profile of skin of another g, index and dermis ratio inside its ranges is finite and >= 0.
@@ -28,12 +41,7 @@ void offsets(const std::uint8_t* data, std::size_t size) {
   using skin::transport::accurate::SkinStackTable;
   namespace fuzz = skin::fuzz;
   SkinStackOffsets o;
-  if (!fuzz::accepts([&] { o = SkinStackOffsets::parse(fuzz::text(data, size), "fuzz.csv"); })) return;
-  const std::string csv = o.to_csv();
-  SkinStackOffsets again;
-  if (!fuzz::accepts([&] { again = SkinStackOffsets::parse(csv, "re-written"); }))
-    fuzz::finding("the re-written offsets do not parse");
-  if (again.to_csv() != csv) fuzz::finding("the re-written offsets read differently");
+  if (!round_trip(data, size, o, "offsets")) return;
   static SkinStackTable table = SkinStackTable::builtin();  // (libFuzzer runs one input at a time)
   if (o.x.size() < 4 || (table.x.size() - 1) % (o.x.size() - 1) != 0) return;
   const std::size_t stride = (table.x.size() - 1) / (o.x.size() - 1);
@@ -57,12 +65,7 @@ void cross(const std::uint8_t* data, std::size_t size) {
   using skin::transport::accurate::SkinStackCross;
   namespace fuzz = skin::fuzz;
   SkinStackCross c;
-  if (!fuzz::accepts([&] { c = SkinStackCross::parse(fuzz::text(data, size), "fuzz.csv"); })) return;
-  const std::string csv = c.to_csv();
-  SkinStackCross again;
-  if (!fuzz::accepts([&] { again = SkinStackCross::parse(csv, "re-written"); }))
-    fuzz::finding("the re-written cross terms do not parse");
-  if (again.to_csv() != csv) fuzz::finding("the re-written cross terms read differently");
+  if (!round_trip(data, size, c, "cross terms")) return;
   std::vector<double> dt(c.x.size(), 0.0), dl(c.x.size(), 0.0);
   auto mid = [](const std::vector<double>& v) { return std::sqrt(v.front() * v.back()); };
   std::array<double, 3> v{};
@@ -77,12 +80,7 @@ void half_spaces(const std::uint8_t* data, std::size_t size) {
   using skin::transport::accurate::HalfSpaceTable;
   namespace fuzz = skin::fuzz;
   HalfSpaceTable t;
-  if (!fuzz::accepts([&] { t = HalfSpaceTable::parse(fuzz::text(data, size), "fuzz.csv"); })) return;
-  const std::string csv = t.to_csv();
-  HalfSpaceTable again;
-  if (!fuzz::accepts([&] { again = HalfSpaceTable::parse(csv, "re-written"); }))
-    fuzz::finding("the re-written half-space table does not parse");
-  if (again.to_csv() != csv) fuzz::finding("the re-written half-space table reads differently");
+  if (!round_trip(data, size, t, "half-space table")) return;
   auto mid = [](const std::vector<double>& v) { return 0.5 * (v.front() + v.back()); };
   const double a = std::sqrt(t.a.front() * t.a.back()), g = mid(t.g), eta = mid(t.eta), s = 5.0;
   if (!t.gap(a, g, eta).empty()) return;
@@ -98,12 +96,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   cross(data, size);
   half_spaces(data, size);
   SkinStackTable table;
-  if (!fuzz::accepts([&] { table = SkinStackTable::parse(fuzz::text(data, size), "fuzz.csv"); })) return 0;
-  const std::string csv = table.to_csv();
-  SkinStackTable again;
-  if (!fuzz::accepts([&] { again = SkinStackTable::parse(csv, "re-written"); }))
-    fuzz::finding("the re-written table does not parse");
-  if (again.to_csv() != csv) fuzz::finding("the re-written table reads differently");
+  if (!round_trip(data, size, table, "table")) return 0;
   // A stack in the middle of the table's ranges (s = 5 /mm), with its own geometry.
   const double s = 5.0, tau = std::sqrt(table.tau.front() * table.tau.back());
   const double a_e = std::sqrt(table.a_e.front() * table.a_e.back());
