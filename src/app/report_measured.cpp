@@ -122,6 +122,20 @@ void write_tone_bins(std::ostream& md, const std::vector<MeasuredEntry>& entries
        << (worst <= 1.5 * best ? "within" : "NOT within") << " 1.5x; median RMS <= 0.005 in every bin: "
        << (all_below ? "yes" : "no") << ".\n";
   }
+  // The extended model's bounds are the measured ranges, so every fit lies inside them; what tells
+  // is how many fits lean on an end of one (a parameter with a measured range on its bound).
+  std::size_t clear = 0;
+  for (const auto& e : entries) {
+    const FitResult& r = e.extended_model;
+    bool leans = false;
+    for (std::size_t k = 0; k < r.free.size() && k < r.at_bound.size(); ++k)
+      leans = leans || (r.at_bound[k] && r.free[k].info().has_prior_range());
+    clear += leans ? 0 : 1;
+  }
+  md << "- extended: spectra with every parameter inside its measured range: " << entries.size() << " of "
+     << entries.size() << " (the ranges are the fit's bounds); with none on an end of its range: " << clear
+     << " of " << entries.size() << " (" << fmt(100.0 * static_cast<double>(clear) / static_cast<double>(entries.size()), "%.0f")
+     << " %).\n";
 }
 
 }  // namespace
@@ -167,8 +181,14 @@ void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& e
         "(the measurement including the surface reflection);\n"
      << "- **extended**: +rho_s and the extended terms epidermal blood, beta-carotene, bilirubin, "
         "epidermis thickness, oxygenation, a scale of sigma_s' and the dermis' vessel radius (packaging).\n\n"
-     << "RMS in reflectance units over the measured samples in 400-700 nm. Spectra marked * are the "
-        "four the paper compares against (Fig. 9: Vrhel 82, 95, 110, 117).\n\n";
+     << "RMS in reflectance units over the measured samples in 400-700 nm.";
+  if (std::any_of(entries.begin(), entries.end(), [](const MeasuredEntry& e) { return e.used_in_paper; }))
+    md << " Spectra marked * are the four the paper compares against (Fig. 9: Vrhel 82, 95, 110, 117).";
+  if (const auto n = std::count_if(entries.begin(), entries.end(), [](const MeasuredEntry& e) { return e.includes_specular; }))
+    md << " " << n << " of the " << entries.size()
+       << " spectra are flagged in their metadata as including the surface reflection (`includes_specular`): their "
+          "`--model extended` fit (\"By skin tone\" below) adds rho_s F as the +rho_s fit does.";
+  md << "\n\n";
   md << "| spectrum | description | RMS paper | RMS +rho_s | RMS extended | paper fit | extended fit |\n"
      << "|---|---|---:|---:|---:|---|---|\n";
   double worst_flagged = 0;

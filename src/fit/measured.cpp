@@ -72,6 +72,7 @@ std::vector<std::vector<std::string>> read_text_csv(const std::string& path) {
 struct Meta {
   std::string description;
   bool paper = false;
+  bool includes_specular = false;
 };
 
 std::map<std::string, Meta> read_metadata(const std::string& path) {
@@ -87,14 +88,17 @@ std::map<std::string, Meta> read_metadata(const std::string& path) {
     return -1;
   };
   const int c_name = col("column"), c_label = col("original_label"),
-            c_paper = col("used_in_donner_jensen_2006");
+            c_paper = col("used_in_donner_jensen_2006"), c_specular = col("includes_specular");
   if (c_name < 0) return out;
   for (std::size_t r = 1; r < rows.size(); ++r) {
     const auto& row = rows[r];
     auto field = [&](int c) { return c >= 0 && static_cast<std::size_t>(c) < row.size() ? row[static_cast<std::size_t>(c)] : std::string(); };
-    std::string paper = field(c_paper);
-    std::transform(paper.begin(), paper.end(), paper.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    out[field(c_name)] = {field(c_label), paper == "yes"};
+    auto yes = [&](int c) {
+      std::string v = field(c);
+      std::transform(v.begin(), v.end(), v.begin(), [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
+      return v == "yes";
+    };
+    out[field(c_name)] = {field(c_label), yes(c_paper), yes(c_specular)};
   }
   return out;
 }
@@ -123,6 +127,7 @@ std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir, 
       if (auto it = meta.find(e.spectrum.name); it != meta.end()) {
         e.description = it->second.description;
         e.used_in_paper = it->second.paper;
+        e.includes_specular = it->second.includes_specular;
       }
       entries.push_back(std::move(e));
     }
@@ -136,7 +141,9 @@ std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir, 
   for (Parameter p : extended_parameters()) ext.free.push_back(p);
   SpectrumFitOptions prior = paper;
   use_fit_model(prior, FitModel::extended);
-  const SpectrumFitter f_paper(paper), f_spec(spec), f_ext(ext), f_prior(prior);
+  SpectrumFitOptions prior_spec = prior;  // a measurement with the surface reflection in it
+  prior_spec.includes_specular = true;
+  const SpectrumFitter f_paper(paper), f_spec(spec), f_ext(ext), f_prior(prior), f_prior_spec(prior_spec);
   std::vector<SpectrumFitter> f_single;
   for (Parameter p : extended_parameters()) {
     SpectrumFitOptions o = spec;
@@ -149,7 +156,7 @@ std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir, 
     e.paper = f_paper.fit(e.spectrum);
     e.paper_specular = f_spec.fit(e.spectrum);
     e.extended = f_ext.fit(e.spectrum);
-    e.extended_model = f_prior.fit(e.spectrum);
+    e.extended_model = (e.includes_specular ? f_prior_spec : f_prior).fit(e.spectrum);
     e.lab = reflectance_lab(e.spectrum.wavelength_nm, e.spectrum.R);
     e.ita = ita_degrees(e.lab);
     for (std::size_t k = 0; k < f_single.size(); ++k)

@@ -309,16 +309,30 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
   for (double x = 400; x <= 700; x += 10) l.push_back(x);
   const auto R = model_reflectance(truth, l, skin_test::multipole_spectrum_options());
   {
+    // synth_b: the same skin measured with its surface reflection (rho_s F, rho_s 0.5, F 0.028),
+    // flagged includes_specular in the metadata.
     std::ofstream f(dir / "spectra.csv");
-    f << "lambda_nm,synth_a\n";
-    for (std::size_t i = 0; i < l.size(); ++i) f << l[i] << "," << R[i] << "\n";
-    std::ofstream(dir / "spectra_metadata.csv") << "Column,original_label,used_in_donner_jensen_2006\n"
-                                                   "synth_a,\"synthetic, known answer\",yes\n";
+    f << "lambda_nm,synth_a,synth_b\n";
+    for (std::size_t i = 0; i < l.size(); ++i) f << l[i] << "," << R[i] << "," << 0.014 + (1 - 0.014) * R[i] << "\n";
+    std::ofstream(dir / "spectra_metadata.csv") << "Column,original_label,used_in_donner_jensen_2006,includes_specular\n"
+                                                   "synth_a,\"synthetic, known answer\",yes,no\n"
+                                                   "synth_b,with its surface reflection,no,Yes\n";
   }
   const auto entries = fit_measured_spectra(dir.string(), skin_test::multipole());
   std::ostringstream md;
   skin::cli::write_measured_report(md, entries, dir.string(), out.string(), "multipole");
-  ASSERT_EQ(entries.size(), 1u);
+  ASSERT_EQ(entries.size(), 2u);
+  EXPECT_FALSE(entries[0].includes_specular);
+  EXPECT_TRUE(entries[1].includes_specular);
+  EXPECT_FALSE(entries[1].used_in_paper);
+  // Only the flagged spectrum's extended-model fit has the surface term (oiliness free).
+  auto frees_oiliness = [](const skin::fit::FitResult& r) {
+    return std::find(r.free.begin(), r.free.end(), skin::fit::Parameter::oiliness) != r.free.end();
+  };
+  EXPECT_FALSE(frees_oiliness(entries[0].extended_model));
+  EXPECT_TRUE(frees_oiliness(entries[1].extended_model));
+  EXPECT_NE(md.str().find("1 of the 2 spectra are flagged"), std::string::npos);
+  EXPECT_NE(md.str().find("with none on an end of its range:"), std::string::npos);
   EXPECT_TRUE(entries[0].used_in_paper);
   EXPECT_EQ(entries[0].description, "synthetic, known answer");
   EXPECT_LT(entries[0].paper.rms, 1e-4);

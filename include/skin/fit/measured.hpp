@@ -16,11 +16,14 @@ struct MeasuredEntry {
   MeasuredSpectrum spectrum;
   std::string description;      // from the metadata file, if any
   bool used_in_paper = false;   // flagged used_in_donner_jensen_2006 = yes
+  bool includes_specular = false;  // flagged includes_specular = yes: the measurement holds the
+                                   // surface reflection, so extended_model fits rho_s F as well
   FitResult paper;              // C_m, beta_m, C_h (the paper's model, no surface term)
   FitResult paper_specular;     // + rho_s through the specular term (the four parameters)
   FitResult extended;           // + all extended terms (extended_parameters())
   std::vector<std::pair<Parameter, double>> single_term_rms;  // four parameters + one term
   FitResult extended_model;     // `--model extended`: extended_model_free(true) with the priors
+                                // (+ oiliness through rho_s F where includes_specular)
   color::Lab lab;               // the measured spectrum's colour (reflectance_lab)
   double ita = 0;               // its ITA [degrees] (ita_degrees; bin: ita_bin)
 };
@@ -29,8 +32,8 @@ struct MeasuredEntry {
 const std::vector<Parameter>& extended_parameters();
 
 // Reads every *.csv under `spectra_dir` (recursively, sorted; files named *metadata* are read as
-// metadata: columns `column`, `original_label`, `used_in_donner_jensen_2006`, header
-// case-insensitive) and fits each spectrum (in parallel). `model` empty: the registry's default
+// metadata: columns `column`, `original_label`, `used_in_donner_jensen_2006`,
+// `includes_specular`, header case-insensitive) and fits each spectrum (in parallel). `model` empty: the registry's default
 // (transport::default_model()). Throws
 // InputError naming the directory if it is not one or holds no spectra.
 std::vector<MeasuredEntry> fit_measured_spectra(const std::string& spectra_dir,
