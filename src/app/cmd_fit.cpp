@@ -36,7 +36,7 @@ struct FitOpts {
   std::string model = "paper";
   SolverOption solver;
   std::vector<std::string> bounds;
-  bool includes_specular = false, uncertainty = false;
+  bool includes_specular = false, uncertainty = false, no_plots = false;
   double lambda_min = 400, lambda_max = 700;
   double blend_prior = 0.7, blend_weight = 0.2;
 };
@@ -220,9 +220,9 @@ void run_report(const FitOpts& o) {
     throw InputError("spectra-dir = '" + o.spectra_dir +
                      "' is not a directory: give the measured skin spectra with --spectra-dir DIR "
                      "or SKIN_SPECTRA_DIR");
-  write_measured_report(o.spectra_dir, o.report_dir, o.solver.name);
+  write_measured_report(o.spectra_dir, o.report_dir, o.solver.name, !o.no_plots);
   std::cout << "wrote " << (fs::path(o.report_dir) / "README.md").string()
-            << " and one PNG per spectrum\n";
+            << (o.no_plots ? "\n" : " and one PNG per spectrum\n");
 }
 
 }  // namespace
@@ -250,6 +250,10 @@ void register_fit(CLI::App& app) {
   for (auto* a : {o_spec, o_srgb, o_hex, o_tex, o_rep})
     for (auto* b : {o_spec, o_srgb, o_hex, o_tex, o_rep})
       if (a != b) a->excludes(b);
+  sub->add_flag("--no-plots", o->no_plots,
+                "Measured report: README.md only, without the PNG per spectrum (for sets of many spectra)")
+      ->needs(o_rep)
+      ->group(g_in);
   sub->add_option("--spectra-dir", o->spectra_dir,
                   "Directory of measured spectra for --measured-report (default: $SKIN_SPECTRA_DIR, "
                   "else ../shared/data/skin_spectra from the current directory)")

@@ -147,12 +147,13 @@ std::string default_spectra_dir() {
 
 void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& entries,
                            const std::string& spectra_dir, const std::string& out_dir,
-                           const std::string& model_name) {
+                           const std::string& model_name, bool plots) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(out_dir, ec);
   if (ec) throw InputError("cannot create directory '" + out_dir + "': " + ec.message());
   for (const auto& e : entries) {
+    if (!plots) break;
     plot::Figure f;
     f.title = e.spectrum.name + (e.description.empty() ? "" : " (" + e.description + ")");
     f.x_label = "wavelength [nm]";
@@ -194,7 +195,8 @@ void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& e
   double worst_flagged = 0;
   for (const auto& e : entries) {
     if (e.used_in_paper) worst_flagged = std::max(worst_flagged, e.extended.rms);
-    md << "| [" << e.spectrum.name << (e.used_in_paper ? "*" : "") << "](" << e.spectrum.name << ".png) | "
+    const std::string name = e.spectrum.name + (e.used_in_paper ? "*" : "");
+    md << "| " << (plots ? "[" + name + "](" + e.spectrum.name + ".png)" : name) << " | "
        << e.description << " | " << fmt(e.paper.rms) << " | " << fmt(e.paper_specular.rms) << " | "
        << fmt(e.extended.rms) << " | " << describe(e.paper) << " | " << describe(e.extended) << " |\n";
   }
@@ -227,9 +229,13 @@ void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& e
     md << " | " << fmt(e.extended.rms) << " |\n";
   }
   write_tone_bins(md, entries);
-  md << "\n## Plots of the paper's four spectra\n\n";
-  for (const auto& e : entries)
-    if (e.used_in_paper) md << "![" << e.spectrum.name << "](" << e.spectrum.name << ".png)\n\n";
+  if (plots && std::any_of(entries.begin(), entries.end(), [](const MeasuredEntry& e) { return e.used_in_paper; })) {
+    md << "\n## Plots of the paper's four spectra\n\n";
+    for (const auto& e : entries)
+      if (e.used_in_paper) md << "![" << e.spectrum.name << "](" << e.spectrum.name << ".png)\n\n";
+  } else {
+    md << "\n";
+  }
   md << "## Extended fits (all parameters, one standard deviation from the Jacobian)\n\n";
   for (const auto& e : entries) {
     md << "- " << e.spectrum.name << ": ";
@@ -242,18 +248,18 @@ void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& e
 
 std::vector<MeasuredEntry> write_measured_report(const std::string& spectra_dir,
                                                  const std::string& out_dir,
-                                                 const std::string& solver) {
+                                                 const std::string& solver, bool plots) {
   std::vector<MeasuredEntry> entries =
       fit::fit_measured_spectra(spectra_dir, fit::forward_model(solver));
-  write_measured_report(entries, spectra_dir, out_dir, solver);
+  write_measured_report(entries, spectra_dir, out_dir, solver, plots);
   return entries;
 }
 
 void write_measured_report(const std::vector<MeasuredEntry>& entries,
                            const std::string& spectra_dir, const std::string& out_dir,
-                           const std::string& solver) {
+                           const std::string& solver, bool plots) {
   std::ostringstream md;
-  write_measured_report(md, entries, spectra_dir, out_dir, solver);
+  write_measured_report(md, entries, spectra_dir, out_dir, solver, plots);
   util::io::write_file_atomic((std::filesystem::path(out_dir) / "README.md").string(), md.str());
 }
 

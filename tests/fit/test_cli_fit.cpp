@@ -208,4 +208,13 @@ TEST(CliFit, MeasuredReportSpectraDir) {
   EXPECT_EQ(ok.code, 0) << ok.out;
   EXPECT_TRUE(fs::exists(tmp.path() / "out" / "README.md"));
   EXPECT_TRUE(fs::exists(tmp.path() / "out" / "R.png"));
+  // --no-plots: the README alone; the flag belongs to the report.
+  const CliRun text = run("--measured-report text --no-plots --solver multipole",
+                          cd + " SKIN_SPECTRA_DIR='" + (tmp.path() / "spectra").string() + "'");
+  EXPECT_EQ(text.code, 0) << text.out;
+  EXPECT_TRUE(fs::exists(tmp.path() / "text" / "README.md"));
+  EXPECT_FALSE(fs::exists(tmp.path() / "text" / "R.png"));
+  const CliRun stray = run("--hex c8a08c --no-plots", "", "2>&1 >/dev/null");
+  EXPECT_EQ(stray.code, 2);
+  EXPECT_NE(stray.out.find("--no-plots requires --measured-report"), std::string::npos) << stray.out;
 }
