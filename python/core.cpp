@@ -835,10 +835,12 @@ PYBIND11_MODULE(_core, m) {
          const std::optional<std::vector<std::string>>& free, bool includes_specular,
          double fit_lambda_min, double fit_lambda_max,
          const std::map<std::string, std::pair<double, double>>& bounds, const std::string& solver,
-         const std::string& model, const py::object& threads, const py::kwargs& kw) {
+         const std::string& model, const std::optional<double>& port_radius, const std::optional<double>& beam_radius,
+         const py::object& threads, const py::kwargs& kw) {
         const fit::ManyOptions many{thread_count(threads)};
         const Sets sets = parameter_sets(preset, kw);
         if (!sets.shape.empty()) throw InputError("fit_spectrum: the start is one parameter set (no arrays)");
+        if (beam_radius && !port_radius) throw InputError("beam_radius: applies to a measurement through a port (port_radius)");
         fit::SpectrumFitOptions opt;
         opt.start = sets.values.front();
         fit::use_fit_model(opt, fit::parse_fit_model(model));
@@ -847,7 +849,9 @@ PYBIND11_MODULE(_core, m) {
         opt.lambda_min = fit_lambda_min;
         opt.lambda_max = fit_lambda_max;
         opt.bounds = fit_bounds(bounds);
-        opt.model = fit::forward_model(solver);
+        opt.model = port_radius ? fit::forward_model_through_port(transport::find_model(solver), *port_radius,
+                                                                  beam_radius.value_or(0.0))
+                                : fit::forward_model(solver);
         const std::string solver_name(transport::find_model(solver).name());
         const Reflectances r = reflectances(R, wavelength_nm.size());
         std::vector<fit::MeasuredSpectrum> spectra;
@@ -859,7 +863,9 @@ PYBIND11_MODULE(_core, m) {
         const std::vector<fit::FitResult> fits =
             interruptible([&] { return fit::fit_spectra(fit::SpectrumFitter(opt), spectra, many); });
         const auto document = [&](std::size_t i) {
-          return schema::spectrum_fit_result(spectra[i], fits[i], solver_name, includes_specular).document;
+          return schema::spectrum_fit_result(spectra[i], fits[i], solver_name, includes_specular,
+                                             port_radius.value_or(0.0), beam_radius.value_or(0.0))
+              .document;
         };
         py::dict axes;
         if (!r.several) {
@@ -880,6 +886,7 @@ PYBIND11_MODULE(_core, m) {
             },
             [](std::string_view path) {
               return path == "input" || path == "solver" || path == "includes_specular" || path == "free" ||
+                     path == "port_radius" || path == "beam_radius" ||
                      path == "model" || path == "outside_gamut_rms" || path == "fitted.wavelength_nm";
             });
         const py::tuple one = py::make_tuple("spectrum");
@@ -895,12 +902,15 @@ PYBIND11_MODULE(_core, m) {
       "wavelength_nm"_a, "R"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "free"_a = py::none(),
       "includes_specular"_a = false, "fit_lambda_min"_a = 400.0, "fit_lambda_max"_a = 700.0,
       "bounds"_a = std::map<std::string, std::pair<double, double>>{}, "solver"_a = default_solver,
-      "model"_a = std::string("paper"), "threads"_a = py::int_(0),
+      "model"_a = std::string("paper"), "port_radius"_a = py::none(), "beam_radius"_a = py::none(),
+      "threads"_a = py::int_(0),
       ("`skin fit --spectrum`: the parameters whose R_d best matches a measured reflectance R "
        "(0-1) at wavelength_nm [nm] (increasing, covering 450-650 nm). free: parameter keys (or "
        "the paper's symbols) to fit (default melanin, melanin_blend, hemoglobin); the others keep the preset's or the "
        "keywords' values (the start). bounds: {key or symbol: (lo, hi)}. " + kModelDoc + " includes_specular: the "
-       "measurement includes the surface reflection. Returns parameters, uncertainty (one sigma), "
+       "measurement includes the surface reflection. port_radius [mm]: the measurement collects only over a disc "
+       "of this radius around the beam (an integrating sphere's sample port, `--port-radius`); beam_radius [mm]: "
+       "the light enters evenly over a concentric disc of this radius (default 0, a pencil beam). Returns parameters, uncertainty (one sigma), "
        "at_bound, rms, fitted. "
        "R may hold N spectra, an array (N, len(wavelength_nm)) with one spectrum per row: they are "
        "fitted on all cores (threads: worker threads, 0 = all) with the GIL released, each result "

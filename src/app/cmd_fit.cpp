@@ -38,6 +38,8 @@ struct FitOpts {
   std::vector<std::string> bounds;
   bool includes_specular = false, uncertainty = false, no_plots = false;
   double lambda_min = 400, lambda_max = 700;
+  double port_radius = 0, beam_radius = 0;
+  bool through_port = false;  // --port-radius given
   double blend_prior = 0.7, blend_weight = 0.2;
 };
 
@@ -96,12 +98,14 @@ void run_spectrum(const FitOpts& o) {
   opt.lambda_min = o.lambda_min;
   opt.lambda_max = o.lambda_max;
   opt.bounds = parse_bounds(o.bounds);
-  opt.model = forward_model(o.solver);
+  opt.model = o.through_port ? fit::forward_model_through_port(o.solver.model(), o.port_radius, o.beam_radius)
+                             : forward_model(o.solver);
   (void)o.out.resolve();  // a contradicting --format fails before the fit
   const fit::MeasuredSpectrum m = fit::read_spectrum(o.spectrum, o.column);
   const fit::FitResult r = fit::SpectrumFitter(opt).fit(m);
 
-  const Result result = schema::spectrum_fit_result(m, r, o.solver.name, o.includes_specular);
+  const Result result =
+      schema::spectrum_fit_result(m, r, o.solver.name, o.includes_specular, o.port_radius, o.beam_radius);
   if (!o.fitted.empty()) util::io::write_file_atomic(o.fitted, fitted_text(r, o.fitted));
   if (!o.plot.empty()) {
     plot::Figure f;
@@ -272,6 +276,16 @@ void register_fit(CLI::App& app) {
                   "extended: epidermal-hemoglobin, beta-carotene, bilirubin, epidermis-thickness, "
                   "dermis-scattering-scale, oxygenation, scattering-scale, blood-vessel-radius")
       ->group(g_fit);
+  auto* o_port = sub->add_option("--port-radius", o->port_radius,
+                                 "Spectrum fit: the measurement collects only over a disc of this radius [mm] "
+                                 "around the beam (an integrating sphere's sample port; docs/fit.md)")
+                     ->needs(o_spec)
+                     ->group(g_fit);
+  sub->add_option("--beam-radius", o->beam_radius,
+                  "Spectrum fit with --port-radius: the light enters evenly over a concentric disc of this "
+                  "radius [mm], at most the port's (default 0: a pencil beam at the centre)")
+      ->needs(o_port)
+      ->group(g_fit);
   auto* o_specular = sub->add_flag("--includes-specular", o->includes_specular,
                 "The measurement includes the surface reflection: add rho_s F (F = Fresnel at normal "
                 "incidence, 0.028) and fit oiliness")
@@ -304,7 +318,8 @@ void register_fit(CLI::App& app) {
 
   // Options that only make sense for one kind of input are rejected elsewhere, before any work.
   for (auto* opt : {o_col, o_specular, o_lmin, o_lmax, o_plot, o_fitted}) opt->needs(o_spec);
-  sub->callback([o, o_spec, o_srgb, o_hex, o_tex, o_rep, o_prior, o_weight, o_model] {
+  sub->callback([o, o_spec, o_srgb, o_hex, o_tex, o_rep, o_prior, o_weight, o_model, o_port] {
+    o->through_port = o_port->count() > 0;
     if (o_model->count() && o_rep->count())
       throw InputError("--model applies to --spectrum, --srgb, --hex and --texture; the measured report "
                        "fits both models");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <numeric>
 #include <ostream>
@@ -18,6 +19,7 @@
 #include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
 #include "skin/transport/model.hpp"
+#include "skin/transport/profile.hpp"
 #include "skin/transport/stack.hpp"
 #include "skin/util/error.hpp"
 
@@ -45,6 +47,21 @@ ForwardModel forward_model(const transport::Model& model) {
 
 ForwardModel forward_model(std::string_view solver) {
   return forward_model(transport::find_model(solver));
+}
+
+ForwardModel forward_model_through_port(const transport::Model& model, double port_radius, double beam_radius) {
+  const transport::PortCollection check(port_radius, beam_radius);  // the radii, validated now
+  return [&model, port_radius, beam_radius](const SkinParameters& p, double lambda) {
+    const LayerStack stack = skin_layer_stack(p, lambda);
+    // Outside the model's totals, or where its profile would be solved (~0.6 s a wavelength
+    // instead of microseconds read: a fit calls it thousands of times), the fit sees a wall.
+    if (!model.validity(stack).totals || model.response_is_solved(stack))
+      return std::numeric_limits<double>::quiet_NaN();
+    thread_local std::unique_ptr<transport::PortCollection> port;  // its ProfileSolver is per thread
+    if (!port || port->port_radius() != port_radius || port->beam_radius() != beam_radius)
+      port = std::make_unique<transport::PortCollection>(port_radius, beam_radius);
+    return port->collected(*model.response(stack));
+  };
 }
 
 double FitResult::uncertainty_of(Parameter p) const {

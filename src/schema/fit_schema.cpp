@@ -20,13 +20,16 @@ json uncertainty_json(const fit::FitResult& r) {
 }  // namespace
 
 Result spectrum_fit_result(const fit::MeasuredSpectrum& m, const fit::FitResult& r,
-                           const std::string& solver, bool includes_specular) {
+                           const std::string& solver, bool includes_specular, double port_radius,
+                           double beam_radius) {
   Result result;
   {
     json j;
     j["input"] = m.name;
     j["solver"] = solver;
     j["includes_specular"] = includes_specular;
+    j["port_radius"] = port_radius > 0 ? json(port_radius) : json(nullptr);
+    j["beam_radius"] = port_radius > 0 ? json(beam_radius) : json(nullptr);
     json free = json::array();
     for (auto p : r.free) free.push_back(std::string(fit::key(p)));
     j["free"] = free;

@@ -146,6 +146,37 @@ class SameAsTheCommand(unittest.TestCase):
         assert_same(self, py, js, rtol=1e-9)  # the CSV's decimal digits
         self.assertAlmostEqual(py["parameters"]["melanin"], 0.03, places=6)
 
+    def test_fit_spectrum_through_a_port(self):
+        # A NIST subject (a sphere measurement of a ~5 mm area): the port's fit is the command's,
+        # two spectra at once are two single fits, and bad radii are a ValueError naming them.
+        path = os.path.join(SOURCE_DIR, "data", "skin_spectra", "nist_2017", "nist_skin_reflectance.csv")
+        with open(path) as f:
+            rows = [line.split(",") for line in f if not line.startswith("#")]
+        data = np.array([[float(x) for x in r] for r in rows[1:]])
+        wl, R = data[:, 0], data[:, [1, 44]].T
+        with tempfile.TemporaryDirectory() as d:
+            one = os.path.join(d, "nist_001.csv")
+            with open(one, "w") as f:
+                f.write("wavelength_nm,R\n")
+                for w, r in zip(wl, R[0]):
+                    f.write(f"{w!r},{r!r}\n")
+            js = cli("fit", "--spectrum", one, "--port-radius", "2.5", "--beam-radius", "0.5")
+        py = ss.fit_spectrum(wl, R[0], port_radius=2.5, beam_radius=0.5)
+        self.assertEqual((py["port_radius"], py["beam_radius"]), (2.5, 0.5))
+        del js["input"]
+        assert_same(self, py, js, rtol=1e-9)
+        plain = ss.fit_spectrum(wl, R[0])
+        self.assertIsNone(plain["port_radius"])
+        self.assertGreater(py["parameters"]["hemoglobin"], plain["parameters"]["hemoglobin"])
+        many = ss.fit_spectrum(wl, R, port_radius=2.5, beam_radius=0.5)
+        self.assertEqual(many["port_radius"], 2.5)
+        for i in range(2):
+            assert_row_is_the_single_call(self, many, ss.fit_spectrum(wl, R[i], port_radius=2.5, beam_radius=0.5), i)
+        for kw, name in (({"port_radius": 0.0}, "port-radius"), ({"port_radius": 2.5, "beam_radius": 3.0}, "beam-radius"),
+                         ({"beam_radius": 1.0}, "beam_radius")):
+            with self.assertRaisesRegex(ValueError, name):
+                ss.fit_spectrum(wl, R[0], **kw)
+
     def test_fit_color(self):
         js = cli("fit", "--hex", "a98f74", "--solver", "multipole")
         py = ss.fit_color(hex="a98f74", solver="multipole")

@@ -25,6 +25,8 @@ using skin::transport::SpectralProfile;
 using skin::transport::Transfer;
 using skin::transport::add_layers;
 using skin::transport::kMaxRadius;
+using skin::transport::PortCollection;
+using skin::transport::port_overlap;
 using skin::model::SkinAppearance;
 using skin::model::SkinSpectrum;
 using skin::model::skin_appearance;
@@ -241,3 +243,78 @@ TEST(RadialGridRange, RadiiBeyondAMetreAreRefused) {
 }
 }  // namespace
 }  // namespace skin
+
+// The port's overlap against an independent quadrature: the beam's disc in polar coordinates
+// (radius rho about its centre), each circle's share inside the port (law of cosines), 4000
+// midpoints in rho: to 1e-6 (the midpoint rule's error here is ~1e-7). Limits: a pencil beam is
+// the step at the port's edge; a centred beam inside the port is wholly collected; none beyond a + b.
+TEST(Port, OverlapIsTheLensOfTheTwoDiscs) {
+  auto numeric = [](double a, double b, double r) {
+    const int n = 4000;
+    double sum = 0;
+    for (int i = 0; i < n; ++i) {
+      const double rho = b * (i + 0.5) / n;
+      double share;
+      if (r == 0 || rho == 0) share = rho < a ? 1.0 : 0.0;
+      else share = std::acos(std::clamp((rho * rho + r * r - a * a) / (2 * rho * r), -1.0, 1.0)) / std::numbers::pi;
+      sum += share * 2 * rho * (b / n);
+    }
+    return sum / (b * b);
+  };
+  for (const double a : {2.5, 1.0})
+    for (const double b : {0.3 * a, a})
+      for (const double r : {0.0, 0.1 * a, 0.5 * a, 0.9 * a, 1.2 * a, 1.9 * a, 2.5 * a})
+        EXPECT_NEAR(port_overlap(a, b, r), numeric(a, b, r), 1e-6) << a << ' ' << b << ' ' << r;
+  EXPECT_EQ(port_overlap(2.5, 0, 2.49), 1.0);
+  EXPECT_EQ(port_overlap(2.5, 0, 2.51), 0.0);
+  EXPECT_EQ(port_overlap(2.5, 1.0, 1.5), 1.0);
+  EXPECT_EQ(port_overlap(2.5, 1.0, 3.5), 0.0);
+}
+
+// The light collected through a port against brute force: the accurate model's profile of
+// caucasian skin at 450 and 650 nm on 6000 radii (log, 1 nm to 60 mm), times the overlap,
+// integrated by the trapezoid rule in r outward from the beam (the 1 nm disc taken flat), a
+// different grid and direction from PortCollection's (which subtracts the loss beyond the port's
+// edge from R_d). A 5 mm port with a pencil beam keeps 99.9 % of R_d at 450 nm and 89 % at
+// 650 nm (measured); agreement asserted to 0.1 % of R_d, both beams. A port of 50 mm keeps R_d.
+TEST(Port, CollectedReflectanceIsTheProfileInsideThePort) {
+  const RadialGrid fine = RadialGrid::logarithmic(1e-6, 60.0, 6000);
+  ProfileSolver solver(fine);
+  const SkinParameters p = find_preset("caucasian").parameters;
+  for (const double lambda : {450.0, 650.0}) {
+    const auto response = skin::transport::default_model().response(skin::model::skin_layer_stacks(
+        p, WavelengthGrid(lambda, lambda, 1.0))[0]);
+    const std::vector<double> R = solver.profile(*response);
+    for (const double b : {0.0, 2.5}) {
+      std::vector<double> weighted(R.size());
+      for (std::size_t j = 0; j < R.size(); ++j) weighted[j] = R[j] * port_overlap(2.5, b, fine.r[j]);
+      const double brute = skin::test::integrate_with_disc(fine, weighted);
+      PortCollection port(2.5, b);
+      const double collected = port.collected(*response);
+      EXPECT_NEAR(collected, brute, 1e-3 * response->total()) << lambda << " nm, beam " << b;
+      EXPECT_LT(collected, response->total());
+      if (b == 0) {
+        EXPECT_NEAR(collected / response->total(), lambda < 500 ? 0.999 : 0.889, 0.002) << lambda;
+      }
+    }
+    PortCollection wide(50.0, 0.0);
+    EXPECT_NEAR(wide.collected(*response), response->total(), 1e-5 * response->total());
+  }
+}
+
+TEST(Port, BadRadiiAreRefused) {
+  auto message = [](double a, double b) {
+    try {
+      PortCollection port(a, b);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message(0, 0), "port-radius = 0 mm is out of range: allowed (0, 50] mm");
+  EXPECT_EQ(message(std::nan(""), 0), "port-radius = nan mm is out of range: allowed (0, 50] mm");
+  EXPECT_EQ(message(51, 0), "port-radius = 51 mm is out of range: allowed (0, 50] mm");
+  EXPECT_EQ(message(2.5, 3), "beam-radius = 3 mm is out of range: allowed [0, 2.5] mm (at most the port radius)");
+  EXPECT_EQ(message(2.5, -1), "beam-radius = -1 mm is out of range: allowed [0, 2.5] mm (at most the port radius)");
+  EXPECT_EQ(message(2.5, 2.5), "accepted");
+}

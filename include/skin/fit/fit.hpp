@@ -120,6 +120,13 @@ using ForwardModel = std::function<double(const physics::SkinParameters& p, doub
 ForwardModel forward_model(const transport::Model& model);
 // By name (transport::find_model: InputError naming the known ones).
 ForwardModel forward_model(std::string_view solver);
+// The reflectance a measurement over a finite area collects (an integrating sphere's sample port
+// of radius `port_radius` [mm], the light entering evenly over a concentric disc of radius
+// `beam_radius`, 0 for a pencil beam at its centre): R_d less the light that leaves the skin
+// beyond the port (transport::PortCollection, from the model's radial profile). NaN, a wall for
+// the fit, outside the model's totals and where the model would solve the profile rather than
+// read it. Throws InputError for radii out of range. Thread-safe.
+ForwardModel forward_model_through_port(const transport::Model& model, double port_radius, double beam_radius = 0);
 
 // A measured reflectance spectrum: wavelengths [nm], strictly increasing, and reflectance 0-1.
 struct MeasuredSpectrum {
