@@ -1,9 +1,12 @@
 #!/usr/bin/env python3
 """How plausible the tone presets' spectra are: each preset's R_d (default solver, 400-700 nm)
 against every measured skin spectrum in ../shared/data/skin_spectra (Vrhel et al. 1994 NCSU,
-CIE TCS 13 and 15; ../shared/data/PROVENANCE.md); prints, per preset, the nearest measured
-spectrum by RMS over 400-700 nm, its RMS, and the measured spectrum's R at 450 and 650 nm next
-to the preset's (a Markdown table for docs/tone-presets.md).
+CIE TCS 13 and 15; ../shared/data/PROVENANCE.md) and the NIST set in the checkout's
+data/skin_spectra/nist_2017 (Cooksey et al. 2017; sphere measurements with the surface
+reflection, so the preset is compared there as rho_s F + (1 - rho_s F) R_d, F the Fresnel
+reflectance at normal incidence); prints, per preset, the nearest measured spectrum by RMS over
+400-700 nm, its RMS, and the measured spectrum's R at 450 and 650 nm next to the preset's (a
+Markdown table for docs/tone-presets.md).
 
 Usage (from the root of a checkout, with the Python module built in build/python):
 
@@ -39,6 +42,10 @@ def measured(data_dir, grid):
     for j, name in enumerate(header[1:], 1):
         ok = ~np.isnan(data[:, j])  # TCS 15 starts at 380 nm
         out[name] = (np.interp(grid, data[ok, 0], data[ok, j]), "CIE test colour sample")
+    nist = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "skin_spectra", "nist_2017")
+    header, data = read_columns(os.path.join(nist, "nist_skin_reflectance.csv"))
+    for j, name in enumerate(header[1:], 1):
+        out[name] = (np.interp(grid, data[:, 0], data[:, j]), "NIST, forearm, with the surface reflection")
     return out
 
 
@@ -52,10 +59,18 @@ def main():
     print("| preset | nearest measured spectrum | RMS | R(450) preset / measured | R(650) preset / measured |")
     print("|---|---|---:|---|---|")
     for name in names:
-        R = np.asarray(ss.spectrum(name)["R_d"])
-        rms = {k: float(np.sqrt(np.mean((R - v) ** 2))) for k, (v, _) in refs.items()}
+        r = ss.spectrum(name)
+        R = np.asarray(r["R_d"])
+        eta, oil = r["parameters"]["eta"], r["parameters"]["oiliness"]
+        s = oil * ((eta - 1) / (eta + 1)) ** 2
+        with_surface = s + (1 - s) * R
+
+        def model(k):
+            return with_surface if k.startswith("nist_") else R
+        rms = {k: float(np.sqrt(np.mean((model(k) - v) ** 2))) for k, (v, _) in refs.items()}
         best = min(rms, key=rms.get)
         v, note = refs[best]
+        R = model(best)
         print(f"| {name} | {best} ({note}) | {rms[best]:.3f} | {R[i450]:.3f} / {v[i450]:.3f} | "
               f"{R[i650]:.3f} / {v[i650]:.3f} |")
 
