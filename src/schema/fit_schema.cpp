@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "skin/util/error.hpp"
+
 namespace skin::schema {
 
 namespace {
@@ -68,6 +70,10 @@ Result spectrum_fit_result(const fit::MeasuredSpectrum& m, const fit::FitResult&
     std::ostringstream os;
     os << "fit of " << m.name << " (" << r.wavelength_nm.size() << " samples, "
        << r.wavelength_nm.front() << "-" << r.wavelength_nm.back() << " nm, solver " << solver << ")\n";
+    if (port_radius > 0)
+      os << "  measured through a port of radius " << port_radius << " mm, the beam "
+         << (beam_radius > 0 ? "over a disc of radius " + util::format_number(beam_radius) + " mm" : std::string("a pencil"))
+         << " at its centre\n";
     for (std::size_t i = 0; i < r.free.size(); ++i) {
       char buf[160];
       std::snprintf(buf, sizeof buf, "  %-22s %12.6g  +- %-10.3g%s\n", std::string(fit::key(r.free[i])).c_str(),
