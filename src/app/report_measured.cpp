@@ -2,6 +2,7 @@
 #include "report_measured.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -138,6 +139,41 @@ void write_tone_bins(std::ostream& md, const std::vector<MeasuredEntry>& entries
      << " %).\n";
 }
 
+// One figure for the whole set: in each skin-tone bin the spectrum whose `--model extended` RMS
+// is the bin's median (the upper one of an even count), measured (points) and fitted (line).
+// Returns false when no bin has a spectrum.
+bool write_tone_bin_plot(const std::vector<MeasuredEntry>& entries, const std::string& path) {
+  static const std::array<std::array<double, 3>, 6> colours = {
+      {{0.85, 0.55, 0.1}, {0.8, 0.25, 0.15}, {0.55, 0.2, 0.55}, {0.15, 0.45, 0.75}, {0.1, 0.55, 0.3}, {0.2, 0.2, 0.2}}};
+  plot::Figure f;
+  f.title = "The median fit of each skin-tone bin (--model extended)";
+  f.y_max = 1.0;  // room for the legend above the spectra
+  f.x_label = "wavelength [nm]";
+  f.y_label = "reflectance";
+  f.y_min = 0.0;
+  std::size_t k = 0;
+  for (std::string_view bin : fit::ita_bins()) {
+    std::vector<const MeasuredEntry*> in;
+    for (const auto& e : entries)
+      if (fit::ita_bin(e.ita) == bin) in.push_back(&e);
+    const auto colour = colours[k++ % colours.size()];
+    if (in.empty()) continue;
+    std::sort(in.begin(), in.end(), [](const MeasuredEntry* a, const MeasuredEntry* b) {
+      return a->extended_model.rms < b->extended_model.rms;
+    });
+    const MeasuredEntry& e = *in[in.size() / 2];
+    const FitResult& r = e.extended_model;
+    plot::Series meas{std::string(bin) + ": " + e.spectrum.name + " (n " + std::to_string(in.size()) + ")",
+                      r.wavelength_nm, r.measured, colour};
+    meas.markers = true;
+    f.series.push_back(meas);
+    f.series.push_back({"fit, RMS " + fmt(r.rms), r.wavelength_nm, r.fitted, colour});
+  }
+  if (f.series.empty()) return false;
+  plot::save(f, path);
+  return true;
+}
+
 }  // namespace
 
 std::string default_spectra_dir() {
@@ -229,6 +265,8 @@ void write_measured_report(std::ostream& md, const std::vector<MeasuredEntry>& e
     md << " | " << fmt(e.extended.rms) << " |\n";
   }
   write_tone_bins(md, entries);
+  if (write_tone_bin_plot(entries, (fs::path(out_dir) / "tone_bins.png").string()))
+    md << "\n![the median fit of each skin-tone bin](tone_bins.png)\n";
   if (plots && std::any_of(entries.begin(), entries.end(), [](const MeasuredEntry& e) { return e.used_in_paper; })) {
     md << "\n## Plots of the paper's four spectra\n\n";
     for (const auto& e : entries)

@@ -395,12 +395,17 @@ TEST(MeasuredReport, WritesMarkdownAndPlots) {
   // The good-fit limit (fit::kGoodFitRms, which the web page warns at) as the report writes it.
   EXPECT_NE(md.str().find("| model | median RMS | worst RMS | RMS < 0.02 |"), std::string::npos);
   EXPECT_TRUE(fs::exists(out / "synth_a.png"));
-  // Without plots: no PNG is written and none is linked.
+  // Without plots: no spectrum's PNG is written or linked.
   std::ostringstream md_text;
   skin::cli::write_measured_report(md_text, entries, dir.string(), (tmp.path() / "text").string(), "multipole", false);
-  EXPECT_EQ(md_text.str().find(".png"), std::string::npos);
+  EXPECT_EQ(md_text.str().find("synth_a.png"), std::string::npos);
+  EXPECT_EQ(md_text.str().find("synth_b.png"), std::string::npos);
   EXPECT_NE(md_text.str().find("| synth_a* |"), std::string::npos);
   EXPECT_FALSE(fs::exists(tmp.path() / "text" / "synth_a.png"));
+  // The one figure of the set (the median fit of each skin-tone bin) is drawn either way.
+  EXPECT_TRUE(fs::exists(out / "tone_bins.png"));
+  EXPECT_TRUE(fs::exists(tmp.path() / "text" / "tone_bins.png"));
+  EXPECT_NE(md_text.str().find("](tone_bins.png)"), std::string::npos);
   EXPECT_THROW(fit_measured_spectra((dir / "missing").string()), skin::util::InputError);
   EXPECT_THROW(fit_measured_spectra(out.string()), skin::util::InputError);  // a directory, no *.csv
 }
