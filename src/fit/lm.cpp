@@ -152,6 +152,14 @@ Eigen::VectorXd standard_errors(const Eigen::MatrixXd& J, double cost) {
   return standard_errors_scaled(J, cost / static_cast<double>(m - n));
 }
 
+namespace {
+// A variance that rounding has made zero or negative (a nearly singular J^T J) says the
+// parameter is not determined, not that it is known exactly: infinity, not 0.
+double standard_error(double variance) {
+  return variance > 0 ? std::sqrt(variance) : std::numeric_limits<double>::infinity();
+}
+}  // namespace
+
 Eigen::VectorXd standard_errors_scaled(const Eigen::MatrixXd& J, double s2) {
   const Eigen::Index n = J.cols();
   Eigen::VectorXd se = Eigen::VectorXd::Constant(n, std::numeric_limits<double>::infinity());
@@ -167,11 +175,11 @@ Eigen::VectorXd standard_errors_scaled(const Eigen::MatrixXd& J, double s2) {
     const Eigen::MatrixXd null = lu.kernel();
     for (Eigen::Index j = 0; j < n; ++j)
       se[j] = null.row(j).cwiseAbs().maxCoeff() > 1e-6 ? std::numeric_limits<double>::infinity()
-                                                       : std::sqrt(std::max(cov(j, j), 0.0));
+                                                       : standard_error(cov(j, j));
     return se;
   }
   const Eigen::MatrixXd cov = s2 * A.inverse();
-  for (Eigen::Index j = 0; j < n; ++j) se[j] = std::sqrt(std::max(cov(j, j), 0.0));
+  for (Eigen::Index j = 0; j < n; ++j) se[j] = standard_error(cov(j, j));
   return se;
 }
 

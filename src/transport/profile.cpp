@@ -300,7 +300,7 @@ RadialGrid port_radii(double a, double b) {
   if (!(b >= 0) || !(b <= a))
     throw util::InputError("beam-radius = " + util::format_number(b) + " mm is out of range: allowed [0, " +
                            util::format_number(a) + "] mm (at most the port radius)");
-  const double r0 = std::max(a - b, 1e-4 * a), r1 = std::max(60.0, 20 * (a + b));
+  const double r0 = std::max(a - b, 1e-4 * a), r1 = std::min(kMaxRadius, std::max(60.0, 20 * (a + b)));
   return RadialGrid::logarithmic(r0, r1, kPortRadii);
 }
 }  // namespace

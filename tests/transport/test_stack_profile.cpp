@@ -317,4 +317,5 @@ TEST(Port, BadRadiiAreRefused) {
   EXPECT_EQ(message(2.5, 3), "beam-radius = 3 mm is out of range: allowed [0, 2.5] mm (at most the port radius)");
   EXPECT_EQ(message(2.5, -1), "beam-radius = -1 mm is out of range: allowed [0, 2.5] mm (at most the port radius)");
   EXPECT_EQ(message(2.5, 2.5), "accepted");
+  EXPECT_EQ(message(50, 50), "accepted");  // its radii end at kMaxRadius
 }

@@ -105,7 +105,8 @@ double port_overlap(double port_radius, double beam_radius, double r);
 
 // The reflectance collected through the port, R_d - 2 pi int R(r) (1 - port_overlap(r)) r dr: the
 // lost part integrated on radii spaced evenly in ln r from the port's edge (a - b; a / 10^4 when
-// the beam fills the port) to max(60 mm, 20 (a + b)), where skin's profiles have vanished.
+// the beam fills the port) to max(60 mm, 20 (a + b)) (at most kMaxRadius), where skin's profiles
+// have vanished.
 // Throws InputError unless 0 < port_radius <= kMaxRadius / 20 and 0 <= beam_radius <=
 // port_radius. Not thread-safe (a ProfileSolver inside): one per thread.
 class PortCollection {
