@@ -19,7 +19,7 @@
 #include "skin/physics/fresnel.hpp"
 #include "skin/util/error.hpp"
 #include "skin/transport/model.hpp"
-#include "skin/transport/profile.hpp"
+#include "skin/transport/port.hpp"
 #include "skin/transport/stack.hpp"
 #include "skin/util/error.hpp"
 

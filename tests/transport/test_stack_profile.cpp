@@ -7,6 +7,7 @@
 
 #include "integrated_profile.hpp"
 #include "skin/model/skin_model.hpp"
+#include "skin/transport/port.hpp"
 #include "skin/transport/profile.hpp"
 #include "skin/transport/stack.hpp"
 #include "skin/util/error.hpp"
