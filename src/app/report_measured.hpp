@@ -17,8 +17,9 @@ std::string default_spectra_dir();
 
 // Writes one PNG per spectrum into `out_dir` (created if needed; <name>.png) and the Markdown
 // report (relative image links) to `md`. `spectra_dir` is named in the text (as an absolute
-// path), `model_name` names the forward model. `plots` false: no PNG and no link to one (a set of
-// a hundred spectra would be megabytes of plots).
+// path), `model_name` names the forward model. `plots` false: no PNG per spectrum and no link to
+// one (a set of a hundred spectra would be megabytes of plots); the one figure of the set,
+// tone_bins.png (the median fit of each skin-tone bin), is drawn either way.
 void write_measured_report(std::ostream& md, const std::vector<fit::MeasuredEntry>& entries,
                            const std::string& spectra_dir, const std::string& out_dir,
                            const std::string& model_name, bool plots = true);
