@@ -193,10 +193,17 @@ std::string HalfSpaceTable::gap(const LayerStack& stack) const {
   if (stack.layers.empty()) return "no layer";
   if (stack.eta_above != 1.0) return "a medium other than air above";
   const physics::Layer& t = stack.layers.front();
-  if (stack.layers.size() == 1 ? !t.semi_infinite() : !AccurateStack::hides_below(stack))
+  const bool nearly = stack.layers.size() > 1 && AccurateStack::nearly_hides_below(stack);
+  if (stack.layers.size() == 1 ? !t.semi_infinite() : !(AccurateStack::hides_below(stack) || nearly))
     return stack.layers.size() == 1 ? "a slab, not a half-space" : "its top layer does not hide the rest";
   if (!(t.sigma_s_prime > 0) || !(t.sigma_a >= 0)) return "a layer without scattering";
-  return gap(t.sigma_a / t.sigma_s_prime, t.g, t.eta);
+  std::string why = gap(t.sigma_a / t.sigma_s_prime, t.g, t.eta);
+  if (!why.empty() || !nearly) return why;
+  // Nearly hidden: the lower layer's half-space is read too.
+  const physics::Layer& b = stack.layers.back();
+  if (!(b.sigma_s_prime > 0) || !(b.sigma_a >= 0)) return "a layer without scattering";
+  why = gap(b.sigma_a / b.sigma_s_prime, b.g, b.eta);
+  return why.empty() ? why : "the lower layer (its top layer nearly hides it): " + why;
 }
 
 std::vector<double> HalfSpaceTable::ln_rho_at(double a_v, double g_v, double eta_v) const {

@@ -763,8 +763,9 @@ TEST(FrequencyStack, SingleScatteringOfALayerCutInTwoIsTheWhole) {
 // made 1.6, against the whole stack solved (FrequencyStack): within 1e-3 where R is above 1e-4
 // of R(0.02 mm) (measured 4.1e-4 and 3.8e-7; at their own index 2.8e-4 and 3.6e-7). Below that the whole stack's own solve reaches its floor here (it turns <= 0 from
 // 1.2e-5-6.2e-5 of R(0.02 mm)). One 7.2 e-folds deep, which would be 7.8 % off above 1e-4 as a
-// half-space (measured; the error falls as e^-2n with n the e-folds), and a thick bright layer
-// (20 e-folds straight, 3.5 diffusive) are solved whole.
+// half-space alone at s = 10 /mm (measured; the error falls as e^-2n with n the e-folds; inside
+// the half-space table it is read as two half-spaces, half_space_table_test), and a thick bright
+// layer (20 e-folds straight, 3.5 diffusive) do not hide what lies below.
 TEST(AccurateStack, ATopLayerThatHidesTheRestIsSolvedAsItsHalfSpace) {
   using skin::transport::accurate::AccurateStack;
   using skin::transport::accurate::FrequencyStack;

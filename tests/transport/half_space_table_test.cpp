@@ -119,6 +119,61 @@ TEST(HalfSpaceTable, ATopLayerThatHidesTheRestIsRead) {
   std::cout << "worst " << worst << " over " << compared << " radii\n";
 }
 
+// A top layer that nearly hides the lower one (AccurateStack::nearly_hides_below: 7-10 e-folds;
+// the skin domain's sample, seed 7, at s = 2 /mm: a_e 17.28, 7.24 e-folds straight, 12.2
+// diffusive) reads both layers' half-spaces: the top one with its own R_d, the lower one with the
+// rest of the stack's (positive here). Its totals stay the stack's, its profile integrates to R_d,
+// and it lies within 1 % of the whole stack solved where R is above 1e-4 of R(0.02 mm) (measured
+// 0.22 %). A lower layer that returns less than the top layer's medium would (a darker dermis) leaves
+// the top half-space alone, scaled to the stack's R_d, as for a hidden one. Against a Monte Carlo:
+// accurate_mc_test.
+TEST(HalfSpaceTable, ATopLayerThatNearlyHidesTheLowerOneIsReadAsTwoHalfSpaces) {
+  const LayerStack st = skin::test::reduced_stack(2.0, 0.396, 17.28, 2.083, 0.763, 1.45, 1.49);
+  ASSERT_TRUE(AccurateStack::nearly_hides_below(st));
+  ASSERT_FALSE(AccurateStack::hides_below(st));
+  EXPECT_NEAR(AccurateStack::top_layer_efolds(st), 0.396 * (1 + 17.28), 1e-9);
+  ASSERT_TRUE(AccurateStack::reads_table(st));
+  ASSERT_FALSE(AccurateStack::reads_skin_table(st));  // (a_e above 12 with another g, index and ratio)
+  EXPECT_FALSE(skin::transport::find_model("accurate").response_is_solved(st));
+  const AccurateStack read(st);
+  ASSERT_TRUE(read.half_space_table());
+  ASSERT_TRUE(read.top_as_half_space());
+  ASSERT_TRUE(read.below_as_half_space());
+  EXPECT_DOUBLE_EQ(read.total(), skin::transport::accurate::adding_doubling(st).R_d);
+  double integral = 0;
+  const int n = 20000;
+  const double r0 = 1e-7, r1 = 50.0, h = std::log(r1 / r0) / n;
+  for (int i = 0; i <= n; ++i) {
+    const double r = r0 * std::exp(h * i);
+    integral += ((i == 0 || i == n) ? 0.5 : 1.0) * 2 * std::numbers::pi * r * r * read.singular(r) * h;
+  }
+  EXPECT_NEAR(integral, read.total(), 2e-3 * read.total());
+  // A darker dermis (a_d 15, half as scattering): the top half-space alone.
+  const LayerStack darker = skin::test::reduced_stack(2.0, 0.396, 17.28, 15.0, 0.763, 1.45, 0.5);
+  ASSERT_TRUE(AccurateStack::nearly_hides_below(darker));
+  const AccurateStack top_only(darker);
+  EXPECT_TRUE(top_only.half_space_table());
+  EXPECT_TRUE(top_only.top_as_half_space());
+  EXPECT_FALSE(top_only.below_as_half_space());
+  if (skin::test::kUnderSanitizers) return;  // the whole stacks' solves: ~1 s each in Release
+  skin::transport::ProfileSolver solver(skin::transport::RadialGrid::logarithmic(0.02, 10.0, 60));
+  for (const auto* pair : {&st, &darker}) {
+    const AccurateStack a_read(*pair);
+    const FrequencyStack whole(*pair);
+    const auto a = solver.profile(a_read), b = solver.profile(whole);
+    int compared = 0;
+    double worst = 0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+      if (b[i] > 1e-4 * b[0]) {
+        EXPECT_NEAR(a[i] / b[i], 1.0, 0.01) << "r = " << solver.radii().r[i];
+        worst = std::max(worst, std::abs(a[i] / b[i] - 1));
+        ++compared;
+      }
+    EXPECT_GE(compared, 10);
+    std::cout << "worst " << worst << " over " << compared << " radii\n";
+  }
+}
+
 // A lone half-space of another g or index is read too; outside the nodes, or under another
 // medium than air, or a top layer that does not hide the rest, it is not.
 TEST(HalfSpaceTable, WhatItCovers) {
@@ -139,6 +194,14 @@ TEST(HalfSpaceTable, WhatItCovers) {
   EXPECT_NE(table().gap(bright).find("is outside the half-space table's"), std::string::npos);
   const LayerStack thin = skin::test::reduced_stack(10.0, 0.3, 0.5, 0.1, 0.8, 1.4, 0.7);
   EXPECT_NE(table().gap(thin).find("does not hide"), std::string::npos);
+  // 6.9 e-folds: not nearly hidden (7 or more); 7.2 with a lower layer beyond the nodes (its a 60).
+  const LayerStack shallow = skin::test::reduced_stack(2.0, 0.36, 18.2, 2.0, 0.763, 1.45, 1.49);
+  EXPECT_FALSE(AccurateStack::nearly_hides_below(shallow));
+  EXPECT_NE(table().gap(shallow).find("does not hide"), std::string::npos);
+  const LayerStack black_dermis = skin::test::reduced_stack(2.0, 0.396, 17.28, 30.0, 0.763, 1.45, 0.5);
+  ASSERT_TRUE(AccurateStack::nearly_hides_below(black_dermis));
+  EXPECT_NE(table().gap(black_dermis).find("the lower layer"), std::string::npos) << table().gap(black_dermis);
+  EXPECT_FALSE(AccurateStack::reads_table(black_dermis));
 }
 
 // A malformed table: one line naming the file and what is wrong.

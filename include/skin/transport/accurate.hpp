@@ -190,7 +190,8 @@ class FrequencyStack final : public RadialResponse {
 // - a half-space, or a stack whose top layer hides what lies below it (hides_below), of g
 //   0.7-0.97, index 1.33-1.55 and sigma_a / sigma_s' 0.0625-42.25 under air: the half-space's
 //   profile read from the built-in HalfSpaceTable (half_space_table.hpp; FrequencyStack's,
-//   tabulated);
+//   tabulated); a top layer over a half-space that nearly hides it (nearly_hides_below): the
+//   sum of the two layers' half-spaces, both read from that table;
 // - every other stack: FrequencyStack, solved (its cost: docs/benchmarks.md); a stack whose top
 //   layer hides what lies below it as that layer's half-space, ~2.4 times faster.
 class AccurateStack final : public RadialResponse {
@@ -227,13 +228,33 @@ class AccurateStack final : public RadialResponse {
   // 1e-6 at 10.3 e-folds; 6 % above 1e-6 at 7.2 (docs/accurate-solver.md sec. 5).
   static bool hides_below(const physics::LayerStack& stack);
   static constexpr double kHiddenBelowEfolds = 10.0;
-  // True when the profile is the top layer's half-space (hides_below), read or solved.
+  // Whether the top layer of two (a finite layer over a half-space) nearly hides the lower one:
+  // kNearlyHiddenEfolds up to kHiddenBelowEfolds e-folds each way, counted as in hides_below.
+  // Its profile is then the top layer's half-space plus what the lower layer returns (the
+  // stack's R_d less the top half-space's, when positive) spread as the lower layer's own
+  // half-space, both read from the HalfSpaceTable (docs/accurate-solver.md sec. 5); a negative
+  // remainder (a lower layer that returns less than the top layer's medium would) leaves the top
+  // half-space alone, scaled to the stack's R_d. Measured against the whole stack solved
+  // (2026-12-08, skin stacks of the domain's sample, seed 7): 20 with 7-10 e-folds within 0.07 %
+  // where R is above 1e-4 of R(0.02 mm) and 4.5 % above 1e-6; 30 with 6-7 within 3.7 % and 21 %,
+  // 20 with 5.5-6 within 9.7 % and 45 % (all low: the lower layer's light spreads wider through
+  // the top than its half-space's), hence the limit 7 (docs/accurate-solver.md sec. 5).
+  static bool nearly_hides_below(const physics::LayerStack& stack);
+  static constexpr double kNearlyHiddenEfolds = 7.0;
+  // The e-folds of hides_below: the smaller of the straight and the diffusive attenuation across
+  // the top layer of a stack of two or more layers (0 for one layer or a top without a finite
+  // thickness).
+  static double top_layer_efolds(const physics::LayerStack& stack);
+  // True when the profile is the top layer's half-space (hides_below), read or solved, or that
+  // half-space with the lower layer's added (nearly_hides_below; then below_as_half_space()).
   bool top_as_half_space() const { return top_as_half_space_; }
+  bool below_as_half_space() const { return below_ != nullptr; }
 
  private:
   Totals totals_;
   std::unique_ptr<FrequencyStack> frequency_;  // set outside the skin table
   std::unique_ptr<SkinStackProfile> skin_;     // set for the skin geometry
+  std::unique_ptr<SkinStackProfile> below_;    // what the lower layer returns (nearly_hides_below)
   bool top_as_half_space_ = false, half_space_table_ = false;
 };
 std::ostream& operator<<(std::ostream& os, const AccurateStack& s);

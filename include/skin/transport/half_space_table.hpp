@@ -2,7 +2,8 @@
 // The frequency-domain profiles of absorbing half-spaces of any g and index of the skin domain,
 // tabulated (docs/accurate-solver.md, sec. 4): what the accurate model reads where a top layer
 // hides the rest of its stack (AccurateStack::hides_below: a dark epidermis in violet and blue
-// light) and for a lone half-space of such a medium.
+// light), where it nearly hides the layer below (AccurateStack::nearly_hides_below: both layers'
+// half-spaces) and for a lone half-space of such a medium.
 //
 // Geometry: air over a half-space of index eta, Henyey-Greenstein g, reduced scattering s and
 // absorption sigma_a. In units of 1 / s it has one parameter besides g and eta, a = sigma_a / s,
@@ -40,7 +41,8 @@ struct HalfSpaceTable {
   // Why the half-space (a, g, eta) under air is not in the table (empty when it is).
   std::string gap(double a_v, double g_v, double eta_v) const;
   // The half-space that stands for `stack` (the top layer of a stack that hides the rest, or a
-  // lone half-space) under air, or why there is none in the table (empty when there is).
+  // lone half-space) under air, or why there is none in the table (empty when there is); for a
+  // top layer that nearly hides a lower half-space, both layers' media must be in the table.
   std::string gap(const physics::LayerStack& stack) const;
   // ln rho at the x nodes (inside the nodes' ranges).
   std::vector<double> ln_rho_at(double a_v, double g_v, double eta_v) const;
