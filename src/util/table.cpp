@@ -66,6 +66,25 @@ bool is_number(std::string_view f) {
   const auto res = skin::util::from_chars(f.data(), f.data() + f.size(), v);
   return !f.empty() && res.ec == std::errc() && res.ptr == f.data() + f.size();
 }
+// A data line of plain numbers, comma-separated without spaces, '+' signs, empty or NaN fields,
+// into `row` (exactly `columns` of them): the fast path for the project's large tables (26 MB of
+// text parsed at start-up). False for anything else, which the general path then reads (and
+// refuses with its messages): the same numbers either way, from the same from_chars.
+bool plain_row(std::string_view line, std::size_t columns, std::vector<double>& row) {
+  row.clear();
+  const char* p = line.data();
+  const char* const end = p + line.size();
+  for (;;) {
+    double v = 0;
+    const auto res = skin::util::from_chars(p, end, v);
+    if (res.ec != std::errc() || res.ptr == p || std::isnan(v) || row.size() == columns) return false;
+    row.push_back(v);
+    p = res.ptr;
+    if (p == end) return row.size() == columns;
+    if (*p != ',') return false;
+    ++p;
+  }
+}
 }  // namespace
 
 Table parse_csv(std::string_view text, const std::string& source) {
@@ -81,6 +100,7 @@ Table parse_csv(std::string_view text, const std::string& source) {
   // stays within 8 times the text's size whatever the header claims.
   const std::size_t lines = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 1;
   std::vector<std::string_view> fields;
+  std::vector<double> row;
   while (pos <= text.size()) {
     std::size_t end = text.find('\n', pos);
     if (end == std::string_view::npos) end = text.size();
@@ -88,6 +108,11 @@ Table parse_csv(std::string_view text, const std::string& source) {
     pos = end + 1;
     ++line_no;
     if (line.empty() || line.front() == '#') {
+      if (end == text.size()) break;
+      continue;
+    }
+    if (have_header && plain_row(line, t.columns.size(), row)) {
+      for (std::size_t c = 0; c < row.size(); ++c) t.data[c].push_back(row[c]);
       if (end == text.size()) break;
       continue;
     }

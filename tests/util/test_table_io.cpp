@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstring>
+#include <iterator>
 #include <filesystem>
 #include <functional>
 #include <fstream>
@@ -43,6 +45,41 @@ TEST(CsvReader, RefusesNanTextNamingLineAndColumnButTakesEmptyFields) {
   const skin::util::Table t = skin::util::parse_csv("lambda_nm,R\n400,\n402,0.5\n", "s.csv");
   EXPECT_TRUE(std::isnan(t.data[1][0]));  // empty: a missing value
   EXPECT_EQ(skin::util::parse_csv("a,b\n1,inf\n", "s.csv").data[1][0], HUGE_VAL);  // data files hold inf
+}
+
+// Plain lines (numbers and commas only) take a fast path; any other line the general one. Both
+// give the same numbers bit for bit: a table written plainly and the same one written with
+// spaces, '+' signs and CR line ends (the general path) are equal; and what the fast path must
+// leave to the general one still reads or fails as before (a wrong field count, junk after a
+// number, an empty field, a trailing comma, "nan").
+TEST(CsvReader, PlainLinesReadAsTheGeneralPathReadsThem) {
+  std::string plain = "a,b,c\n", dressed = "a,b,c\n";
+  const char* numbers[] = {"0", "-0", "1e-300", "4.9e-324", "1.7976931348623157e308", "0.1", "-2.5e+3", "inf", "-inf",
+                           "123456789.123456789", "7E2", ".5", "5."};
+  for (std::size_t i = 0; i < std::size(numbers); ++i) {
+    const std::string x = numbers[i], y = numbers[(i + 5) % std::size(numbers)], z = numbers[(i + 9) % std::size(numbers)];
+    plain += x + "," + y + "," + z + "\n";
+    auto dress = [](const std::string& v) { return v[0] == '-' ? " " + v : "+" + v + " "; };
+    dressed += dress(x) + ", " + dress(y) + "," + dress(z) + "\r\n";
+  }
+  const skin::util::Table p = skin::util::parse_csv(plain, "p.csv"), d = skin::util::parse_csv(dressed, "d.csv");
+  ASSERT_EQ(p.rows(), std::size(numbers));
+  for (std::size_t c = 0; c < 3; ++c)
+    for (std::size_t r = 0; r < p.rows(); ++r)
+      EXPECT_EQ(std::memcmp(&p.data[c][r], &d.data[c][r], sizeof(double)), 0) << c << " " << r;
+  EXPECT_EQ(p.data[0][1], -0.0);
+  EXPECT_TRUE(std::signbit(p.data[0][1]));
+  EXPECT_EQ(message_of([] { skin::util::parse_csv("a,b\n1,2,3\n", "s.csv"); }),
+            "s.csv:2: expected 2 comma-separated fields, found 3");
+  EXPECT_EQ(message_of([] { skin::util::parse_csv("a,b\n1\n", "s.csv"); }), "s.csv:2: expected 2 comma-separated fields, found 1");
+  EXPECT_EQ(message_of([] { skin::util::parse_csv("a,b\n1,2x\n", "s.csv"); }), "s.csv:2: field 2 ('2x') is not a number");
+  EXPECT_EQ(message_of([] { skin::util::parse_csv("a,b\n1,1e\n", "s.csv"); }), "s.csv:2: field 2 ('1e') is not a number");
+  EXPECT_EQ(message_of([] { skin::util::parse_csv("a,b\n1,nan\n", "s.csv"); }),
+            "s.csv:2: column 'b' (field 2) is 'nan', not a number (leave the field empty for a missing value)");
+  const skin::util::Table t = skin::util::parse_csv("a,b,c\n1,,3\n4,5,\n", "s.csv");
+  EXPECT_TRUE(std::isnan(t.data[1][0]));
+  EXPECT_TRUE(std::isnan(t.data[2][1]));
+  EXPECT_EQ(t.data[0][1], 4.0);
 }
 
 TEST(CsvReader, RefusesAFirstLineOfNumbers) {
