@@ -236,7 +236,7 @@ class AccurateStack final : public RadialResponse {
   // remainder (a lower layer that returns less than the top layer's medium would) leaves the top
   // half-space alone, scaled to the stack's R_d. Measured against the whole stack solved
   // (2026-12-08, skin stacks of the domain's sample, seed 7): 20 with 7-10 e-folds within 0.07 %
-  // where R is above 1e-4 of R(0.02 mm) and 4.5 % above 1e-6; 30 with 6-7 within 3.7 % and 21 %,
+  // where R is above 1e-4 of R(0.02 mm) and 4.5 % above 1e-6; 30 with 6-7 within 3.7 % and 33 %,
   // 20 with 5.5-6 within 9.7 % and 45 % (all low: the lower layer's light spreads wider through
   // the top than its half-space's), hence the limit 7 (docs/accurate-solver.md sec. 5).
   static bool nearly_hides_below(const physics::LayerStack& stack);
