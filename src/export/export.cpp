@@ -83,7 +83,7 @@ std::shared_ptr<const Prepared> prepare(const SkinParameters& parameters,
                                         const transport::Model& model, const ProgressCallback& progress) {
   parameters.validate();
   ProfileSolver solver(detail::reference_radii());
-  return std::make_shared<const Prepared>(Prepared{detail::make_reference(parameters, model, solver, progress)});
+  return std::make_shared<const Prepared>(Prepared{detail::make_reference(parameters, model, solver, progress, true)});
 }
 
 std::size_t prepare_solves(const SkinParameters& parameters, const transport::Model& model) {

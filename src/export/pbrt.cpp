@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
 
 #include "report.hpp"
 #include "skin/color/color.hpp"
@@ -17,7 +18,6 @@ using skin::transport::RgbProfile;
 using skin::transport::SpectralProfile;
 
 using skin::model::skin_layer_stacks;
-using skin::model::skin_spectral_profile;
 
 using skin::physics::Layer;
 using skin::physics::LayerStack;
@@ -57,8 +57,9 @@ Export write(const Context& ctx) {
   const transport::Model& model = *ref.model;
   const WavelengthGrid grid = spectral_grid();
   const double scale = ctx.scale();  // length per mm: coefficients / scale
-  // Our spectral R_d and profiles.
-  const SpectralProfile ours = skin_spectral_profile(p, grid, solver, model);
+  // Our spectral R_d and profiles, from the reference's own responses (no wavelength solved again).
+  if (!ref.spectral || !(ref.spectral->grid == grid)) throw std::logic_error("pbrt-v4 export: the reference has no spectral profile");
+  const SpectralProfile& ours = *ref.spectral;
   // Effective single layer per wavelength: alpha' from R_d, sigma_t' from the mean radius, for a
   // homogeneous half-space with our eta and g through the same transport model (pbrt-v4 computes
   // its profile by photon beam diffusion, an approximation of the same transport).

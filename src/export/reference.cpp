@@ -68,12 +68,20 @@ double invert_increasing(const std::function<double(double)>& f, double y, doubl
 WavelengthGrid reference_grid() { return WavelengthGrid{}; }
 
 Reference make_reference(const SkinParameters& p, const transport::Model& model,
-                         ProfileSolver& solver, const util::ProgressCallback& progress) {
+                         ProfileSolver& solver, const util::ProgressCallback& progress,
+                         bool spectral) {
   Reference ref;
   ref.parameters = p;
   ref.model = &model;
   ref.radii = solver.radii();
-  const RgbProfile prof = skin_rgb_profile(p, reference_grid(), solver, model, progress);
+  RgbProfile prof;
+  if (spectral) {
+    model::SkinProfiles both = model::skin_profiles(p, reference_grid(), solver, model, spectral_grid(), progress);
+    prof = std::move(both.rgb);
+    ref.spectral = std::move(both.spectral);
+  } else {
+    prof = skin_rgb_profile(p, reference_grid(), solver, model, progress);
+  }
   for (int c = 0; c < 3; ++c) {
     ref.R[c] = prof.R[c];
     for (double& v : ref.R[c]) v = std::max(v, 0.0);

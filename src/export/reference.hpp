@@ -3,6 +3,7 @@
 // helpers the fits and the reports share. Internal to skin::export.
 #include <array>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "skin/export/export.hpp"
@@ -20,9 +21,14 @@ struct Reference {
   std::array<std::vector<double>, 3> R;  // [1/mm^2]
   util::Rgb R_d;                               // channel totals (exact, from k = 0)
   std::array<double, 3> mean_radius{};   // [mm]
+  // With `spectral`: the per-wavelength profiles on spectral_grid() (pbrt-v4's spectra), from the
+  // responses of the RGB profile's wavelengths (the 10 nm grid lies on the 2 nm one): no wavelength
+  // is solved twice, and the estimate and the bar of the one solve cover them.
+  std::optional<transport::SpectralProfile> spectral;
 };
 Reference make_reference(const physics::SkinParameters& p, const transport::Model& model,
-                         transport::ProfileSolver& solver, const util::ProgressCallback& progress = {});
+                         transport::ProfileSolver& solver, const util::ProgressCallback& progress = {},
+                         bool spectral = false);
 // The wavelengths of a reference's profile (the paper's 2 nm grid).
 physics::WavelengthGrid reference_grid();
 // The radial grid every reference uses.

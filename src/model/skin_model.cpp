@@ -1,7 +1,11 @@
 #include "skin/model/skin_model.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 #include "skin/util/cancel.hpp"
 #include "skin/util/error.hpp"
@@ -144,12 +148,31 @@ std::vector<std::string> wavelength_labels(const WavelengthGrid& grid) {
 }  // namespace
 
 SkinProfiles skin_profiles(const SkinParameters& p, const WavelengthGrid& grid, ProfileSolver& profiles,
-                           const Model& model, bool spectral, const ProgressCallback& progress) {
+                           const Model& model, const std::optional<WavelengthGrid>& spectral,
+                           const ProgressCallback& progress) {
+  // The spectral grid's wavelengths among grid's (a programming error otherwise: checked before
+  // anything is solved).
+  std::vector<std::size_t> rows;
+  if (spectral) {
+    for (std::size_t i = 0; i < spectral->size(); ++i) {
+      const double l = (*spectral)[i];
+      const double at = std::round((l - grid.lambda_min()) / grid.step());
+      const auto j = static_cast<std::size_t>(std::max(at, 0.0));
+      if (!(at >= 0 && j < grid.size() && std::abs(grid[j] - l) <= 1e-9 * l))
+        throw std::invalid_argument("skin_profiles: the spectral grid's " + std::to_string(l) +
+                                    " nm is not a wavelength of the profile's grid");
+      rows.push_back(j);
+    }
+  }
   const auto stacks = skin_layer_stacks(p, grid);  // validates
   const auto r = responses(stacks, model, progress);
   SkinProfiles out;
   out.rgb = profiles.rgb(r.pointers, color::Colorimetry(grid).srgb_weights());
-  if (spectral) out.spectral = profiles.spectral(r.pointers, grid);
+  if (spectral) {
+    std::vector<const RadialResponse*> some;
+    for (std::size_t j : rows) some.push_back(r.pointers[j]);
+    out.spectral = profiles.spectral(some, *spectral);
+  }
   out.total = skin_spectrum(p, WavelengthGrid(), model);
   out.validity = transport::combined_validity(model, stacks, wavelength_labels(grid));
   return out;

@@ -86,7 +86,8 @@ struct SkinResult {
 
 SkinResult compute_skin(const SkinKey& k, const util::ProgressCallback& progress = {}) {
   ProfileSolver solver(skin_profile_radii());
-  const SkinProfiles prof = skin_profiles(k.p, shape_grid(), solver, *k.solver, k.spectral, progress);
+  const SkinProfiles prof = skin_profiles(k.p, shape_grid(), solver, *k.solver,
+                                            k.spectral ? std::optional(shape_grid()) : std::nullopt, progress);
   SkinResult r;
   r.validity = prof.validity;
   const auto total = prof.total.color.srgb_linear;

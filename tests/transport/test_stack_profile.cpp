@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 
 #include "integrated_profile.hpp"
@@ -220,6 +221,33 @@ TEST(Profile, AppearanceIsSpectrumAndRgbProfileExactly) {
       }
     }
   }
+}
+
+// skin_profiles with a spectral grid among the profile's wavelengths (the exports' reference:
+// pbrt-v4's 10 nm spectra beside the 2 nm RGB profile) gives exactly what skin_rgb_profile and
+// skin_spectral_profile give on their own grids, from one response per wavelength; a spectral
+// wavelength that is not one of the profile's is refused before anything is computed.
+TEST(Profile, ProfilesWithASpectralSubGridAreTheSeparateCallsExactly) {
+  const WavelengthGrid grid(450, 650, 10), every_fifth(450, 650, 50);
+  // african: its spectral sub-grid holds wavelengths whose k_max differs from the whole grid's
+  // (the Hankel quadrature follows the stacks it is given).
+  for (const char* preset : {"caucasian", "african"}) {
+    const SkinParameters& p = find_preset(preset).parameters;
+    ProfileSolver a_solver(RadialGrid::logarithmic(1e-3, 16, 32)), b_solver(a_solver.radii());
+    const model::SkinProfiles both = model::skin_profiles(p, grid, a_solver, transport::default_model(), every_fifth);
+    const RgbProfile rgb = skin_rgb_profile(p, grid, b_solver);
+    const SpectralProfile sp = skin_spectral_profile(p, every_fifth, b_solver);
+    ASSERT_TRUE(both.spectral.has_value());
+    EXPECT_EQ(both.spectral->grid, every_fifth);
+    EXPECT_EQ(both.spectral->R, sp.R) << preset;
+    EXPECT_EQ(both.spectral->R_d.values, sp.R_d.values) << preset;
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(both.rgb.R[c], rgb.R[c]) << preset << " channel " << c;
+    EXPECT_FALSE(model::skin_profiles(p, grid, a_solver).spectral.has_value());
+  }
+  ProfileSolver solver(RadialGrid::logarithmic(1e-3, 16, 8));
+  const SkinParameters& p = find_preset("caucasian").parameters;
+  for (const WavelengthGrid& off : {WavelengthGrid(455, 455, 1), WavelengthGrid(440, 460, 10), WavelengthGrid(600, 660, 60)})
+    EXPECT_THROW(model::skin_profiles(p, grid, solver, transport::default_model(), off), std::invalid_argument) << off;
 }
 
 // Radii beyond a metre are refused by every way of making a grid (a profile at 1e10 mm ran for

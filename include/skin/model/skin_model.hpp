@@ -71,19 +71,22 @@ SkinAppearance skin_appearance(const physics::SkinParameters& p, const physics::
                                transport::ProfileSolver& profiles,
                                const transport::Model& model = transport::default_model());
 
-// Everything a renderer takes from one skin, from one call: the shape of its RGB profile and its
-// validity on `grid` (the transport responses built once per wavelength and used for both), the
-// colour of its total R_d from skin_spectrum on the paper's grid (exact at k = 0), and with
-// `spectral` the per-wavelength profiles on `grid` from the same responses. The numbers are those
-// of skin_rgb_profile, skin_validity, skin_spectrum and skin_spectral_profile.
+// Everything a renderer or an export takes from one skin, from one call: the shape of its RGB
+// profile and its validity on `grid` (the transport responses built once per wavelength and used
+// for both), the colour of its total R_d from skin_spectrum on the paper's grid (exact at k = 0),
+// and with `spectral` the per-wavelength profiles on that grid from the same responses: its
+// wavelengths must be among `grid`'s (std::invalid_argument otherwise), so that no wavelength is
+// solved twice. The numbers are those of skin_rgb_profile, skin_validity, skin_spectrum and
+// skin_spectral_profile.
 struct SkinProfiles {
   transport::RgbProfile rgb;                          // on `grid`
   SkinSpectrum total;                      // skin_spectrum(p, WavelengthGrid(), model)
   transport::Validity validity;            // on `grid`
-  std::optional<transport::SpectralProfile> spectral; // on `grid`, when asked for
+  std::optional<transport::SpectralProfile> spectral; // on the `spectral` grid, when asked for
 };
 SkinProfiles skin_profiles(const physics::SkinParameters& p, const physics::WavelengthGrid& grid, transport::ProfileSolver& profiles,
-                           const transport::Model& model = transport::default_model(), bool spectral = false,
+                           const transport::Model& model = transport::default_model(),
+                           const std::optional<physics::WavelengthGrid>& spectral = std::nullopt,
                            const util::ProgressCallback& progress = {});
 
 // How many wavelengths of `grid` the model's profile of this skin solves numerically
