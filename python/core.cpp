@@ -7,6 +7,7 @@
 // to a document is said where it is added. Parameter keywords may be arrays: they broadcast against each other, every set is
 // computed in C++ on all cores (skin::batch) with the GIL released, and the set axes lead the
 // result's shape. Units: mm, 1/mm, nm.
+#include <atomic>
 #include <chrono>
 #include <climits>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include <sstream>
 #include <string_view>
 #include <thread>
+#include <type_traits>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -56,6 +58,7 @@ using skin::util::Cancelled;
 using skin::util::InputError;
 using skin::util::WorkEstimate;
 using skin::util::check_memory;
+using skin::util::estimate_work;
 using skin::util::format_number;
 using skin::util::one_line;
 using skin::util::require_in_range;
@@ -142,12 +145,16 @@ int thread_count(const py::handle& v) { return static_cast<int>(whole_number("th
 // it requests skin::util::cancel, which the library's loops poll, waits for the work to end (well
 // within a second) and raises the KeyboardInterrupt. Work cancelled otherwise (another call's
 // interrupt: the flag is the process's) raises KeyboardInterrupt too.
+// With `poll` (a progress callback into Python), it is called on the calling thread, with the
+// GIL, at each of those looks and once after the work ends; an exception it raises stops the work
+// as Ctrl-C does and is raised in its place.
 template <class F>
-auto interruptible(F&& work) -> decltype(work()) {
+auto interruptible(F&& work, const std::function<void()>& poll = {}) -> decltype(work()) {
   using R = decltype(work());
   std::packaged_task<R()> task(std::forward<F>(work));
   std::future<R> done = task.get_future();
   bool interrupted = false;
+  std::optional<py::error_already_set> raised;  // by poll
   {
     py::gil_scoped_release unlocked;
     std::thread worker(std::move(task));
@@ -157,9 +164,26 @@ auto interruptible(F&& work) -> decltype(work()) {
       if (PyErr_CheckSignals() != 0) {
         interrupted = true;
         util::cancel::request();
+        continue;
+      }
+      if (!poll) continue;
+      try {
+        poll();
+      } catch (py::error_already_set& e) {
+        raised.emplace(std::move(e));
+        interrupted = true;
+        util::cancel::request();
       }
     }
     worker.join();
+  }
+  if (raised) {
+    util::cancel::reset();
+    try {
+      (void)done.get();
+    } catch (...) {
+    }
+    throw *raised;
   }
   if (interrupted) {
     util::cancel::reset();
@@ -170,7 +194,14 @@ auto interruptible(F&& work) -> decltype(work()) {
     throw py::error_already_set();  // the KeyboardInterrupt (or whatever the handler raised)
   }
   try {
-    return done.get();
+    if constexpr (std::is_void_v<R>) {
+      done.get();
+      if (poll) poll();
+    } else {
+      R out = done.get();
+      if (poll) poll();
+      return out;
+    }
   } catch (const Cancelled&) {
     PyErr_SetNone(PyExc_KeyboardInterrupt);
     throw py::error_already_set();
@@ -181,6 +212,16 @@ auto interruptible(F&& work) -> decltype(work()) {
 // between them: batch's functions prepare all their sets before the first is computed (a second
 // and more for a million sets), which Ctrl-C would have to wait for.
 constexpr std::size_t kChunkSets = 8192;
+
+// A profile call estimated to take this long or more (wavelengths the model solves rather than
+// reads) is announced before it starts, with a RuntimeWarning.
+constexpr double kAnnouncedSeconds = 10;
+constexpr const char* kProgressDoc =
+    "progress: None, or a callable progress(done, total) called on the calling thread while the "
+    "wavelengths' transport responses are built (total = sets x wavelengths; where a response is "
+    "solved rather than read each takes about a second), at most every 50 ms and once at the end; "
+    "an exception it raises stops the call and is raised. A call estimated at 10 s or more warns "
+    "first (RuntimeWarning, with the estimate). ";
 template <class F>
 auto in_chunks(std::size_t n, F&& batch) -> decltype(batch(std::size_t{0}, std::size_t{0})) {
   decltype(batch(std::size_t{0}, std::size_t{0})) out;
@@ -632,30 +673,77 @@ PYBIND11_MODULE(_core, m) {
   // `skin profile` (per wavelength or, rgb, per channel) for one set or an array of sets.
   auto profiles = [](bool rgb, const std::string& preset, const std::vector<double>& r_mm,
                      double lambda_min, double lambda_max, double lambda_step,
-                     const std::string& solver, const py::object& threads_arg, const py::kwargs& kw) {
+                     const std::string& solver, const py::object& threads_arg, const py::object& progress,
+                     const py::kwargs& kw) {
     const int threads = thread_count(threads_arg);
     const Sets sets = parameter_sets(preset, kw);
     const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
     const transport::Model& model = transport::find_model(solver);
     if (r_mm.empty()) throw InputError("r_mm is empty: give at least one radius [mm] (increasing, >= 0)");
+    if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
+      throw InputError("progress must be a callable progress(done, total) or None, not " +
+                       py::cast<std::string>(py::repr(progress)));
     const RadialGrid radii = RadialGrid::from(r_mm);
     // R of every set (channels or wavelengths x radii), held twice (the results, the array).
     check_memory("the profiles of " + std::to_string(sets.size()) + " parameter sets",
                  2.0 * static_cast<double>(sets.size()) * static_cast<double>(rgb ? 3 : grid.size()) *
                      static_cast<double>(radii.size()) * 8.0);
+    // Wavelengths the model solves rather than reads (counted on up to kEstimateSets sets spread
+    // over the call's): said before a long call starts, as `skin profile` says it on a terminal.
+    {
+      constexpr std::size_t kEstimateSets = 64;
+      const std::size_t n = sets.size(), looked = std::min(n, kEstimateSets);
+      std::size_t solved = 0;
+      for (std::size_t i = 0; i < looked; ++i)
+        solved += model::skin_profile_solves(sets.values[i * n / looked], grid, model);
+      const double solves = static_cast<double>(solved) * static_cast<double>(n) / static_cast<double>(looked);
+      const std::size_t wavelengths = n * grid.size();
+      const WorkEstimate e = estimate_work(
+          format_number(std::round(solves)) + " of the " + std::to_string(wavelengths) +
+              " wavelength profiles (off the skin and half-space tables, solved in the frequency domain)",
+          solves, model::kProfileSolvesPerSecond, threads, 0);
+      if (e.seconds >= kAnnouncedSeconds) {
+        const std::string text = e.text + "; progress=callable(done, total) follows it, Ctrl-C stops it";
+        if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+      }
+    }
+    // progress(done, total) over every set's wavelengths, from the calling thread (interruptible's
+    // poll) whenever the count has moved; the workers only count.
+    const std::size_t total = sets.size() * grid.size();
+    std::atomic<std::size_t> counted{0};
+    std::size_t reported = std::numeric_limits<std::size_t>::max();
+    std::function<void()> poll;
+    if (!progress.is_none())
+      poll = [&] {
+        const std::size_t d = counted.load();
+        if (d == reported) return;
+        reported = d;
+        progress(d, total);
+      };
     std::vector<batch::RgbProfileResult> by_channel;
     std::vector<batch::SpectralProfileResult> by_wavelength;
     interruptible([&] {
       const std::span<const SkinParameters> all(sets.values);
+      auto options = [&](std::size_t first) {
+        batch::Options o{threads, {}};
+        if (poll)
+          o.progress = [&counted, offset = first * grid.size()](std::size_t d, std::size_t) {
+            // The workers' counts arrive in any order: keep the largest.
+            std::size_t seen = counted.load();
+            while (offset + d > seen && !counted.compare_exchange_weak(seen, offset + d)) {
+            }
+          };
+        return o;
+      };
       if (rgb)
         by_channel = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
-          return batch::rgb_profiles(all.subspan(first, count), grid, radii, model, {threads});
+          return batch::rgb_profiles(all.subspan(first, count), grid, radii, model, options(first));
         });
       else
         by_wavelength = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
-          return batch::spectral_profiles(all.subspan(first, count), grid, radii, model, {threads});
+          return batch::spectral_profiles(all.subspan(first, count), grid, radii, model, options(first));
         });
-    });
+    }, poll);
     std::vector<transport::Validity> v;
     for (const auto& x : by_channel) v.push_back(x.validity);
     for (const auto& x : by_wavelength) v.push_back(x.validity);
@@ -708,11 +796,12 @@ PYBIND11_MODULE(_core, m) {
         name,
         [profiles, rgb](const std::string& preset, const std::vector<double>& r_mm, double lambda_min,
                         double lambda_max, double lambda_step, const std::string& solver,
-                        const py::object& threads, const py::kwargs& kw) {
-          return profiles(rgb, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, kw);
+                        const py::object& threads, const py::object& progress, const py::kwargs& kw) {
+          return profiles(rgb, preset, r_mm, lambda_min, lambda_max, lambda_step, solver, threads, progress, kw);
         },
         "preset"_a = std::string(kDefaultPreset), py::kw_only(), "r_mm"_a, "lambda_min"_a = 400.0, "lambda_max"_a = 700.0,
-        "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = py::int_(0), (doc + solver_doc() + params).c_str());
+        "lambda_step"_a = 2.0, "solver"_a = default_solver, "threads"_a = py::int_(0), "progress"_a = py::none(),
+        (doc + std::string(kProgressDoc) + solver_doc() + params).c_str());
   };
   def_profile("rgb_profile", true,
               "`skin profile --rgb`: radial profile R(r) [1/mm^2] per linear sRGB channel (r, g, b) at "

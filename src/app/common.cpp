@@ -153,7 +153,7 @@ std::function<SkinParameters(const SkinParameters&)> ParameterOptions::change() 
 void note_profile_solves(std::size_t solves, std::size_t wavelengths, const std::string& what) {
   if (solves == 0 || !stderr_is_terminal()) return;
   const int threads = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  const double seconds = static_cast<double>(solves) / (kFrequencySolvesPerSecond * threads);
+  const double seconds = static_cast<double>(solves) / (model::kProfileSolvesPerSecond * threads);
   std::cerr << "skin: note: " << solves << " of " << wavelengths << " " << what
             << " are off the skin and half-space tables and solved in the frequency domain: about "
             << format_number(std::round(seconds)) << " s on " << threads

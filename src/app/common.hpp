@@ -79,12 +79,6 @@ void check_request(const std::string& what, double units, double units_per_secon
 // (pale skin at 650 nm, g = 0.9: 32 CPU s per 1e6).
 inline constexpr double kRenderSamplesPerSecond = 1.0e6;
 inline constexpr double kMcPhotonsPerSecond = 3.0e4;
-// Frequency-domain profile solves (one wavelength of skin off the skin table) per second per
-// thread, for estimates: 151 wavelengths took 22.5 s on 2 threads with --epidermis-thickness 0.1
-// (3.4 /s per thread), 89 s on one thread with --g 0.8 (1.7 /s); the slower is used, halved since
-// the solver takes 8 azimuthal orders at every frequency (2026-12-05: 1.9-2.1 times the time per
-// solve of caucasian, asian and african skin at 450 and 650 nm).
-inline constexpr double kFrequencySolvesPerSecond = 0.85;
 // On a terminal, when `solves` of `wavelengths` profiles are solved rather than read: one line
 // before the work starts, "skin: note: 151 of 151 wavelengths are off the skin table and solved
 // in the frequency domain: about 44 s on 2 threads".

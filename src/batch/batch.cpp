@@ -1,5 +1,8 @@
 #include "skin/batch/batch.hpp"
 
+#include <atomic>
+#include <memory>
+
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -11,6 +14,7 @@
 namespace skin::batch {
 
 using skin::util::InputError;
+using skin::util::ProgressCallback;
 
 using skin::transport::ProfileSolver;
 using skin::transport::RadialGrid;
@@ -46,6 +50,14 @@ void for_each_set(std::size_t n, const Options& options, const F& compute) {
   });
 }
 
+// The per-set progress of a profile call as one count over all its sets: each wavelength's
+// response adds one, from whichever worker built it.
+util::ProgressCallback counted(const util::ProgressCallback& progress, std::size_t total) {
+  if (!progress) return {};
+  auto done = std::make_shared<std::atomic<std::size_t>>(0);
+  return [progress, done, total](std::size_t, std::size_t) { progress(++*done, total); };
+}
+
 }  // namespace
 
 std::vector<SkinSpectrum> spectra(std::span<const SkinParameters> sets, const WavelengthGrid& grid,
@@ -62,8 +74,9 @@ std::vector<RgbProfileResult> rgb_profiles(std::span<const SkinParameters> sets,
   for (const SkinParameters& p : sets) p.validate();
   std::vector<RgbProfileResult> out(sets.size());
   tbb::enumerable_thread_specific<ProfileSolver> solvers([&] { return ProfileSolver(radii); });
+  const ProgressCallback step = counted(options.progress, sets.size() * grid.size());
   for_each_set(sets.size(), options, [&](std::size_t i) {
-    out[i] = {skin_rgb_profile(sets[i], grid, solvers.local(), model),
+    out[i] = {skin_rgb_profile(sets[i], grid, solvers.local(), model, step),
               skin_validity(sets[i], grid, model)};
   });
   return out;
@@ -76,8 +89,9 @@ std::vector<SpectralProfileResult> spectral_profiles(std::span<const SkinParamet
   for (const SkinParameters& p : sets) p.validate();
   std::vector<SpectralProfileResult> out(sets.size());
   tbb::enumerable_thread_specific<ProfileSolver> solvers([&] { return ProfileSolver(radii); });
+  const ProgressCallback step = counted(options.progress, sets.size() * grid.size());
   for_each_set(sets.size(), options, [&](std::size_t i) {
-    out[i] = {skin_spectral_profile(sets[i], grid, solvers.local(), model),
+    out[i] = {skin_spectral_profile(sets[i], grid, solvers.local(), model, step),
               skin_validity(sets[i], grid, model)};
   });
   return out;

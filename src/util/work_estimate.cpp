@@ -13,7 +13,8 @@ namespace skin::util {
 namespace {
 std::string duration_text(double seconds) {
   char buf[64];
-  if (seconds < 2 * 3600.0) std::snprintf(buf, sizeof buf, "%.0f minutes", seconds / 60);
+  if (seconds < 90) std::snprintf(buf, sizeof buf, "%.0f s", seconds);
+  else if (seconds < 2 * 3600.0) std::snprintf(buf, sizeof buf, "%.0f minutes", seconds / 60);
   else if (seconds < 2 * 86400.0) std::snprintf(buf, sizeof buf, "%.1f hours", seconds / 3600);
   else if (seconds < 2 * 365 * 86400.0) std::snprintf(buf, sizeof buf, "%.0f days", seconds / 86400);
   else std::snprintf(buf, sizeof buf, "%.2g years", seconds / (365 * 86400.0));

@@ -6,6 +6,7 @@ import warnings
 import os
 import subprocess
 import tempfile
+import time
 import unittest
 
 import numpy as np
@@ -535,6 +536,46 @@ class EveryDoorHolds(unittest.TestCase):
         # A non-absorbing half-space: one photon can take seconds.
         clear = [{"sigma_a": 0, "sigma_s_prime": 1}]
         self.assertLess(self.interrupted_after(0.5, lambda: ss.mc(layers=clear, photons=10**6)), 1.0)
+        self.assertEqual(ss.mc(wavelength=650, photons=100, threads=1)["photons"], 100)  # nothing left cancelled
+
+    def test_a_profile_reports_its_progress_and_says_when_it_will_be_long(self):
+        # Counted over every set's wavelengths, from the calling thread, ending at the total; the
+        # numbers are those of the call without it.
+        calls = []
+        kw = dict(r_mm=[0.1, 1.0], melanin=[0.05, 0.2, 0.4])
+        with_progress = ss.rgb_profile(**kw, progress=lambda done, total: calls.append((done, total)))
+        self.assertEqual(calls[-1], (453, 453))
+        self.assertEqual([d for d, _ in calls], sorted(d for d, _ in calls))
+        self.assertTrue(all(t == 453 for _, t in calls))
+        np.testing.assert_array_equal(with_progress["R"], ss.rgb_profile(**kw)["R"])
+        self.assertEqual(ss.profile(r_mm=[0.1], lambda_min=600, lambda_max=620, lambda_step=10,
+                                    progress=lambda d, t: calls.append((d, t)))["R"].shape, (3, 1))
+        self.assertEqual(calls[-1], (3, 3))
+
+        # A solve of every wavelength (sfd: ~1 s each) is announced with its estimate before it
+        # starts, and an exception raised by the callback stops it at once and is raised.
+        class Enough(Exception):
+            pass
+
+        def stop(done, total):
+            raise Enough(f"{done} of {total}")
+
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            started = time.monotonic()
+            with self.assertRaises(Enough):
+                ss.rgb_profile(r_mm=[0.1], solver="sfd", progress=stop)
+            self.assertLess(time.monotonic() - started, 5.0)
+        said = [str(w.message) for w in caught if issubclass(w.category, RuntimeWarning)]
+        self.assertTrue(any(m.startswith("151 of the 151 wavelength profiles (off the skin and half-space tables, "
+                                         "solved in the frequency domain) would take about ") for m in said), said)
+        # A call read from the tables says nothing.
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            ss.rgb_profile(r_mm=[0.1])
+        for bad in (3, "yes", [1]):
+            with self.assertRaisesRegex(ValueError, r"^progress must be a callable progress\(done, total\) or None"):
+                ss.rgb_profile(r_mm=[0.1], progress=bad)
         self.assertEqual(ss.mc(wavelength=650, photons=100, threads=1)["photons"], 100)  # nothing left cancelled
 
     def test_a_non_absorbing_half_space_ends(self):

@@ -9,11 +9,16 @@
 #include <vector>
 
 #include "skin/model/skin_model.hpp"
+#include "skin/util/progress.hpp"
 
 namespace skin::batch {
 
 struct Options {
   int threads = 0;  // worker threads; 0 = all cores
+  // rgb_profiles and spectral_profiles: progress(wavelengths done, wavelengths) over all the
+  // sets (sets x grid), after each wavelength's transport response is built (the slow part where
+  // it is solved). Called from the worker threads, concurrently: it must be thread-safe.
+  util::ProgressCallback progress;
 };
 
 // skin_spectrum for every set: R_d(lambda), the layer coefficients and the colour.
