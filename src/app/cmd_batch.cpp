@@ -4,6 +4,7 @@
 // a table concatenate to the same bytes as one run (the header belongs to the slice starting at
 // set 0).
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <functional>
@@ -149,9 +150,23 @@ void register_batch(CLI::App& app) {
 
     // One chunk of sets at a time: computed on all cores, then written, so rows stream out and
     // memory stays bounded for any number of sets.
-    const batch::Options run{o->threads};
+    const batch::Options run{o->threads, {}};
     const std::size_t chunk = 256;
-    const ProgressCallback progress = progress_bar("sets");  // empty unless stderr is a terminal
+    // With profiles, wavelengths the model solves rather than reads (about a second each): said
+    // before the work starts (counted on at most 64 sets spread over the rows, scaled to all),
+    // and the bar counts wavelengths, not chunks of sets.
+    const std::size_t rows = end - first;
+    std::size_t solves = 0;
+    if (radii) {
+      const std::size_t looked = std::min<std::size_t>(rows, 64);
+      std::size_t solved = 0;
+      for (std::size_t k = 0; k < looked; ++k) solved += model::skin_profile_solves(sets.at(first + k * rows / looked), grid, model);
+      solves = static_cast<std::size_t>(std::llround(static_cast<double>(solved) * static_cast<double>(rows) / static_cast<double>(looked)));
+      note_profile_solves(solves, rows * grid.size(), "wavelength profiles");
+    }
+    // empty unless stderr is a terminal
+    const ProgressCallback progress = progress_bar(solves > 0 ? "wavelengths" : "sets");
+    std::atomic<std::size_t> wavelengths_done{0};
     // `put` writes the text of a chunk (and throws when it cannot).
     auto write_all = [&](const std::function<void(const std::string&)>& put) {
       for (std::size_t a = first; a < end; a += chunk) {
@@ -160,10 +175,15 @@ void register_batch(CLI::App& app) {
         for (std::size_t i = a; i < b; ++i) chunk_sets.push_back(sets.at(i));
         const auto spectra = batch::spectra(chunk_sets, grid, model, run);
         std::vector<batch::RgbProfileResult> profiles;
-        if (radii) profiles = batch::rgb_profiles(chunk_sets, grid, *radii, model, run);
+        if (radii) {
+          batch::Options counted = run;
+          if (progress && solves > 0)  // from the workers: the bar is thread-safe
+            counted.progress = [&](std::size_t, std::size_t) { progress(++wavelengths_done, rows * grid.size()); };
+          profiles = batch::rgb_profiles(chunk_sets, grid, *radii, model, counted);
+        }
         const std::vector<Column> columns = schema::batch_columns(layout, a, chunk_sets, spectra, profiles);
         put(a == 0 ? csv_header(columns) + csv_rows(columns) : csv_rows(columns));
-        if (progress) progress(b - first, end - first);
+        if (progress && solves == 0) progress(b - first, rows);
       }
     };
     if (o->output.empty() || o->output == "-") {

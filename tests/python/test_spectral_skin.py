@@ -58,6 +58,39 @@ class SameAsTheCommand(unittest.TestCase):
     """Each function equals its subcommand's JSON to 1e-12 (the same library code runs; the
     tolerance allows only for the JSON's decimal round trip)."""
 
+    def test_batch_profiles_that_are_solved_say_so_and_count_wavelengths_on_a_terminal(self):
+        # `skin batch --radius` of skin whose wavelengths are solved (sfd: ~1 s each): on a
+        # terminal a note with the estimate before the work, then a bar of wavelengths; piped,
+        # nothing on stderr; the same CSV either way.
+        import pty
+        args = [SKIN, "batch", "--solver", "sfd", "--sweep", "melanin=0.1:0.2:2", "--lambda-min", "600",
+                "--lambda-max", "600", "--lambda-step", "20", "--radius", "0.1"]
+        with tempfile.TemporaryDirectory() as d:
+            on_terminal, piped = os.path.join(d, "t.csv"), os.path.join(d, "p.csv")
+            master, slave = pty.openpty()
+            proc = subprocess.Popen(args + ["-o", on_terminal], stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL,
+                                    stderr=slave, close_fds=True)
+            os.close(slave)
+            chunks = []
+            while True:
+                try:
+                    data = os.read(master, 65536)
+                except OSError:  # EIO: the writer closed the terminal
+                    break
+                if not data:
+                    break
+                chunks.append(data)
+            os.close(master)
+            self.assertEqual(proc.wait(timeout=120), 0)
+            err = b"".join(chunks).decode("utf-8", "replace")
+            self.assertIn("skin: note: 2 of 2 wavelength profiles are off the skin and half-space tables and solved "
+                          "in the frequency domain: about ", err)
+            self.assertIn("2/2 wavelengths", err)
+            quiet = subprocess.run(args + ["-o", piped], check=True, capture_output=True, text=True)
+            self.assertEqual(quiet.stderr, "")
+            with open(on_terminal, encoding="utf-8") as a, open(piped, encoding="utf-8") as b:
+                self.assertEqual(a.read(), b.read())
+
     def test_export(self):
         # The same files and fit report as `skin export` (the report's "files" lists paths only
         # the command writes).
