@@ -127,7 +127,9 @@ TEST(SceneDescription, BuildWorkCountsTheSolvedProfilesAndProgressReportsThem) {
   ASSERT_FALSE(calls.empty());
   for (std::size_t i = 0; i < calls.size(); ++i) {
     EXPECT_EQ(calls[i].second, 3u);
-    if (i > 0) EXPECT_GE(calls[i].first, calls[i - 1].first);
+    if (i > 0) {
+      EXPECT_GE(calls[i].first, calls[i - 1].first);
+    }
   }
   EXPECT_EQ(calls.back().first, 3u);
   const Scene plain = d.build();
