@@ -95,10 +95,7 @@ SkinProfiles skin_profiles(const physics::SkinParameters& p, const physics::Wave
 std::size_t skin_profile_solves(const physics::SkinParameters& p, const physics::WavelengthGrid& grid,
                                 const transport::Model& model = transport::default_model());
 // Such solves per second per thread, for the estimates said before they start (the command line,
-// the Python module): 151 wavelengths took 22.5 s on 2 threads with --epidermis-thickness 0.1
-// (3.4 /s per thread), 89 s on one thread with --g 0.8 (1.7 /s); the slower is used, halved since
-// the solver takes 8 azimuthal orders at every frequency (2026-12-05: 1.9-2.1 times the time per
-// solve of caucasian, asian and african skin at 450 and 650 nm).
+// the Python module); measured, docs/benchmarks.md ("Measurements formerly in headers").
 inline constexpr double kProfileSolvesPerSecond = 0.85;
 
 // Whether the model's profiles (and totals) of this skin are in its validated range at every
