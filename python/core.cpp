@@ -222,6 +222,55 @@ constexpr const char* kProgressDoc =
     "solved rather than read each takes about a second), at most every 50 ms and once at the end; "
     "an exception it raises stops the call and is raised. A call estimated at 10 s or more warns "
     "first (RuntimeWarning, with the estimate). ";
+
+// Says before a long call starts (a RuntimeWarning from kAnnouncedSeconds on) how many of its
+// `wavelengths` wavelength profiles the model solves rather than reads, and about how long that takes.
+void announce_solves(double solves, std::size_t wavelengths, int threads) {
+  const WorkEstimate e = estimate_work(
+      format_number(std::round(solves)) + " of the " + std::to_string(wavelengths) +
+          " wavelength profiles (off the skin and half-space tables, solved in the frequency domain)",
+      solves, model::kProfileSolvesPerSecond, threads, 0);
+  if (e.seconds < kAnnouncedSeconds) return;
+  const std::string text = e.text + "; progress=callable(done, total) follows it, Ctrl-C stops it";
+  if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
+}
+
+// A call's progress= (None or a callable, else InputError): the workers count (`count(offset)`
+// gives a batch or library callback that raises the count to offset + its own done, in any
+// order), and poll() calls the callable on the calling thread, with the GIL (interruptible's
+// poll), whenever the count has moved.
+class PythonProgress {
+ public:
+  PythonProgress(const py::object& callable, std::size_t total) : callable_(callable), total_(total) {
+    if (!callable.is_none() && !PyCallable_Check(callable.ptr()))
+      throw InputError("progress must be a callable progress(done, total) or None, not " +
+                       py::cast<std::string>(py::repr(callable)));
+  }
+  bool wanted() const { return !callable_.is_none(); }
+  util::ProgressCallback count(std::size_t offset = 0) {
+    if (!wanted()) return {};
+    return [this, offset](std::size_t d, std::size_t) {
+      std::size_t seen = counted_.load();
+      while (offset + d > seen && !counted_.compare_exchange_weak(seen, offset + d)) {
+      }
+    };
+  }
+  std::function<void()> poll() {
+    if (!wanted()) return {};
+    return [this] {
+      const std::size_t d = counted_.load();
+      if (d == reported_) return;
+      reported_ = d;
+      callable_(d, total_);
+    };
+  }
+
+ private:
+  py::object callable_;
+  std::size_t total_;
+  std::atomic<std::size_t> counted_{0};
+  std::size_t reported_ = std::numeric_limits<std::size_t>::max();
+};
 template <class F>
 auto in_chunks(std::size_t n, F&& batch) -> decltype(batch(std::size_t{0}, std::size_t{0})) {
   decltype(batch(std::size_t{0}, std::size_t{0})) out;
@@ -680,9 +729,7 @@ PYBIND11_MODULE(_core, m) {
     const WavelengthGrid grid(lambda_min, lambda_max, lambda_step);
     const transport::Model& model = transport::find_model(solver);
     if (r_mm.empty()) throw InputError("r_mm is empty: give at least one radius [mm] (increasing, >= 0)");
-    if (!progress.is_none() && !PyCallable_Check(progress.ptr()))
-      throw InputError("progress must be a callable progress(done, total) or None, not " +
-                       py::cast<std::string>(py::repr(progress)));
+    PythonProgress reports(progress, sets.size() * grid.size());
     const RadialGrid radii = RadialGrid::from(r_mm);
     // R of every set (channels or wavelengths x radii), held twice (the results, the array).
     check_memory("the profiles of " + std::to_string(sets.size()) + " parameter sets",
@@ -696,45 +743,14 @@ PYBIND11_MODULE(_core, m) {
       std::size_t solved = 0;
       for (std::size_t i = 0; i < looked; ++i)
         solved += model::skin_profile_solves(sets.values[i * n / looked], grid, model);
-      const double solves = static_cast<double>(solved) * static_cast<double>(n) / static_cast<double>(looked);
-      const std::size_t wavelengths = n * grid.size();
-      const WorkEstimate e = estimate_work(
-          format_number(std::round(solves)) + " of the " + std::to_string(wavelengths) +
-              " wavelength profiles (off the skin and half-space tables, solved in the frequency domain)",
-          solves, model::kProfileSolvesPerSecond, threads, 0);
-      if (e.seconds >= kAnnouncedSeconds) {
-        const std::string text = e.text + "; progress=callable(done, total) follows it, Ctrl-C stops it";
-        if (PyErr_WarnEx(PyExc_RuntimeWarning, text.c_str(), 1) != 0) throw py::error_already_set();
-      }
+      announce_solves(static_cast<double>(solved) * static_cast<double>(n) / static_cast<double>(looked),
+                      n * grid.size(), threads);
     }
-    // progress(done, total) over every set's wavelengths, from the calling thread (interruptible's
-    // poll) whenever the count has moved; the workers only count.
-    const std::size_t total = sets.size() * grid.size();
-    std::atomic<std::size_t> counted{0};
-    std::size_t reported = std::numeric_limits<std::size_t>::max();
-    std::function<void()> poll;
-    if (!progress.is_none())
-      poll = [&] {
-        const std::size_t d = counted.load();
-        if (d == reported) return;
-        reported = d;
-        progress(d, total);
-      };
     std::vector<batch::RgbProfileResult> by_channel;
     std::vector<batch::SpectralProfileResult> by_wavelength;
     interruptible([&] {
       const std::span<const SkinParameters> all(sets.values);
-      auto options = [&](std::size_t first) {
-        batch::Options o{threads, {}};
-        if (poll)
-          o.progress = [&counted, offset = first * grid.size()](std::size_t d, std::size_t) {
-            // The workers' counts arrive in any order: keep the largest.
-            std::size_t seen = counted.load();
-            while (offset + d > seen && !counted.compare_exchange_weak(seen, offset + d)) {
-            }
-          };
-        return o;
-      };
+      auto options = [&](std::size_t first) { return batch::Options{threads, reports.count(first * grid.size())}; };
       if (rgb)
         by_channel = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
           return batch::rgb_profiles(all.subspan(first, count), grid, radii, model, options(first));
@@ -743,7 +759,7 @@ PYBIND11_MODULE(_core, m) {
         by_wavelength = in_chunks(sets.size(), [&](std::size_t first, std::size_t count) {
           return batch::spectral_profiles(all.subspan(first, count), grid, radii, model, options(first));
         });
-    }, poll);
+    }, reports.poll());
     std::vector<transport::Validity> v;
     for (const auto& x : by_channel) v.push_back(x.validity);
     for (const auto& x : by_wavelength) v.push_back(x.validity);
@@ -1174,7 +1190,8 @@ PYBIND11_MODULE(_core, m) {
       "export",
       [](const std::string& target, const std::string& preset, const std::string& solver,
          const std::optional<std::string>& units, double world_scale, const std::string& name,
-         const py::object& gaussians, const py::object& taps, bool spectra_files, const py::kwargs& kw) {
+         const py::object& gaussians, const py::object& taps, bool spectra_files, const py::object& progress,
+         const py::kwargs& kw) {
         const Sets sets = parameter_sets(preset, kw);
         if (sets.size() != 1) throw InputError("export: one parameter set (no arrays)");
         exporting::Options o;
@@ -1185,7 +1202,13 @@ PYBIND11_MODULE(_core, m) {
         o.taps = static_cast<int>(whole_number("taps", taps, INT_MIN, INT_MAX));
         o.spectra_files = spectra_files;
         const transport::Model& model = transport::find_model(solver);
-        const exporting::Export e = interruptible([&] { return exporting::export_skin(target, sets.values[0], model, o); });
+        exporting::find_target(target);  // an unknown target before any solve
+        PythonProgress reports(progress, exporting::prepare_wavelengths());
+        announce_solves(static_cast<double>(exporting::prepare_solves(sets.values[0], model)),
+                        exporting::prepare_wavelengths(), 0);
+        const exporting::Export e = interruptible(
+            [&] { return exporting::export_skin(target, sets.values[0], model, o, nullptr, reports.count()); },
+            reports.poll());
         py::dict files;
         for (const auto& f : e.files) files[py::cast(f.suffix)] = f.content;
         py::dict images;
@@ -1212,11 +1235,11 @@ PYBIND11_MODULE(_core, m) {
       },
       "target"_a, "preset"_a = std::string(kDefaultPreset), py::kw_only(), "solver"_a = default_solver,
       "units"_a = py::none(), "world_scale"_a = 1.0, "name"_a = "spectral_skin", "gaussians"_a = py::int_(5),
-      "taps"_a = py::int_(17), "spectra_files"_a = false,
+      "taps"_a = py::int_(17), "spectra_files"_a = false, "progress"_a = py::none(),
       ("`skin export --target TARGET`: the files of a renderer or engine target (" +
        exporting::target_names_text() +
        ") as {suffix: text} ('' is the main file), images as float32 arrays (height, width, "
        "channels), and report: the fit's error as FILE.fit.json holds it (docs/export.md; its "
        "arrays of numbers as numpy arrays, its files empty). units: "
-       "'mm', 'cm' or 'm' (default: the target's). " + solver_doc() + params).c_str());
+       "'mm', 'cm' or 'm' (default: the target's). " + std::string(kProgressDoc) + solver_doc() + params).c_str());
 }

@@ -4,11 +4,11 @@
 // a table concatenate to the same bytes as one run (the header belongs to the slice starting at
 // set 0).
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <iostream>
+#include <mutex>
 #include <optional>
 #include <sstream>
 
@@ -166,7 +166,8 @@ void register_batch(CLI::App& app) {
     }
     // empty unless stderr is a terminal
     const ProgressCallback progress = progress_bar(solves > 0 ? "wavelengths" : "sets");
-    std::atomic<std::size_t> wavelengths_done{0};
+    std::size_t wavelengths_done = 0;
+    std::mutex bar_mutex;
     // `put` writes the text of a chunk (and throws when it cannot).
     auto write_all = [&](const std::function<void(const std::string&)>& put) {
       for (std::size_t a = first; a < end; a += chunk) {
@@ -177,8 +178,11 @@ void register_batch(CLI::App& app) {
         std::vector<batch::RgbProfileResult> profiles;
         if (radii) {
           batch::Options counted = run;
-          if (progress && solves > 0)  // from the workers: the bar is thread-safe
-            counted.progress = [&](std::size_t, std::size_t) { progress(++wavelengths_done, rows * grid.size()); };
+          if (progress && solves > 0)  // from the workers, one at a time so that the count only grows
+            counted.progress = [&](std::size_t, std::size_t) {
+              const std::lock_guard lock(bar_mutex);
+              progress(++wavelengths_done, rows * grid.size());
+            };
           profiles = batch::rgb_profiles(chunk_sets, grid, *radii, model, counted);
         }
         const std::vector<Column> columns = schema::batch_columns(layout, a, chunk_sets, spectra, profiles);

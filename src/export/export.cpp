@@ -103,7 +103,7 @@ Export export_skin(std::string_view target_name, const SkinParameters& parameter
   const Target& target = find_target(target_name);
   const Options o = checked(options_in);
   parameters.validate();
-  if (!maps) return run(target, prepare(parameters, model)->ref, o, nullptr);
+  if (!maps) return run(target, prepare(parameters, model, progress)->ref, o, nullptr);
   require_textures(target);
   // The single-material values are those of the maps' mean texel.
   SkinParameters p = parameters;

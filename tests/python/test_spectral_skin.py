@@ -609,6 +609,18 @@ class EveryDoorHolds(unittest.TestCase):
         for bad in (3, "yes", [1]):
             with self.assertRaisesRegex(ValueError, r"^progress must be a callable progress\(done, total\) or None"):
                 ss.rgb_profile(r_mm=[0.1], progress=bad)
+            with self.assertRaisesRegex(ValueError, r"^progress must be a callable progress\(done, total\) or None"):
+                ss.export("openpbr", progress=bad)
+        # export: the same over its profile's 151 wavelengths, files as without it.
+        calls.clear()
+        exported = ss.export("openpbr", progress=lambda d, t: calls.append((d, t)))
+        self.assertEqual(calls[-1], (151, 151))
+        self.assertEqual(exported["files"], ss.export("openpbr")["files"])
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            with self.assertRaises(Enough):
+                ss.export("openpbr", solver="sfd", progress=stop)
+        self.assertTrue(any(str(w.message).startswith("151 of the 151 wavelength profiles") for w in caught))
         self.assertEqual(ss.mc(wavelength=650, photons=100, threads=1)["photons"], 100)  # nothing left cancelled
 
     def test_a_non_absorbing_half_space_ends(self):

@@ -136,7 +136,7 @@ std::size_t prepare_wavelengths();
 Export export_prepared(std::string_view target, const Prepared& ours, const Options& options);
 
 // Exports `parameters` (validated) for `target` (find_target). progress(texels done, texels) with
-// parameter maps.
+// parameter maps, else (wavelengths done, prepare_wavelengths()) while its profile is computed.
 Export export_skin(std::string_view target, const physics::SkinParameters& parameters,
                    const transport::Model& model, const Options& options,
                    const ParameterMapsInput* maps = nullptr, const util::ProgressCallback& progress = {});
