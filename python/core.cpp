@@ -735,17 +735,10 @@ PYBIND11_MODULE(_core, m) {
     check_memory("the profiles of " + std::to_string(sets.size()) + " parameter sets",
                  2.0 * static_cast<double>(sets.size()) * static_cast<double>(rgb ? 3 : grid.size()) *
                      static_cast<double>(radii.size()) * 8.0);
-    // Wavelengths the model solves rather than reads (counted on up to kEstimateSets sets spread
-    // over the call's): said before a long call starts, as `skin profile` says it on a terminal.
-    {
-      constexpr std::size_t kEstimateSets = 64;
-      const std::size_t n = sets.size(), looked = std::min(n, kEstimateSets);
-      std::size_t solved = 0;
-      for (std::size_t i = 0; i < looked; ++i)
-        solved += model::skin_profile_solves(sets.values[i * n / looked], grid, model);
-      announce_solves(static_cast<double>(solved) * static_cast<double>(n) / static_cast<double>(looked),
-                      n * grid.size(), threads);
-    }
+    // Wavelengths the model solves rather than reads: said before a long call starts, as `skin
+    // profile` says it on a terminal.
+    announce_solves(batch::profile_solves(sets.size(), [&](std::size_t i) { return sets.values[i]; }, grid, model),
+                    sets.size() * grid.size(), threads);
     std::vector<batch::RgbProfileResult> by_channel;
     std::vector<batch::SpectralProfileResult> by_wavelength;
     interruptible([&] {

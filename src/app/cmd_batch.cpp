@@ -153,15 +153,13 @@ void register_batch(CLI::App& app) {
     const batch::Options run{o->threads, {}};
     const std::size_t chunk = 256;
     // With profiles, wavelengths the model solves rather than reads (about a second each): said
-    // before the work starts (counted on at most 64 sets spread over the rows, scaled to all),
-    // and the bar counts wavelengths, not chunks of sets.
+    // before the work starts (batch::profile_solves), and the bar counts wavelengths, not chunks
+    // of sets.
     const std::size_t rows = end - first;
     std::size_t solves = 0;
     if (radii) {
-      const std::size_t looked = std::min<std::size_t>(rows, 64);
-      std::size_t solved = 0;
-      for (std::size_t k = 0; k < looked; ++k) solved += model::skin_profile_solves(sets.at(first + k * rows / looked), grid, model);
-      solves = static_cast<std::size_t>(std::llround(static_cast<double>(solved) * static_cast<double>(rows) / static_cast<double>(looked)));
+      solves = static_cast<std::size_t>(std::llround(
+          batch::profile_solves(rows, [&](std::size_t i) { return sets.at(first + i); }, grid, model)));
       note_profile_solves(solves, rows * grid.size(), "wavelength profiles");
     }
     // empty unless stderr is a terminal

@@ -1,5 +1,6 @@
 #include "skin/batch/batch.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <memory>
 
@@ -95,6 +96,16 @@ std::vector<SpectralProfileResult> spectral_profiles(std::span<const SkinParamet
               skin_validity(sets[i], grid, model)};
   });
   return out;
+}
+
+double profile_solves(std::size_t n, const std::function<SkinParameters(std::size_t)>& set,
+                      const WavelengthGrid& grid, const transport::Model& model) {
+  constexpr std::size_t kLooked = 64;
+  const std::size_t looked = std::min(n, kLooked);
+  if (looked == 0) return 0;
+  std::size_t solved = 0;
+  for (std::size_t k = 0; k < looked; ++k) solved += model::skin_profile_solves(set(k * n / looked), grid, model);
+  return static_cast<double>(solved) * static_cast<double>(n) / static_cast<double>(looked);
 }
 
 }  // namespace skin::batch

@@ -5,6 +5,7 @@
 // read-only tables). Used by `skin batch` and by the Python package's array calls. The thread
 // pool (TBB) stays private: this header exposes standard types only. A cancellation request
 // (skin/util/cancel.hpp) ends a call between sets by throwing skin::util::Cancelled.
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -45,5 +46,11 @@ std::vector<SpectralProfileResult> spectral_profiles(std::span<const physics::Sk
                                                      const physics::WavelengthGrid& grid,
                                                      const transport::RadialGrid& radii, const transport::Model& model,
                                                      const Options& options = {});
+
+// How many of the wavelength profiles of `n` sets (set(i), i < n) the model solves rather than
+// reads (model::skin_profile_solves), counted on at most 64 of them spread evenly and scaled to
+// all: the estimate said before a long call starts (`skin batch --radius`, Python's profiles).
+double profile_solves(std::size_t n, const std::function<physics::SkinParameters(std::size_t)>& set,
+                      const physics::WavelengthGrid& grid, const transport::Model& model);
 
 }  // namespace skin::batch
